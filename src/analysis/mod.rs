@@ -1,0 +1,29 @@
+//! Analyses of an assembled model; each returns a serialisable result object.
+
+pub mod buckling;
+pub mod campbell;
+pub mod modes;
+mod rotor;
+mod settings;
+
+pub use rotor::Rotor;
+pub use settings::Settings;
+
+use crate::linalg::LinalgError;
+use thiserror::Error;
+
+/// Failures of an analysis.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum AnalysisError {
+    /// Dense linear algebra failed.
+    #[error(transparent)]
+    Linalg(#[from] LinalgError),
+    /// α ≥ 1: the static part of the load alone buckles the shaft.
+    #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
+    StaticLoadBuckles {
+        /// α.
+        alpha: f64,
+        /// P_cr (N).
+        critical_load: f64,
+    },
+}

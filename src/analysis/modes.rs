@@ -1,0 +1,235 @@
+//! Whirl frequencies from the quadratic eigenproblem of Eq. (16),
+//! `(λ²M + λ(C − jΩG) + K − αP_cr·S) φ = 0`, solved by shift-invert (Eq. 18–21).
+//!
+//! λ = −ζ|λ| + jω: ω > 0 is a forward whirl, ω < 0 a backward whirl (MODEL.md).
+
+use super::{AnalysisError, Rotor, Settings};
+use crate::assembly::{DofKind, End};
+use crate::linalg::{qep_residual, solve_qep};
+use crate::model::Model;
+use faer::{c64, Mat};
+use serde::Serialize;
+
+/// Shift σ of Eq. (18) in 1/s. A passive system has no eigenvalue with Re λ > 0, so a
+/// positive real shift never hits one; 1 s⁻¹ is far below every whirl frequency yet
+/// keeps (A − σB) regular even when K − αP_cr·S is nearly singular.
+pub const QEP_SHIFT: f64 = 1.0;
+
+/// Direction of a whirl relative to the spin.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Whirl {
+    /// Im λ > 0: whirls with the spin.
+    Forward,
+    /// Im λ < 0: whirls against the spin.
+    Backward,
+}
+
+impl Whirl {
+    /// `f` or `b`, as in the paper's ω_f, ω_b.
+    pub fn letter(self) -> char {
+        match self {
+            Whirl::Forward => 'f',
+            Whirl::Backward => 'b',
+        }
+    }
+}
+
+/// Mechanical (rotor) or electrical (shunt) mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModeKind {
+    /// Most kinetic energy in the rotor and rings.
+    Mechanical,
+    /// Most kinetic energy in the shunt charges (the paper's r, s modes).
+    Electrical,
+}
+
+/// One whirl mode at one speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WhirlMode {
+    /// Whirl frequency |Im λ| (rad/s).
+    pub frequency: f64,
+    /// Forward or backward.
+    pub whirl: Whirl,
+    /// Damping ratio ζ = −Re λ/|λ| (−).
+    pub damping_ratio: f64,
+    /// The paper's number: "1", "2", … for rotor modes, "r1", "r2", "s1", … for the
+    /// electrical modes of branch 1, 2, … (Table 3).
+    pub label: String,
+    /// Mechanical or electrical.
+    pub kind: ModeKind,
+    /// Share of kinetic energy in the charge DOFs (−).
+    pub electrical_fraction: f64,
+    /// Eigenvalue λ as [Re, Im] (1/s).
+    pub eigenvalue: [f64; 2],
+    /// Relative QEP residual (see [`crate::linalg::qep_residual`]).
+    pub residual: f64,
+}
+
+impl WhirlMode {
+    /// `f1`, `b2`, `fr1`, …: whirl letter and label, as used in region labels.
+    pub fn tag(&self) -> String {
+        format!("{}{}", self.whirl.letter(), self.label)
+    }
+}
+
+/// Whirl modes of the model at one speed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModesResult {
+    /// Rotating speed Ω (rad/s).
+    pub speed: f64,
+    /// Reference load P_cr (N).
+    pub critical_load: f64,
+    /// Static load αP_cr included in the stiffness (N).
+    pub static_load: f64,
+    /// All whirl modes, sorted by frequency.
+    pub modes: Vec<WhirlMode>,
+    /// Mode shapes (unit 2-norm columns, same order as `modes`); not serialised.
+    #[serde(skip)]
+    pub shapes: Mat<c64>,
+}
+
+impl ModesResult {
+    /// Forward whirls, lowest first.
+    pub fn forward(&self) -> impl Iterator<Item = &WhirlMode> {
+        self.modes.iter().filter(|m| m.whirl == Whirl::Forward)
+    }
+    /// Backward whirls, lowest first.
+    pub fn backward(&self) -> impl Iterator<Item = &WhirlMode> {
+        self.modes.iter().filter(|m| m.whirl == Whirl::Backward)
+    }
+    /// The lowest `count` forward and `count` backward whirls, sorted by frequency.
+    pub fn lowest(&self, count: usize) -> Vec<WhirlMode> {
+        let mut v: Vec<WhirlMode> = self
+            .forward()
+            .take(count)
+            .chain(self.backward().take(count))
+            .cloned()
+            .collect();
+        v.sort_by(|a, b| a.frequency.total_cmp(&b.frequency));
+        v
+    }
+}
+
+/// Whirl modes of `model` at speed Ω (rad/s), static load αP_cr included.
+pub fn whirl_modes(
+    model: &Model,
+    settings: &Settings,
+    speed: f64,
+) -> Result<ModesResult, AnalysisError> {
+    whirl_modes_of(&Rotor::new(model)?, settings, speed)
+}
+
+/// Whirl modes of a prepared rotor at speed Ω (rad/s).
+pub fn whirl_modes_of(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+) -> Result<ModesResult, AnalysisError> {
+    let sys = &rotor.system;
+    let d = sys.damping_at(speed);
+    let k = sys.stiffness_at(rotor.static_load());
+    let sol = solve_qep(sys.m.as_ref(), d.as_ref(), k.as_ref(), QEP_SHIFT)?;
+    let kinds = sys.dofs.kinds();
+    let n = sys.size();
+
+    struct Raw {
+        col: usize,
+        mode: WhirlMode,
+        branch: Option<usize>,
+    }
+    let mut raw = Vec::new();
+    for (col, &lambda) in sol.values.iter().enumerate() {
+        if lambda.im.abs() <= settings.oscillation_tolerance * lambda.norm() {
+            continue; // non-oscillatory: not a whirl
+        }
+        let x = sol.vectors.col(col);
+        let mut total = 0.0;
+        let mut charge = 0.0;
+        let mut per_branch = vec![0.0; sys.dofs.branches];
+        for i in 0..n {
+            let mut mx = c64::new(0.0, 0.0);
+            for j in 0..n {
+                mx += x[j] * sys.m[(i, j)];
+            }
+            let e = (x[i].conj() * mx).re;
+            total += e;
+            if kinds[i] == DofKind::Charge {
+                charge += e;
+            }
+        }
+        for (b, acc) in per_branch.iter_mut().enumerate() {
+            for end in [End::Left, End::Right] {
+                let i = sys.dofs.charge(end, b);
+                *acc += sys.m[(i, i)] * x[i].norm_sqr();
+            }
+        }
+        let fraction = if total > 0.0 { charge / total } else { 0.0 };
+        let kind = if fraction > settings.electrical_fraction {
+            ModeKind::Electrical
+        } else {
+            ModeKind::Mechanical
+        };
+        let branch = (kind == ModeKind::Electrical).then(|| {
+            (0..per_branch.len())
+                .max_by(|&a, &b| per_branch[a].total_cmp(&per_branch[b]))
+                .unwrap_or(0)
+        });
+        let whirl = if lambda.im > 0.0 {
+            Whirl::Forward
+        } else {
+            Whirl::Backward
+        };
+        raw.push(Raw {
+            col,
+            branch,
+            mode: WhirlMode {
+                frequency: lambda.im.abs(),
+                whirl,
+                damping_ratio: -lambda.re / lambda.norm(),
+                label: String::new(),
+                kind,
+                electrical_fraction: fraction,
+                eigenvalue: [lambda.re, lambda.im],
+                residual: qep_residual(sys.m.as_ref(), d.as_ref(), k.as_ref(), lambda, x),
+            },
+        });
+    }
+    raw.sort_by(|a, b| a.mode.frequency.total_cmp(&b.mode.frequency));
+    // Number per whirl direction: rotor modes 1, 2, …; electrical modes by branch letter.
+    for whirl in [Whirl::Forward, Whirl::Backward] {
+        let mut mech = 0;
+        let mut elec = vec![0; sys.dofs.branches];
+        for r in raw.iter_mut().filter(|r| r.mode.whirl == whirl) {
+            r.mode.label = match r.branch {
+                None => {
+                    mech += 1;
+                    mech.to_string()
+                }
+                Some(b) => {
+                    elec[b] += 1;
+                    format!("{}{}", branch_letter(b), elec[b])
+                }
+            };
+        }
+    }
+    let shapes = Mat::from_fn(n, raw.len(), |i, c| sol.vectors[(i, raw[c].col)]);
+    Ok(ModesResult {
+        speed,
+        critical_load: rotor.critical_load,
+        static_load: rotor.static_load(),
+        modes: raw.into_iter().map(|r| r.mode).collect(),
+        shapes,
+    })
+}
+
+/// The paper names the electrical modes of branch 1 `r` and of branch 2 `s`; further
+/// branches continue the alphabet (t, u, …) and then use `e<branch>-`.
+pub fn branch_letter(branch: usize) -> String {
+    const LETTERS: [&str; 8] = ["r", "s", "t", "u", "v", "w", "x", "y"];
+    LETTERS
+        .get(branch)
+        .map(|s| s.to_string())
+        .unwrap_or_else(|| format!("e{}-", branch + 1))
+}

@@ -1,0 +1,257 @@
+//! Global matrices of the complex-coordinate system (Eq. 12–14, A8):
+//! `M ü + (C − jΩG) u̇ + (K − P(t)·S) u = Q e^{jΩt}`.
+//!
+//! `M, C, K, S, G` are real symmetric and independent of speed; they are built once and
+//! the speed enters only through [`SystemMatrices::damping_at`].
+
+use crate::model::{element, CircuitState, Model, Ring};
+use faer::{c64, Mat};
+use serde::Serialize;
+
+/// What a global DOF is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DofKind {
+    /// Complex shaft deflection u = v + jw at a node (m).
+    Deflection,
+    /// Complex slope θ = ∂u/∂x at a node (rad).
+    Slope,
+    /// Complex ring displacement a (m).
+    Ring,
+    /// Generalised charge q̃ of a shunt branch (C·m/C = m, Eq. A3).
+    Charge,
+}
+
+/// Which end of the shaft a support sits at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum End {
+    /// x = 0.
+    Left,
+    /// x = L.
+    Right,
+}
+
+/// Layout of the global DOF vector: shaft nodes `[u, θ]`, then per ring (left, right)
+/// the ring DOF followed by its branch charges.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DofMap {
+    /// Number of shaft nodes.
+    pub nodes: usize,
+    /// Charge DOFs per ring (N when closed, 0 otherwise).
+    pub branches: usize,
+}
+
+impl DofMap {
+    /// Total number of complex DOFs.
+    pub fn len(&self) -> usize {
+        2 * self.nodes + 2 * (1 + self.branches)
+    }
+    /// Always false: a model has at least one element.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+    /// Shaft DOFs 2(n+1).
+    pub fn shaft_dofs(&self) -> usize {
+        2 * self.nodes
+    }
+    /// Deflection DOF of a node.
+    pub fn deflection(&self, node: usize) -> usize {
+        2 * node
+    }
+    /// Slope DOF of a node.
+    pub fn slope(&self, node: usize) -> usize {
+        2 * node + 1
+    }
+    /// Ring DOF at an end.
+    pub fn ring(&self, end: End) -> usize {
+        let base = self.shaft_dofs();
+        match end {
+            End::Left => base,
+            End::Right => base + 1 + self.branches,
+        }
+    }
+    /// Charge DOF of branch `i` at an end.
+    pub fn charge(&self, end: End, i: usize) -> usize {
+        self.ring(end) + 1 + i
+    }
+    /// The kind of every DOF, in order.
+    pub fn kinds(&self) -> Vec<DofKind> {
+        let mut v = Vec::with_capacity(self.len());
+        for _ in 0..self.nodes {
+            v.push(DofKind::Deflection);
+            v.push(DofKind::Slope);
+        }
+        for _ in 0..2 {
+            v.push(DofKind::Ring);
+            v.extend(std::iter::repeat_n(DofKind::Charge, self.branches));
+        }
+        v
+    }
+}
+
+/// The speed-independent global matrices and the unbalance amplitude.
+#[derive(Debug, Clone)]
+pub struct SystemMatrices {
+    /// DOF layout.
+    pub dofs: DofMap,
+    /// Mass M (kg, and γL for charges).
+    pub m: Mat<f64>,
+    /// Viscous damping C (η at the rings, γR for charges).
+    pub c: Mat<f64>,
+    /// Stiffness K (bending, ring springs, Eq. A8 coupling).
+    pub k: Mat<f64>,
+    /// Geometric stiffness S per unit axial load (1/m).
+    pub s: Mat<f64>,
+    /// Gyroscopic matrix per unit speed G (kg·m²); enters as −jΩG.
+    pub g: Mat<f64>,
+    /// Unbalance per unit Ω²: m·e·e^{jγ} at each disk's deflection DOF (kg·m), so that
+    /// the force of Eq. (12)–(14) is Q(t) = Ω²·unbalance·e^{jΩt} (N).
+    pub unbalance: Vec<c64>,
+}
+
+fn add_element(target: &mut Mat<f64>, first: usize, e: &element::ElementMatrix) {
+    for (i, row) in e.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            target[(first + i, first + j)] += v;
+        }
+    }
+}
+
+fn add_spring(target: &mut Mat<f64>, a: usize, b: usize, k: f64) {
+    target[(a, a)] += k;
+    target[(b, b)] += k;
+    target[(a, b)] -= k;
+    target[(b, a)] -= k;
+}
+
+impl SystemMatrices {
+    /// Assemble the model (Eq. 12 in complex form, Eq. 14).
+    pub fn assemble(model: &Model) -> SystemMatrices {
+        let shaft = &model.shaft;
+        let dofs = DofMap {
+            nodes: shaft.nodes(),
+            branches: model.circuit.charge_dofs(),
+        };
+        let n = dofs.len();
+        let mut m = Mat::<f64>::zeros(n, n);
+        let mut c = Mat::<f64>::zeros(n, n);
+        let mut k = Mat::<f64>::zeros(n, n);
+        let mut s = Mat::<f64>::zeros(n, n);
+        let mut g = Mat::<f64>::zeros(n, n);
+
+        let (l, rho, a, i) = (
+            shaft.element_length(),
+            shaft.density,
+            shaft.area(),
+            shaft.inertia(),
+        );
+        let me = element::translational_mass(rho, a, l);
+        let mr = element::rotary_mass(rho, i, l);
+        let ke = element::bending_stiffness(shaft.youngs_modulus, i, l);
+        let se = element::geometric(l);
+        let ge = element::gyroscopic(rho, i, l);
+        for e in 0..shaft.elements {
+            let first = dofs.deflection(e);
+            add_element(&mut m, first, &me);
+            add_element(&mut m, first, &mr);
+            add_element(&mut k, first, &ke);
+            add_element(&mut s, first, &se);
+            add_element(&mut g, first, &ge);
+        }
+
+        let mut unbalance = vec![c64::new(0.0, 0.0); n];
+        for d in &model.disks {
+            let (u, t) = (dofs.deflection(d.node), dofs.slope(d.node));
+            m[(u, u)] += d.mass;
+            m[(t, t)] += d.diametral_inertia;
+            g[(t, t)] += d.polar_inertia;
+            unbalance[u] += c64::from_polar(d.mass * d.eccentricity, d.phase);
+        }
+
+        for (end, ring, node) in [
+            (End::Left, &model.left, 0),
+            (End::Right, &model.right, shaft.elements),
+        ] {
+            add_ring(
+                &mut m,
+                &mut c,
+                &mut k,
+                &dofs,
+                model,
+                end,
+                ring,
+                dofs.deflection(node),
+            );
+        }
+        SystemMatrices {
+            dofs,
+            m,
+            c,
+            k,
+            s,
+            g,
+            unbalance,
+        }
+    }
+
+    /// Number of complex DOFs.
+    pub fn size(&self) -> usize {
+        self.dofs.len()
+    }
+
+    /// Velocity matrix D(Ω) = C − jΩG (Eq. 14, MODEL.md).
+    pub fn damping_at(&self, speed: f64) -> Mat<c64> {
+        let n = self.size();
+        Mat::from_fn(n, n, |i, j| {
+            c64::new(self.c[(i, j)], -speed * self.g[(i, j)])
+        })
+    }
+
+    /// Effective stiffness K − P·S for a static axial load P (N).
+    pub fn stiffness_at(&self, load: f64) -> Mat<f64> {
+        let n = self.size();
+        Mat::from_fn(n, n, |i, j| self.k[(i, j)] - load * self.s[(i, j)])
+    }
+}
+
+/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and MODEL.md for open/short).
+#[allow(clippy::too_many_arguments)]
+fn add_ring(
+    m: &mut Mat<f64>,
+    c: &mut Mat<f64>,
+    k: &mut Mat<f64>,
+    dofs: &DofMap,
+    model: &Model,
+    end: End,
+    ring: &Ring,
+    shaft_dof: usize,
+) {
+    let a = dofs.ring(end);
+    m[(a, a)] += ring.m_b;
+    add_spring(c, shaft_dof, a, ring.eta);
+    add_spring(k, shaft_dof, a, ring.k_eq());
+    let k_eq2 = ring.k_eq2();
+    let ground = match model.circuit.state {
+        CircuitState::Open | CircuitState::Closed => ring.k_eq1() + k_eq2,
+        CircuitState::Short => ring.k_eq1(),
+    };
+    k[(a, a)] += ground;
+    if model.circuit.state != CircuitState::Closed {
+        return;
+    }
+    // Eq. (A8): energy ½k_eq2(a − Σq̃ᵢ)² + Σ ½γq̃ᵢ²/C_fi, kinetic ½γLᵢq̃̇ᵢ², dissipation γRᵢ.
+    let gamma = ring.gamma();
+    let nb = model.circuit.branches.len();
+    for (i, b) in model.circuit.branches.iter().enumerate() {
+        let qi = dofs.charge(end, i);
+        m[(qi, qi)] += gamma * b.inductance;
+        c[(qi, qi)] += gamma * b.resistance;
+        k[(qi, qi)] += gamma / b.c_f;
+        k[(a, qi)] -= k_eq2;
+        k[(qi, a)] -= k_eq2;
+        for j in 0..nb {
+            k[(qi, dofs.charge(end, j))] += k_eq2;
+        }
+    }
+}

@@ -1,0 +1,161 @@
+//! The application layer behind the CLI: each command loads a problem, runs analyses,
+//! renders reports and writes files. Commands return the text for standard output.
+
+mod args;
+mod out;
+
+pub use args::parse_range;
+pub use out::OutDir;
+
+use crate::analysis::campbell::campbell;
+use crate::analysis::modes::{whirl_modes_of, WhirlMode};
+use crate::analysis::Rotor;
+use crate::problem::Problem;
+use crate::report::{campbell as campbell_report, summary};
+use crate::Error;
+use serde::Serialize;
+use std::path::Path;
+
+/// Tool name and version recorded in outputs.
+pub const TOOL: &str = concat!("rotorshunt ", env!("CARGO_PKG_VERSION"));
+
+/// A source of progress ticks for long loops; the CLI drives a progress bar with it.
+pub trait Progress: Sync {
+    /// Announce the number of steps.
+    fn start(&self, _len: u64, _what: &str) {}
+    /// One step done.
+    fn tick(&self) {}
+    /// All done.
+    fn finish(&self) {}
+}
+
+/// Progress that shows nothing.
+pub struct Quiet;
+impl Progress for Quiet {}
+
+fn title(p: &Problem) -> String {
+    p.data.title.clone().unwrap_or_else(|| p.file.clone())
+}
+
+/// `rotorshunt check FILE`: the model summary.
+pub fn check(problem: &Problem) -> Result<String, Error> {
+    let rotor = Rotor::new(&problem.model)?;
+    Ok(format!(
+        "{}: valid\n{}",
+        problem.file,
+        summary::check_text(&rotor, &title(problem))
+    ))
+}
+
+/// JSON of `modes`.
+#[derive(Debug, Serialize)]
+pub struct ModesOutput {
+    /// Tool and version.
+    pub tool: &'static str,
+    /// Problem file.
+    pub problem: String,
+    /// Ω (rad/s).
+    pub speed: f64,
+    /// P_cr (N).
+    pub critical_load: f64,
+    /// αP_cr (N).
+    pub static_load: f64,
+    /// Lowest `count` forward and backward whirls, by frequency.
+    pub modes: Vec<WhirlMode>,
+}
+
+/// `rotorshunt modes FILE [--speed W] [--count N] [--json]`.
+pub fn modes(
+    problem: &Problem,
+    speed: Option<f64>,
+    count: usize,
+    json: bool,
+) -> Result<String, Error> {
+    let speed = speed.unwrap_or(problem.model.speed);
+    if !speed.is_finite() || speed < 0.0 {
+        return Err(Error::Argument {
+            argument: "--speed".into(),
+            message: format!("must be a finite speed >= 0 rad/s, found {speed}"),
+        });
+    }
+    let rotor = Rotor::new(&problem.model)?;
+    let r = whirl_modes_of(&rotor, &problem.settings, speed)?;
+    let out = ModesOutput {
+        tool: TOOL,
+        problem: problem.file.clone(),
+        speed,
+        critical_load: r.critical_load,
+        static_load: r.static_load,
+        modes: r.lowest(count),
+    };
+    if json {
+        Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n")
+    } else {
+        Ok(summary::modes_text(&out.modes, speed, out.critical_load))
+    }
+}
+
+/// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
+pub fn campbell_cmd(
+    problem: &Problem,
+    speeds: &str,
+    count: usize,
+    out: &Path,
+    progress: &dyn Progress,
+) -> Result<String, Error> {
+    let speeds = parse_range(speeds, "--speeds")?;
+    if let Some(bad) = speeds.iter().find(|w| **w < 0.0) {
+        return Err(Error::Argument {
+            argument: "--speeds".into(),
+            message: format!("speeds must be >= 0 rad/s, found {bad}"),
+        });
+    }
+    let dir = OutDir::create(out, &problem.file)?;
+    let rotor = Rotor::new(&problem.model)?;
+    progress.start(speeds.len() as u64, "campbell");
+    let result = campbell(&rotor, &problem.settings, &speeds, count, &|| {
+        progress.tick()
+    })?;
+    progress.finish();
+    #[derive(Serialize)]
+    struct Json<'a> {
+        tool: &'static str,
+        problem: &'a str,
+        settings: &'a crate::analysis::Settings,
+        campbell: &'a crate::analysis::campbell::CampbellResult,
+    }
+    let json = Json {
+        tool: TOOL,
+        problem: &problem.file,
+        settings: &problem.settings,
+        campbell: &result,
+    };
+    dir.write(
+        "campbell.json",
+        serde_json::to_string_pretty(&json)
+            .expect("plain data serialises")
+            .as_bytes(),
+    )?;
+    let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
+    dir.write("campbell.csv", csv.as_bytes())?;
+    let plot =
+        campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));
+    dir.write(
+        "campbell.svg",
+        plot.svg()
+            .map_err(|e| dir.error("campbell.svg", e))?
+            .as_bytes(),
+    )?;
+    dir.write(
+        "campbell.png",
+        &plot.png().map_err(|e| dir.error("campbell.png", e))?,
+    )?;
+    Ok(format!(
+        "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
+        speeds.len(),
+        result.tracks.len(),
+        result.flagged,
+        result.mac_threshold,
+        out.display()
+    ))
+}

@@ -1,0 +1,40 @@
+//! Thin wrappers over faer: the quadratic eigenproblem by shift-invert (Eq. 18–21) and
+//! the symmetric-definite generalised eigenproblem (buckling, undamped modes).
+
+mod qep;
+mod symmetric;
+
+pub use qep::{qep_residual, solve_qep, QepSolution};
+pub use symmetric::{definite_eigen, DefiniteEigen};
+
+use thiserror::Error;
+
+/// Failures of the dense linear algebra.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum LinalgError {
+    /// The eigenvalue iteration did not converge.
+    #[error("the {what} eigenvalue iteration did not converge")]
+    NoConvergence {
+        /// Which decomposition.
+        what: &'static str,
+    },
+    /// A matrix that must be positive definite is not (e.g. the stiffness after a load
+    /// at or above buckling).
+    #[error("the {what} matrix is not positive definite")]
+    NotPositiveDefinite {
+        /// Which matrix.
+        what: &'static str,
+    },
+    /// The shifted pencil is singular: the shift hit an eigenvalue.
+    #[error("the shifted pencil (A − σB) is singular at σ = {shift} rad/s")]
+    SingularShift {
+        /// The shift (rad/s).
+        shift: f64,
+    },
+    /// A matrix contains NaN or infinite entries.
+    #[error("the {what} matrix has non-finite entries")]
+    NonFinite {
+        /// Which matrix.
+        what: &'static str,
+    },
+}

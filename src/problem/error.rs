@@ -1,0 +1,121 @@
+//! Errors of the file layer: each names the file, the line (when the text parses) and
+//! the key path, and carries the offending value.
+
+use super::source::Location;
+use thiserror::Error;
+
+/// What is wrong with a problem file.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ProblemErrorKind {
+    /// The file cannot be read.
+    #[error("cannot read the file: {0}")]
+    Read(String),
+    /// The file is not valid UTF-8 text.
+    #[error("the file is not UTF-8 text (invalid byte at offset {0})")]
+    NotUtf8(usize),
+    /// The text is not valid TOML.
+    #[error("TOML syntax error: {0}")]
+    Syntax(String),
+    /// A key is not part of the format (serde: unknown field), a required key is
+    /// missing, or a value has the wrong type.
+    #[error("{0}")]
+    Schema(String),
+    /// Unsupported `version`.
+    #[error("format version {found} is not supported (this build reads version {supported})")]
+    Version {
+        /// Found.
+        found: i64,
+        /// Supported.
+        supported: i64,
+    },
+    /// NaN or infinite.
+    #[error("must be a finite number, found {0}")]
+    NotFinite(f64),
+    /// ≤ 0 where a positive value is needed.
+    #[error("must be positive, found {0}")]
+    NotPositive(f64),
+    /// < 0 where a non-negative value is needed.
+    #[error("must not be negative, found {0}")]
+    Negative(f64),
+    /// Outside an allowed range.
+    #[error("must be {range}, found {value}")]
+    OutOfRange {
+        /// The value.
+        value: f64,
+        /// The allowed range, in words.
+        range: String,
+    },
+    /// Two alternative keys both given.
+    #[error("give either `{0}` or `{1}`, not both")]
+    BothGiven(String, String),
+    /// Neither of two alternative keys given.
+    #[error("give one of `{0}` or `{1}`")]
+    NeitherGiven(String, String),
+    /// A disk position off the shaft.
+    #[error("disk position {position} m is outside the shaft (0 to {length} m)")]
+    DiskOffShaft {
+        /// m.
+        position: f64,
+        /// m.
+        length: f64,
+    },
+    /// A disk node index that does not exist.
+    #[error("disk node {node} does not exist: the shaft has nodes 0 to {last}")]
+    DiskNodeOffShaft {
+        /// The index.
+        node: i64,
+        /// The last node index n.
+        last: usize,
+    },
+    /// A closed circuit without branches.
+    #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
+    NoBranches,
+    /// A `--set` that does not apply.
+    #[error("cannot apply --set {text}: {reason}")]
+    Override {
+        /// The override text.
+        text: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// A problem-file error with its location.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{file}{}: {}{kind}", where_(location), key_(key))]
+pub struct ProblemError {
+    /// The file name as given.
+    pub file: String,
+    /// Line of the key, or override.
+    pub location: Location,
+    /// Key path, e.g. `disks[0].mass`; empty for whole-file errors.
+    pub key: String,
+    /// What is wrong.
+    pub kind: ProblemErrorKind,
+}
+
+fn where_(l: &Location) -> String {
+    match l {
+        Location::Line(n) => format!(", line {n}"),
+        Location::Override => ", --set".to_string(),
+        Location::Unknown => String::new(),
+    }
+}
+
+fn key_(k: &str) -> String {
+    if k.is_empty() {
+        String::new()
+    } else {
+        format!("key `{k}`: ")
+    }
+}
+
+impl ProblemError {
+    /// The 1-based line, when the key is in the file.
+    pub fn line(&self) -> Option<usize> {
+        match self.location {
+            Location::Line(n) => Some(n),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! The problem-file format, version 1: serde types mirroring the TOML, user data only.
+//! Every key is documented in `problems/README.md`; units are SI and rad/s.
+
+use crate::analysis::Settings;
+use crate::model::CircuitState;
+use serde::{Deserialize, Serialize};
+
+/// The only format version this build reads.
+pub const FORMAT_VERSION: i64 = 1;
+
+/// A whole problem file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProblemFile {
+    /// Format version; must be 1.
+    pub version: i64,
+    /// Short title shown in reports.
+    #[serde(default)]
+    pub title: Option<String>,
+    /// Where the data come from.
+    #[serde(default)]
+    pub source: Option<String>,
+    /// Rotating speed Ω (rad/s).
+    pub speed: f64,
+    /// The shaft.
+    pub shaft: ShaftFile,
+    /// Rigid disks (`[[disks]]`).
+    #[serde(default)]
+    pub disks: Vec<DiskFile>,
+    /// Ring and bearing, the same at both ends unless `[ring.right]` overrides.
+    pub ring: RingFile,
+    /// The shunt circuit.
+    pub circuit: CircuitFile,
+    /// The axial load.
+    pub load: LoadFile,
+    /// Numerical settings.
+    #[serde(default)]
+    pub analysis: Settings,
+}
+
+/// `[shaft]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShaftFile {
+    /// L (m).
+    pub length: f64,
+    /// r (m).
+    pub radius: f64,
+    /// Number of Rayleigh beam elements n.
+    pub elements: i64,
+    /// E (Pa).
+    pub youngs_modulus: f64,
+    /// ρ (kg/m³).
+    pub density: f64,
+}
+
+/// `[[disks]]`: placed by `node` (0-based) or `position` (m from the left end).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiskFile {
+    /// Node index, 0 = left end.
+    #[serde(default)]
+    pub node: Option<i64>,
+    /// Position along the shaft (m); snapped to the nearest node.
+    #[serde(default)]
+    pub position: Option<f64>,
+    /// m (kg).
+    pub mass: f64,
+    /// J_p (kg·m²).
+    pub polar_inertia: f64,
+    /// J_d (kg·m²); default J_p/2 (thin disk).
+    #[serde(default)]
+    pub diametral_inertia: Option<f64>,
+    /// Unbalance eccentricity e (m).
+    #[serde(default)]
+    pub eccentricity: f64,
+    /// Unbalance phase γ (rad).
+    #[serde(default)]
+    pub phase: f64,
+}
+
+/// `[ring]`: vibration ring and bearing (Eq. 1, 7–10).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingFile {
+    /// Bearing stiffness k_b (N/m).
+    pub k_b: f64,
+    /// Bearing + ring mass m_b (kg).
+    pub m_b: f64,
+    /// Mechanical damping η (N·s/m).
+    #[serde(default)]
+    pub eta: f64,
+    /// Ring structure stiffness k_1 (N/m).
+    pub k_1: f64,
+    /// Piezo stack stiffness k_2 (N/m).
+    pub k_2: f64,
+    /// Structural angle β (degrees, 0 < β < 90).
+    pub angle_deg: f64,
+    /// Coupling coefficient θ_p (C/m).
+    pub theta_p: f64,
+    /// C_p^T (F).
+    pub cp_t: f64,
+    /// C_p^S (F); give this or `k_eq2`.
+    #[serde(default)]
+    pub cp_s: Option<f64>,
+    /// k_eq2 (N/m), from which C_p^S follows by Eq. (1); give this or `cp_s`.
+    #[serde(default)]
+    pub k_eq2: Option<f64>,
+    /// Values that differ at the right end (x = L).
+    #[serde(default)]
+    pub right: Option<RingOverride>,
+}
+
+/// `[ring.right]`: any subset of the ring keys, for the right end only.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingOverride {
+    /// k_b (N/m).
+    pub k_b: Option<f64>,
+    /// m_b (kg).
+    pub m_b: Option<f64>,
+    /// η (N·s/m).
+    pub eta: Option<f64>,
+    /// k_1 (N/m).
+    pub k_1: Option<f64>,
+    /// k_2 (N/m).
+    pub k_2: Option<f64>,
+    /// β (degrees).
+    pub angle_deg: Option<f64>,
+    /// θ_p (C/m).
+    pub theta_p: Option<f64>,
+    /// C_p^T (F).
+    pub cp_t: Option<f64>,
+    /// C_p^S (F).
+    pub cp_s: Option<f64>,
+    /// k_eq2 (N/m).
+    pub k_eq2: Option<f64>,
+}
+
+/// `[circuit]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CircuitFile {
+    /// `open`, `short` or `closed`.
+    pub state: CircuitState,
+    /// `[[circuit.branches]]`: needed (N ≥ 1) when closed.
+    #[serde(default)]
+    pub branches: Vec<BranchFile>,
+}
+
+/// `[[circuit.branches]]`: C_f, R and either L or the tuning frequency of Eq. (4).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BranchFile {
+    /// Filtering capacitance C_f (F).
+    pub c_f: f64,
+    /// Inductance L (H); give this or `tuning_frequency`.
+    #[serde(default)]
+    pub inductance: Option<f64>,
+    /// ω of Eq. (4) (rad/s), from which L follows; give this or `inductance`.
+    #[serde(default)]
+    pub tuning_frequency: Option<f64>,
+    /// Resistance R (Ω).
+    #[serde(default)]
+    pub resistance: f64,
+}
+
+/// `[load]`: P(t) = P_cr·(α + β cos φt).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadFile {
+    /// Static load coefficient α (−), below 1.
+    pub alpha: f64,
+    /// P_cr (N); computed (open-circuit supports) when absent.
+    #[serde(default)]
+    pub critical_load: Option<f64>,
+}

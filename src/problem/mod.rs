@@ -1,0 +1,148 @@
+//! The file layer: read a TOML problem file, apply `--set` overrides, check every value
+//! and translate it into [`crate::model::Model`] and [`crate::analysis::Settings`].
+//! This is the only module that knows both the file format and the model.
+
+mod error;
+pub mod file;
+pub mod source;
+mod validate;
+
+pub use error::{ProblemError, ProblemErrorKind};
+pub use file::ProblemFile;
+pub use source::Location;
+
+use crate::analysis::Settings;
+use crate::model::Model;
+use source::{line_of, parse_override_value, set_path, LineIndex};
+use std::path::Path;
+
+/// A loaded, validated problem.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The file name as given.
+    pub file: String,
+    /// The file's content after overrides (what was analysed).
+    pub data: ProblemFile,
+    /// The physics.
+    pub model: Model,
+    /// Numerical settings.
+    pub settings: Settings,
+}
+
+impl Problem {
+    /// Load `path` and apply overrides `key.path=value`.
+    pub fn from_path(
+        path: impl AsRef<Path>,
+        overrides: &[String],
+    ) -> Result<Problem, ProblemError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|e| ProblemError {
+            file: name.clone(),
+            location: Location::Unknown,
+            key: String::new(),
+            kind: ProblemErrorKind::Read(e.to_string()),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| ProblemError {
+            file: name.clone(),
+            location: Location::Line(line_of(
+                &String::from_utf8_lossy(&e.as_bytes()[..e.utf8_error().valid_up_to()]),
+                usize::MAX,
+            )),
+            key: String::new(),
+            kind: ProblemErrorKind::NotUtf8(e.utf8_error().valid_up_to()),
+        })?;
+        Problem::from_text(&text, &name, overrides)
+    }
+
+    /// Parse problem text; `name` is used in messages.
+    pub fn from_text(
+        text: &str,
+        name: &str,
+        overrides: &[String],
+    ) -> Result<Problem, ProblemError> {
+        let err = |location, key: &str, kind| ProblemError {
+            file: name.to_string(),
+            location,
+            key: key.to_string(),
+            kind,
+        };
+        let doc = toml::de::DeTable::parse(text).map_err(|e| {
+            let loc = e
+                .span()
+                .map(|s| Location::Line(line_of(text, s.start)))
+                .unwrap_or(Location::Unknown);
+            err(
+                loc,
+                "",
+                ProblemErrorKind::Syntax(e.message().trim().to_string()),
+            )
+        })?;
+        let mut index = LineIndex::new(text, &doc);
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+            err(
+                Location::Unknown,
+                "",
+                ProblemErrorKind::Syntax(e.message().trim().to_string()),
+            )
+        })?;
+        for o in overrides {
+            let (key, value) = o.split_once('=').ok_or_else(|| {
+                err(
+                    Location::Override,
+                    "",
+                    ProblemErrorKind::Override {
+                        text: o.clone(),
+                        reason: "expected key.path=value".into(),
+                    },
+                )
+            })?;
+            let key = key.trim();
+            set_path(&mut table, key, parse_override_value(value.trim())).map_err(|reason| {
+                err(
+                    Location::Override,
+                    key,
+                    ProblemErrorKind::Override {
+                        text: o.clone(),
+                        reason,
+                    },
+                )
+            })?;
+            index.mark_overridden(key);
+        }
+        let data: ProblemFile = serde_path_to_error::deserialize(toml::Value::Table(table))
+            .map_err(|e| {
+                let mut key = e.path().to_string();
+                let message = e.inner().message().trim().to_string();
+                if key == "." {
+                    key.clear();
+                }
+                // serde reports a missing or unknown key at its table; name the key itself.
+                if let Some(field) = quoted_field(&message, "missing field `")
+                    .or_else(|| quoted_field(&message, "unknown field `"))
+                {
+                    if !key.ends_with(&field) {
+                        key = if key.is_empty() {
+                            field
+                        } else {
+                            format!("{key}.{field}")
+                        };
+                    }
+                }
+                err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
+            })?;
+        let (model, settings) = validate::translate(&data)
+            .map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        Ok(Problem {
+            file: name.to_string(),
+            data,
+            model,
+            settings,
+        })
+    }
+}
+
+fn quoted_field(message: &str, prefix: &str) -> Option<String> {
+    let rest = &message[message.find(prefix)? + prefix.len()..];
+    Some(rest[..rest.find('`')?].to_string())
+}

@@ -1,0 +1,282 @@
+//! Value checks with key paths, and translation of the file types into the model.
+
+use super::file::*;
+use super::ProblemErrorKind as K;
+use crate::analysis::Settings;
+use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
+
+/// A key path and what is wrong there.
+pub type Failure = (String, K);
+
+/// Upper bound on shaft elements: the dense eigensolvers cost O(n³), and 2 000 elements
+/// already mean a 8 000 × 8 000 complex state matrix.
+pub const MAX_ELEMENTS: i64 = 2000;
+
+fn finite(key: &str, v: f64) -> Result<f64, Failure> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err((key.into(), K::NotFinite(v)))
+    }
+}
+
+fn positive(key: &str, v: f64) -> Result<f64, Failure> {
+    if finite(key, v)? > 0.0 {
+        Ok(v)
+    } else {
+        Err((key.into(), K::NotPositive(v)))
+    }
+}
+
+fn non_negative(key: &str, v: f64) -> Result<f64, Failure> {
+    if finite(key, v)? >= 0.0 {
+        Ok(v)
+    } else {
+        Err((key.into(), K::Negative(v)))
+    }
+}
+
+fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failure> {
+    let v = finite(key, v)?;
+    if v > lo && v < hi {
+        Ok(v)
+    } else {
+        Err((
+            key.into(),
+            K::OutOfRange {
+                value: v,
+                range: range.into(),
+            },
+        ))
+    }
+}
+
+fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
+    match (a.1, b.1) {
+        (Some(_), Some(_)) => Err((
+            format!("{key}.{}", b.0),
+            K::BothGiven(a.0.into(), b.0.into()),
+        )),
+        (None, None) => Err((key.into(), K::NeitherGiven(a.0.into(), b.0.into()))),
+        _ => Ok(()),
+    }
+}
+
+/// Check every value and build the model and settings.
+pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
+    if f.version != FORMAT_VERSION {
+        return Err((
+            "version".into(),
+            K::Version {
+                found: f.version,
+                supported: FORMAT_VERSION,
+            },
+        ));
+    }
+    let speed = non_negative("speed", f.speed)?;
+    let shaft = shaft(&f.shaft)?;
+    let disks = f
+        .disks
+        .iter()
+        .enumerate()
+        .map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft))
+        .collect::<Result<_, _>>()?;
+    let left = ring("ring", &f.ring, &RingOverride::default())?;
+    let right = match &f.ring.right {
+        Some(r) => ring("ring.right", &f.ring, r)?,
+        None => left.clone(),
+    };
+    let circuit = circuit(&f.circuit, &left)?;
+    let load = Load {
+        alpha: within(
+            "load.alpha",
+            f.load.alpha,
+            f64::NEG_INFINITY,
+            1.0,
+            "below 1 (alpha >= 1 means the static load alone buckles the shaft)",
+        )?,
+        critical_load: f
+            .load
+            .critical_load
+            .map(|p| positive("load.critical_load", p))
+            .transpose()?,
+    };
+    let settings = settings(&f.analysis)?;
+    Ok((
+        Model {
+            shaft,
+            disks,
+            left,
+            right,
+            circuit,
+            load,
+            speed,
+        },
+        settings,
+    ))
+}
+
+fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
+    if s.elements < 1 || s.elements > MAX_ELEMENTS {
+        return Err((
+            "shaft.elements".into(),
+            K::OutOfRange {
+                value: s.elements as f64,
+                range: format!("a whole number from 1 to {MAX_ELEMENTS}"),
+            },
+        ));
+    }
+    Ok(Shaft {
+        length: positive("shaft.length", s.length)?,
+        radius: positive("shaft.radius", s.radius)?,
+        elements: s.elements as usize,
+        youngs_modulus: positive("shaft.youngs_modulus", s.youngs_modulus)?,
+        density: positive("shaft.density", s.density)?,
+    })
+}
+
+fn disk(key: &str, d: &DiskFile, shaft: &Shaft) -> Result<Disk, Failure> {
+    one_of(
+        key,
+        ("node", d.node.map(|n| n as f64)),
+        ("position", d.position),
+    )?;
+    let node = match (d.node, d.position) {
+        (Some(n), _) => {
+            if n < 0 || n as usize > shaft.elements {
+                return Err((
+                    format!("{key}.node"),
+                    K::DiskNodeOffShaft {
+                        node: n,
+                        last: shaft.elements,
+                    },
+                ));
+            }
+            n as usize
+        }
+        (None, Some(p)) => {
+            let p = finite(&format!("{key}.position"), p)?;
+            if !(0.0..=shaft.length).contains(&p) {
+                return Err((
+                    format!("{key}.position"),
+                    K::DiskOffShaft {
+                        position: p,
+                        length: shaft.length,
+                    },
+                ));
+            }
+            (p / shaft.element_length()).round() as usize
+        }
+        (None, None) => unreachable!("checked by one_of"),
+    };
+    let polar_inertia = non_negative(&format!("{key}.polar_inertia"), d.polar_inertia)?;
+    Ok(Disk {
+        node,
+        mass: positive(&format!("{key}.mass"), d.mass)?,
+        polar_inertia,
+        diametral_inertia: match d.diametral_inertia {
+            Some(j) => non_negative(&format!("{key}.diametral_inertia"), j)?,
+            None => polar_inertia / 2.0,
+        },
+        eccentricity: non_negative(&format!("{key}.eccentricity"), d.eccentricity)?,
+        phase: finite(&format!("{key}.phase"), d.phase)?,
+    })
+}
+
+fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
+    let k = |name: &str| format!("{key}.{name}");
+    let angle_deg = within(
+        &k("angle_deg"),
+        o.angle_deg.unwrap_or(base.angle_deg),
+        0.0,
+        90.0,
+        "between 0 and 90 degrees",
+    )?;
+    let angle = angle_deg.to_radians();
+    let theta_p = positive(&k("theta_p"), o.theta_p.unwrap_or(base.theta_p))?;
+    // The right end may replace cp_s by k_eq2 or the reverse: an override of either wins.
+    let (cp_s, k_eq2) = match (o.cp_s, o.k_eq2) {
+        (None, None) => (base.cp_s, base.k_eq2),
+        (cp_s, k_eq2) => (cp_s, k_eq2),
+    };
+    one_of(key, ("cp_s", cp_s), ("k_eq2", k_eq2))?;
+    let cp_s = match (cp_s, k_eq2) {
+        (Some(c), _) => positive(&k("cp_s"), c)?,
+        (None, Some(k2)) => Ring::cp_s_from_k_eq2(angle, theta_p, positive(&k("k_eq2"), k2)?),
+        (None, None) => unreachable!("checked by one_of"),
+    };
+    Ok(Ring {
+        k_b: positive(&k("k_b"), o.k_b.unwrap_or(base.k_b))?,
+        m_b: positive(&k("m_b"), o.m_b.unwrap_or(base.m_b))?,
+        eta: non_negative(&k("eta"), o.eta.unwrap_or(base.eta))?,
+        k_1: positive(&k("k_1"), o.k_1.unwrap_or(base.k_1))?,
+        k_2: positive(&k("k_2"), o.k_2.unwrap_or(base.k_2))?,
+        angle,
+        theta_p,
+        cp_t: positive(&k("cp_t"), o.cp_t.unwrap_or(base.cp_t))?,
+        cp_s,
+    })
+}
+
+fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
+    if c.state == CircuitState::Closed && c.branches.is_empty() {
+        return Err(("circuit.branches".into(), K::NoBranches));
+    }
+    let branches = c
+        .branches
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let key = format!("circuit.branches[{i}]");
+            one_of(
+                &key,
+                ("inductance", b.inductance),
+                ("tuning_frequency", b.tuning_frequency),
+            )?;
+            let c_f = positive(&format!("{key}.c_f"), b.c_f)?;
+            let inductance = match (b.inductance, b.tuning_frequency) {
+                (Some(l), _) => non_negative(&format!("{key}.inductance"), l)?,
+                (None, Some(w)) => Branch::tuned_inductance(
+                    ring.cp_t,
+                    c_f,
+                    positive(&format!("{key}.tuning_frequency"), w)?,
+                ),
+                (None, None) => unreachable!("checked by one_of"),
+            };
+            Ok(Branch {
+                c_f,
+                inductance,
+                resistance: non_negative(&format!("{key}.resistance"), b.resistance)?,
+            })
+        })
+        .collect::<Result<_, Failure>>()?;
+    Ok(Circuit {
+        state: c.state,
+        branches,
+    })
+}
+
+fn settings(s: &Settings) -> Result<Settings, Failure> {
+    within(
+        "analysis.mac_threshold",
+        s.mac_threshold,
+        0.0,
+        1.0 + 1e-12,
+        "in (0, 1]",
+    )?;
+    within(
+        "analysis.electrical_fraction",
+        s.electrical_fraction,
+        0.0,
+        1.0,
+        "in (0, 1)",
+    )?;
+    within(
+        "analysis.oscillation_tolerance",
+        s.oscillation_tolerance,
+        0.0,
+        1.0,
+        "in (0, 1)",
+    )?;
+    Ok(s.clone())
+}
