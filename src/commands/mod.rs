@@ -71,6 +71,12 @@ pub fn modes(
     count: usize,
     json: bool,
 ) -> Result<String, Error> {
+    if count == 0 {
+        return Err(Error::Argument {
+            argument: "--count".into(),
+            message: "must be at least 1".into(),
+        });
+    }
     let speed = speed.unwrap_or(problem.model.speed);
     if !speed.is_finite() || speed < 0.0 {
         return Err(Error::Argument {

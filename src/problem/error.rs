@@ -13,6 +13,9 @@ pub enum ProblemErrorKind {
     /// The file is not valid UTF-8 text.
     #[error("the file is not UTF-8 text (invalid byte at offset {0})")]
     NotUtf8(usize),
+    /// The file has no content.
+    #[error("the file is empty: a problem file needs at least `version`, `speed`, [shaft], [ring], [circuit] and [load]")]
+    Empty,
     /// The text is not valid TOML.
     #[error("TOML syntax error: {0}")]
     Syntax(String),

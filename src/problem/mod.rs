@@ -79,13 +79,31 @@ impl Problem {
             )
         })?;
         let mut index = LineIndex::new(text, &doc);
+        if text.trim().is_empty() {
+            return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
+        }
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+            let loc = e
+                .span()
+                .map(|s| Location::Line(line_of(text, s.start)))
+                .unwrap_or(Location::Unknown);
             err(
-                Location::Unknown,
+                loc,
                 "",
                 ProblemErrorKind::Syntax(e.message().trim().to_string()),
             )
         })?;
+        // The version decides the schema: check it before anything else, so a newer file
+        // is reported as such rather than as having unknown keys.
+        if let Some(toml::Value::Integer(v)) = table.get("version") {
+            if *v != file::FORMAT_VERSION {
+                let kind = ProblemErrorKind::Version {
+                    found: *v,
+                    supported: file::FORMAT_VERSION,
+                };
+                return Err(err(index.locate("version"), "version", kind));
+            }
+        }
         for o in overrides {
             let (key, value) = o.split_once('=').ok_or_else(|| {
                 err(
@@ -131,8 +149,19 @@ impl Problem {
                 }
                 err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
             })?;
-        let (model, settings) = validate::translate(&data)
-            .map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let (model, settings) = validate::translate(&data).map_err(|(key, kind)| {
+            // Two alternatives given: blame --set if either came from the command line.
+            let location = match (&kind, key.rsplit_once('.')) {
+                (ProblemErrorKind::BothGiven(a, b), Some((parent, _)))
+                    if index.is_overridden(&format!("{parent}.{a}"))
+                        || index.is_overridden(&format!("{parent}.{b}")) =>
+                {
+                    Location::Override
+                }
+                _ => index.locate(&key),
+            };
+            err(location, &key, kind)
+        })?;
         Ok(Problem {
             file: name.to_string(),
             data,

@@ -36,6 +36,11 @@ impl LineIndex {
         self.overridden.push(path.to_string());
     }
 
+    /// True when `path` was set by a `--set` override.
+    pub fn is_overridden(&self, path: &str) -> bool {
+        self.overridden.iter().any(|o| o == path)
+    }
+
     /// Where a key path comes from: `Some(line)` in the file, or `None` when it (or a
     /// parent) was set on the command line or is absent (then the nearest present parent's
     /// line is used if there is one).

@@ -202,7 +202,23 @@ fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
     one_of(key, ("cp_s", cp_s), ("k_eq2", k_eq2))?;
     let cp_s = match (cp_s, k_eq2) {
         (Some(c), _) => positive(&k("cp_s"), c)?,
-        (None, Some(k2)) => Ring::cp_s_from_k_eq2(angle, theta_p, positive(&k("k_eq2"), k2)?),
+        // A tiny k_eq2 can overflow C_p^S: check the derived value too.
+        // A tiny k_eq2 can overflow C_p^S: check the derived value too.
+        (None, Some(k2)) => {
+            let k2 = positive(&k("k_eq2"), k2)?;
+            let cp_s = Ring::cp_s_from_k_eq2(angle, theta_p, k2);
+            if !cp_s.is_finite() {
+                let range = "large enough that C_p^S = 2 cot^2(beta) theta_p^2 / k_eq2 is finite";
+                return Err((
+                    k("k_eq2"),
+                    K::OutOfRange {
+                        value: k2,
+                        range: range.into(),
+                    },
+                ));
+            }
+            cp_s
+        }
         (None, None) => unreachable!("checked by one_of"),
     };
     Ok(Ring {
