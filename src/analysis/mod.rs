@@ -2,12 +2,15 @@
 
 pub mod buckling;
 pub mod campbell;
+pub mod chart;
+pub mod floquet;
 pub mod modes;
+pub mod reduction;
 mod rotor;
 mod settings;
 
 pub use rotor::Rotor;
-pub use settings::Settings;
+pub use settings::{MonodromyMethod, Settings};
 
 use crate::linalg::LinalgError;
 use thiserror::Error;
@@ -18,6 +21,14 @@ pub enum AnalysisError {
     /// Dense linear algebra failed.
     #[error(transparent)]
     Linalg(#[from] LinalgError),
+    /// M (reduced modes) is zero or larger than the number of finite modes.
+    #[error("the reduced model asks for {requested} modes but the model has {available} finite modes (analysis.reduced_modes must be between 1 and {available})")]
+    ReducedModes {
+        /// Requested M.
+        requested: usize,
+        /// Finite undamped modes of the model.
+        available: usize,
+    },
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {

@@ -294,5 +294,27 @@ fn settings(s: &Settings) -> Result<Settings, Failure> {
         1.0,
         "in (0, 1)",
     )?;
+    within(
+        "analysis.instability_tolerance",
+        s.instability_tolerance,
+        1.0,
+        f64::INFINITY,
+        "above 1",
+    )?;
+    let count = |key: &str, v: usize, lo: usize, hi: usize| -> Result<(), Failure> {
+        if v < lo || v > hi {
+            return Err((
+                key.into(),
+                K::OutOfRange {
+                    value: v as f64,
+                    range: format!("a whole number from {lo} to {hi}"),
+                },
+            ));
+        }
+        Ok(())
+    };
+    count("analysis.reduced_modes", s.reduced_modes, 1, 200)?;
+    count("analysis.steps_per_period", s.steps_per_period, 2, 1 << 16)?;
+    count("analysis.reference_steps", s.reference_steps, 2, 1 << 20)?;
     Ok(s.clone())
 }

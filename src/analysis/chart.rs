@@ -1,0 +1,108 @@
+//! Stability charts over a (φ, β) grid (Figs. 8, 9, 11, 13) and growth-rate maps
+//! (Fig. 12). Parallel over φ (the outermost loop; each φ row shares its per-φ work),
+//! sequential inside, so results are identical for any thread count.
+
+use super::floquet::{FloquetPoint, FloquetSystem, PointStatus};
+use super::reduction::ReductionInfo;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// One chart point, without the full multiplier list.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ChartPoint {
+    /// φ (rad/s).
+    pub phi: f64,
+    /// β (−).
+    pub beta: f64,
+    /// max|μ| (saturated at f64::MAX).
+    pub max_multiplier: f64,
+    /// ln max|μ|.
+    pub ln_max_multiplier: f64,
+    /// ln(max|μ|)/T (1/s).
+    pub growth_rate: f64,
+    /// max|μ| ≤ tolerance.
+    pub stable: bool,
+    /// Computed normally, inaccurate, or failed.
+    pub status: PointStatus,
+}
+
+impl From<&FloquetPoint> for ChartPoint {
+    fn from(p: &FloquetPoint) -> Self {
+        ChartPoint {
+            phi: p.phi,
+            beta: p.beta,
+            max_multiplier: p.max_multiplier,
+            ln_max_multiplier: p.ln_max_multiplier,
+            growth_rate: p.growth_rate,
+            stable: p.stable,
+            status: p.status,
+        }
+    }
+}
+
+/// A stability chart.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChartResult {
+    /// Speed Ω (rad/s).
+    pub speed: f64,
+    /// φ values (rad/s).
+    pub phis: Vec<f64>,
+    /// β values.
+    pub betas: Vec<f64>,
+    /// Points, φ-major: index = i_φ·len(β) + i_β.
+    pub points: Vec<ChartPoint>,
+    /// Instability tolerance used.
+    pub instability_tolerance: f64,
+    /// Reduced model used.
+    pub reduction: ReductionInfo,
+    /// Points whose monodromy failed (no verdict).
+    pub failed: usize,
+    /// Points computed with a non-converged interpolant.
+    pub inaccurate: usize,
+}
+
+impl ChartResult {
+    /// The point at (i_φ, i_β).
+    pub fn at(&self, i_phi: usize, i_beta: usize) -> &ChartPoint {
+        &self.points[i_phi * self.betas.len() + i_beta]
+    }
+    /// Number of unstable points.
+    pub fn unstable(&self) -> usize {
+        self.points.iter().filter(|p| !p.stable).count()
+    }
+}
+
+/// Compute a chart; `tick` is called once per φ row.
+pub fn chart(
+    fs: &FloquetSystem,
+    phis: &[f64],
+    betas: &[f64],
+    tick: &(dyn Fn() + Sync),
+) -> ChartResult {
+    let rows: Vec<Vec<ChartPoint>> = phis
+        .par_iter()
+        .map(|&phi| {
+            faer::set_global_parallelism(faer::Par::Seq);
+            let row = fs.row(phi, betas).iter().map(ChartPoint::from).collect();
+            tick();
+            row
+        })
+        .collect();
+    let points: Vec<ChartPoint> = rows.into_iter().flatten().collect();
+    ChartResult {
+        speed: fs.speed,
+        phis: phis.to_vec(),
+        betas: betas.to_vec(),
+        failed: points
+            .iter()
+            .filter(|p| p.status == PointStatus::Failed)
+            .count(),
+        inaccurate: points
+            .iter()
+            .filter(|p| p.status == PointStatus::Inaccurate)
+            .count(),
+        points,
+        instability_tolerance: fs.settings.instability_tolerance,
+        reduction: fs.info(),
+    }
+}

@@ -1,0 +1,308 @@
+//! The fast monodromy path.
+//!
+//! 1. **Integrator**: fourth-order commutator-free Magnus (CFM4, two Gauss points): each
+//!    step of length h is `exp(τ(B0 + x₂B1))·exp(τ(B0 + x₁B1))` with τ = h/2 and scalars
+//!    x_i = 2β(w_i·cos φt₁ + w̄_i·cos φt₂). B0 is integrated exactly inside each
+//!    exponential, so the error depends on the parametric coupling, not on the highest
+//!    whirl frequency (measured: N⁻⁴ convergence with h·ω_max up to 8).
+//! 2. **Exponentials shared across β and steps**: for one φ every exponential is
+//!    E(x) = exp(τ(B0 + xB1)) for a scalar x with |x| ≤ x_max, an entire function of x.
+//!    It is interpolated once per φ at Chebyshev points (a handful of `expm`) and then
+//!    evaluated for every step and every β by Clenshaw's recurrence (matrix additions).
+//! 3. **Half a period**: with X = [[0, I], [I, D̃]] (complex symmetric, constant),
+//!    B(t)ᵀ = X·B(t)·X⁻¹, so every step satisfies Eᵀ = X·E·X⁻¹. cos φt is symmetric about
+//!    T/2, so the exponentials of the second half are those of the first in reverse order,
+//!    and Φ(T) = X⁻¹·Lᵀ·X·L with L the first half's product.
+
+use super::product::ScaledProduct;
+use crate::analysis::reduction::PeriodicSystem;
+use crate::linalg::expm;
+use faer::linalg::matmul::matmul;
+use faer::{c64, Accum, Mat, MatRef, Par};
+
+/// Largest Chebyshev degree tried; beyond it the point is flagged (see [`PhiTable::converged`]).
+const MAX_CHEBYSHEV_POINTS: usize = 64;
+/// Most CFM4 steps per period the automatic doubling goes to.
+const MAX_STEPS: usize = 4096;
+/// Relative size of the trailing Chebyshev coefficients accepted as converged: a few ulps
+/// above the round-off floor of `expm` (~1e-15 relative).
+const CHEBYSHEV_TOLERANCE: f64 = 1e-13;
+
+/// The CFM4 weights and nodes (Blanes & Moan; Alvermann & Fehske).
+fn cfm4() -> ((f64, f64), (f64, f64)) {
+    let r3 = 3f64.sqrt();
+    (
+        (0.5 - r3 / 6.0, 0.5 + r3 / 6.0),
+        (0.25 + r3 / 6.0, 0.25 - r3 / 6.0),
+    )
+}
+
+/// Everything that depends on φ but not on β: the step scalars and the Chebyshev
+/// interpolant of E(x).
+#[derive(Debug, Clone)]
+pub struct PhiTable {
+    /// Excitation frequency φ (rad/s).
+    pub phi: f64,
+    /// Steps per period N (even).
+    pub steps: usize,
+    /// x = β·ξ for the exponentials of the first half period, in order of application.
+    xi: Vec<f64>,
+    /// Interval half-width of the interpolant in x.
+    x_max: f64,
+    /// Chebyshev coefficients (c₀ not halved), each n×n column-major and contiguous.
+    coeffs: Vec<Vec<c64>>,
+    /// State dimension n = 2M.
+    n: usize,
+    /// False if the interpolant did not reach [`CHEBYSHEV_TOLERANCE`].
+    pub converged: bool,
+}
+
+fn axpy(y: &mut Mat<c64>, a: f64, x: MatRef<'_, c64>) {
+    for j in 0..y.ncols() {
+        for i in 0..y.nrows() {
+            y[(i, j)] += x[(i, j)] * a;
+        }
+    }
+}
+
+impl PhiTable {
+    /// Precompute for φ (rad/s), at least `steps` CFM4 steps per period (rounded up to
+    /// even) and loads up to `beta_max`. Where E(x) varies too much over one step for the
+    /// interpolant to converge (long periods, large β), the step count is doubled: both
+    /// the interpolant and the CFM4 error are governed by τ·‖B1‖·β.
+    pub fn new(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize) -> PhiTable {
+        let mut steps = steps;
+        loop {
+            let t = PhiTable::build(sys, phi, beta_max, steps);
+            if t.converged || steps >= MAX_STEPS {
+                return t;
+            }
+            steps *= 2;
+        }
+    }
+
+    fn build(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize) -> PhiTable {
+        let steps = steps.max(2).next_multiple_of(2);
+        let n = sys.b0.nrows();
+        let h = 2.0 * std::f64::consts::PI / phi / steps as f64;
+        let tau = h / 2.0;
+        let ((c1, c2), (w1, w2)) = cfm4();
+        let mut xi = Vec::with_capacity(steps);
+        for k in 0..steps / 2 {
+            let t = k as f64 * h;
+            let (f1, f2) = ((phi * (t + c1 * h)).cos(), (phi * (t + c2 * h)).cos());
+            xi.push(2.0 * (w1 * f1 + w2 * f2));
+            xi.push(2.0 * (w2 * f1 + w1 * f2));
+        }
+        let x_max = beta_max * xi.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let e = |x: f64| {
+            let a = Mat::from_fn(n, n, |i, j| (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * tau);
+            expm(a.as_ref())
+        };
+        if x_max == 0.0 {
+            return PhiTable {
+                phi,
+                steps,
+                xi,
+                x_max,
+                coeffs: vec![flat(&e(0.0))],
+                n,
+                converged: true,
+            };
+        }
+        let mut points = 8;
+        loop {
+            let samples: Vec<Mat<c64>> = (0..points)
+                .map(|j| e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos()))
+                .collect();
+            let coeffs: Vec<Mat<c64>> = (0..points)
+                .map(|k| {
+                    let mut c = Mat::<c64>::zeros(n, n);
+                    for (j, s) in samples.iter().enumerate() {
+                        let w = (std::f64::consts::PI * k as f64 * (j as f64 + 0.5)
+                            / points as f64)
+                            .cos();
+                        axpy(&mut c, 2.0 * w / points as f64, s.as_ref());
+                    }
+                    c
+                })
+                .collect();
+            let scale = coeffs[0].norm_max().max(1e-300);
+            let tail = coeffs[points - 2..]
+                .iter()
+                .map(|c| c.norm_max())
+                .fold(0.0, f64::max);
+            let converged = tail <= CHEBYSHEV_TOLERANCE * scale;
+            if converged || points >= MAX_CHEBYSHEV_POINTS {
+                let coeffs = coeffs.iter().map(flat).collect();
+                return PhiTable {
+                    phi,
+                    steps,
+                    xi,
+                    x_max,
+                    coeffs,
+                    n,
+                    converged,
+                };
+            }
+            points *= 2;
+        }
+    }
+
+    /// Number of Chebyshev terms of the interpolant.
+    pub fn terms(&self) -> usize {
+        self.coeffs.len()
+    }
+
+    /// E(x) by Clenshaw's recurrence into `out`; `b1`, `b2` are scratch (all n² long).
+    fn evaluate(&self, x: f64, out: &mut [c64], b1: &mut [c64], b2: &mut [c64]) {
+        // (b1, b2) are (b_{j+1}, b_{j+2}).
+        let k = self.coeffs.len();
+        if k == 1 {
+            out.copy_from_slice(&self.coeffs[0]);
+            return;
+        }
+        let u = x / self.x_max;
+        let two_u = 2.0 * u;
+        // b_j = c_j + 2u·b_{j+1} − b_{j+2}, starting from b_k = b_{k+1} = 0.
+        b1.copy_from_slice(&self.coeffs[k - 1]);
+        b2.fill(c64::new(0.0, 0.0));
+        // Three rotating buffers: (b_{j+1}, b_{j+2}) live in two of them and b_j is written
+        // over b_{j+2}, so no copies are needed.
+        let (mut next, mut after) = (b1, b2);
+        for j in (1..k - 1).rev() {
+            for ((p2, c), p1) in after.iter_mut().zip(self.coeffs[j].iter()).zip(next.iter()) {
+                *p2 = c + p1 * two_u - *p2;
+            }
+            std::mem::swap(&mut next, &mut after);
+        }
+        for ((o, (c, p1)), p2) in out
+            .iter_mut()
+            .zip(self.coeffs[0].iter().zip(next.iter()))
+            .zip(after.iter())
+        {
+            *o = c * 0.5 + p1 * u - p2;
+        }
+    }
+
+    /// Monodromy Φ(T) at load β (≤ the table's β_max), with the symmetry X.
+    pub fn monodromy(&self, sym: &Symmetry, beta: f64) -> ScaledProduct {
+        let n = self.n;
+        let mut half = ScaledProduct::identity(n);
+        let (mut e, mut b1, mut b2) = (
+            vec![c64::new(0.0, 0.0); n * n],
+            vec![c64::new(0.0, 0.0); n * n],
+            vec![c64::new(0.0, 0.0); n * n],
+        );
+        for (k, &xi) in self.xi.iter().enumerate() {
+            self.evaluate(beta * xi, &mut e, &mut b1, &mut b2);
+            let step = MatRef::from_column_major_slice(&e, n, n);
+            if k == 0 {
+                half.matrix.copy_from(step);
+            } else {
+                half.left_multiply(step);
+            }
+        }
+        sym.close_period(&half)
+    }
+}
+
+fn flat(m: &Mat<c64>) -> Vec<c64> {
+    let mut v = Vec::with_capacity(m.nrows() * m.ncols());
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            v.push(m[(i, j)]);
+        }
+    }
+    v
+}
+
+/// X = [[0, I], [I, D̃]] and X⁻¹ = [[−D̃, I], [I, 0]] of the state y = [q̇; q].
+#[derive(Debug, Clone)]
+pub struct Symmetry {
+    x: Mat<c64>,
+    x_inv: Mat<c64>,
+}
+
+impl Symmetry {
+    /// From B0 = [−D̃, ·; I, 0]: D̃ is minus its upper-left block.
+    pub fn new(sys: &PeriodicSystem) -> Symmetry {
+        let m = sys.b0.nrows() / 2;
+        let d = |i: usize, j: usize| -sys.b0[(i, j)];
+        let one = |c: bool| c64::new(if c { 1.0 } else { 0.0 }, 0.0);
+        let x = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
+            (true, true) => one(false),
+            (true, false) => one(i == j - m),
+            (false, true) => one(i - m == j),
+            (false, false) => d(i - m, j - m),
+        });
+        let x_inv = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
+            (true, true) => -d(i, j),
+            (true, false) => one(i == j - m),
+            (false, true) => one(i - m == j),
+            (false, false) => one(false),
+        });
+        Symmetry { x, x_inv }
+    }
+
+    /// Φ(T) = X⁻¹·Lᵀ·X·L from the half-period product L.
+    pub fn close_period(&self, half: &ScaledProduct) -> ScaledProduct {
+        let n = half.matrix.nrows();
+        let one = c64::new(1.0, 0.0);
+        let mut xl = Mat::<c64>::zeros(n, n);
+        matmul(
+            xl.as_mut(),
+            Accum::Replace,
+            self.x.as_ref(),
+            half.matrix.as_ref(),
+            one,
+            Par::Seq,
+        );
+        let mut ltxl = Mat::<c64>::zeros(n, n);
+        matmul(
+            ltxl.as_mut(),
+            Accum::Replace,
+            half.matrix.transpose(),
+            xl.as_ref(),
+            one,
+            Par::Seq,
+        );
+        let mut full = ScaledProduct::identity(n);
+        matmul(
+            full.matrix.as_mut(),
+            Accum::Replace,
+            self.x_inv.as_ref(),
+            ltxl.as_ref(),
+            one,
+            Par::Seq,
+        );
+        full.log_scale = 2.0 * half.log_scale;
+        full
+    }
+}
+
+/// CFM4 with a fresh `expm` for every exponential and the full period stepped: the
+/// straightforward form of the same integrator, kept to check the fast one.
+pub fn monodromy_cfm4_direct(
+    sys: &PeriodicSystem,
+    phi: f64,
+    beta: f64,
+    steps: usize,
+) -> ScaledProduct {
+    let n = sys.b0.nrows();
+    let h = 2.0 * std::f64::consts::PI / phi / steps as f64;
+    let ((c1, c2), (w1, w2)) = cfm4();
+    let mut prod = ScaledProduct::identity(n);
+    for k in 0..steps {
+        let t = k as f64 * h;
+        let (f1, f2) = ((phi * (t + c1 * h)).cos(), (phi * (t + c2 * h)).cos());
+        for (a, b) in [(w1, w2), (w2, w1)] {
+            let x = 2.0 * beta * (a * f1 + b * f2);
+            let e = Mat::from_fn(n, n, |i, j| {
+                (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * (h / 2.0)
+            });
+            prod.left_multiply(expm(e.as_ref()).as_ref());
+        }
+    }
+    prod
+}

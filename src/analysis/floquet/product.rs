@@ -1,0 +1,56 @@
+//! A running product of step matrices, kept finite by rescaling: the true value is
+//! e^{log_scale}·matrix, so strongly unstable points never overflow (issue: no inf/NaN).
+
+use faer::linalg::matmul::matmul;
+use faer::{c64, Accum, Mat, MatRef, Par};
+
+/// Rescale when an entry exceeds this (far from overflow, far above any O(1) value).
+const RESCALE_ABOVE: f64 = 1e100;
+
+/// Φ = e^{log_scale}·matrix.
+#[derive(Debug, Clone)]
+pub struct ScaledProduct {
+    /// The scaled matrix.
+    pub matrix: Mat<c64>,
+    /// Natural logarithm of the scale factor.
+    pub log_scale: f64,
+    scratch: Mat<c64>,
+}
+
+impl ScaledProduct {
+    /// The identity of size n.
+    pub fn identity(n: usize) -> ScaledProduct {
+        ScaledProduct {
+            matrix: Mat::identity(n, n),
+            log_scale: 0.0,
+            scratch: Mat::zeros(n, n),
+        }
+    }
+
+    /// Φ ← step·Φ.
+    pub fn left_multiply(&mut self, step: MatRef<'_, c64>) {
+        matmul(
+            self.scratch.as_mut(),
+            Accum::Replace,
+            step,
+            self.matrix.as_ref(),
+            c64::new(1.0, 0.0),
+            Par::Seq,
+        );
+        std::mem::swap(&mut self.matrix, &mut self.scratch);
+        self.rescale();
+    }
+
+    fn rescale(&mut self) {
+        let m = self.matrix.norm_max();
+        if m > RESCALE_ABOVE && m.is_finite() {
+            let inv = 1.0 / m;
+            for j in 0..self.matrix.ncols() {
+                for i in 0..self.matrix.nrows() {
+                    self.matrix[(i, j)] *= inv;
+                }
+            }
+            self.log_scale += m.ln();
+        }
+    }
+}
