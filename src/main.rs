@@ -63,6 +63,61 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Floquet multipliers at one point (φ, β) of P(t) = P_cr(α + β cos φt).
+    Floquet {
+        #[command(flatten)]
+        input: Input,
+        /// Excitation frequency φ (rad/s).
+        #[arg(long)]
+        phi: f64,
+        /// Dynamic load coefficient β.
+        #[arg(long)]
+        beta: f64,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Stability chart over a (φ, β) grid: JSON, CSV, SVG and PNG (chart and growth map).
+    Chart {
+        #[command(flatten)]
+        input: Input,
+        /// φ grid A:B:STEP (rad/s).
+        #[arg(long)]
+        phi: String,
+        /// β grid A:B:STEP.
+        #[arg(long)]
+        beta: String,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Overlay the chart of a second problem file (drawn in red).
+        #[arg(long, conflicts_with = "compare_set")]
+        compare: Option<PathBuf>,
+        /// Overlay the chart of the same file with these further overrides, e.g.
+        /// `--compare-set circuit.state=closed`. Repeatable.
+        #[arg(long = "compare-set", value_name = "KEY=VALUE")]
+        compare_set: Vec<String>,
+        /// Print a timing line (wall time, time per point, threads).
+        #[arg(long)]
+        timing: bool,
+    },
+    /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
+    Response {
+        #[command(flatten)]
+        input: Input,
+        /// Excitation frequency φ (rad/s).
+        #[arg(long)]
+        phi: f64,
+        /// Dynamic load coefficient β.
+        #[arg(long)]
+        beta: f64,
+        /// Number of load periods to simulate.
+        #[arg(long, default_value_t = 50)]
+        periods: usize,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// An indicatif bar on standard error (hidden when it is not a terminal).
@@ -97,18 +152,34 @@ fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
 fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
     match cli.command {
         Command::Check { input } => commands::check(&load(&input)?),
-        Command::Modes {
-            input,
-            speed,
-            count,
-            json,
-        } => commands::modes(&load(&input)?, speed, count, json),
-        Command::Campbell {
-            input,
-            speeds,
-            count,
-            out,
-        } => commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar()),
+        Command::Modes { input, speed, count, json } => commands::modes(&load(&input)?, speed, count, json),
+        Command::Campbell { input, speeds, count, out } => {
+            commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar())
+        }
+        Command::Floquet { input, phi, beta, json } => commands::floquet_cmd(&load(&input)?, phi, beta, json),
+        Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
+            let problem = load(&input)?;
+            let other = match (&compare, compare_set.is_empty()) {
+                (Some(path), _) => Some(Problem::from_path(path, &input.set)?),
+                (None, false) => {
+                    let all: Vec<String> = input.set.iter().chain(&compare_set).cloned().collect();
+                    Some(Problem::from_path(&input.file, &all)?)
+                }
+                (None, true) => None,
+            };
+            let label = match (&compare, &other) {
+                (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
+                _ => format!("with {}", compare_set.join(", ")),
+            };
+            let cmp = match &other {
+                Some(o) => commands::Compare::Problem(&label, o),
+                None => commands::Compare::None,
+            };
+            commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar())
+        }
+        Command::Response { input, phi, beta, periods, out } => {
+            commands::response_cmd(&load(&input)?, phi, beta, periods, &out)
+        }
     }
 }
 

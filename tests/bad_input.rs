@@ -15,10 +15,7 @@ const BIN: &str = env!("CARGO_BIN_EXE_rotorshunt");
 const EXPECT_PREFIX: &str = "# expect: ";
 
 fn fixture_dir(kind: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests")
-        .join("fixtures")
-        .join(kind)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("fixtures").join(kind)
 }
 
 /// The `*.toml` files of `tests/fixtures/<kind>`, sorted.
@@ -34,10 +31,7 @@ fn fixtures(kind: &str) -> Vec<PathBuf> {
 }
 
 fn name_of(path: &Path) -> String {
-    path.file_name()
-        .expect("fixture has a file name")
-        .to_string_lossy()
-        .into_owned()
+    path.file_name().expect("fixture has a file name").to_string_lossy().into_owned()
 }
 
 /// The expected message substring: the sidecar `<stem>.expect` if there is one, else the
@@ -45,8 +39,8 @@ fn name_of(path: &Path) -> String {
 fn expectation(path: &Path) -> String {
     let sidecar = path.with_extension("expect");
     if sidecar.exists() {
-        let text = std::fs::read_to_string(&sidecar)
-            .unwrap_or_else(|e| panic!("cannot read {}: {e}", sidecar.display()));
+        let text =
+            std::fs::read_to_string(&sidecar).unwrap_or_else(|e| panic!("cannot read {}: {e}", sidecar.display()));
         let text = text.trim();
         assert!(!text.is_empty(), "{} is empty", sidecar.display());
         return text.to_string();
@@ -58,11 +52,7 @@ fn expectation(path: &Path) -> String {
         .trim_end_matches('\r')
         .strip_prefix(EXPECT_PREFIX)
         .unwrap_or_else(|| {
-            panic!(
-                "{}: first line must be `{EXPECT_PREFIX}<message>` (or add {})",
-                path.display(),
-                sidecar.display()
-            )
+            panic!("{}: first line must be `{EXPECT_PREFIX}<message>` (or add {})", path.display(), sidecar.display())
         })
         .trim();
     assert!(!expect.is_empty(), "{}: empty expectation", path.display());
@@ -72,10 +62,7 @@ fn expectation(path: &Path) -> String {
 /// The `N` of the first `line N` in an expectation.
 fn expected_line(expect: &str) -> Option<usize> {
     expect.match_indices("line ").find_map(|(i, m)| {
-        let word_start = expect[..i]
-            .chars()
-            .next_back()
-            .is_none_or(|c| !c.is_alphanumeric() && c != '_');
+        let word_start = expect[..i].chars().next_back().is_none_or(|c| !c.is_alphanumeric() && c != '_');
         if !word_start {
             return None;
         }
@@ -122,12 +109,7 @@ fn refusal_problems(out: &Output, must_contain: &[&str]) -> Vec<String> {
 }
 
 fn fail_if_any(failures: Vec<String>) {
-    assert!(
-        failures.is_empty(),
-        "{} failure(s):\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    assert!(failures.is_empty(), "{} failure(s):\n{}", failures.len(), failures.join("\n"));
 }
 
 #[test]
@@ -135,21 +117,14 @@ fn fixtures_exist() {
     let bad = fixtures("bad");
     assert!(bad.len() >= 40, "only {} bad fixtures", bad.len());
     for required in ["not_utf8.toml", "empty.toml"] {
-        assert!(
-            bad.iter().any(|p| name_of(p) == required),
-            "missing bad/{required}"
-        );
+        assert!(bad.iter().any(|p| name_of(p) == required), "missing bad/{required}");
     }
     assert!(!fixtures("good").is_empty(), "no good fixtures");
     // Every sidecar belongs to a fixture.
     for entry in std::fs::read_dir(fixture_dir("bad")).expect("bad fixtures") {
         let p = entry.expect("directory entry").path();
         if p.extension().is_some_and(|e| e == "expect") {
-            assert!(
-                p.with_extension("toml").exists(),
-                "{} has no fixture",
-                p.display()
-            );
+            assert!(p.with_extension("toml").exists(), "{} has no fixture", p.display());
         }
     }
 }
@@ -163,10 +138,7 @@ fn bad_fixtures_are_refused_by_the_binary() {
         let out = run(&["check", path.to_str().expect("UTF-8 path")]);
         let problems = refusal_problems(&out, &[&expect, &name]);
         if !out.stdout.is_empty() {
-            failures.push(format!(
-                "{name}: stdout is not empty: {}",
-                String::from_utf8_lossy(&out.stdout)
-            ));
+            failures.push(format!("{name}: stdout is not empty: {}", String::from_utf8_lossy(&out.stdout)));
         }
         if !problems.is_empty() {
             failures.push(format!(
@@ -190,18 +162,13 @@ fn bad_fixtures_are_refused_by_the_library_with_the_right_line() {
             Err(e) => {
                 let message = e.to_string();
                 if !message.contains(&expect) {
-                    failures.push(format!(
-                        "{name}: message lacks {expect:?}\n    got: {message}"
-                    ));
+                    failures.push(format!("{name}: message lacks {expect:?}\n    got: {message}"));
                 }
                 // A `line N` in the expectation must be the error's line; no line in the
                 // expectation means the error has none either (e.g. a missing table).
                 let want = expected_line(&expect);
                 if e.line() != want {
-                    failures.push(format!(
-                        "{name}: line() = {:?}, expected {want:?}\n    got: {message}",
-                        e.line()
-                    ));
+                    failures.push(format!("{name}: line() = {:?}, expected {want:?}\n    got: {message}", e.line()));
                 }
             }
         }
@@ -242,30 +209,16 @@ fn paper_closed() -> String {
 fn bad_overrides_are_refused() {
     let file = paper_closed();
     let cases: &[(&str, &[&str])] = &[
-        (
-            "shaft.elements=0",
-            &["--set", "key `shaft.elements`", "from 1 to 2000, found 0"],
-        ),
-        (
-            "nosuch.key=1",
-            &["--set", "key `nosuch`", "unknown field `nosuch`"],
-        ),
+        ("shaft.elements=0", &["--set", "key `shaft.elements`", "from 1 to 2000, found 0"]),
+        ("nosuch.key=1", &["--set", "key `nosuch`", "unknown field `nosuch`"]),
         (
             "circuit.branches[5].resistance=1",
-            &[
-                "--set",
-                "circuit.branches[5].resistance",
-                "index [5] is out of range: the array has 2 entries",
-            ],
+            &["--set", "circuit.branches[5].resistance", "index [5] is out of range: the array has 2 entries"],
         ),
         ("speed", &["--set speed", "expected key.path=value"]),
         (
             "circuit.branches[0].resistance=-3",
-            &[
-                "--set",
-                "key `circuit.branches[0].resistance`",
-                "must not be negative, found -3",
-            ],
+            &["--set", "key `circuit.branches[0].resistance`", "must not be negative, found -3"],
         ),
     ];
     let mut failures = Vec::new();
@@ -275,19 +228,14 @@ fn bad_overrides_are_refused() {
         let out = run(&["check", &file, "--set", set]);
         let problems = refusal_problems(&out, &must);
         if !problems.is_empty() {
-            failures.push(format!(
-                "--set {set}: {}\n    stderr: {}",
-                problems.join("; "),
-                stderr_of(&out).trim_end()
-            ));
+            failures.push(format!("--set {set}: {}\n    stderr: {}", problems.join("; "), stderr_of(&out).trim_end()));
         }
         // The library reports an override, not a line of the file.
         match Problem::from_path(&file, &[set.to_string()]) {
             Ok(_) => failures.push(format!("--set {set}: the library accepted it")),
-            Err(e) if e.line().is_some() => failures.push(format!(
-                "--set {set}: line() = {:?}, expected None: {e}",
-                e.line()
-            )),
+            Err(e) if e.line().is_some() => {
+                failures.push(format!("--set {set}: line() = {:?}, expected None: {e}", e.line()))
+            }
             Err(_) => {}
         }
     }
@@ -300,10 +248,7 @@ fn bad_command_lines_fail_without_panic() {
     let missing = fixture_dir("bad").join("no-such-file.toml");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["modes", &file, "--no-such-flag"], "--no-such-flag"),
-        (
-            vec!["modes", missing.to_str().expect("UTF-8 path")],
-            "cannot read the file",
-        ),
+        (vec!["modes", missing.to_str().expect("UTF-8 path")], "cannot read the file"),
     ];
     for (args, want) in cases {
         let out = run(&args);
@@ -311,10 +256,7 @@ fn bad_command_lines_fail_without_panic() {
         assert!(!out.status.success(), "{args:?} succeeded");
         assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
-        assert!(
-            stderr.contains(want),
-            "{args:?}: stderr lacks {want:?}: {stderr}"
-        );
+        assert!(stderr.contains(want), "{args:?}: stderr lacks {want:?}: {stderr}");
     }
     assert!(!missing.exists(), "the tool created {}", missing.display());
 }

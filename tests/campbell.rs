@@ -15,16 +15,7 @@ fn tracks_follow_modes_through_the_table_speeds() {
     assert_eq!(r.tracks.len(), 16);
     assert_eq!(r.flagged, 0, "no low-MAC step on this range");
     // At 2000 rad/s the tracks that started as f1 and b1 end on Table 3's values.
-    let end = |tag: &str| {
-        r.tracks
-            .iter()
-            .find(|t| t.tag == tag)
-            .unwrap()
-            .points
-            .last()
-            .unwrap()
-            .frequency
-    };
+    let end = |tag: &str| r.tracks.iter().find(|t| t.tag == tag).unwrap().points.last().unwrap().frequency;
     assert!(rel(end("f1"), 398.5) < 1e-3 && rel(end("b1"), 300.1) < 1e-3);
     assert!(rel(end("f3"), 4901.8) < 1e-3 && rel(end("b3"), 2815.3) < 1e-3);
     for t in &r.tracks {
@@ -38,10 +29,7 @@ fn parallel_equals_sequential() {
     let rotor = Rotor::new(&p.model).unwrap();
     let speeds = parse_range("0:3000:500", "speeds").unwrap();
     let par = campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let seq = pool.install(|| campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap());
     assert_eq!(par, seq);
 }
@@ -54,15 +42,9 @@ fn command_writes_csv_json_svg_png() {
     assert!(text.contains("3 speeds"), "{text}");
     let csv = std::fs::read_to_string(dir.join("campbell.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8 * 3);
-    let json: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(dir.join("campbell.json")).unwrap()).unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("campbell.json")).unwrap()).unwrap();
     assert_eq!(json["campbell"]["tracks"].as_array().unwrap().len(), 8);
-    assert!(std::fs::read_to_string(dir.join("campbell.svg"))
-        .unwrap()
-        .starts_with("<svg"));
-    assert_eq!(
-        &std::fs::read(dir.join("campbell.png")).unwrap()[1..4],
-        b"PNG"
-    );
+    assert!(std::fs::read_to_string(dir.join("campbell.svg")).unwrap().starts_with("<svg"));
+    assert_eq!(&std::fs::read(dir.join("campbell.png")).unwrap()[1..4], b"PNG");
     std::fs::remove_dir_all(&dir).unwrap();
 }

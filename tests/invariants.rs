@@ -22,20 +22,10 @@ fn matrices_are_symmetric_in_every_circuit_state() {
     for state in ["open", "short", "closed"] {
         let p = load(
             "paper-closed.toml",
-            &[
-                &format!("circuit.state={state}"),
-                "ring.eta=200",
-                "circuit.branches[0].resistance=10",
-            ],
+            &[&format!("circuit.state={state}"), "ring.eta=200", "circuit.branches[0].resistance=10"],
         );
         let s = SystemMatrices::assemble(&p.model);
-        for (m, w) in [
-            (&s.m, "M"),
-            (&s.c, "C"),
-            (&s.k, "K"),
-            (&s.s, "S"),
-            (&s.g, "G"),
-        ] {
+        for (m, w) in [(&s.m, "M"), (&s.c, "C"), (&s.k, "K"), (&s.s, "S"), (&s.g, "G")] {
             assert_symmetric(m, &format!("{w} ({state})"));
         }
         let expected = 130 + 2 + if state == "closed" { 4 } else { 0 };
@@ -49,15 +39,7 @@ fn rigid_translation_carries_the_total_mass() {
     let p = load("paper-closed.toml", &[]);
     let s = SystemMatrices::assemble(&p.model);
     let n = s.size();
-    let t: Vec<f64> = (0..n)
-        .map(|i| {
-            if i < s.dofs.shaft_dofs() && i % 2 == 0 {
-                1.0
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let t: Vec<f64> = (0..n).map(|i| if i < s.dofs.shaft_dofs() && i % 2 == 0 { 1.0 } else { 0.0 }).collect();
     let mut mass = 0.0;
     for i in 0..n {
         for j in 0..n {
@@ -84,26 +66,13 @@ fn qep_residuals_are_small() {
     // far ones (≥ 1e4 rad/s) with relative accuracy ~ ε·|λ/λ_min|, hence the looser bound.
     const RESIDUAL_LIMIT: f64 = 1e-9;
     const FAR_RESIDUAL_LIMIT: f64 = 1e-5;
-    for (name, speed) in [
-        ("paper-open.toml", 0.0),
-        ("paper-open.toml", 2000.0),
-        ("paper-closed.toml", 2000.0),
-    ] {
+    for (name, speed) in [("paper-open.toml", 0.0), ("paper-open.toml", 2000.0), ("paper-closed.toml", 2000.0)] {
         let p = load(name, &["ring.eta=200", "circuit.branches[1].resistance=50"]);
         let r = whirl_modes(&p.model, &p.settings, speed).unwrap();
         assert!(r.modes.len() > 100);
         for m in &r.modes {
-            let limit = if m.frequency < 1e4 {
-                RESIDUAL_LIMIT
-            } else {
-                FAR_RESIDUAL_LIMIT
-            };
-            assert!(
-                m.residual < limit,
-                "{name} {}: residual {}",
-                m.tag(),
-                m.residual
-            );
+            let limit = if m.frequency < 1e4 { RESIDUAL_LIMIT } else { FAR_RESIDUAL_LIMIT };
+            assert!(m.residual < limit, "{name} {}: residual {}", m.tag(), m.residual);
         }
     }
 }
@@ -130,12 +99,7 @@ fn undamped_rest_frequencies_agree_with_a_symmetric_eigensolver() {
     let rotor = Rotor::new(&p.model).unwrap();
     let k = rotor.system.stiffness_at(rotor.static_load());
     let eig = definite_eigen(k.as_ref(), rotor.system.m.as_ref()).unwrap();
-    let sym: Vec<f64> = eig
-        .values
-        .iter()
-        .take(12)
-        .map(|t| (1.0 / t).sqrt())
-        .collect();
+    let sym: Vec<f64> = eig.values.iter().take(12).map(|t| (1.0 / t).sqrt()).collect();
     let qep = whirl_modes_of(&rotor, &p.settings, 0.0).unwrap();
     let f: Vec<f64> = qep.forward().map(|m| m.frequency).take(12).collect();
     // 1e-9 below 1e4 rad/s; far from the shift, shift-invert loses digits (see residuals).
@@ -150,10 +114,7 @@ fn buckling_load_closed_forms() {
     // Stiff supports: the Euler mode sin(πx/L) leaves the end springs unloaded
     // (EI·w‴ + P·w′ = 0 at the ends when P = π²EI/L²), so P_cr = π²EI/L² exactly for
     // any support stiffer than the sway mode; FE converges at O(h⁴): < 1e-6 at 64 elements.
-    for overrides in [
-        vec![],
-        vec!["ring.k_b=1e13", "ring.k_1=1e13", "ring.k_2=1e13"],
-    ] {
+    for overrides in [vec![], vec!["ring.k_b=1e13", "ring.k_1=1e13", "ring.k_2=1e13"]] {
         let p = load("paper-open.toml", &overrides);
         let euler = p.model.shaft.euler_load();
         let pcr = buckling_load(&SystemMatrices::assemble(&p.model)).unwrap();
@@ -172,11 +133,7 @@ fn buckling_load_closed_forms() {
     assert!(rel(pcr, sway) < 1e-5, "{pcr} vs {sway}");
     // The paper's problem: ≈ 1.650e5 N (MODEL.md).
     let paper = Rotor::new(&load("paper-open.toml", &[]).model).unwrap();
-    assert!(
-        rel(paper.critical_load, 1.650e5) < 1e-3,
-        "{}",
-        paper.critical_load
-    );
+    assert!(rel(paper.critical_load, 1.650e5) < 1e-3, "{}", paper.critical_load);
 }
 
 #[test]
@@ -197,20 +154,11 @@ fn gyroscopic_effect_splits_whirls_the_right_way() {
 fn damping_gives_positive_damping_ratios() {
     let p = load(
         "paper-closed.toml",
-        &[
-            "ring.eta=4000",
-            "circuit.branches[0].resistance=50",
-            "circuit.branches[1].resistance=50",
-        ],
+        &["ring.eta=4000", "circuit.branches[0].resistance=50", "circuit.branches[1].resistance=50"],
     );
     let r = whirl_modes(&p.model, &p.settings, 2000.0).unwrap();
     for m in r.lowest(8) {
-        assert!(
-            m.damping_ratio > 0.0,
-            "{}: ζ = {}",
-            m.tag(),
-            m.damping_ratio
-        );
+        assert!(m.damping_ratio > 0.0, "{}: ζ = {}", m.tag(), m.damping_ratio);
     }
     // Resistance damps the electrical modes.
     let fr1 = r.modes.iter().find(|m| m.tag() == "fr1").unwrap();

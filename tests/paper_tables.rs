@@ -14,11 +14,7 @@ fn check(table: &[(&str, f64)], name: &str, overrides: &[&str], speed: f64) {
     let p = load(name, overrides);
     let r = whirl_modes(&p.model, &p.settings, speed).unwrap();
     for (tag, expected) in table {
-        let m = r
-            .modes
-            .iter()
-            .find(|m| m.tag() == *tag)
-            .unwrap_or_else(|| panic!("no mode {tag} at {speed}"));
+        let m = r.modes.iter().find(|m| m.tag() == *tag).unwrap_or_else(|| panic!("no mode {tag} at {speed}"));
         let e = rel(m.frequency, *expected);
         assert!(
             e < TABLE_TOLERANCE,
@@ -87,17 +83,9 @@ fn table3_closed_circuit_at_2000() {
 fn closed_circuit_labels_electrical_modes() {
     let p = load("paper-closed.toml", &[]);
     let r = whirl_modes(&p.model, &p.settings, 2000.0).unwrap();
-    let electrical: Vec<String> = r
-        .modes
-        .iter()
-        .filter(|m| m.kind == ModeKind::Electrical)
-        .map(|m| m.tag())
-        .collect();
+    let electrical: Vec<String> = r.modes.iter().filter(|m| m.kind == ModeKind::Electrical).map(|m| m.tag()).collect();
     for tag in ["fr1", "br1", "fr2", "br2", "fs1", "bs1", "fs2", "bs2"] {
-        assert!(
-            electrical.contains(&tag.to_string()),
-            "{tag} missing from {electrical:?}"
-        );
+        assert!(electrical.contains(&tag.to_string()), "{tag} missing from {electrical:?}");
     }
 }
 
@@ -111,19 +99,9 @@ fn the_modes_command_prints_the_tables_as_json() {
     assert!(rel(v["critical_load"].as_f64().unwrap(), 1.650e5) < 1e-3);
     let modes = v["modes"].as_array().unwrap();
     assert_eq!(modes.len(), 16);
-    let f: Vec<(f64, &str)> = modes
-        .iter()
-        .map(|m| {
-            (
-                m["frequency"].as_f64().unwrap(),
-                m["whirl"].as_str().unwrap(),
-            )
-        })
-        .collect();
-    assert!(
-        f.windows(2).all(|w| w[0].0 <= w[1].0),
-        "sorted by frequency"
-    );
+    let f: Vec<(f64, &str)> =
+        modes.iter().map(|m| (m["frequency"].as_f64().unwrap(), m["whirl"].as_str().unwrap())).collect();
+    assert!(f.windows(2).all(|w| w[0].0 <= w[1].0), "sorted by frequency");
     assert!(rel(f[0].0, 300.1) < TABLE_TOLERANCE && f[0].1 == "backward");
     assert!(rel(f[15].0, 6856.4) < TABLE_TOLERANCE && f[15].1 == "forward");
     assert!(modes.iter().all(|m| m["damping_ratio"].is_number()));

@@ -19,41 +19,28 @@ fn zero_inductance_equals_tiny_inductance() {
     let z = whirl_modes(&zero, &p.settings, 2000.0).unwrap();
     let t = whirl_modes(&tiny, &p.settings, 2000.0).unwrap();
     // Branch 1's charges are massless: its r modes vanish, the s and rotor modes remain.
-    assert!(z
-        .modes
-        .iter()
-        .all(|m| m.frequency.is_finite() && m.damping_ratio.is_finite()));
-    assert!(
-        !z.modes.iter().any(|m| m.label.starts_with('r')),
-        "L = 0 leaves no r mode"
-    );
+    assert!(z.modes.iter().all(|m| m.frequency.is_finite() && m.damping_ratio.is_finite()));
+    assert!(!z.modes.iter().any(|m| m.label.starts_with('r')), "L = 0 leaves no r mode");
     let zl = z.lowest(6);
     let tl = t.lowest(6);
     for (a, b) in zl.iter().zip(&tl) {
         assert_eq!(a.tag(), b.tag());
-        assert!(
-            rel(a.frequency, b.frequency) < TINY_L_AGREEMENT,
-            "{}: {} vs {}",
-            a.tag(),
-            a.frequency,
-            b.frequency
-        );
+        assert!(rel(a.frequency, b.frequency) < TINY_L_AGREEMENT, "{}: {} vs {}", a.tag(), a.frequency, b.frequency);
     }
     // The s modes remain, lowered from 2601–2607 to ≈ 2549 rad/s because the massless branch
     // 1 now acts as a capacitor C_f1 across the stacks.
-    assert!(z
-        .modes
-        .iter()
-        .any(|m| m.tag() == "fs1" && (2400.0..2700.0).contains(&m.frequency)));
+    assert!(z.modes.iter().any(|m| m.tag() == "fs1" && (2400.0..2700.0).contains(&m.frequency)));
 }
 
 #[test]
 fn inductance_zero_is_accepted_from_the_file() {
     // `inductance = 0` is valid input (a purely capacitive branch); the problem loads and
     // the modes command works.
-    let text = std::fs::read_to_string(common::problem_path("paper-closed.toml"))
-        .unwrap()
-        .replacen("tuning_frequency = 900.0", "inductance = 0.0", 1);
+    let text = std::fs::read_to_string(common::problem_path("paper-closed.toml")).unwrap().replacen(
+        "tuning_frequency = 900.0",
+        "inductance = 0.0",
+        1,
+    );
     let p = rotorshunt::problem::Problem::from_text(&text, "zero-l.toml", &[]).unwrap();
     assert_eq!(p.model.circuit.branches[0].inductance, 0.0);
     let out = rotorshunt::commands::modes(&p, None, 4, true).unwrap();

@@ -14,9 +14,7 @@ pub fn buckling_load(system: &SystemMatrices) -> Result<f64, LinalgError> {
     if theta.is_finite() && theta > 0.0 {
         Ok(1.0 / theta)
     } else {
-        Err(LinalgError::NotPositiveDefinite {
-            what: "geometric stiffness",
-        })
+        Err(LinalgError::NotPositiveDefinite { what: "geometric stiffness" })
     }
 }
 
@@ -27,8 +25,6 @@ pub fn buckling_load(system: &SystemMatrices) -> Result<f64, LinalgError> {
 pub fn reference_load(model: &Model) -> Result<f64, LinalgError> {
     match model.load.critical_load {
         Some(p) => Ok(p),
-        None => buckling_load(&SystemMatrices::assemble(
-            &model.with_state(CircuitState::Open),
-        )),
+        None => buckling_load(&SystemMatrices::assemble(&model.with_state(CircuitState::Open))),
     }
 }

@@ -87,10 +87,7 @@ pub fn campbell(
     let mut flagged = 0;
     for whirl in [Whirl::Forward, Whirl::Backward] {
         let pick = |r: &ModesResult, n: usize| -> Vec<usize> {
-            (0..r.modes.len())
-                .filter(|&i| r.modes[i].whirl == whirl)
-                .take(n)
-                .collect()
+            (0..r.modes.len()).filter(|&i| r.modes[i].whirl == whirl).take(n).collect()
         };
         let Some(first) = solved.first() else { break };
         // (track, column of its shape in the current speed's result)
@@ -106,15 +103,7 @@ pub fn campbell(
                     mac: 1.0,
                     flagged: false,
                 };
-                (
-                    Track {
-                        tag: m.tag(),
-                        whirl,
-                        kind: m.kind,
-                        points: vec![p],
-                    },
-                    Some(i),
-                )
+                (Track { tag: m.tag(), whirl, kind: m.kind, points: vec![p] }, Some(i))
             })
             .collect();
         for pair in solved.windows(2) {
@@ -160,10 +149,5 @@ pub fn campbell(
         tracks.extend(current.into_iter().map(|(t, _)| t));
     }
     tracks.sort_by(|a, b| a.points[0].frequency.total_cmp(&b.points[0].frequency));
-    Ok(CampbellResult {
-        speeds: speeds.to_vec(),
-        tracks,
-        mac_threshold: settings.mac_threshold,
-        flagged,
-    })
+    Ok(CampbellResult { speeds: speeds.to_vec(), tracks, mac_threshold: settings.mac_threshold, flagged })
 }

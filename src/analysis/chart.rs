@@ -73,12 +73,7 @@ impl ChartResult {
 }
 
 /// Compute a chart; `tick` is called once per φ row.
-pub fn chart(
-    fs: &FloquetSystem,
-    phis: &[f64],
-    betas: &[f64],
-    tick: &(dyn Fn() + Sync),
-) -> ChartResult {
+pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], tick: &(dyn Fn() + Sync)) -> ChartResult {
     let rows: Vec<Vec<ChartPoint>> = phis
         .par_iter()
         .map(|&phi| {
@@ -93,14 +88,8 @@ pub fn chart(
         speed: fs.speed,
         phis: phis.to_vec(),
         betas: betas.to_vec(),
-        failed: points
-            .iter()
-            .filter(|p| p.status == PointStatus::Failed)
-            .count(),
-        inaccurate: points
-            .iter()
-            .filter(|p| p.status == PointStatus::Inaccurate)
-            .count(),
+        failed: points.iter().filter(|p| p.status == PointStatus::Failed).count(),
+        inaccurate: points.iter().filter(|p| p.status == PointStatus::Inaccurate).count(),
         points,
         instability_tolerance: fs.settings.instability_tolerance,
         reduction: fs.info(),

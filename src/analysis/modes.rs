@@ -101,32 +101,19 @@ impl ModesResult {
     }
     /// The lowest `count` forward and `count` backward whirls, sorted by frequency.
     pub fn lowest(&self, count: usize) -> Vec<WhirlMode> {
-        let mut v: Vec<WhirlMode> = self
-            .forward()
-            .take(count)
-            .chain(self.backward().take(count))
-            .cloned()
-            .collect();
+        let mut v: Vec<WhirlMode> = self.forward().take(count).chain(self.backward().take(count)).cloned().collect();
         v.sort_by(|a, b| a.frequency.total_cmp(&b.frequency));
         v
     }
 }
 
 /// Whirl modes of `model` at speed Ω (rad/s), static load αP_cr included.
-pub fn whirl_modes(
-    model: &Model,
-    settings: &Settings,
-    speed: f64,
-) -> Result<ModesResult, AnalysisError> {
+pub fn whirl_modes(model: &Model, settings: &Settings, speed: f64) -> Result<ModesResult, AnalysisError> {
     whirl_modes_of(&Rotor::new(model)?, settings, speed)
 }
 
 /// Whirl modes of a prepared rotor at speed Ω (rad/s).
-pub fn whirl_modes_of(
-    rotor: &Rotor,
-    settings: &Settings,
-    speed: f64,
-) -> Result<ModesResult, AnalysisError> {
+pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesResult, AnalysisError> {
     let sys = &rotor.system;
     let d = sys.damping_at(speed);
     let k = sys.stiffness_at(rotor.static_load());
@@ -166,21 +153,10 @@ pub fn whirl_modes_of(
             }
         }
         let fraction = if total > 0.0 { charge / total } else { 0.0 };
-        let kind = if fraction > settings.electrical_fraction {
-            ModeKind::Electrical
-        } else {
-            ModeKind::Mechanical
-        };
-        let branch = (kind == ModeKind::Electrical).then(|| {
-            (0..per_branch.len())
-                .max_by(|&a, &b| per_branch[a].total_cmp(&per_branch[b]))
-                .unwrap_or(0)
-        });
-        let whirl = if lambda.im > 0.0 {
-            Whirl::Forward
-        } else {
-            Whirl::Backward
-        };
+        let kind = if fraction > settings.electrical_fraction { ModeKind::Electrical } else { ModeKind::Mechanical };
+        let branch = (kind == ModeKind::Electrical)
+            .then(|| (0..per_branch.len()).max_by(|&a, &b| per_branch[a].total_cmp(&per_branch[b])).unwrap_or(0));
+        let whirl = if lambda.im > 0.0 { Whirl::Forward } else { Whirl::Backward };
         raw.push(Raw {
             col,
             branch,
@@ -228,8 +204,5 @@ pub fn whirl_modes_of(
 /// branches continue the alphabet (t, u, …) and then use `e<branch>-`.
 pub fn branch_letter(branch: usize) -> String {
     const LETTERS: [&str; 8] = ["r", "s", "t", "u", "v", "w", "x", "y"];
-    LETTERS
-        .get(branch)
-        .map(|s| s.to_string())
-        .unwrap_or_else(|| format!("e{}-", branch + 1))
+    LETTERS.get(branch).map(|s| s.to_string()).unwrap_or_else(|| format!("e{}-", branch + 1))
 }

@@ -80,19 +80,14 @@ impl ReducedModel {
         let eig = definite_eigen(sys.k.as_ref(), sys.m.as_ref())?;
         let available = eig.values.iter().filter(|t| **t > 0.0).count();
         if count == 0 || count > available {
-            return Err(AnalysisError::ReducedModes {
-                requested: count,
-                available,
-            });
+            return Err(AnalysisError::ReducedModes { requested: count, available });
         }
         let n = sys.size();
         let theta = &eig.values[..count];
         // x with xᵀKx = 1 → mass-normalise: x/√θ has xᵀMx = 1.
         let basis = Mat::from_fn(n, count, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
         let frequencies = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
-        let unbalance = (0..count)
-            .map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum())
-            .collect();
+        let unbalance = (0..count).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
         Ok(ReducedModel {
             frequencies,
             c: project(&basis, &sys.c),
@@ -118,28 +113,17 @@ impl ReducedModel {
         let z = c64::new(0.0, 0.0);
         let b0 = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
             (true, true) => c64::new(-self.c[(i, j)], speed * self.g[(i, j)]),
-            (true, false) => c64::new(
-                -(self.k[(i, j - m)] - self.alpha * p * self.s[(i, j - m)]),
-                0.0,
-            ),
+            (true, false) => c64::new(-(self.k[(i, j - m)] - self.alpha * p * self.s[(i, j - m)]), 0.0),
             (false, true) => c64::new(if i - m == j { 1.0 } else { 0.0 }, 0.0),
             (false, false) => z,
         });
-        let b1 = Mat::from_fn(2 * m, 2 * m, |i, j| {
-            if i < m && j >= m {
-                c64::new(p * self.s[(i, j - m)], 0.0)
-            } else {
-                z
-            }
-        });
+        let b1 =
+            Mat::from_fn(2 * m, 2 * m, |i, j| if i < m && j >= m { c64::new(p * self.s[(i, j - m)], 0.0) } else { z });
         PeriodicSystem { b0, b1 }
     }
 
     /// Summary for outputs.
     pub fn info(&self) -> ReductionInfo {
-        ReductionInfo {
-            modes: self.size(),
-            frequencies: self.frequencies.clone(),
-        }
+        ReductionInfo { modes: self.size(), frequencies: self.frequencies.clone() }
     }
 }

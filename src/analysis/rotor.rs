@@ -21,16 +21,9 @@ impl Rotor {
     pub fn new(model: &Model) -> Result<Rotor, AnalysisError> {
         let critical_load = reference_load(model)?;
         if model.load.alpha >= 1.0 {
-            return Err(AnalysisError::StaticLoadBuckles {
-                alpha: model.load.alpha,
-                critical_load,
-            });
+            return Err(AnalysisError::StaticLoadBuckles { alpha: model.load.alpha, critical_load });
         }
-        Ok(Rotor {
-            model: model.clone(),
-            system: SystemMatrices::assemble(model),
-            critical_load,
-        })
+        Ok(Rotor { model: model.clone(), system: SystemMatrices::assemble(model), critical_load })
     }
 
     /// The static part of the axial load αP_cr (N).

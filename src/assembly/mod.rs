@@ -129,10 +129,7 @@ impl SystemMatrices {
     /// Assemble the model (Eq. 12 in complex form, Eq. 14).
     pub fn assemble(model: &Model) -> SystemMatrices {
         let shaft = &model.shaft;
-        let dofs = DofMap {
-            nodes: shaft.nodes(),
-            branches: model.circuit.charge_dofs(),
-        };
+        let dofs = DofMap { nodes: shaft.nodes(), branches: model.circuit.charge_dofs() };
         let n = dofs.len();
         let mut m = Mat::<f64>::zeros(n, n);
         let mut c = Mat::<f64>::zeros(n, n);
@@ -140,12 +137,7 @@ impl SystemMatrices {
         let mut s = Mat::<f64>::zeros(n, n);
         let mut g = Mat::<f64>::zeros(n, n);
 
-        let (l, rho, a, i) = (
-            shaft.element_length(),
-            shaft.density,
-            shaft.area(),
-            shaft.inertia(),
-        );
+        let (l, rho, a, i) = (shaft.element_length(), shaft.density, shaft.area(), shaft.inertia());
         let me = element::translational_mass(rho, a, l);
         let mr = element::rotary_mass(rho, i, l);
         let ke = element::bending_stiffness(shaft.youngs_modulus, i, l);
@@ -169,30 +161,10 @@ impl SystemMatrices {
             unbalance[u] += c64::from_polar(d.mass * d.eccentricity, d.phase);
         }
 
-        for (end, ring, node) in [
-            (End::Left, &model.left, 0),
-            (End::Right, &model.right, shaft.elements),
-        ] {
-            add_ring(
-                &mut m,
-                &mut c,
-                &mut k,
-                &dofs,
-                model,
-                end,
-                ring,
-                dofs.deflection(node),
-            );
+        for (end, ring, node) in [(End::Left, &model.left, 0), (End::Right, &model.right, shaft.elements)] {
+            add_ring(&mut m, &mut c, &mut k, &dofs, model, end, ring, dofs.deflection(node));
         }
-        SystemMatrices {
-            dofs,
-            m,
-            c,
-            k,
-            s,
-            g,
-            unbalance,
-        }
+        SystemMatrices { dofs, m, c, k, s, g, unbalance }
     }
 
     /// Number of complex DOFs.
@@ -203,9 +175,7 @@ impl SystemMatrices {
     /// Velocity matrix D(Ω) = C − jΩG (Eq. 14, MODEL.md).
     pub fn damping_at(&self, speed: f64) -> Mat<c64> {
         let n = self.size();
-        Mat::from_fn(n, n, |i, j| {
-            c64::new(self.c[(i, j)], -speed * self.g[(i, j)])
-        })
+        Mat::from_fn(n, n, |i, j| c64::new(self.c[(i, j)], -speed * self.g[(i, j)]))
     }
 
     /// Effective stiffness K − P·S for a static axial load P (N).

@@ -8,19 +8,12 @@ pub const MAX_RANGE_POINTS: usize = 10_000_000;
 /// Parse `A:B:STEP` (or a single value `A`) into A, A+STEP, …, up to B inclusive.
 /// The count is rounded so that floating-point drift neither drops nor adds the end point.
 pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
-    let bad = |message: String| Error::Argument {
-        argument: argument.into(),
-        message,
-    };
+    let bad = |message: String| Error::Argument { argument: argument.into(), message };
     let parts: Vec<&str> = text.split(':').collect();
     let nums = parts
         .iter()
         .map(|p| {
-            p.trim().parse::<f64>().map_err(|_| {
-                bad(format!(
-                    "`{p}` in `{text}` is not a number (expected A:B:STEP)"
-                ))
-            })
+            p.trim().parse::<f64>().map_err(|_| bad(format!("`{p}` in `{text}` is not a number (expected A:B:STEP)")))
         })
         .collect::<Result<Vec<f64>, Error>>()?;
     if nums.iter().any(|x| !x.is_finite()) {
@@ -34,9 +27,7 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
             }
             let n = ((b - a) / step + 1e-9).floor() + 1.0;
             if n > MAX_RANGE_POINTS as f64 {
-                return Err(bad(format!(
-                    "`{text}` expands to {n} points, more than {MAX_RANGE_POINTS}"
-                )));
+                return Err(bad(format!("`{text}` expands to {n} points, more than {MAX_RANGE_POINTS}")));
             }
             Ok((0..n as usize).map(|i| a + i as f64 * step).collect())
         }

@@ -2,9 +2,11 @@
 //! renders reports and writes files. Commands return the text for standard output.
 
 mod args;
+mod floquet;
 mod out;
 
 pub use args::parse_range;
+pub use floquet::{chart_cmd, floquet_cmd, response_cmd, Compare};
 pub use out::OutDir;
 
 use crate::analysis::campbell::campbell;
@@ -33,18 +35,14 @@ pub trait Progress: Sync {
 pub struct Quiet;
 impl Progress for Quiet {}
 
-fn title(p: &Problem) -> String {
+pub(crate) fn title(p: &Problem) -> String {
     p.data.title.clone().unwrap_or_else(|| p.file.clone())
 }
 
 /// `rotorshunt check FILE`: the model summary.
 pub fn check(problem: &Problem) -> Result<String, Error> {
     let rotor = Rotor::new(&problem.model)?;
-    Ok(format!(
-        "{}: valid\n{}",
-        problem.file,
-        summary::check_text(&rotor, &title(problem))
-    ))
+    Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
 }
 
 /// JSON of `modes`.
@@ -65,17 +63,9 @@ pub struct ModesOutput {
 }
 
 /// `rotorshunt modes FILE [--speed W] [--count N] [--json]`.
-pub fn modes(
-    problem: &Problem,
-    speed: Option<f64>,
-    count: usize,
-    json: bool,
-) -> Result<String, Error> {
+pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool) -> Result<String, Error> {
     if count == 0 {
-        return Err(Error::Argument {
-            argument: "--count".into(),
-            message: "must be at least 1".into(),
-        });
+        return Err(Error::Argument { argument: "--count".into(), message: "must be at least 1".into() });
     }
     let speed = speed.unwrap_or(problem.model.speed);
     if !speed.is_finite() || speed < 0.0 {
@@ -119,9 +109,7 @@ pub fn campbell_cmd(
     let dir = OutDir::create(out, &problem.file)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.start(speeds.len() as u64, "campbell");
-    let result = campbell(&rotor, &problem.settings, &speeds, count, &|| {
-        progress.tick()
-    })?;
+    let result = campbell(&rotor, &problem.settings, &speeds, count, &|| progress.tick())?;
     progress.finish();
     #[derive(Serialize)]
     struct Json<'a> {
@@ -130,32 +118,13 @@ pub fn campbell_cmd(
         settings: &'a crate::analysis::Settings,
         campbell: &'a crate::analysis::campbell::CampbellResult,
     }
-    let json = Json {
-        tool: TOOL,
-        problem: &problem.file,
-        settings: &problem.settings,
-        campbell: &result,
-    };
-    dir.write(
-        "campbell.json",
-        serde_json::to_string_pretty(&json)
-            .expect("plain data serialises")
-            .as_bytes(),
-    )?;
+    let json = Json { tool: TOOL, problem: &problem.file, settings: &problem.settings, campbell: &result };
+    dir.write("campbell.json", serde_json::to_string_pretty(&json).expect("plain data serialises").as_bytes())?;
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
-    let plot =
-        campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));
-    dir.write(
-        "campbell.svg",
-        plot.svg()
-            .map_err(|e| dir.error("campbell.svg", e))?
-            .as_bytes(),
-    )?;
-    dir.write(
-        "campbell.png",
-        &plot.png().map_err(|e| dir.error("campbell.png", e))?,
-    )?;
+    let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));
+    dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
+    dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
     Ok(format!(
         "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
         speeds.len(),

@@ -28,21 +28,12 @@ const B: [f64; 14] = [
 const THETA_13: f64 = 5.371920351148152;
 
 fn norm1(a: MatRef<'_, c64>) -> f64 {
-    (0..a.ncols())
-        .map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm()).sum::<f64>())
-        .fold(0.0, f64::max)
+    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm()).sum::<f64>()).fold(0.0, f64::max)
 }
 
 fn mul(a: MatRef<'_, c64>, b: MatRef<'_, c64>) -> Mat<c64> {
     let mut out = Mat::<c64>::zeros(a.nrows(), b.ncols());
-    matmul(
-        out.as_mut(),
-        Accum::Replace,
-        a,
-        b,
-        c64::new(1.0, 0.0),
-        Par::Seq,
-    );
+    matmul(out.as_mut(), Accum::Replace, a, b, c64::new(1.0, 0.0), Par::Seq);
     out
 }
 
@@ -51,11 +42,7 @@ fn mul(a: MatRef<'_, c64>, b: MatRef<'_, c64>) -> Mat<c64> {
 pub fn expm(a: MatRef<'_, c64>) -> Mat<c64> {
     let n = a.nrows();
     let norm = norm1(a);
-    let s = if norm > THETA_13 {
-        (norm / THETA_13).log2().ceil() as i32
-    } else {
-        0
-    };
+    let s = if norm > THETA_13 { (norm / THETA_13).log2().ceil() as i32 } else { 0 };
     let scale = 0.5f64.powi(s);
     let a1 = Mat::from_fn(n, n, |i, j| a[(i, j)] * scale);
     let a2 = mul(a1.as_ref(), a1.as_ref());
@@ -63,30 +50,20 @@ pub fn expm(a: MatRef<'_, c64>) -> Mat<c64> {
     let a6 = mul(a4.as_ref(), a2.as_ref());
     let id = |i: usize, j: usize| if i == j { 1.0 } else { 0.0 };
     // U = A [A6 (b13 A6 + b11 A4 + b9 A2) + b7 A6 + b5 A4 + b3 A2 + b1 I]
-    let u_inner = Mat::from_fn(n, n, |i, j| {
-        a6[(i, j)] * B[13] + a4[(i, j)] * B[11] + a2[(i, j)] * B[9]
-    });
+    let u_inner = Mat::from_fn(n, n, |i, j| a6[(i, j)] * B[13] + a4[(i, j)] * B[11] + a2[(i, j)] * B[9]);
     let mut u_sum = mul(a6.as_ref(), u_inner.as_ref());
     for i in 0..n {
         for j in 0..n {
-            u_sum[(i, j)] += a6[(i, j)] * B[7]
-                + a4[(i, j)] * B[5]
-                + a2[(i, j)] * B[3]
-                + c64::new(B[1] * id(i, j), 0.0);
+            u_sum[(i, j)] += a6[(i, j)] * B[7] + a4[(i, j)] * B[5] + a2[(i, j)] * B[3] + c64::new(B[1] * id(i, j), 0.0);
         }
     }
     let u = mul(a1.as_ref(), u_sum.as_ref());
     // V = A6 (b12 A6 + b10 A4 + b8 A2) + b6 A6 + b4 A4 + b2 A2 + b0 I
-    let v_inner = Mat::from_fn(n, n, |i, j| {
-        a6[(i, j)] * B[12] + a4[(i, j)] * B[10] + a2[(i, j)] * B[8]
-    });
+    let v_inner = Mat::from_fn(n, n, |i, j| a6[(i, j)] * B[12] + a4[(i, j)] * B[10] + a2[(i, j)] * B[8]);
     let mut v = mul(a6.as_ref(), v_inner.as_ref());
     for i in 0..n {
         for j in 0..n {
-            v[(i, j)] += a6[(i, j)] * B[6]
-                + a4[(i, j)] * B[4]
-                + a2[(i, j)] * B[2]
-                + c64::new(B[0] * id(i, j), 0.0);
+            v[(i, j)] += a6[(i, j)] * B[6] + a4[(i, j)] * B[4] + a2[(i, j)] * B[2] + c64::new(B[0] * id(i, j), 0.0);
         }
     }
     // (V − U) X = V + U
@@ -108,9 +85,7 @@ mod tests {
     fn random(n: usize, seed: u64, scale: f64) -> Mat<c64> {
         let mut state = seed;
         let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale
         };
         Mat::from_fn(n, n, |_, _| c64::new(next(), next()))
@@ -134,11 +109,7 @@ mod tests {
 
     #[test]
     fn diagonal_closed_form() {
-        let d = [
-            c64::new(-1.0, 300.0),
-            c64::new(0.5, -20.0),
-            c64::new(0.0, 0.0),
-        ];
+        let d = [c64::new(-1.0, 300.0), c64::new(0.5, -20.0), c64::new(0.0, 0.0)];
         let a = Mat::from_fn(3, 3, |i, j| if i == j { d[i] } else { c64::new(0.0, 0.0) });
         let e = expm(a.as_ref());
         for i in 0..3 {

@@ -1,10 +1,12 @@
 //! Thin wrappers over faer: the quadratic eigenproblem by shift-invert (Eq. 18–21) and
 //! the symmetric-definite generalised eigenproblem (buckling, undamped modes).
 
+mod balance;
 mod expm;
 mod qep;
 mod symmetric;
 
+pub use balance::balance;
 pub use expm::expm;
 pub use qep::{qep_residual, solve_qep, QepSolution};
 pub use symmetric::{definite_eigen, DefiniteEigen};

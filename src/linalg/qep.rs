@@ -50,9 +50,7 @@ pub fn solve_qep(
     if !t.norm_max().is_finite() {
         return Err(LinalgError::SingularShift { shift });
     }
-    let evd = t
-        .eigen()
-        .map_err(|_| LinalgError::NoConvergence { what: "QEP" })?;
+    let evd = t.eigen().map_err(|_| LinalgError::NoConvergence { what: "QEP" })?;
     let nu = evd.S().column_vector();
     let nu_max = (0..2 * n).map(|i| nu[i].norm()).fold(0.0, f64::max);
     let mut values = Vec::new();
@@ -66,10 +64,7 @@ pub fn solve_qep(
     let u = evd.U();
     let mut vectors = Mat::<c64>::zeros(n, columns.len());
     for (c, &col) in columns.iter().enumerate() {
-        let norm = (0..n)
-            .map(|r| u[(n + r, col)].norm_sqr())
-            .sum::<f64>()
-            .sqrt();
+        let norm = (0..n).map(|r| u[(n + r, col)].norm_sqr()).sum::<f64>().sqrt();
         for r in 0..n {
             vectors[(r, c)] = u[(n + r, col)] / norm;
         }

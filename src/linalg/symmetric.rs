@@ -15,19 +15,12 @@ pub struct DefiniteEigen {
 /// Solve `B x = θ A x` through the Cholesky factor of A: `L⁻¹ B L⁻ᵀ y = θ y`, x = L⁻ᵀ y.
 /// With A = K this gives θ = 1/P for buckling (B = S) and θ = 1/ω² for undamped modes
 /// (B = M); a singular B (massless charge DOFs) just gives θ = 0, never a division.
-pub fn definite_eigen(
-    a: MatRef<'_, f64>,
-    b: MatRef<'_, f64>,
-) -> Result<DefiniteEigen, LinalgError> {
+pub fn definite_eigen(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Result<DefiniteEigen, LinalgError> {
     let n = a.nrows();
     if !finite(a) || !finite(b) {
-        return Err(LinalgError::NonFinite {
-            what: "stiffness or mass",
-        });
+        return Err(LinalgError::NonFinite { what: "stiffness or mass" });
     }
-    let llt = a
-        .llt(Side::Lower)
-        .map_err(|_| LinalgError::NotPositiveDefinite { what: "stiffness" })?;
+    let llt = a.llt(Side::Lower).map_err(|_| LinalgError::NotPositiveDefinite { what: "stiffness" })?;
     let l = llt.L();
     // W = L⁻¹ B L⁻ᵀ = L⁻¹ (L⁻¹ B)ᵀ since B is symmetric.
     let mut x = b.to_owned();
@@ -35,9 +28,7 @@ pub fn definite_eigen(
     let mut w = x.transpose().to_owned();
     l.solve_lower_triangular_in_place(w.as_mut());
     let w = Mat::from_fn(n, n, |i, j| 0.5 * (w[(i, j)] + w[(j, i)]));
-    let evd = w
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|_| LinalgError::NoConvergence { what: "symmetric" })?;
+    let evd = w.self_adjoint_eigen(Side::Lower).map_err(|_| LinalgError::NoConvergence { what: "symmetric" })?;
     let s = evd.S().column_vector();
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| s[j].total_cmp(&s[i]));

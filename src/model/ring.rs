@@ -163,11 +163,7 @@ mod tests {
         let l2 = Branch::tuned_inductance(1.8e-6, 1e-7, 2600.0);
         assert!((l1 - 0.9328).abs() < 5e-5, "{l1}");
         assert!((l2 - 1.5615).abs() < 5e-5, "{l2}");
-        let b = Branch {
-            c_f: 5e-6,
-            inductance: l1,
-            resistance: 0.0,
-        };
+        let b = Branch { c_f: 5e-6, inductance: l1, resistance: 0.0 };
         assert!((b.tuning_frequency(1.8e-6) - 900.0).abs() < 1e-9);
     }
 }

@@ -14,7 +14,9 @@ pub enum ProblemErrorKind {
     #[error("the file is not UTF-8 text (invalid byte at offset {0})")]
     NotUtf8(usize),
     /// The file has no content.
-    #[error("the file is empty: a problem file needs at least `version`, `speed`, [shaft], [ring], [circuit] and [load]")]
+    #[error(
+        "the file is empty: a problem file needs at least `version`, `speed`, [shaft], [ring], [circuit] and [load]"
+    )]
     Empty,
     /// The text is not valid TOML.
     #[error("TOML syntax error: {0}")]

@@ -31,10 +31,7 @@ pub struct Problem {
 
 impl Problem {
     /// Load `path` and apply overrides `key.path=value`.
-    pub fn from_path(
-        path: impl AsRef<Path>,
-        overrides: &[String],
-    ) -> Result<Problem, ProblemError> {
+    pub fn from_path(path: impl AsRef<Path>, overrides: &[String]) -> Result<Problem, ProblemError> {
         let path = path.as_ref();
         let name = path.display().to_string();
         let bytes = std::fs::read(path).map_err(|e| ProblemError {
@@ -56,51 +53,26 @@ impl Problem {
     }
 
     /// Parse problem text; `name` is used in messages.
-    pub fn from_text(
-        text: &str,
-        name: &str,
-        overrides: &[String],
-    ) -> Result<Problem, ProblemError> {
-        let err = |location, key: &str, kind| ProblemError {
-            file: name.to_string(),
-            location,
-            key: key.to_string(),
-            kind,
-        };
+    pub fn from_text(text: &str, name: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
+        let err =
+            |location, key: &str, kind| ProblemError { file: name.to_string(), location, key: key.to_string(), kind };
         let doc = toml::de::DeTable::parse(text).map_err(|e| {
-            let loc = e
-                .span()
-                .map(|s| Location::Line(line_of(text, s.start)))
-                .unwrap_or(Location::Unknown);
-            err(
-                loc,
-                "",
-                ProblemErrorKind::Syntax(e.message().trim().to_string()),
-            )
+            let loc = e.span().map(|s| Location::Line(line_of(text, s.start))).unwrap_or(Location::Unknown);
+            err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
         let mut index = LineIndex::new(text, &doc);
         if text.trim().is_empty() {
             return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
         }
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
-            let loc = e
-                .span()
-                .map(|s| Location::Line(line_of(text, s.start)))
-                .unwrap_or(Location::Unknown);
-            err(
-                loc,
-                "",
-                ProblemErrorKind::Syntax(e.message().trim().to_string()),
-            )
+            let loc = e.span().map(|s| Location::Line(line_of(text, s.start))).unwrap_or(Location::Unknown);
+            err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
         // The version decides the schema: check it before anything else, so a newer file
         // is reported as such rather than as having unknown keys.
         if let Some(toml::Value::Integer(v)) = table.get("version") {
             if *v != file::FORMAT_VERSION {
-                let kind = ProblemErrorKind::Version {
-                    found: *v,
-                    supported: file::FORMAT_VERSION,
-                };
+                let kind = ProblemErrorKind::Version { found: *v, supported: file::FORMAT_VERSION };
                 return Err(err(index.locate("version"), "version", kind));
             }
         }
@@ -109,46 +81,31 @@ impl Problem {
                 err(
                     Location::Override,
                     "",
-                    ProblemErrorKind::Override {
-                        text: o.clone(),
-                        reason: "expected key.path=value".into(),
-                    },
+                    ProblemErrorKind::Override { text: o.clone(), reason: "expected key.path=value".into() },
                 )
             })?;
             let key = key.trim();
             set_path(&mut table, key, parse_override_value(value.trim())).map_err(|reason| {
-                err(
-                    Location::Override,
-                    key,
-                    ProblemErrorKind::Override {
-                        text: o.clone(),
-                        reason,
-                    },
-                )
+                err(Location::Override, key, ProblemErrorKind::Override { text: o.clone(), reason })
             })?;
             index.mark_overridden(key);
         }
-        let data: ProblemFile = serde_path_to_error::deserialize(toml::Value::Table(table))
-            .map_err(|e| {
-                let mut key = e.path().to_string();
-                let message = e.inner().message().trim().to_string();
-                if key == "." {
-                    key.clear();
+        let data: ProblemFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let mut key = e.path().to_string();
+            let message = e.inner().message().trim().to_string();
+            if key == "." {
+                key.clear();
+            }
+            // serde reports a missing or unknown key at its table; name the key itself.
+            if let Some(field) =
+                quoted_field(&message, "missing field `").or_else(|| quoted_field(&message, "unknown field `"))
+            {
+                if !key.ends_with(&field) {
+                    key = if key.is_empty() { field } else { format!("{key}.{field}") };
                 }
-                // serde reports a missing or unknown key at its table; name the key itself.
-                if let Some(field) = quoted_field(&message, "missing field `")
-                    .or_else(|| quoted_field(&message, "unknown field `"))
-                {
-                    if !key.ends_with(&field) {
-                        key = if key.is_empty() {
-                            field
-                        } else {
-                            format!("{key}.{field}")
-                        };
-                    }
-                }
-                err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
-            })?;
+            }
+            err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
+        })?;
         let (model, settings) = validate::translate(&data).map_err(|(key, kind)| {
             // Two alternatives given: blame --set if either came from the command line.
             let location = match (&kind, key.rsplit_once('.')) {
@@ -162,12 +119,7 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        Ok(Problem {
-            file: name.to_string(),
-            data,
-            model,
-            settings,
-        })
+        Ok(Problem { file: name.to_string(), data, model, settings })
     }
 }
 

@@ -13,11 +13,7 @@ pub struct LineIndex {
 
 /// 1-based line of a byte offset.
 pub fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-        + 1
+    text.as_bytes()[..offset.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
 impl LineIndex {
@@ -25,10 +21,7 @@ impl LineIndex {
     pub fn new(text: &str, doc: &Spanned<DeTable<'_>>) -> LineIndex {
         let mut lines = BTreeMap::new();
         walk_table(text, doc.get_ref(), "", &mut lines);
-        LineIndex {
-            lines,
-            overridden: Vec::new(),
-        }
+        LineIndex { lines, overridden: Vec::new() }
     }
 
     /// Mark a key path as set on the command line.
@@ -45,9 +38,11 @@ impl LineIndex {
     /// parent) was set on the command line or is absent (then the nearest present parent's
     /// line is used if there is one).
     pub fn locate(&self, path: &str) -> Location {
-        if self.overridden.iter().any(|o| {
-            path == o || path.starts_with(&format!("{o}.")) || o.starts_with(&format!("{path}."))
-        }) {
+        if self
+            .overridden
+            .iter()
+            .any(|o| path == o || path.starts_with(&format!("{o}.")) || o.starts_with(&format!("{path}.")))
+        {
             return Location::Override;
         }
         let mut p = path.to_string();
@@ -145,52 +140,39 @@ pub fn parse_override_value(text: &str) -> toml::Value {
 /// Set `path` (e.g. `circuit.branches[1].resistance`) to `value` in `table`, creating
 /// missing tables on the way. Fails with a reason when the path does not fit the document.
 pub fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), String> {
-    let segs = segments(path)
-        .ok_or_else(|| format!("`{path}` is not a key path like `a.b` or `a.b[0].c`"))?;
+    let segs = segments(path).ok_or_else(|| format!("`{path}` is not a key path like `a.b` or `a.b[0].c`"))?;
     match segs.split_first() {
         Some((Segment::Key(k), rest)) => {
             if rest.is_empty() {
                 table.insert((*k).to_string(), value);
                 return Ok(());
             }
-            let next = table
-                .entry((*k).to_string())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            let next = table.entry((*k).to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()));
             set_in_value(next, rest, value)
         }
         _ => Err(format!("`{path}` must start with a key")),
     }
 }
 
-fn set_in_value(
-    cur: &mut toml::Value,
-    segs: &[Segment<'_>],
-    value: toml::Value,
-) -> Result<(), String> {
+fn set_in_value(cur: &mut toml::Value, segs: &[Segment<'_>], value: toml::Value) -> Result<(), String> {
     let Some((first, rest)) = segs.split_first() else {
         *cur = value;
         return Ok(());
     };
     let next = match first {
         Segment::Key(k) => {
-            let t = cur
-                .as_table_mut()
-                .ok_or_else(|| format!("`{k}` is inside a value that is not a table"))?;
+            let t = cur.as_table_mut().ok_or_else(|| format!("`{k}` is inside a value that is not a table"))?;
             if rest.is_empty() {
                 t.insert((*k).to_string(), value);
                 return Ok(());
             }
-            t.entry((*k).to_string())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+            t.entry((*k).to_string()).or_insert_with(|| toml::Value::Table(toml::Table::new()))
         }
         Segment::Index(n) => {
-            let a = cur
-                .as_array_mut()
-                .ok_or_else(|| format!("index [{n}] is applied to a value that is not an array"))?;
+            let a =
+                cur.as_array_mut().ok_or_else(|| format!("index [{n}] is applied to a value that is not an array"))?;
             let len = a.len();
-            a.get_mut(*n).ok_or_else(|| {
-                format!("index [{n}] is out of range: the array has {len} entries")
-            })?
+            a.get_mut(*n).ok_or_else(|| format!("index [{n}] is out of range: the array has {len} entries"))?
         }
     };
     set_in_value(next, rest, value)

@@ -41,22 +41,13 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failu
     if v > lo && v < hi {
         Ok(v)
     } else {
-        Err((
-            key.into(),
-            K::OutOfRange {
-                value: v,
-                range: range.into(),
-            },
-        ))
+        Err((key.into(), K::OutOfRange { value: v, range: range.into() }))
     }
 }
 
 fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
     match (a.1, b.1) {
-        (Some(_), Some(_)) => Err((
-            format!("{key}.{}", b.0),
-            K::BothGiven(a.0.into(), b.0.into()),
-        )),
+        (Some(_), Some(_)) => Err((format!("{key}.{}", b.0), K::BothGiven(a.0.into(), b.0.into()))),
         (None, None) => Err((key.into(), K::NeitherGiven(a.0.into(), b.0.into()))),
         _ => Ok(()),
     }
@@ -65,22 +56,12 @@ fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(
 /// Check every value and build the model and settings.
 pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
     if f.version != FORMAT_VERSION {
-        return Err((
-            "version".into(),
-            K::Version {
-                found: f.version,
-                supported: FORMAT_VERSION,
-            },
-        ));
+        return Err(("version".into(), K::Version { found: f.version, supported: FORMAT_VERSION }));
     }
     let speed = non_negative("speed", f.speed)?;
     let shaft = shaft(&f.shaft)?;
-    let disks = f
-        .disks
-        .iter()
-        .enumerate()
-        .map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft))
-        .collect::<Result<_, _>>()?;
+    let disks =
+        f.disks.iter().enumerate().map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft)).collect::<Result<_, _>>()?;
     let left = ring("ring", &f.ring, &RingOverride::default())?;
     let right = match &f.ring.right {
         Some(r) => ring("ring.right", &f.ring, r)?,
@@ -95,35 +76,17 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
             1.0,
             "below 1 (alpha >= 1 means the static load alone buckles the shaft)",
         )?,
-        critical_load: f
-            .load
-            .critical_load
-            .map(|p| positive("load.critical_load", p))
-            .transpose()?,
+        critical_load: f.load.critical_load.map(|p| positive("load.critical_load", p)).transpose()?,
     };
     let settings = settings(&f.analysis)?;
-    Ok((
-        Model {
-            shaft,
-            disks,
-            left,
-            right,
-            circuit,
-            load,
-            speed,
-        },
-        settings,
-    ))
+    Ok((Model { shaft, disks, left, right, circuit, load, speed }, settings))
 }
 
 fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
     if s.elements < 1 || s.elements > MAX_ELEMENTS {
         return Err((
             "shaft.elements".into(),
-            K::OutOfRange {
-                value: s.elements as f64,
-                range: format!("a whole number from 1 to {MAX_ELEMENTS}"),
-            },
+            K::OutOfRange { value: s.elements as f64, range: format!("a whole number from 1 to {MAX_ELEMENTS}") },
         ));
     }
     Ok(Shaft {
@@ -136,34 +99,18 @@ fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
 }
 
 fn disk(key: &str, d: &DiskFile, shaft: &Shaft) -> Result<Disk, Failure> {
-    one_of(
-        key,
-        ("node", d.node.map(|n| n as f64)),
-        ("position", d.position),
-    )?;
+    one_of(key, ("node", d.node.map(|n| n as f64)), ("position", d.position))?;
     let node = match (d.node, d.position) {
         (Some(n), _) => {
             if n < 0 || n as usize > shaft.elements {
-                return Err((
-                    format!("{key}.node"),
-                    K::DiskNodeOffShaft {
-                        node: n,
-                        last: shaft.elements,
-                    },
-                ));
+                return Err((format!("{key}.node"), K::DiskNodeOffShaft { node: n, last: shaft.elements }));
             }
             n as usize
         }
         (None, Some(p)) => {
             let p = finite(&format!("{key}.position"), p)?;
             if !(0.0..=shaft.length).contains(&p) {
-                return Err((
-                    format!("{key}.position"),
-                    K::DiskOffShaft {
-                        position: p,
-                        length: shaft.length,
-                    },
-                ));
+                return Err((format!("{key}.position"), K::DiskOffShaft { position: p, length: shaft.length }));
             }
             (p / shaft.element_length()).round() as usize
         }
@@ -185,13 +132,8 @@ fn disk(key: &str, d: &DiskFile, shaft: &Shaft) -> Result<Disk, Failure> {
 
 fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
     let k = |name: &str| format!("{key}.{name}");
-    let angle_deg = within(
-        &k("angle_deg"),
-        o.angle_deg.unwrap_or(base.angle_deg),
-        0.0,
-        90.0,
-        "between 0 and 90 degrees",
-    )?;
+    let angle_deg =
+        within(&k("angle_deg"), o.angle_deg.unwrap_or(base.angle_deg), 0.0, 90.0, "between 0 and 90 degrees")?;
     let angle = angle_deg.to_radians();
     let theta_p = positive(&k("theta_p"), o.theta_p.unwrap_or(base.theta_p))?;
     // The right end may replace cp_s by k_eq2 or the reverse: an override of either wins.
@@ -209,13 +151,7 @@ fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
             let cp_s = Ring::cp_s_from_k_eq2(angle, theta_p, k2);
             if !cp_s.is_finite() {
                 let range = "large enough that C_p^S = 2 cot^2(beta) theta_p^2 / k_eq2 is finite";
-                return Err((
-                    k("k_eq2"),
-                    K::OutOfRange {
-                        value: k2,
-                        range: range.into(),
-                    },
-                ));
+                return Err((k("k_eq2"), K::OutOfRange { value: k2, range: range.into() }));
             }
             cp_s
         }
@@ -244,71 +180,32 @@ fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
         .enumerate()
         .map(|(i, b)| {
             let key = format!("circuit.branches[{i}]");
-            one_of(
-                &key,
-                ("inductance", b.inductance),
-                ("tuning_frequency", b.tuning_frequency),
-            )?;
+            one_of(&key, ("inductance", b.inductance), ("tuning_frequency", b.tuning_frequency))?;
             let c_f = positive(&format!("{key}.c_f"), b.c_f)?;
             let inductance = match (b.inductance, b.tuning_frequency) {
                 (Some(l), _) => non_negative(&format!("{key}.inductance"), l)?,
-                (None, Some(w)) => Branch::tuned_inductance(
-                    ring.cp_t,
-                    c_f,
-                    positive(&format!("{key}.tuning_frequency"), w)?,
-                ),
+                (None, Some(w)) => {
+                    Branch::tuned_inductance(ring.cp_t, c_f, positive(&format!("{key}.tuning_frequency"), w)?)
+                }
                 (None, None) => unreachable!("checked by one_of"),
             };
-            Ok(Branch {
-                c_f,
-                inductance,
-                resistance: non_negative(&format!("{key}.resistance"), b.resistance)?,
-            })
+            Ok(Branch { c_f, inductance, resistance: non_negative(&format!("{key}.resistance"), b.resistance)? })
         })
         .collect::<Result<_, Failure>>()?;
-    Ok(Circuit {
-        state: c.state,
-        branches,
-    })
+    Ok(Circuit { state: c.state, branches })
 }
 
 fn settings(s: &Settings) -> Result<Settings, Failure> {
-    within(
-        "analysis.mac_threshold",
-        s.mac_threshold,
-        0.0,
-        1.0 + 1e-12,
-        "in (0, 1]",
-    )?;
-    within(
-        "analysis.electrical_fraction",
-        s.electrical_fraction,
-        0.0,
-        1.0,
-        "in (0, 1)",
-    )?;
-    within(
-        "analysis.oscillation_tolerance",
-        s.oscillation_tolerance,
-        0.0,
-        1.0,
-        "in (0, 1)",
-    )?;
-    within(
-        "analysis.instability_tolerance",
-        s.instability_tolerance,
-        1.0,
-        f64::INFINITY,
-        "above 1",
-    )?;
+    within("analysis.mac_threshold", s.mac_threshold, 0.0, 1.0 + 1e-12, "in (0, 1]")?;
+    within("analysis.electrical_fraction", s.electrical_fraction, 0.0, 1.0, "in (0, 1)")?;
+    within("analysis.oscillation_tolerance", s.oscillation_tolerance, 0.0, 1.0, "in (0, 1)")?;
+    within("analysis.max_step_phase", s.max_step_phase, 0.0, 10.0, "in (0, 10) rad")?;
+    within("analysis.instability_tolerance", s.instability_tolerance, 1.0, f64::INFINITY, "above 1")?;
     let count = |key: &str, v: usize, lo: usize, hi: usize| -> Result<(), Failure> {
         if v < lo || v > hi {
             return Err((
                 key.into(),
-                K::OutOfRange {
-                    value: v as f64,
-                    range: format!("a whole number from {lo} to {hi}"),
-                },
+                K::OutOfRange { value: v as f64, range: format!("a whole number from {lo} to {hi}") },
             ));
         }
         Ok(())

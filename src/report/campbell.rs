@@ -9,12 +9,7 @@ use crate::analysis::modes::{ModeKind, Whirl};
 pub fn campbell_plot(r: &CampbellResult, title: &str) -> LinePlot {
     let x_max = r.speeds.iter().copied().fold(f64::MIN, f64::max);
     let x_min = r.speeds.iter().copied().fold(f64::MAX, f64::min);
-    let y_max = r
-        .tracks
-        .iter()
-        .flat_map(|t| t.points.iter().map(|p| p.frequency))
-        .fold(0.0, f64::max)
-        * 1.05;
+    let y_max = r.tracks.iter().flat_map(|t| t.points.iter().map(|p| p.frequency)).fold(0.0, f64::max) * 1.05;
     let mut series: Vec<Series> = r
         .tracks
         .iter()
@@ -49,16 +44,7 @@ pub fn campbell_plot(r: &CampbellResult, title: &str) -> LinePlot {
 /// Long-format CSV: one row per track and speed.
 pub fn campbell_csv(r: &CampbellResult) -> Result<String, csv::Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "track",
-        "whirl",
-        "kind",
-        "speed_rad_s",
-        "frequency_rad_s",
-        "damping_ratio",
-        "mac",
-        "flagged",
-    ])?;
+    w.write_record(["track", "whirl", "kind", "speed_rad_s", "frequency_rad_s", "damping_ratio", "mac", "flagged"])?;
     for t in &r.tracks {
         for p in &t.points {
             w.write_record([

@@ -43,16 +43,12 @@ pub struct LinePlot {
 #[error("plot rendering failed: {0}")]
 pub struct PlotError(pub String);
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The embedded DejaVu font is valid by construction; a failure here would only
         // mean text is not drawn, which `draw` then reports as an error.
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            dejavu::sans::regular(),
-        );
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
     });
 }
 
@@ -68,10 +64,7 @@ impl LinePlot {
             .margin(15)
             .x_label_area_size(50)
             .y_label_area_size(80)
-            .build_cartesian_2d(
-                self.x_range.0..self.x_range.1,
-                self.y_range.0..self.y_range.1,
-            )
+            .build_cartesian_2d(self.x_range.0..self.x_range.1, self.y_range.0..self.y_range.1)
             .map_err(err)?;
         chart
             .configure_mesh()
@@ -86,19 +79,13 @@ impl LinePlot {
             let color = RGBColor(s.color.0, s.color.1, s.color.2);
             let style = ShapeStyle::from(&color).stroke_width(2);
             let drawn = if s.dashed {
-                chart
-                    .draw_series(DashedLineSeries::new(s.points.iter().copied(), 6, 4, style))
-                    .map_err(err)?
+                chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 6, 4, style)).map_err(err)?
             } else {
-                chart
-                    .draw_series(LineSeries::new(s.points.iter().copied(), style))
-                    .map_err(err)?
+                chart.draw_series(LineSeries::new(s.points.iter().copied(), style)).map_err(err)?
             };
             if !s.name.is_empty() {
                 legend = true;
-                drawn
-                    .label(s.name.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                drawn.label(s.name.clone()).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
             }
         }
         if legend {

@@ -7,21 +7,9 @@ use std::fmt::Write;
 
 fn ring_lines(out: &mut String, name: &str, r: &Ring) {
     let _ = writeln!(out, "  {name} ring:");
-    let _ = writeln!(
-        out,
-        "    k_eq   = {:.3e} N/m   (Eq. 1: bearing and ring structure in series)",
-        r.k_eq()
-    );
-    let _ = writeln!(
-        out,
-        "    k_eq1  = {:.3e} N/m   (Eq. 1: piezo stacks)",
-        r.k_eq1()
-    );
-    let _ = writeln!(
-        out,
-        "    k_eq2  = {:.3e} N/m   (Eq. 1: electromechanical coupling)",
-        r.k_eq2()
-    );
+    let _ = writeln!(out, "    k_eq   = {:.3e} N/m   (Eq. 1: bearing and ring structure in series)", r.k_eq());
+    let _ = writeln!(out, "    k_eq1  = {:.3e} N/m   (Eq. 1: piezo stacks)", r.k_eq1());
+    let _ = writeln!(out, "    k_eq2  = {:.3e} N/m   (Eq. 1: electromechanical coupling)", r.k_eq2());
     let _ = writeln!(
         out,
         "    C_p^S  = {:.4e} F,  C_p^T = {:.4e} F,  gamma = 2 cot^2(beta) theta_p^2 = {:.4} ",
@@ -59,11 +47,7 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
             disk.diametral_inertia
         );
     }
-    let _ = writeln!(
-        out,
-        "  rotor mass (shaft + disks): {:.4} kg",
-        m.rotor_mass()
-    );
+    let _ = writeln!(out, "  rotor mass (shaft + disks): {:.4} kg", m.rotor_mass());
     let _ = writeln!(
         out,
         "  DOFs (complex): {} shaft + 2 ring + {} charge = {}; state vector {}",
@@ -83,11 +67,7 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
         "  circuit: {} with {} branch(es){}",
         m.circuit.state,
         m.circuit.branches.len(),
-        if m.circuit.state == CircuitState::Closed {
-            ""
-        } else {
-            " (not connected in this state)"
-        }
+        if m.circuit.state == CircuitState::Closed { "" } else { " (not connected in this state)" }
     );
     for (i, b) in m.circuit.branches.iter().enumerate() {
         let _ = writeln!(
@@ -104,11 +84,7 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
         out,
         "  P_cr = {:.4e} N ({}; pinned-pinned Euler load pi^2 EI/L^2 = {:.4e} N)",
         rotor.critical_load,
-        if m.load.critical_load.is_some() {
-            "given"
-        } else {
-            "computed, open-circuit supports"
-        },
+        if m.load.critical_load.is_some() { "given" } else { "computed, open-circuit supports" },
         m.shaft.euler_load()
     );
     let _ = writeln!(
@@ -125,11 +101,7 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
 pub fn modes_text(modes: &[WhirlMode], speed: f64, critical_load: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "speed {speed} rad/s, P_cr = {critical_load:.4e} N");
-    let _ = writeln!(
-        out,
-        "{:>6} {:>9} {:>11} {:>16} {:>12}",
-        "mode", "whirl", "kind", "frequency rad/s", "damping"
-    );
+    let _ = writeln!(out, "{:>6} {:>9} {:>11} {:>16} {:>12}", "mode", "whirl", "kind", "frequency rad/s", "damping");
     for m in modes {
         let _ = writeln!(
             out,

@@ -45,10 +45,7 @@ pub fn monodromy_rk4(sys: &PeriodicSystem, phi: f64, beta: f64, steps: usize) ->
         let k3 = &b2 * (&id + &k2 * faer::Scale(c64::new(h / 2.0, 0.0)));
         let k4 = &b3 * (&id + &k3 * faer::Scale(c64::new(h, 0.0)));
         let step = &id
-            + (&k1
-                + &k2 * faer::Scale(c64::new(2.0, 0.0))
-                + &k3 * faer::Scale(c64::new(2.0, 0.0))
-                + &k4)
+            + (&k1 + &k2 * faer::Scale(c64::new(2.0, 0.0)) + &k3 * faer::Scale(c64::new(2.0, 0.0)) + &k4)
                 * faer::Scale(c64::new(h / 6.0, 0.0));
         prod.left_multiply(step.as_ref());
     }

@@ -31,10 +31,7 @@ const CHEBYSHEV_TOLERANCE: f64 = 1e-13;
 /// The CFM4 weights and nodes (Blanes & Moan; Alvermann & Fehske).
 fn cfm4() -> ((f64, f64), (f64, f64)) {
     let r3 = 3f64.sqrt();
-    (
-        (0.5 - r3 / 6.0, 0.5 + r3 / 6.0),
-        (0.25 + r3 / 6.0, 0.25 - r3 / 6.0),
-    )
+    ((0.5 - r3 / 6.0, 0.5 + r3 / 6.0), (0.25 + r3 / 6.0, 0.25 - r3 / 6.0))
 }
 
 /// Everything that depends on φ but not on β: the step scalars and the Chebyshev
@@ -100,15 +97,7 @@ impl PhiTable {
             expm(a.as_ref())
         };
         if x_max == 0.0 {
-            return PhiTable {
-                phi,
-                steps,
-                xi,
-                x_max,
-                coeffs: vec![flat(&e(0.0))],
-                n,
-                converged: true,
-            };
+            return PhiTable { phi, steps, xi, x_max, coeffs: vec![flat(&e(0.0))], n, converged: true };
         }
         let mut points = 8;
         loop {
@@ -119,31 +108,18 @@ impl PhiTable {
                 .map(|k| {
                     let mut c = Mat::<c64>::zeros(n, n);
                     for (j, s) in samples.iter().enumerate() {
-                        let w = (std::f64::consts::PI * k as f64 * (j as f64 + 0.5)
-                            / points as f64)
-                            .cos();
+                        let w = (std::f64::consts::PI * k as f64 * (j as f64 + 0.5) / points as f64).cos();
                         axpy(&mut c, 2.0 * w / points as f64, s.as_ref());
                     }
                     c
                 })
                 .collect();
             let scale = coeffs[0].norm_max().max(1e-300);
-            let tail = coeffs[points - 2..]
-                .iter()
-                .map(|c| c.norm_max())
-                .fold(0.0, f64::max);
+            let tail = coeffs[points - 2..].iter().map(|c| c.norm_max()).fold(0.0, f64::max);
             let converged = tail <= CHEBYSHEV_TOLERANCE * scale;
             if converged || points >= MAX_CHEBYSHEV_POINTS {
                 let coeffs = coeffs.iter().map(flat).collect();
-                return PhiTable {
-                    phi,
-                    steps,
-                    xi,
-                    x_max,
-                    coeffs,
-                    n,
-                    converged,
-                };
+                return PhiTable { phi, steps, xi, x_max, coeffs, n, converged };
             }
             points *= 2;
         }
@@ -176,11 +152,7 @@ impl PhiTable {
             }
             std::mem::swap(&mut next, &mut after);
         }
-        for ((o, (c, p1)), p2) in out
-            .iter_mut()
-            .zip(self.coeffs[0].iter().zip(next.iter()))
-            .zip(after.iter())
-        {
+        for ((o, (c, p1)), p2) in out.iter_mut().zip(self.coeffs[0].iter().zip(next.iter())).zip(after.iter()) {
             *o = c * 0.5 + p1 * u - p2;
         }
     }
@@ -189,11 +161,8 @@ impl PhiTable {
     pub fn monodromy(&self, sym: &Symmetry, beta: f64) -> ScaledProduct {
         let n = self.n;
         let mut half = ScaledProduct::identity(n);
-        let (mut e, mut b1, mut b2) = (
-            vec![c64::new(0.0, 0.0); n * n],
-            vec![c64::new(0.0, 0.0); n * n],
-            vec![c64::new(0.0, 0.0); n * n],
-        );
+        let (mut e, mut b1, mut b2) =
+            (vec![c64::new(0.0, 0.0); n * n], vec![c64::new(0.0, 0.0); n * n], vec![c64::new(0.0, 0.0); n * n]);
         for (k, &xi) in self.xi.iter().enumerate() {
             self.evaluate(beta * xi, &mut e, &mut b1, &mut b2);
             let step = MatRef::from_column_major_slice(&e, n, n);
@@ -250,32 +219,11 @@ impl Symmetry {
         let n = half.matrix.nrows();
         let one = c64::new(1.0, 0.0);
         let mut xl = Mat::<c64>::zeros(n, n);
-        matmul(
-            xl.as_mut(),
-            Accum::Replace,
-            self.x.as_ref(),
-            half.matrix.as_ref(),
-            one,
-            Par::Seq,
-        );
+        matmul(xl.as_mut(), Accum::Replace, self.x.as_ref(), half.matrix.as_ref(), one, Par::Seq);
         let mut ltxl = Mat::<c64>::zeros(n, n);
-        matmul(
-            ltxl.as_mut(),
-            Accum::Replace,
-            half.matrix.transpose(),
-            xl.as_ref(),
-            one,
-            Par::Seq,
-        );
+        matmul(ltxl.as_mut(), Accum::Replace, half.matrix.transpose(), xl.as_ref(), one, Par::Seq);
         let mut full = ScaledProduct::identity(n);
-        matmul(
-            full.matrix.as_mut(),
-            Accum::Replace,
-            self.x_inv.as_ref(),
-            ltxl.as_ref(),
-            one,
-            Par::Seq,
-        );
+        matmul(full.matrix.as_mut(), Accum::Replace, self.x_inv.as_ref(), ltxl.as_ref(), one, Par::Seq);
         full.log_scale = 2.0 * half.log_scale;
         full
     }
@@ -283,12 +231,7 @@ impl Symmetry {
 
 /// CFM4 with a fresh `expm` for every exponential and the full period stepped: the
 /// straightforward form of the same integrator, kept to check the fast one.
-pub fn monodromy_cfm4_direct(
-    sys: &PeriodicSystem,
-    phi: f64,
-    beta: f64,
-    steps: usize,
-) -> ScaledProduct {
+pub fn monodromy_cfm4_direct(sys: &PeriodicSystem, phi: f64, beta: f64, steps: usize) -> ScaledProduct {
     let n = sys.b0.nrows();
     let h = 2.0 * std::f64::consts::PI / phi / steps as f64;
     let ((c1, c2), (w1, w2)) = cfm4();
@@ -298,9 +241,7 @@ pub fn monodromy_cfm4_direct(
         let (f1, f2) = ((phi * (t + c1 * h)).cos(), (phi * (t + c2 * h)).cos());
         for (a, b) in [(w1, w2), (w2, w1)] {
             let x = 2.0 * beta * (a * f1 + b * f2);
-            let e = Mat::from_fn(n, n, |i, j| {
-                (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * (h / 2.0)
-            });
+            let e = Mat::from_fn(n, n, |i, j| (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * (h / 2.0));
             prod.left_multiply(expm(e.as_ref()).as_ref());
         }
     }

@@ -80,11 +80,12 @@ impl FloquetPoint {
         tolerance: f64,
         status: PointStatus,
     ) -> FloquetPoint {
-        let Ok(ev) = mono.matrix.eigenvalues() else {
+        let mut balanced = mono.matrix.clone();
+        crate::linalg::balance(&mut balanced);
+        let Ok(ev) = balanced.eigenvalues() else {
             return FloquetPoint::failed(phi, beta);
         };
-        if ev.iter().any(|z| !z.re.is_finite() || !z.im.is_finite()) || !mono.log_scale.is_finite()
-        {
+        if ev.iter().any(|z| !z.re.is_finite() || !z.im.is_finite()) || !mono.log_scale.is_finite() {
             return FloquetPoint::failed(phi, beta);
         }
         let max_scaled = ev.iter().map(|z| z.norm()).fold(0.0, f64::max);
@@ -99,11 +100,7 @@ impl FloquetPoint {
         FloquetPoint {
             phi,
             beta,
-            max_multiplier: if ln_max < LN_F64_MAX {
-                ln_max.exp()
-            } else {
-                f64::MAX
-            },
+            max_multiplier: if ln_max < LN_F64_MAX { ln_max.exp() } else { f64::MAX },
             ln_max_multiplier: ln_max,
             growth_rate: ln_max / period,
             stable: ln_max <= tolerance.ln(),
@@ -131,21 +128,33 @@ pub struct FloquetSystem {
 
 impl FloquetSystem {
     /// Reduce the rotor to `settings.reduced_modes` modes at `speed` (rad/s).
-    pub fn new(
-        rotor: &Rotor,
-        settings: &Settings,
-        speed: f64,
-    ) -> Result<FloquetSystem, AnalysisError> {
+    pub fn new(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<FloquetSystem, AnalysisError> {
         let reduced = ReducedModel::new(rotor, settings.reduced_modes)?;
         let system = reduced.periodic_system(speed);
         let symmetry = Symmetry::new(&system);
-        Ok(FloquetSystem {
-            reduced,
-            system,
-            symmetry,
-            speed,
-            settings: settings.clone(),
-        })
+        Ok(FloquetSystem { reduced, system, symmetry, speed, settings: settings.clone() })
+    }
+
+    /// Eigenvalues λ of B0 (the reduced model at the static load), sorted by |Im λ|:
+    /// the whirls whose sums (ω_i + ω_j)/k are where instability regions start.
+    pub fn eigenvalues(&self) -> Result<Vec<faer::c64>, AnalysisError> {
+        // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
+        let mut b0 = self.system.b0.clone();
+        crate::linalg::balance(&mut b0);
+        let mut ev = b0.eigenvalues().map_err(|_| {
+            AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
+        })?;
+        ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
+        Ok(ev)
+    }
+
+    /// Forward (Im λ > 0) and backward whirl frequencies of the reduced model (rad/s),
+    /// each ascending.
+    pub fn whirls(&self) -> Result<(Vec<f64>, Vec<f64>), AnalysisError> {
+        let ev = self.eigenvalues()?;
+        let f = ev.iter().filter(|z| z.im > 0.0).map(|z| z.im).collect();
+        let b = ev.iter().filter(|z| z.im < 0.0).map(|z| -z.im).collect();
+        Ok((f, b))
     }
 
     /// Reduction summary.
@@ -155,7 +164,16 @@ impl FloquetSystem {
 
     /// The per-φ table of the fast path for loads up to `beta_max`.
     pub fn table(&self, phi: f64, beta_max: f64) -> PhiTable {
-        PhiTable::new(&self.system, phi, beta_max, self.settings.steps_per_period)
+        PhiTable::new(&self.system, phi, beta_max, self.steps_for(phi))
+    }
+
+    /// CFM4 steps per period at φ: the configured minimum, or more so that each step
+    /// spans at most `max_step_phase` of the lowest basis mode.
+    pub fn steps_for(&self, phi: f64) -> usize {
+        let w_min = self.reduced.frequencies.iter().copied().fold(f64::INFINITY, f64::min);
+        let period = 2.0 * std::f64::consts::PI / phi;
+        let by_phase = (period * w_min / self.settings.max_step_phase).ceil();
+        self.settings.steps_per_period.max(if by_phase.is_finite() { by_phase.min(1e6) as usize } else { 0 })
     }
 
     /// One point with the configured method.
@@ -168,31 +186,15 @@ impl FloquetSystem {
 
     /// One point from a prepared per-φ table (β ≤ the table's β_max).
     pub fn point_fast(&self, table: &PhiTable, beta: f64) -> FloquetPoint {
-        let status = if table.converged {
-            PointStatus::Ok
-        } else {
-            PointStatus::Inaccurate
-        };
+        let status = if table.converged { PointStatus::Ok } else { PointStatus::Inaccurate };
         let mono = table.monodromy(&self.symmetry, beta);
-        FloquetPoint::from_monodromy(
-            table.phi,
-            beta,
-            &mono,
-            self.settings.instability_tolerance,
-            status,
-        )
+        FloquetPoint::from_monodromy(table.phi, beta, &mono, self.settings.instability_tolerance, status)
     }
 
     /// One point by the reference DSTM with `steps` steps.
     pub fn point_dstm(&self, phi: f64, beta: f64, steps: usize) -> FloquetPoint {
         let mono = dstm::monodromy_dstm(&self.system, phi, beta, steps);
-        FloquetPoint::from_monodromy(
-            phi,
-            beta,
-            &mono,
-            self.settings.instability_tolerance,
-            PointStatus::Ok,
-        )
+        FloquetPoint::from_monodromy(phi, beta, &mono, self.settings.instability_tolerance, PointStatus::Ok)
     }
 
     /// A row of points at one φ for several β, sharing the per-φ work.
@@ -203,10 +205,9 @@ impl FloquetSystem {
                 let table = self.table(phi, beta_max);
                 betas.iter().map(|&b| self.point_fast(&table, b)).collect()
             }
-            MonodromyMethod::Dstm => betas
-                .iter()
-                .map(|&b| self.point_dstm(phi, b, self.settings.reference_steps))
-                .collect(),
+            MonodromyMethod::Dstm => {
+                betas.iter().map(|&b| self.point_dstm(phi, b, self.settings.reference_steps)).collect()
+            }
         }
     }
 }

@@ -20,23 +20,12 @@ pub struct ScaledProduct {
 impl ScaledProduct {
     /// The identity of size n.
     pub fn identity(n: usize) -> ScaledProduct {
-        ScaledProduct {
-            matrix: Mat::identity(n, n),
-            log_scale: 0.0,
-            scratch: Mat::zeros(n, n),
-        }
+        ScaledProduct { matrix: Mat::identity(n, n), log_scale: 0.0, scratch: Mat::zeros(n, n) }
     }
 
     /// Φ ← step·Φ.
     pub fn left_multiply(&mut self, step: MatRef<'_, c64>) {
-        matmul(
-            self.scratch.as_mut(),
-            Accum::Replace,
-            step,
-            self.matrix.as_ref(),
-            c64::new(1.0, 0.0),
-            Par::Seq,
-        );
+        matmul(self.scratch.as_mut(), Accum::Replace, step, self.matrix.as_ref(), c64::new(1.0, 0.0), Par::Seq);
         std::mem::swap(&mut self.matrix, &mut self.scratch);
         self.rescale();
     }

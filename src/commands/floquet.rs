@@ -1,0 +1,252 @@
+//! The Floquet commands: `floquet` (one point), `chart` (a grid, optionally compared with
+//! a second configuration) and `response` (time response at one point).
+
+use super::{parse_range, title, OutDir, Progress, TOOL};
+use crate::analysis::chart::{chart, ChartResult};
+use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
+use crate::analysis::response::{response, ResponseResult};
+use crate::analysis::{Rotor, Settings};
+use crate::problem::Problem;
+use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
+use crate::report::plot::{LinePlot, Series};
+use crate::Error;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
+    if !(phi.is_finite() && phi > 0.0) {
+        return Err(Error::Argument {
+            argument: "--phi".into(),
+            message: format!("must be a positive frequency in rad/s, found {phi}"),
+        });
+    }
+    if !(beta.is_finite() && beta >= 0.0) {
+        return Err(Error::Argument {
+            argument: "--beta".into(),
+            message: format!("must be a finite load coefficient >= 0, found {beta}"),
+        });
+    }
+    Ok(())
+}
+
+fn system(problem: &Problem) -> Result<FloquetSystem, Error> {
+    let rotor = Rotor::new(&problem.model)?;
+    Ok(FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?)
+}
+
+/// JSON of `floquet`.
+#[derive(Debug, Serialize)]
+pub struct FloquetOutput<'a> {
+    /// Tool and version.
+    pub tool: &'static str,
+    /// Problem file.
+    pub problem: &'a str,
+    /// Ω (rad/s).
+    pub speed: f64,
+    /// The point.
+    #[serde(flatten)]
+    pub point: FloquetPoint,
+    /// Settings in force.
+    pub settings: &'a Settings,
+}
+
+/// `rotorshunt floquet FILE --phi P --beta B [--json]`.
+pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result<String, Error> {
+    check_point(phi, beta)?;
+    let fs = system(problem)?;
+    let point = fs.point(phi, beta);
+    if json {
+        let out =
+            FloquetOutput { tool: TOOL, problem: &problem.file, speed: fs.speed, point, settings: &problem.settings };
+        return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
+    }
+    let mut s = format!(
+        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\nmultipliers:\n",
+        fs.speed,
+        fs.reduced.size(),
+        point.max_multiplier,
+        point.ln_max_multiplier,
+        point.growth_rate,
+        if point.stable { "stable" } else { "UNSTABLE" },
+        problem.settings.instability_tolerance,
+        point.status
+    );
+    for m in &point.multipliers {
+        s += &format!(
+            "  {:+.8e} {:+.8e}i  |mu| = {:.8}\n",
+            m[0],
+            m[1],
+            m[0].hypot(m[1]) * point.multiplier_log_scale.exp()
+        );
+    }
+    Ok(s)
+}
+
+#[derive(Serialize)]
+struct ChartJson<'a> {
+    tool: &'static str,
+    problem: &'a str,
+    overrides: Vec<String>,
+    settings: &'a Settings,
+    chart: &'a ChartResult,
+}
+
+/// What `chart` compares the main problem with.
+pub enum Compare<'a> {
+    /// Nothing.
+    None,
+    /// Another problem (label, problem).
+    Problem(&'a str, &'a Problem),
+}
+
+fn run_chart(
+    problem: &Problem,
+    phis: &[f64],
+    betas: &[f64],
+    progress: &dyn Progress,
+    what: &str,
+) -> Result<ChartResult, Error> {
+    let fs = system(problem)?;
+    progress.start(phis.len() as u64, what);
+    let c = chart(&fs, phis, betas, &|| progress.tick());
+    progress.finish();
+    Ok(c)
+}
+
+fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
+    let json =
+        ChartJson { tool: TOOL, problem: &problem.file, overrides: vec![], settings: &problem.settings, chart: c };
+    dir.write(&format!("{stem}.json"), serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
+    let csv = chart_csv(c).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
+    dir.write(&format!("{stem}.csv"), csv.as_bytes())
+}
+
+/// `rotorshunt chart FILE --phi A:B:STEP --beta A:B:STEP --out DIR [--compare …]`.
+#[allow(clippy::too_many_arguments)]
+pub fn chart_cmd(
+    problem: &Problem,
+    phi: &str,
+    beta: &str,
+    out: &Path,
+    compare: Compare<'_>,
+    timing: bool,
+    progress: &dyn Progress,
+) -> Result<String, Error> {
+    let phis = parse_range(phi, "--phi")?;
+    let betas = parse_range(beta, "--beta")?;
+    if let Some(bad) = phis.iter().find(|p| **p <= 0.0) {
+        return Err(Error::Argument {
+            argument: "--phi".into(),
+            message: format!("frequencies must be > 0 rad/s, found {bad}"),
+        });
+    }
+    if let Some(bad) = betas.iter().find(|b| **b < 0.0) {
+        return Err(Error::Argument {
+            argument: "--beta".into(),
+            message: format!("load coefficients must be >= 0, found {bad}"),
+        });
+    }
+    let dir = OutDir::create(out, &problem.file)?;
+    let start = Instant::now();
+    let main = run_chart(problem, &phis, &betas, progress, "chart")?;
+    let elapsed = start.elapsed().as_secs_f64();
+    write_chart(&dir, "chart", problem, &main)?;
+    let label = title(problem);
+    let mut layers = vec![Layer { name: label.clone(), color: (31, 119, 180), chart: main.clone() }];
+    let mut text = String::new();
+    if let Compare::Problem(name, other) = compare {
+        let c = run_chart(other, &phis, &betas, progress, "compare")?;
+        write_chart(&dir, "compare", other, &c)?;
+        text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
+        layers.push(Layer { name: name.to_string(), color: (214, 39, 40), chart: c });
+    }
+    let plot = StabilityPlot::new(&format!("Stability chart: {label}, Ω = {} rad/s", main.speed), layers);
+    dir.write("chart.svg", plot.svg().map_err(|e| dir.error("chart.svg", e))?.as_bytes())?;
+    dir.write("chart.png", &plot.png().map_err(|e| dir.error("chart.png", e))?)?;
+    let growth = GrowthMap::new(&format!("Growth rate: {label}"), main.clone());
+    dir.write("growth.svg", growth.svg().map_err(|e| dir.error("growth.svg", e))?.as_bytes())?;
+    dir.write("growth.png", &growth.png().map_err(|e| dir.error("growth.png", e))?)?;
+    let mut head = format!(
+        "chart: {} points ({} phi x {} beta), {} unstable, {} failed, {} inaccurate; wrote chart.{{json,csv,svg,png}} and growth.{{svg,png}} to {}\n",
+        main.points.len(),
+        phis.len(),
+        betas.len(),
+        main.unstable(),
+        main.failed,
+        main.inaccurate,
+        out.display()
+    );
+    if timing {
+        head += &format!(
+            "timing: {} points in {:.3} s wall ({:.1} us/point/thread, {} threads, method {:?}, {} steps/period)\n",
+            main.points.len(),
+            elapsed,
+            elapsed * 1e6 * rayon::current_num_threads() as f64 / main.points.len() as f64,
+            rayon::current_num_threads(),
+            problem.settings.method,
+            problem.settings.steps_per_period
+        );
+    }
+    Ok(head + &text)
+}
+
+/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`.
+pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out: &Path) -> Result<String, Error> {
+    check_point(phi, beta)?;
+    if periods == 0 || periods > 100_000 {
+        return Err(Error::Argument {
+            argument: "--periods".into(),
+            message: format!("must be between 1 and 100000, found {periods}"),
+        });
+    }
+    let fs = system(problem)?;
+    let point = fs.point(phi, beta);
+    let r: ResponseResult = response(&fs, phi, beta, periods);
+    let dir = OutDir::create(out, &problem.file)?;
+    #[derive(Serialize)]
+    struct Json<'a> {
+        tool: &'static str,
+        problem: &'a str,
+        floquet: &'a FloquetPoint,
+        response: &'a ResponseResult,
+    }
+    let json = Json { tool: TOOL, problem: &problem.file, floquet: &point, response: &r };
+    dir.write("response.json", serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
+    let mut csv = String::from("time_s,q1_re,q1_im\n");
+    for (t, q) in r.time.iter().zip(&r.q1) {
+        csv += &format!("{t},{},{}\n", q[0], q[1]);
+    }
+    dir.write("response.csv", csv.as_bytes())?;
+    let ymax = r.q1.iter().map(|q| q[0].abs()).fold(0.0, f64::max).max(1e-300);
+    let plot = LinePlot {
+        title: format!(
+            "q1 response at φ = {phi} rad/s, β = {beta}: {} (max|μ| = {:.5})",
+            if point.stable { "stable" } else { "unstable" },
+            point.max_multiplier
+        ),
+        x_label: "time t (s)".into(),
+        y_label: "Re q1 (vertical, modal)".into(),
+        x_range: (0.0, *r.time.last().unwrap_or(&1.0)),
+        y_range: (-ymax * 1.05, ymax * 1.05),
+        series: vec![Series {
+            name: String::new(),
+            color: (31, 119, 180),
+            dashed: false,
+            points: r.time.iter().zip(&r.q1).map(|(t, q)| (*t, q[0])).collect(),
+        }],
+    };
+    dir.write("response.svg", plot.svg().map_err(|e| dir.error("response.svg", e))?.as_bytes())?;
+    dir.write("response.png", &plot.png().map_err(|e| dir.error("response.png", e))?)?;
+    Ok(format!(
+        "response: {} periods, RK4 step {:.3e} s; peak |q| first period {:.4e}, last period {:.4e} (ratio {:.3e}); Floquet: max|mu| = {:.6} ({}); wrote response.{{json,csv,svg,png}} to {}\n",
+        periods,
+        r.step,
+        r.first_period_peak,
+        r.last_period_peak,
+        r.growth_ratio(),
+        point.max_multiplier,
+        if point.stable { "stable" } else { "unstable" },
+        out.display()
+    ))
+}
