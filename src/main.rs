@@ -169,7 +169,16 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
             };
             let label = match (&compare, &other) {
                 (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
-                _ => format!("with {}", compare_set.join(", ")),
+                (_, Some(o)) => {
+                    let extra: Vec<&str> =
+                        compare_set.iter().map(String::as_str).filter(|s| !s.starts_with("circuit.state")).collect();
+                    let mut name = format!("{} circuit", o.model.circuit.state);
+                    if !extra.is_empty() {
+                        name += &format!(", {}", extra.join(", "));
+                    }
+                    name
+                }
+                _ => String::new(),
             };
             let cmp = match &other {
                 Some(o) => commands::Compare::Problem(&label, o),

@@ -58,9 +58,8 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
         let spin = c64::from_polar(1.0, fs.speed * t);
         for (i, o) in out.iter_mut().enumerate() {
             let mut acc = c64::new(0.0, 0.0);
-            for j in 0..n {
-                let b = sys.b0[(i, j)] + sys.b1[(i, j)] * load;
-                acc += b * y[j];
+            for (j, yj) in y.iter().enumerate() {
+                acc += (sys.b0[(i, j)] + sys.b1[(i, j)] * load) * yj;
             }
             if i < m {
                 acc += force[i] * spin;

@@ -153,7 +153,14 @@ pub fn chart_cmd(
     let elapsed = start.elapsed().as_secs_f64();
     write_chart(&dir, "chart", problem, &main)?;
     let label = title(problem);
-    let mut layers = vec![Layer { name: label.clone(), color: (31, 119, 180), chart: main.clone() }];
+    let mut name = format!("{} circuit", problem.model.circuit.state);
+    // The state is in the name already; other overrides tell layers apart.
+    let extra: Vec<&str> =
+        problem.overrides.iter().map(String::as_str).filter(|o| !o.starts_with("circuit.state")).collect();
+    if !extra.is_empty() {
+        name += &format!(", {}", extra.join(", "));
+    }
+    let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Compare::Problem(name, other) = compare {
         let c = run_chart(other, &phis, &betas, progress, "compare")?;
@@ -161,7 +168,7 @@ pub fn chart_cmd(
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
         layers.push(Layer { name: name.to_string(), color: (214, 39, 40), chart: c });
     }
-    let plot = StabilityPlot::new(&format!("Stability chart: {label}, Ω = {} rad/s", main.speed), layers);
+    let plot = StabilityPlot::new(&format!("Stability chart: {label}"), layers);
     dir.write("chart.svg", plot.svg().map_err(|e| dir.error("chart.svg", e))?.as_bytes())?;
     dir.write("chart.png", &plot.png().map_err(|e| dir.error("chart.png", e))?)?;
     let growth = GrowthMap::new(&format!("Growth rate: {label}"), main.clone());

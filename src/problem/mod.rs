@@ -27,6 +27,8 @@ pub struct Problem {
     pub model: Model,
     /// Numerical settings.
     pub settings: Settings,
+    /// The `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
 }
 
 impl Problem {
@@ -119,7 +121,7 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        Ok(Problem { file: name.to_string(), data, model, settings })
+        Ok(Problem { file: name.to_string(), data, model, settings, overrides: overrides.to_vec() })
     }
 }
 
