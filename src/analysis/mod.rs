@@ -6,6 +6,7 @@ pub mod chart;
 pub mod floquet;
 pub mod modes;
 pub mod reduction;
+pub mod regions;
 pub mod response;
 mod rotor;
 mod settings;

@@ -1,0 +1,389 @@
+//! Instability regions as objects (Eq. 28 on the Floquet multipliers): critical load
+//! curves, region starts and onsets, edges at a load level, boundaries by continuation,
+//! the catalogue of a φ range and the stable bands between regions.
+
+pub mod critical;
+pub mod seeds;
+
+pub use critical::{critical_load, CriticalLoad, RegionSettings};
+pub use seeds::{seeds, RegionKind, Seed};
+
+use super::floquet::FloquetSystem;
+use super::modes::ModesResult;
+use super::AnalysisError;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Half-width of the φ window searched for a region's start around its seed, relative.
+/// Damping and the static load shift a start from the undamped sum by far less.
+const START_WINDOW: f64 = 0.003;
+/// Golden-section iterations for the tip: a window of at most 0.6 % of φ shrinks by
+/// 0.618¹² to < 2e-5·φ, well inside the 0.1 % the start is checked to.
+const START_ITERATIONS: usize = 12;
+/// A minimum within this fraction of the window's edge is the neighbour's tip, not this
+/// seed's: the seed's own region then has no onset below β_max in its window.
+const EDGE_FRACTION: f64 = 0.05;
+
+/// Counts monodromy evaluations (shared across threads).
+#[derive(Debug, Default)]
+pub struct Counter(AtomicUsize);
+
+impl Counter {
+    fn add(&self, n: usize) {
+        self.0.fetch_add(n, Ordering::Relaxed);
+    }
+    /// Evaluations so far.
+    pub fn get(&self) -> usize {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// One edge pair of a region at a load level.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Edges {
+    /// β (−).
+    pub beta: f64,
+    /// Left edge φ_l (rad/s).
+    pub left: f64,
+    /// Right edge φ_r (rad/s).
+    pub right: f64,
+}
+
+/// An instability region.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Region {
+    /// e.g. `f1+b1`.
+    pub label: String,
+    /// Simple or combination.
+    pub kind: RegionKind,
+    /// Order k.
+    pub order: usize,
+    /// The predicted start (ω_i + ω_j)/k (rad/s).
+    pub predicted: f64,
+    /// Start point φ_s = argmin β_c (rad/s).
+    pub start: f64,
+    /// Onset β_min = min β_c.
+    pub onset_beta: f64,
+    /// Left edge at the requested level (rad/s), if the region reaches it.
+    pub left: Option<f64>,
+    /// Right edge at the requested level.
+    pub right: Option<f64>,
+    /// right − left.
+    pub width: Option<f64>,
+    /// Tracked boundary from the onset up to β_max (empty unless tracking was asked).
+    pub boundary: Vec<Edges>,
+    /// Monodromy evaluations spent on this region.
+    pub evaluations: usize,
+    /// False when the tip could not be separated from a neighbouring region's flank:
+    /// `start` is then the predicted seed and `onset_beta` is β_c there.
+    pub resolved: bool,
+}
+
+fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bool {
+    *count += 1;
+    critical::unstable(fs, &fs.table(phi, beta), beta)
+}
+
+/// Level above the seed's β_c at which the region's tip is searched: relative and
+/// absolute margins so the tip is a short, non-empty interval.
+const TIP_MARGIN: (f64, f64) = (0.05, 2e-3);
+
+/// The start and onset of the region seeded at `seed_phi`, searched within
+/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) by bracketing from below and bisection;
+/// (2) at the level β₀(1 + 5 %) + 0.002 the region is a short interval around its tip, and
+/// the tip φ_s is the maximum of ln max|μ| over φ there (golden section, one monodromy per
+/// φ); (3) the onset is β_c(φ_s), taken as min(β_c(φ_s), β₀). None if stable up to β_max,
+/// or if the maximum sits at the window's edge (a neighbouring region's tip).
+pub fn locate_tip(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    seed_phi: f64,
+    half_width: f64,
+    beta_max: f64,
+    count: &mut usize,
+) -> Option<(f64, f64)> {
+    let c0 = critical_load(fs, s, seed_phi, beta_max);
+    *count += c0.evaluations;
+    let beta0 = c0.beta?;
+    let level = (beta0 * (1.0 + TIP_MARGIN.0) + TIP_MARGIN.1).min(beta_max);
+    let mut growth = |phi: f64| {
+        *count += 1;
+        fs.point_fast(&fs.table(phi, level), level).ln_max_multiplier
+    };
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (seed_phi - half_width, seed_phi + half_width);
+    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+    let (mut f1, mut f2) = (growth(x1), growth(x2));
+    for _ in 0..START_ITERATIONS {
+        if f1 >= f2 {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = growth(x1);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = growth(x2);
+        }
+    }
+    let tip = if f1 >= f2 { x1 } else { x2 };
+    if (tip - seed_phi).abs() > (1.0 - EDGE_FRACTION) * half_width {
+        return None;
+    }
+    let c1 = critical_load(fs, s, tip, beta_max);
+    *count += c1.evaluations;
+    match c1.beta {
+        Some(b1) if b1 <= beta0 => Some((tip, b1)),
+        _ => Some((seed_phi, beta0)),
+    }
+}
+
+/// [`locate_tip`] in windows of ±w, ±w/4 and ±w/16: a neighbour's flank can dominate the
+/// wide window. Returns (start, onset, resolved); unresolved regions keep the seed and
+/// β_c(seed) as start and onset.
+pub fn locate_start(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    seed_phi: f64,
+    half_width: f64,
+    beta_max: f64,
+    count: &mut usize,
+) -> Option<(f64, f64, bool)> {
+    for shrink in [1.0, 0.25, 0.0625] {
+        if let Some((phi, beta)) = locate_tip(fs, s, seed_phi, half_width * shrink, beta_max, count) {
+            return Some((phi, beta, true));
+        }
+    }
+    let c = critical_load(fs, s, seed_phi, beta_max);
+    *count += c.evaluations;
+    c.beta.map(|b| (seed_phi, b, false))
+}
+
+/// The edge of the unstable set at level β next to `inside` (unstable) on the side
+/// `dir` (−1 left, +1 right): march outward with growing steps until stable, then bisect.
+pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir: f64, count: &mut usize) -> f64 {
+    let mut step = (inside * 2e-4).max(4.0 * s.phi_tolerance);
+    let mut lo = inside;
+    let mut hi = inside + dir * step;
+    while unstable_at(fs, hi, beta, count) {
+        lo = hi;
+        step *= 1.6;
+        hi = lo + dir * step;
+        if hi <= 0.0 {
+            return f64::MIN_POSITIVE;
+        }
+    }
+    while (hi - lo).abs() > s.phi_tolerance {
+        let mid = 0.5 * (lo + hi);
+        if unstable_at(fs, mid, beta, count) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Both edges at level β of the region containing φ_in (unstable there).
+pub fn edges_at(fs: &FloquetSystem, s: &RegionSettings, phi_in: f64, beta: f64, count: &mut usize) -> Edges {
+    Edges { beta, left: edge(fs, s, phi_in, beta, -1.0, count), right: edge(fs, s, phi_in, beta, 1.0, count) }
+}
+
+/// Boundary tracking by predictor–corrector continuation from the onset upward: at each
+/// level the edges are predicted by linear extrapolation of the last two levels (the
+/// midpoint of the prediction is the inside point) and corrected by [`edge`].
+pub fn track(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    start: f64,
+    onset: f64,
+    beta_max: f64,
+    count: &mut usize,
+) -> Vec<Edges> {
+    let mut out: Vec<Edges> = Vec::new();
+    let levels = s.tracking_levels.max(1);
+    for k in 1..=levels {
+        let beta = onset + (beta_max - onset) * k as f64 / levels as f64;
+        let centre = match out.len() {
+            0 => start,
+            1 => 0.5 * (out[0].left + out[0].right),
+            n => {
+                let (p, q) = (&out[n - 2], &out[n - 1]);
+                let c = |e: &Edges| 0.5 * (e.left + e.right);
+                c(q) + (c(q) - c(p)) * (beta - q.beta) / (q.beta - p.beta)
+            }
+        };
+        // The predicted centre must be inside; fall back to the start, then give up.
+        let inside = [centre, start].into_iter().find(|&phi| unstable_at(fs, phi, beta, count));
+        match inside {
+            Some(phi) => out.push(edges_at(fs, s, phi, beta, count)),
+            None => break,
+        }
+    }
+    out
+}
+
+/// The catalogue of a φ range.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Catalogue {
+    /// Regions whose onset is below β_max, sorted by start.
+    pub regions: Vec<Region>,
+    /// Stable φ intervals at the level (rad/s).
+    pub stable_bands: Vec<[f64; 2]>,
+    /// The level β_op of edges and bands.
+    pub level: f64,
+    /// φ range searched (rad/s).
+    pub range: [f64; 2],
+    /// β_max.
+    pub beta_max: f64,
+    /// Unstable points of the coarse guard scan at β_op not covered by any region.
+    pub unexplained: Vec<f64>,
+    /// Total monodromy evaluations.
+    pub evaluations: usize,
+}
+
+/// Catalogue every region with onset below β_max in `range`, with edges at `level`,
+/// optionally tracking boundaries; regions in parallel over seeds.
+pub fn catalogue(
+    fs: &FloquetSystem,
+    full: &ModesResult,
+    s: &RegionSettings,
+    range: (f64, f64),
+    beta_max: f64,
+    level: f64,
+    track_boundaries: bool,
+) -> Result<Catalogue, AnalysisError> {
+    let mut candidates = seeds(fs, full, range, s.max_order)?;
+    // Coinciding predictions (e.g. degenerate whirls) are one region: keep the first.
+    candidates.dedup_by(|b, a| (b.phi - a.phi).abs() < s.phi_tolerance);
+    // Each seed searches its own window: ±0.3 %, but less than half-way to a neighbour.
+    let windows: Vec<f64> = (0..candidates.len())
+        .map(|i| {
+            let gap = |j: usize| (candidates[j].phi - candidates[i].phi).abs();
+            let nearest = [i.checked_sub(1), (i + 1 < candidates.len()).then_some(i + 1)]
+                .into_iter()
+                .flatten()
+                .map(gap)
+                .fold(f64::INFINITY, f64::min);
+            (START_WINDOW * candidates[i].phi).min(0.45 * nearest)
+        })
+        .collect();
+    let total = Counter::default();
+    let found: Vec<Option<Region>> = candidates
+        .par_iter()
+        .zip(windows.par_iter())
+        .map(|(seed, &half_width)| {
+            faer::set_global_parallelism(faer::Par::Seq);
+            let mut count = 0;
+            // Screening: a region with onset below β_max contains its seed at β_max.
+            let inside_at_max = unstable_at(fs, seed.phi, beta_max, &mut count);
+            let region = if inside_at_max {
+                locate_start(fs, s, seed.phi, half_width, beta_max, &mut count).map(|(start, onset, resolved)| {
+                    let at_level = (onset <= level).then(|| {
+                        let inside = if unstable_at(fs, start, level, &mut count) { start } else { seed.phi };
+                        edges_at(fs, s, inside, level, &mut count)
+                    });
+                    let boundary =
+                        if track_boundaries { track(fs, s, start, onset, beta_max, &mut count) } else { Vec::new() };
+                    Region {
+                        label: seed.label.clone(),
+                        kind: seed.kind,
+                        order: seed.order,
+                        predicted: seed.phi,
+                        start,
+                        onset_beta: onset,
+                        left: at_level.map(|e| e.left),
+                        right: at_level.map(|e| e.right),
+                        width: at_level.map(|e| e.right - e.left),
+                        boundary,
+                        evaluations: count,
+                        resolved,
+                    }
+                })
+            } else {
+                None
+            };
+            total.add(count);
+            region
+        })
+        .collect();
+    let mut regions: Vec<Region> = found.into_iter().flatten().collect();
+    regions.sort_by(|a, b| a.start.total_cmp(&b.start));
+    let stable_bands = bands(&regions, range);
+    Ok(Catalogue {
+        regions,
+        stable_bands,
+        level,
+        range: [range.0, range.1],
+        beta_max,
+        unexplained: Vec::new(),
+        evaluations: total.get(),
+    })
+}
+
+/// Complement of the union of the regions' [left, right] at the level within `range`.
+pub fn bands(regions: &[Region], range: (f64, f64)) -> Vec<[f64; 2]> {
+    let mut spans: Vec<(f64, f64)> = regions.iter().filter_map(|r| Some((r.left?, r.right?))).collect();
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = Vec::new();
+    let mut cursor = range.0;
+    for (l, r) in spans {
+        if l > cursor {
+            out.push([cursor, l.min(range.1)]);
+        }
+        cursor = cursor.max(r);
+        if cursor >= range.1 {
+            break;
+        }
+    }
+    if cursor < range.1 {
+        out.push([cursor, range.1]);
+    }
+    out.retain(|b| b[1] > b[0]);
+    out
+}
+
+/// The stable band at level β containing φ_op: march outward from φ_op until unstable on
+/// each side (bisecting the edges), or None if φ_op itself is unstable.
+pub fn band_at(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    phi_op: f64,
+    level: f64,
+    range: (f64, f64),
+    count: &mut usize,
+) -> Option<[f64; 2]> {
+    if unstable_at(fs, phi_op, level, count) {
+        return None;
+    }
+    let side = |dir: f64, count: &mut usize| -> f64 {
+        // Steps of 0.5 % of φ_op: thinner regions (higher orders) can be stepped over; the
+        // catalogue's seeds catch those.
+        let step = phi_op * 0.005;
+        let mut lo = phi_op;
+        loop {
+            let hi = lo + dir * step;
+            if hi <= range.0 || hi >= range.1 {
+                return if dir < 0.0 { range.0 } else { range.1 };
+            }
+            if unstable_at(fs, hi, level, count) {
+                let (mut a, mut b) = (lo, hi);
+                while (b - a).abs() > s.phi_tolerance {
+                    let mid = 0.5 * (a + b);
+                    if unstable_at(fs, mid, level, count) {
+                        b = mid;
+                    } else {
+                        a = mid;
+                    }
+                }
+                return 0.5 * (a + b);
+            }
+            lo = hi;
+        }
+    };
+    Some([side(-1.0, count), side(1.0, count)])
+}

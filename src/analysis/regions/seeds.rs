@@ -1,0 +1,86 @@
+//! Predicted region starts: at zero damping every region of y′ = (B0 + β cos φt B1)y
+//! starts at β = 0 on φ = |ω_i − ω_j|/k for two eigenvalues λ = jω of B0 whose combination
+//! is of sum type — a forward and a backward whirl, ω_fi + ω_bj — with k = 1, 2, …
+//! (MODEL.md, section 5). At rest forward and backward coincide: 2ω_p and ω_p + ω_q.
+
+use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::modes::{ModesResult, Whirl};
+use crate::analysis::AnalysisError;
+use serde::Serialize;
+
+/// Simple (one mode with itself, at rest) or combination.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RegionKind {
+    /// 2ω_p/k at rest.
+    Simple,
+    /// (ω_p + ω_q)/k.
+    Combination,
+}
+
+/// A predicted region start.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Seed {
+    /// e.g. `f1+b1`, `f1+r1`, `2 n1`, `n1+n2`.
+    pub label: String,
+    /// Simple or combination.
+    pub kind: RegionKind,
+    /// k.
+    pub order: usize,
+    /// (ω_i + ω_j)/k (rad/s).
+    pub phi: f64,
+}
+
+/// Name of a reduced whirl: the tag of the nearest full-model whirl of the same direction
+/// (`f1`, `b2`, …; electrical ones without the whirl letter, `r1`, `s2`, as in ω_ej).
+fn name(full: &ModesResult, w: f64, whirl: Whirl) -> String {
+    full.modes
+        .iter()
+        .filter(|m| m.whirl == whirl)
+        .min_by(|a, b| (a.frequency - w).abs().total_cmp(&(b.frequency - w).abs()))
+        .map(|m| if m.label.chars().next().is_some_and(|c| c.is_ascii_digit()) { m.tag() } else { m.label.clone() })
+        .unwrap_or_else(|| format!("{}{w:.0}", whirl.letter()))
+}
+
+/// All predicted starts in [φ_lo, φ_hi] up to order `max_order`, sorted by φ.
+pub fn seeds(
+    fs: &FloquetSystem,
+    full: &ModesResult,
+    range: (f64, f64),
+    max_order: usize,
+) -> Result<Vec<Seed>, AnalysisError> {
+    let (f, b) = fs.whirls()?;
+    let rest = fs.speed == 0.0;
+    let mut out = Vec::new();
+    for (i, wf) in f.iter().enumerate() {
+        for (j, wb) in b.iter().enumerate() {
+            if rest && j < i {
+                continue; // at rest f_i + b_j = f_j + b_i: keep one
+            }
+            let (label, kind) = if rest {
+                let (ni, nj) = (
+                    name(full, *wf, Whirl::Forward).replacen('f', "n", 1),
+                    name(full, *wb, Whirl::Forward).replacen('f', "n", 1),
+                );
+                if i == j {
+                    (format!("2 {ni}"), RegionKind::Simple)
+                } else {
+                    (format!("{ni}+{nj}"), RegionKind::Combination)
+                }
+            } else {
+                (
+                    format!("{}+{}", name(full, *wf, Whirl::Forward), name(full, *wb, Whirl::Backward)),
+                    RegionKind::Combination,
+                )
+            };
+            for k in 1..=max_order {
+                let phi = (wf + wb) / k as f64;
+                if phi >= range.0 && phi <= range.1 {
+                    out.push(Seed { label: label.clone(), kind, order: k, phi });
+                }
+            }
+        }
+    }
+    out.sort_by(|a, b| a.phi.total_cmp(&b.phi));
+    Ok(out)
+}
