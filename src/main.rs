@@ -101,6 +101,41 @@ enum Command {
         #[arg(long)]
         timing: bool,
     },
+    /// Catalogue of instability regions in a φ range: start, onset, edges and width at a
+    /// load level, stable bands; with --out also the tracked boundaries (regions.json).
+    Regions {
+        #[command(flatten)]
+        input: Input,
+        /// φ range A:B (rad/s).
+        #[arg(long)]
+        phi: String,
+        /// Highest load coefficient searched.
+        #[arg(long = "beta-max", default_value_t = 1.0)]
+        beta_max: f64,
+        /// Level β_op of the edges and stable bands (default: beta-max).
+        #[arg(long)]
+        level: Option<f64>,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Also track boundaries and write regions.json (and plots) to this directory.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// The stable band at load level β_op that contains the operating frequency φ_op.
+    Band {
+        #[command(flatten)]
+        input: Input,
+        /// Operating excitation frequency φ_op (rad/s).
+        #[arg(long = "phi-op")]
+        phi_op: f64,
+        /// Load level β_op.
+        #[arg(long)]
+        level: f64,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
         #[command(flatten)]
@@ -186,6 +221,10 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
             };
             commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar())
         }
+        Command::Regions { input, phi, beta_max, level, json, out } => {
+            commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref())
+        }
+        Command::Band { input, phi_op, level, json } => commands::band_cmd(&load(&input)?, phi_op, level, json),
         Command::Response { input, phi, beta, periods, out } => {
             commands::response_cmd(&load(&input)?, phi, beta, periods, &out)
         }

@@ -4,10 +4,12 @@
 mod args;
 mod floquet;
 mod out;
+mod regions;
 
 pub use args::parse_range;
 pub use floquet::{chart_cmd, floquet_cmd, response_cmd, Compare};
 pub use out::OutDir;
+pub use regions::{band_cmd, regions_cmd};
 
 use crate::analysis::campbell::campbell;
 use crate::analysis::modes::{whirl_modes_of, WhirlMode};

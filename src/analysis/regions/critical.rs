@@ -24,13 +24,14 @@ pub struct RegionSettings {
 impl Default for RegionSettings {
     fn default() -> Self {
         RegionSettings {
-            // 1/64 of β_max = 1: regions are wedges opening upward, so a hole thinner than
-            // 0.016 in β inside a region is the only thing the bracket can step over.
-            beta_bracket: 1.0 / 64.0,
+            // 1/32: regions are wedges opening upward, so only a stable hole thinner than
+            // 0.031 in β inside a region can be stepped over — finer than the 0.025 β step
+            // of the paper's charts.
+            beta_bracket: 1.0 / 32.0,
             // 1e-4: below the resolution any chart of the paper shows (0.025 in β).
             beta_tolerance: 1e-4,
-            // 0.05 rad/s: well inside the 1 rad/s fine-grid check of the edges.
-            phi_tolerance: 0.05,
+            // 0.2 rad/s: five times finer than the 1 rad/s grid the edges are checked on.
+            phi_tolerance: 0.2,
             max_order: 2,
             tracking_levels: 8,
         }

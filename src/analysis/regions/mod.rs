@@ -19,8 +19,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Damping and the static load shift a start from the undamped sum by far less.
 const START_WINDOW: f64 = 0.003;
 /// Golden-section iterations for the tip: a window of at most 0.6 % of φ shrinks by
-/// 0.618¹² to < 2e-5·φ, well inside the 0.1 % the start is checked to.
-const START_ITERATIONS: usize = 12;
+/// 0.618⁸ to < 1.4e-4·φ, well inside the 0.1 % the start is checked to.
+const START_ITERATIONS: usize = 8;
 /// A minimum within this fraction of the window's edge is the neighbour's tip, not this
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
@@ -90,7 +90,7 @@ fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bo
 const TIP_MARGIN: (f64, f64) = (0.05, 2e-3);
 
 /// The start and onset of the region seeded at `seed_phi`, searched within
-/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) by bracketing from below and bisection;
+/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and bisection;
 /// (2) at the level β₀(1 + 5 %) + 0.002 the region is a short interval around its tip, and
 /// the tip φ_s is the maximum of ln max|μ| over φ there (golden section, one monodromy per
 /// φ); (3) the onset is β_c(φ_s), taken as min(β_c(φ_s), β₀). None if stable up to β_max,
@@ -99,13 +99,11 @@ pub fn locate_tip(
     fs: &FloquetSystem,
     s: &RegionSettings,
     seed_phi: f64,
+    beta0: f64,
     half_width: f64,
     beta_max: f64,
     count: &mut usize,
 ) -> Option<(f64, f64)> {
-    let c0 = critical_load(fs, s, seed_phi, beta_max);
-    *count += c0.evaluations;
-    let beta0 = c0.beta?;
     let level = (beta0 * (1.0 + TIP_MARGIN.0) + TIP_MARGIN.1).min(beta_max);
     let mut growth = |phi: f64| {
         *count += 1;
@@ -142,8 +140,8 @@ pub fn locate_tip(
     }
 }
 
-/// [`locate_tip`] in windows of ±w, ±w/4 and ±w/16: a neighbour's flank can dominate the
-/// wide window. Returns (start, onset, resolved); unresolved regions keep the seed and
+/// [`locate_tip`] in windows of ±w and ±w/5: a neighbour's flank can dominate the wide
+/// window. Returns (start, onset, resolved); unresolved regions keep the seed and
 /// β_c(seed) as start and onset.
 pub fn locate_start(
     fs: &FloquetSystem,
@@ -153,14 +151,15 @@ pub fn locate_start(
     beta_max: f64,
     count: &mut usize,
 ) -> Option<(f64, f64, bool)> {
-    for shrink in [1.0, 0.25, 0.0625] {
-        if let Some((phi, beta)) = locate_tip(fs, s, seed_phi, half_width * shrink, beta_max, count) {
+    let c0 = critical_load(fs, s, seed_phi, beta_max);
+    *count += c0.evaluations;
+    let beta0 = c0.beta?;
+    for shrink in [1.0, 0.2] {
+        if let Some((phi, beta)) = locate_tip(fs, s, seed_phi, beta0, half_width * shrink, beta_max, count) {
             return Some((phi, beta, true));
         }
     }
-    let c = critical_load(fs, s, seed_phi, beta_max);
-    *count += c.evaluations;
-    c.beta.map(|b| (seed_phi, b, false))
+    Some((seed_phi, beta0, false))
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
