@@ -25,6 +25,9 @@ const START_ITERATIONS: usize = 8;
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
 
+/// Seeds are taken this far (relative) beyond the φ range.
+const SEED_MARGIN: f64 = 0.1;
+
 /// Counts monodromy evaluations (shared across threads).
 #[derive(Debug, Default)]
 pub struct Counter(AtomicUsize);
@@ -256,7 +259,8 @@ pub fn catalogue(
     level: f64,
     track_boundaries: bool,
 ) -> Result<Catalogue, AnalysisError> {
-    let mut candidates = seeds(fs, full, range, s.max_order)?;
+    // Regions starting just outside the range can reach into it at higher loads.
+    let mut candidates = seeds(fs, full, (range.0 / (1.0 + SEED_MARGIN), range.1 * (1.0 + SEED_MARGIN)), s.max_order)?;
     // Coinciding predictions (e.g. degenerate whirls) are one region: keep the first.
     candidates.dedup_by(|b, a| (b.phi - a.phi).abs() < s.phi_tolerance);
     // Each seed searches its own window: ±0.3 %, but less than half-way to a neighbour.
