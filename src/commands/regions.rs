@@ -2,11 +2,14 @@
 //! and `band` (the stable band around an operating frequency).
 
 use super::{parse_range, OutDir, TOOL};
+use crate::analysis::chart::chart;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::{band_at, catalogue, Catalogue, RegionSettings};
+use crate::analysis::regions::{band_at, catalogue, Catalogue, Edges, RegionSettings};
 use crate::analysis::Rotor;
 use crate::problem::Problem;
+use crate::report::chart::{Layer, StabilityPlot};
+use crate::report::plot::Series;
 use crate::Error;
 use serde::Serialize;
 use std::path::Path;
@@ -32,6 +35,29 @@ fn prepare(problem: &Problem) -> Result<(Rotor, FloquetSystem), Error> {
     let rotor = Rotor::new(&problem.model)?;
     let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
     Ok((rotor, fs))
+}
+
+/// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid).
+fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Catalogue) -> Result<(), Error> {
+    let (lo, hi) = (cat.range[0], cat.range[1]);
+    let phis: Vec<f64> = (0..600).map(|i| lo + (hi - lo) * i as f64 / 599.0).collect();
+    let betas: Vec<f64> = (0..41).map(|i| cat.beta_max * i as f64 / 40.0).collect();
+    let c = chart(fs, &phis, &betas, &|| {});
+    let mut lines = Vec::new();
+    for r in cat.regions.iter().filter(|r| r.resolved) {
+        let side = |f: &dyn Fn(&Edges) -> f64| -> Series {
+            let mut points = vec![(r.start, r.onset_beta)];
+            points.extend(r.boundary.iter().map(|e| (f(e), e.beta)));
+            Series { name: String::new(), color: (0, 0, 0), dashed: false, points }
+        };
+        lines.push(side(&|e| e.left));
+        lines.push(side(&|e| e.right));
+    }
+    let layer = Layer { name: format!("{} circuit", problem.model.circuit.state), color: (31, 119, 180), chart: c };
+    let plot = StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer])
+        .with_lines(lines);
+    dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;
+    dir.write("regions.png", &plot.png().map_err(|e| dir.error("regions.png", e))?)
 }
 
 #[derive(Serialize)]
@@ -82,6 +108,7 @@ pub fn regions_cmd(
     if let Some(dir) = out {
         let dir = OutDir::create(dir, &problem.file)?;
         dir.write("regions.json", json_text.as_bytes())?;
+        boundary_plot(&dir, problem, &fs, &cat)?;
     }
     if json {
         return Ok(json_text);

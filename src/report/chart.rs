@@ -84,6 +84,8 @@ pub struct StabilityPlot {
     pub layers: Vec<Layer>,
     /// Vertical dashed marker lines at φ (rad/s) with a label at the top.
     pub markers: Vec<(f64, String)>,
+    /// Polylines drawn over the chart in (φ, β), e.g. tracked region boundaries.
+    pub lines: Vec<super::plot::Series>,
 }
 
 /// Growth-rate map (Fig. 12): unstable cells coloured by growth rate (viridis), stable
@@ -359,7 +361,13 @@ fn render_png(
 impl StabilityPlot {
     /// A plot of `layers` (first opaque, later ones semi-transparent), no markers.
     pub fn new(title: &str, layers: Vec<Layer>) -> StabilityPlot {
-        StabilityPlot { title: title.to_string(), layers, markers: Vec::new() }
+        StabilityPlot { title: title.to_string(), layers, markers: Vec::new(), lines: Vec::new() }
+    }
+
+    /// With polylines in (φ, β) drawn over the chart (e.g. tracked region boundaries).
+    pub fn with_lines(mut self, lines: Vec<super::plot::Series>) -> StabilityPlot {
+        self.lines = lines;
+        self
     }
 
     /// With vertical marker lines at φ (rad/s), each labelled at the top.
@@ -416,6 +424,10 @@ impl StabilityPlot {
             draw_failed(&mut plot, &layer.chart)?;
         }
         draw_markers(&mut plot, &self.markers)?;
+        for line in &self.lines {
+            let style = ShapeStyle::from(&rgb(line.color)).stroke_width(2);
+            plot.draw_series(LineSeries::new(line.points.iter().copied(), style)).map_err(err)?;
+        }
         draw_frame(&mut plot)?;
         root.present().map_err(err)
     }

@@ -4,6 +4,7 @@
 
 pub mod critical;
 pub mod seeds;
+pub mod sensitivity;
 
 pub use critical::{critical_load, CriticalLoad, RegionSettings};
 pub use seeds::{seeds, RegionKind, Seed};
@@ -17,10 +18,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Half-width of the φ window searched for a region's start around its seed, relative.
 /// Damping and the static load shift a start from the undamped sum by far less.
-const START_WINDOW: f64 = 0.003;
-/// Golden-section iterations for the tip: a window of at most 0.6 % of φ shrinks by
-/// 0.618⁸ to < 1.4e-4·φ, well inside the 0.1 % the start is checked to.
-const START_ITERATIONS: usize = 8;
+pub const START_WINDOW: f64 = 0.003;
 /// A minimum within this fraction of the window's edge is the neighbour's tip, not this
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
@@ -88,13 +86,9 @@ fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bo
     critical::unstable(fs, &fs.table(phi, beta), beta)
 }
 
-/// Level above the seed's β_c at which the region's tip is searched: relative and
-/// absolute margins so the tip is a short, non-empty interval.
-const TIP_MARGIN: (f64, f64) = (0.05, 2e-3);
-
 /// The start and onset of the region seeded at `seed_phi`, searched within
 /// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and bisection;
-/// (2) at the level β₀(1 + 5 %) + 0.002 the region is a short interval around its tip, and
+/// (2) at the level β₀(1 + m_rel) + m_abs (`tip_margin`) the region is a short interval around its tip, and
 /// the tip φ_s is the maximum of ln max|μ| over φ there (golden section, one monodromy per
 /// φ); (3) the onset is β_c(φ_s), taken as min(β_c(φ_s), β₀). None if stable up to β_max,
 /// or if the maximum sits at the window's edge (a neighbouring region's tip).
@@ -107,7 +101,7 @@ pub fn locate_tip(
     beta_max: f64,
     count: &mut usize,
 ) -> Option<(f64, f64)> {
-    let level = (beta0 * (1.0 + TIP_MARGIN.0) + TIP_MARGIN.1).min(beta_max);
+    let level = (beta0 * (1.0 + s.tip_margin.0) + s.tip_margin.1).min(beta_max);
     let mut growth = |phi: f64| {
         *count += 1;
         fs.point_fast(&fs.table(phi, level), level).ln_max_multiplier
@@ -116,7 +110,7 @@ pub fn locate_tip(
     let (mut a, mut b) = (seed_phi - half_width, seed_phi + half_width);
     let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
     let (mut f1, mut f2) = (growth(x1), growth(x2));
-    for _ in 0..START_ITERATIONS {
+    for _ in 0..s.tip_iterations {
         if f1 >= f2 {
             b = x2;
             x2 = x1;
