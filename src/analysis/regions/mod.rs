@@ -223,6 +223,27 @@ pub fn track(
     out
 }
 
+/// A point of the region inside the unstable set at `level`: the start or the seed if
+/// either is, otherwise the centre of the region followed up from its start by
+/// continuation (regions bend away from their start as β grows).
+fn inside_at(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    start: f64,
+    seed: f64,
+    onset: f64,
+    level: f64,
+    count: &mut usize,
+) -> Option<f64> {
+    for phi in [start, seed] {
+        if unstable_at(fs, phi, level, count) {
+            return Some(phi);
+        }
+    }
+    let path = track(fs, s, start, onset, level, count);
+    path.last().filter(|e| (e.beta - level).abs() < 1e-12).map(|e| 0.5 * (e.left + e.right))
+}
+
 /// The catalogue of a φ range.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Catalogue {
@@ -276,14 +297,16 @@ pub fn catalogue(
         .map(|(seed, &half_width)| {
             faer::set_global_parallelism(faer::Par::Seq);
             let mut count = 0;
-            // Screening: a region with onset below β_max contains its seed at β_max.
-            let inside_at_max = unstable_at(fs, seed.phi, beta_max, &mut count);
-            let region = if inside_at_max {
+            // Screening is β_c at the seed itself (bracketed from below): a region whose tip
+            // is at its seed is found even where it bends away from the seed at higher β.
+            let region = {
                 locate_start(fs, s, seed.phi, half_width, beta_max, &mut count).map(|(start, onset, resolved)| {
-                    let at_level = (onset <= level).then(|| {
-                        let inside = if unstable_at(fs, start, level, &mut count) { start } else { seed.phi };
-                        edges_at(fs, s, inside, level, &mut count)
-                    });
+                    let at_level = if onset <= level {
+                        inside_at(fs, s, start, seed.phi, onset, level, &mut count)
+                            .map(|phi| edges_at(fs, s, phi, level, &mut count))
+                    } else {
+                        None
+                    };
                     let boundary =
                         if track_boundaries { track(fs, s, start, onset, beta_max, &mut count) } else { Vec::new() };
                     Region {
@@ -301,8 +324,6 @@ pub fn catalogue(
                         resolved,
                     }
                 })
-            } else {
-                None
             };
             total.add(count);
             region
