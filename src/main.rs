@@ -205,13 +205,10 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
             let label = match (&compare, &other) {
                 (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
                 (_, Some(o)) => {
-                    let extra: Vec<&str> =
-                        compare_set.iter().map(String::as_str).filter(|s| !s.starts_with("circuit.state")).collect();
-                    let mut name = format!("{} circuit", o.model.circuit.state);
-                    if !extra.is_empty() {
-                        name += &format!(", {}", extra.join(", "));
-                    }
-                    name
+                    // The compare problem carries the main --set overrides too: name it by
+                    // its state and the --compare-set overrides only.
+                    let only = Problem { overrides: compare_set.clone(), ..o.clone() };
+                    commands::layer_name(&only)
                 }
                 _ => String::new(),
             };

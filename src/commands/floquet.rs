@@ -92,6 +92,18 @@ struct ChartJson<'a> {
     chart: &'a ChartResult,
 }
 
+/// Legend name of a problem's chart: its circuit state and the overrides that set it
+/// apart (the state override is already in the name).
+pub fn layer_name(problem: &Problem) -> String {
+    let extra: Vec<&str> =
+        problem.overrides.iter().map(String::as_str).filter(|o| !o.starts_with("circuit.state")).collect();
+    let mut name = format!("{} circuit", problem.model.circuit.state);
+    if !extra.is_empty() {
+        name += &format!(", {}", extra.join(", "));
+    }
+    name
+}
+
 /// What `chart` compares the main problem with.
 pub enum Compare<'a> {
     /// Nothing.
@@ -153,13 +165,7 @@ pub fn chart_cmd(
     let elapsed = start.elapsed().as_secs_f64();
     write_chart(&dir, "chart", problem, &main)?;
     let label = title(problem);
-    let mut name = format!("{} circuit", problem.model.circuit.state);
-    // The state is in the name already; other overrides tell layers apart.
-    let extra: Vec<&str> =
-        problem.overrides.iter().map(String::as_str).filter(|o| !o.starts_with("circuit.state")).collect();
-    if !extra.is_empty() {
-        name += &format!(", {}", extra.join(", "));
-    }
+    let name = layer_name(problem);
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Compare::Problem(name, other) = compare {

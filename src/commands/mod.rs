@@ -7,7 +7,7 @@ mod out;
 mod regions;
 
 pub use args::parse_range;
-pub use floquet::{chart_cmd, floquet_cmd, response_cmd, Compare};
+pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, Compare};
 pub use out::OutDir;
 pub use regions::{band_cmd, regions_cmd};
 

@@ -173,15 +173,29 @@ pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir:
             return f64::MIN_POSITIVE;
         }
     }
-    while (hi - lo).abs() > s.phi_tolerance {
-        let mid = 0.5 * (lo + hi);
+    bisect_boundary(fs, s, lo, hi, beta, count)
+}
+
+/// The stability boundary at level β between an unstable φ and a stable φ, by bisection
+/// to `phi_tolerance`.
+fn bisect_boundary(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    unstable: f64,
+    stable: f64,
+    beta: f64,
+    count: &mut usize,
+) -> f64 {
+    let (mut inside, mut outside) = (unstable, stable);
+    while (outside - inside).abs() > s.phi_tolerance {
+        let mid = 0.5 * (inside + outside);
         if unstable_at(fs, mid, beta, count) {
-            lo = mid;
+            inside = mid;
         } else {
-            hi = mid;
+            outside = mid;
         }
     }
-    0.5 * (lo + hi)
+    0.5 * (inside + outside)
 }
 
 /// Both edges at level β of the region containing φ_in (unstable there).
@@ -389,16 +403,7 @@ pub fn band_at(
                 return if dir < 0.0 { range.0 } else { range.1 };
             }
             if unstable_at(fs, hi, level, count) {
-                let (mut a, mut b) = (lo, hi);
-                while (b - a).abs() > s.phi_tolerance {
-                    let mid = 0.5 * (a + b);
-                    if unstable_at(fs, mid, level, count) {
-                        b = mid;
-                    } else {
-                        a = mid;
-                    }
-                }
-                return 0.5 * (a + b);
+                return bisect_boundary(fs, s, hi, lo, level, count);
             }
             lo = hi;
         }
