@@ -153,6 +153,7 @@ fn mathieu_first_tongue_boundaries() {
     // tongue from δ = 1/4 at ε = 0.5 spans δ ∈ (−0.0275622042, 0.4647770181)).
     let lower = bisect(-0.08, 0.1, 0.5);
     let upper = bisect(0.6, 0.3, 0.5);
+    eprintln!("Mathieu ε = 0.5: δ boundaries {lower:.10} and {upper:.10}");
     assert!((lower - -0.0275622042).abs() < 1e-6, "lower {lower}");
     assert!((upper - 0.4647770181).abs() < 1e-6, "upper {upper}");
 }

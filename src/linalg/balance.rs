@@ -16,10 +16,13 @@ pub fn balance(a: &mut Mat<c64>) {
         sweeps += 1;
         for i in 0..n {
             let (mut c, mut r) = (0.0, 0.0);
+            // |re| + |im| as in LAPACK's gebal: equivalent for choosing powers of two,
+            // and without the square root of the modulus.
+            let abs1 = |z: c64| z.re.abs() + z.im.abs();
             for j in 0..n {
                 if j != i {
-                    c += a[(j, i)].norm();
-                    r += a[(i, j)].norm();
+                    c += abs1(a[(j, i)]);
+                    r += abs1(a[(i, j)]);
                 }
             }
             if c == 0.0 || r == 0.0 || !c.is_finite() || !r.is_finite() {

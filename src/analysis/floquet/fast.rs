@@ -99,8 +99,7 @@ impl PhiTable {
         if x_max == 0.0 {
             return PhiTable { phi, steps, xi, x_max, coeffs: vec![flat(&e(0.0))], n, converged: true };
         }
-        // Start small: at the low β of region searches 4 points often suffice.
-        let mut points = 4;
+        let mut points = 8;
         loop {
             let samples: Vec<Mat<c64>> = (0..points)
                 .map(|j| e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos()))
