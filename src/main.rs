@@ -27,6 +27,17 @@ struct Input {
     set: Vec<String>,
 }
 
+/// One point (φ, β) of the load P(t) = P_cr(α + β cos φt).
+#[derive(Args)]
+struct Point {
+    /// Excitation frequency φ (rad/s).
+    #[arg(long)]
+    phi: f64,
+    /// Dynamic load coefficient β.
+    #[arg(long)]
+    beta: f64,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Validate a problem file and print the model summary (DOFs, k_eq, k_eq1, k_eq2,
@@ -67,12 +78,8 @@ enum Command {
     Floquet {
         #[command(flatten)]
         input: Input,
-        /// Excitation frequency φ (rad/s).
-        #[arg(long)]
-        phi: f64,
-        /// Dynamic load coefficient β.
-        #[arg(long)]
-        beta: f64,
+        #[command(flatten)]
+        point: Point,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
@@ -140,12 +147,8 @@ enum Command {
     Response {
         #[command(flatten)]
         input: Input,
-        /// Excitation frequency φ (rad/s).
-        #[arg(long)]
-        phi: f64,
-        /// Dynamic load coefficient β.
-        #[arg(long)]
-        beta: f64,
+        #[command(flatten)]
+        point: Point,
         /// Number of load periods to simulate.
         #[arg(long, default_value_t = 50)]
         periods: usize,
@@ -191,7 +194,7 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
         Command::Campbell { input, speeds, count, out } => {
             commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar())
         }
-        Command::Floquet { input, phi, beta, json } => commands::floquet_cmd(&load(&input)?, phi, beta, json),
+        Command::Floquet { input, point, json } => commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json),
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
             let other = match (&compare, compare_set.is_empty()) {
@@ -222,8 +225,8 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
             commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref())
         }
         Command::Band { input, phi_op, level, json } => commands::band_cmd(&load(&input)?, phi_op, level, json),
-        Command::Response { input, phi, beta, periods, out } => {
-            commands::response_cmd(&load(&input)?, phi, beta, periods, &out)
+        Command::Response { input, point, periods, out } => {
+            commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out)
         }
     }
 }
