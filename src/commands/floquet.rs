@@ -14,6 +14,14 @@ use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
 
+/// Most points of one chart: ~10 minutes of CPU and ~100 MB of results on this machine
+/// class; beyond that a typo in a step (0.001 for 1) should fail at once, not run for days.
+pub const MAX_CHART_POINTS: usize = 2_000_000;
+
+fn arg_error(argument: &str, message: String) -> Error {
+    Error::Argument { argument: argument.into(), message }
+}
+
 fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
     if !(phi.is_finite() && phi > 0.0) {
         return Err(Error::Argument {
@@ -158,6 +166,13 @@ pub fn chart_cmd(
             argument: "--beta".into(),
             message: format!("load coefficients must be >= 0, found {bad}"),
         });
+    }
+    let points = phis.len() * betas.len();
+    if points > MAX_CHART_POINTS {
+        return Err(arg_error(
+            "--phi/--beta",
+            format!("the grid has {points} points, more than the {MAX_CHART_POINTS} a chart may have (about 10 minutes here); use coarser steps"),
+        ));
     }
     let dir = OutDir::create(out, &problem.file)?;
     let start = Instant::now();

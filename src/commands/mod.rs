@@ -101,6 +101,9 @@ pub fn campbell_cmd(
     out: &Path,
     progress: &dyn Progress,
 ) -> Result<String, Error> {
+    if count == 0 {
+        return Err(Error::Argument { argument: "--count".into(), message: "must be at least 1".into() });
+    }
     let speeds = parse_range(speeds, "--speeds")?;
     if let Some(bad) = speeds.iter().find(|w| **w < 0.0) {
         return Err(Error::Argument {

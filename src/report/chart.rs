@@ -52,6 +52,15 @@ fn err<E: std::fmt::Debug>(e: E) -> PlotError {
     PlotError(format!("{e:?}"))
 }
 
+/// Tick label: integers without a decimal point, others rounded to 6 decimals.
+fn tick(v: &f64) -> String {
+    if v.is_finite() && v.abs() < 1e15 && (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0) {
+        format!("{:.0}", v.round())
+    } else {
+        ((v * 1e6).round() / 1e6).to_string()
+    }
+}
+
 fn rgb(c: (u8, u8, u8)) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
@@ -206,6 +215,7 @@ fn axes<'a, DB: DrawingBackend>(
         .configure_mesh()
         .x_desc(X_LABEL)
         .y_desc(Y_LABEL)
+        .x_label_formatter(&tick)
         .label_style(("sans-serif", 16))
         .axis_desc_style(("sans-serif", 18))
         .bold_line_style(GRID_COLOR)
@@ -475,7 +485,7 @@ impl GrowthMap {
             draw_legend(&legend_area, &[(Swatch::Cross, failed_label(failed))])?;
         }
         let width = area.dim_in_pixel().0;
-        let (main, bar) = area.split_horizontally(width.saturating_sub(150));
+        let (main, bar) = area.split_horizontally(width.saturating_sub(135));
 
         // Colour scale: the unstable growth rates, in GROWTH_LEVELS levels.
         let range = self.growth_range();
@@ -509,7 +519,7 @@ impl GrowthMap {
             .margin_left(15)
             .margin_right(5)
             .x_label_area_size(50)
-            .right_y_label_area_size(100)
+            .right_y_label_area_size(85)
             .build_cartesian_2d(0.0..1.0, lo..hi)
             .map_err(err)?;
         cbar.configure_mesh()
@@ -517,6 +527,7 @@ impl GrowthMap {
             .disable_y_mesh()
             .disable_x_axis()
             .x_labels(0)
+            .y_label_formatter(&tick)
             .y_desc(GROWTH_LABEL)
             .label_style(("sans-serif", 14))
             .axis_desc_style(("sans-serif", 16))
@@ -663,6 +674,14 @@ mod tests {
         assert_eq!(cell_edges(&[0.0, 1.0, 3.0]), vec![-0.5, 0.5, 2.0, 4.0]);
         assert_eq!(cell_edges(&[2.0]), vec![1.9, 2.1]);
         assert!(cell_edges(&[]).is_empty());
+    }
+
+    #[test]
+    fn tick_labels() {
+        assert_eq!(tick(&1000.0), "1000");
+        assert_eq!(tick(&-20.0), "-20");
+        assert_eq!(tick(&0.25), "0.25");
+        assert_eq!(tick(&0.30000000000000004), "0.3");
     }
 
     #[test]
