@@ -25,6 +25,8 @@
 //! assert!((f1 / 399.0 - 1.0).abs() < 1e-3); // Table 2
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod analysis;
 pub mod assembly;
 pub mod commands;
