@@ -50,7 +50,8 @@ pub struct PhiTable {
     coeffs: Vec<Vec<c64>>,
     /// State dimension n = 2M.
     n: usize,
-    /// False if the interpolant did not reach [`CHEBYSHEV_TOLERANCE`].
+    /// False if the interpolant did not reach its tolerance (trailing Chebyshev
+    /// coefficients below 1e-13 of the leading one).
     pub converged: bool,
 }
 
