@@ -170,5 +170,4 @@ fn damping_and_resistance_lift_the_onsets() {
         ["fig11-closed-2000.toml", "fig13-r10.toml", "fig13-r50.toml"].iter().map(|n| onset(n, "f1+r2")).collect();
     assert!(r[0] < r[1] && r[1] < r[2], "onsets over R: {r:?}");
     eprintln!("onsets: η {eta:?}, R {r:?}");
-    let _ = edges_at;
 }
