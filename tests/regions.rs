@@ -5,9 +5,7 @@ mod common;
 use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{
-    catalogue, critical_load, edges_at, locate_start, seeds, track, Catalogue, RegionSettings,
-};
+use rotorshunt::analysis::regions::{catalogue, critical_load, locate_start, seeds, track, Catalogue, RegionSettings};
 use rotorshunt::analysis::Rotor;
 
 fn prepared(name: &str, overrides: &[&str]) -> (FloquetSystem, rotorshunt::analysis::modes::ModesResult) {
