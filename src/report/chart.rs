@@ -10,7 +10,7 @@
 //! half-open pixel ranges, so semi-transparent neighbours never double-blend a seam.
 //! Failed points (no verdict) are drawn as black crosses, never dropped.
 
-use super::plot::{encode_png, register_font, PlotError, SIZE};
+use super::plot::{render_png, render_svg, PlotError};
 use crate::analysis::chart::{ChartPoint, ChartResult};
 use crate::analysis::floquet::PointStatus;
 use plotters::coord::types::RangedCoordf64;
@@ -348,24 +348,6 @@ fn failed_count(chart: &ChartResult) -> usize {
 
 fn failed_label(n: usize) -> String {
     format!("failed, no verdict ({n})")
-}
-
-/// Render `draw` to SVG text.
-fn render_svg(draw: impl FnOnce(DrawingArea<SVGBackend, Shift>) -> Result<(), PlotError>) -> Result<String, PlotError> {
-    register_font();
-    let mut buf = String::new();
-    draw(SVGBackend::with_string(&mut buf, SIZE).into_drawing_area())?;
-    Ok(buf)
-}
-
-/// Render `draw` to PNG bytes.
-fn render_png(
-    draw: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
-) -> Result<Vec<u8>, PlotError> {
-    register_font();
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())?;
-    encode_png(&rgb, SIZE)
 }
 
 impl StabilityPlot {

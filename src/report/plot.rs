@@ -43,7 +43,7 @@ pub struct LinePlot {
 #[error("plot rendering failed: {0}")]
 pub struct PlotError(pub String);
 
-pub(crate) fn register_font() {
+fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The embedded DejaVu font is valid by construction; a failure here would only
@@ -103,19 +103,33 @@ impl LinePlot {
 
     /// Render as SVG text.
     pub fn svg(&self) -> Result<String, PlotError> {
-        register_font();
-        let mut buf = String::new();
-        self.draw(SVGBackend::with_string(&mut buf, SIZE).into_drawing_area())?;
-        Ok(buf)
+        render_svg(|root| self.draw(root))
     }
 
     /// Render as PNG bytes.
     pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        register_font();
-        let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-        self.draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())?;
-        encode_png(&rgb, SIZE)
+        render_png(|root| self.draw(root))
     }
+}
+
+/// Render `draw` to SVG text at [`SIZE`], with the embedded font registered.
+pub(crate) fn render_svg(
+    draw: impl FnOnce(DrawingArea<SVGBackend, Shift>) -> Result<(), PlotError>,
+) -> Result<String, PlotError> {
+    register_font();
+    let mut buf = String::new();
+    draw(SVGBackend::with_string(&mut buf, SIZE).into_drawing_area())?;
+    Ok(buf)
+}
+
+/// Render `draw` to PNG bytes at [`SIZE`], with the embedded font registered.
+pub(crate) fn render_png(
+    draw: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
+) -> Result<Vec<u8>, PlotError> {
+    register_font();
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    draw(BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area())?;
+    encode_png(&rgb, SIZE)
 }
 
 /// Encode an RGB8 buffer as PNG.
