@@ -73,21 +73,21 @@ fn fast_agrees_with_reference_dstm_and_rk4() {
         let w_max = fs.reduced.frequencies.iter().fold(0.0f64, |a, b| a.max(*b)) + fs.speed;
         for (phi, beta) in points {
             let fast = fs.point_fast(&fs.table(phi, beta), beta);
-            assert_eq!(fast.status, PointStatus::Ok);
+            assert_eq!(fast.summary.status, PointStatus::Ok);
             let reference = ln_max(&dstm::monodromy_dstm(&fs.system, phi, beta, 4096));
             let period = 2.0 * std::f64::consts::PI / phi;
             let rk_steps = ((w_max * period / 0.02).ceil() as usize).max(2000);
             let rk = ln_max(&dstm::monodromy_rk4(&fs.system, phi, beta, rk_steps));
             let (d1, d2, d3) = (
-                mu_diff(fast.ln_max_multiplier, reference),
-                mu_diff(fast.ln_max_multiplier, rk),
+                mu_diff(fast.summary.ln_max_multiplier, reference),
+                mu_diff(fast.summary.ln_max_multiplier, rk),
                 mu_diff(reference, rk),
             );
             worst = worst.max(d1).max(d2);
             assert!(
                 d1 < AGREEMENT && d2 < AGREEMENT && d3 < AGREEMENT,
                 "{name} φ={phi} β={beta}: fast {} dstm {} rk4 {}",
-                fast.max_multiplier,
+                fast.summary.max_multiplier,
                 reference.exp(),
                 rk.exp()
             );
@@ -148,7 +148,7 @@ fn mathieu_unstable(delta: f64, eps: f64) -> bool {
     let mono = table.monodromy(&Symmetry::new(&sys), eps);
     // Undamped: stable multipliers lie on the unit circle to round-off (~1e-13).
     let p = FloquetPoint::from_monodromy(1.0, eps, &mono, 1.0 + 1e-9, PointStatus::Ok);
-    !p.stable
+    !p.summary.stable
 }
 
 fn bisect(mut stable: f64, mut unstable: f64, eps: f64) -> f64 {

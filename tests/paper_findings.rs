@@ -28,11 +28,11 @@ fn scan(fs: &FloquetSystem, centre: f64, beta: f64) -> (usize, f64) {
     let (mut best, mut at) = (f64::MIN, 0.0);
     for &phi in &phis {
         let p = fs.point_fast(&fs.table(phi, beta), beta);
-        if !p.stable {
+        if !p.summary.stable {
             count += 1;
         }
-        if p.ln_max_multiplier > best {
-            best = p.ln_max_multiplier;
+        if p.summary.ln_max_multiplier > best {
+            best = p.summary.ln_max_multiplier;
             at = phi;
         }
     }

@@ -62,7 +62,7 @@ fn catalogue_covers_every_unstable_point_of_a_fine_chart() {
     let spans: Vec<(f64, f64)> = c.regions.iter().filter_map(|r| Some((r.left?, r.right?))).collect();
     let missed: Vec<f64> = (0..=7900)
         .map(|i| 100.0 + i as f64)
-        .filter(|&phi| !fs.point_fast(&fs.table(phi, 0.3), 0.3).stable)
+        .filter(|&phi| !fs.point_fast(&fs.table(phi, 0.3), 0.3).summary.stable)
         .filter(|&phi| !spans.iter().any(|(l, r)| phi >= l - 1.0 && phi <= r + 1.0))
         .collect();
     assert!(missed.is_empty(), "unstable grid points outside every region: {missed:?}");
@@ -79,7 +79,7 @@ fn catalogued_edges_match_a_fine_chart_at_the_level() {
     for i in 0..=7900 {
         let phi = 100.0 + i as f64;
         let deep = spans.iter().any(|(l, r)| phi > l + 1.0 && phi < r - 1.0);
-        if deep && fs.point_fast(&fs.table(phi, 0.3), 0.3).stable {
+        if deep && fs.point_fast(&fs.table(phi, 0.3), 0.3).summary.stable {
             wrong.push(phi);
         }
     }
@@ -89,7 +89,7 @@ fn catalogued_edges_match_a_fine_chart_at_the_level() {
             let covered = spans.iter().any(|(a, b)| outside >= a - 0.5 && outside <= b + 0.5);
             if !covered && outside > 100.0 && outside < 8000.0 {
                 assert!(
-                    fs.point_fast(&fs.table(outside, 0.3), 0.3).stable,
+                    fs.point_fast(&fs.table(outside, 0.3), 0.3).summary.stable,
                     "{what} edge of [{l}, {r}]: {outside} unstable"
                 );
             }
@@ -99,7 +99,7 @@ fn catalogued_edges_match_a_fine_chart_at_the_level() {
     for b in &c.stable_bands {
         if b[1] - b[0] > 4.0 {
             let mid = 0.5 * (b[0] + b[1]);
-            assert!(fs.point_fast(&fs.table(mid, 0.3), 0.3).stable, "band {b:?}");
+            assert!(fs.point_fast(&fs.table(mid, 0.3), 0.3).summary.stable, "band {b:?}");
         }
     }
 }
@@ -120,7 +120,7 @@ fn tracked_edges_agree_with_the_grid_within_one_step() {
         let boundary = track(&fs, &s, start, onset, 0.6, &mut n);
         assert!(boundary.len() >= 4, "{label}: {} levels", boundary.len());
         for e in &boundary {
-            let u = |phi: f64| !fs.point_fast(&fs.table(phi, e.beta), e.beta).stable;
+            let u = |phi: f64| !fs.point_fast(&fs.table(phi, e.beta), e.beta).summary.stable;
             assert!(!u(e.left - 1.0) && u(e.left + 1.0), "{label} left edge {} at β = {}", e.left, e.beta);
             assert!(u(e.right - 1.0) && !u(e.right + 1.0), "{label} right edge {} at β = {}", e.right, e.beta);
             checked += 1;
@@ -139,7 +139,7 @@ fn critical_load_by_bisection_matches_a_dense_scan() {
     for phi in [600.0, 703.0, 1185.0, 2060.0, 2500.0, 3550.0, 5241.79] {
         let c = critical_load(&fs, &s, phi, 1.0);
         let table = fs.table(phi, 1.0);
-        let dense = (0..=1000).map(|i| i as f64 * 0.001).find(|&b| !fs.point_fast(&table, b).stable);
+        let dense = (0..=1000).map(|i| i as f64 * 0.001).find(|&b| !fs.point_fast(&table, b).summary.stable);
         match (c.beta, dense) {
             (Some(a), Some(b)) => {
                 assert!((a - b).abs() <= 0.001 + s.beta_tolerance, "φ = {phi}: bisection {a}, scan {b}")

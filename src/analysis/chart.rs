@@ -2,43 +2,13 @@
 //! (Fig. 12). Parallel over φ (the outermost loop; each φ row shares its per-φ work),
 //! sequential inside, so results are identical for any thread count.
 
-use super::floquet::{FloquetPoint, FloquetSystem, PointStatus};
+use super::floquet::{FloquetSystem, PointStatus, PointSummary};
 use super::reduction::ReductionInfo;
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// One chart point, without the full multiplier list.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ChartPoint {
-    /// φ (rad/s).
-    pub phi: f64,
-    /// β (−).
-    pub beta: f64,
-    /// max|μ| (saturated at f64::MAX).
-    pub max_multiplier: f64,
-    /// ln max|μ|.
-    pub ln_max_multiplier: f64,
-    /// ln(max|μ|)/T (1/s).
-    pub growth_rate: f64,
-    /// max|μ| ≤ tolerance.
-    pub stable: bool,
-    /// Computed normally, inaccurate, or failed.
-    pub status: PointStatus,
-}
-
-impl From<&FloquetPoint> for ChartPoint {
-    fn from(p: &FloquetPoint) -> Self {
-        ChartPoint {
-            phi: p.phi,
-            beta: p.beta,
-            max_multiplier: p.max_multiplier,
-            ln_max_multiplier: p.ln_max_multiplier,
-            growth_rate: p.growth_rate,
-            stable: p.stable,
-            status: p.status,
-        }
-    }
-}
+/// One chart point: the summary of a Floquet point, without its multiplier list.
+pub type ChartPoint = PointSummary;
 
 /// A stability chart.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -78,7 +48,7 @@ pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], tick: &(dyn Fn() +
         .par_iter()
         .map(|&phi| {
             faer::set_global_parallelism(faer::Par::Seq);
-            let row = fs.row(phi, betas).iter().map(ChartPoint::from).collect();
+            let row = fs.row(phi, betas).into_iter().map(|p| p.summary).collect();
             tick();
             row
         })

@@ -73,12 +73,12 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
         "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\nmultipliers:\n",
         fs.speed,
         fs.reduced.size(),
-        point.max_multiplier,
-        point.ln_max_multiplier,
-        point.growth_rate,
-        if point.stable { "stable" } else { "UNSTABLE" },
+        point.summary.max_multiplier,
+        point.summary.ln_max_multiplier,
+        point.summary.growth_rate,
+        if point.summary.stable { "stable" } else { "UNSTABLE" },
         problem.settings.instability_tolerance,
-        point.status
+        point.summary.status
     );
     for m in &point.multipliers {
         s += &format!(
@@ -250,8 +250,8 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
     let plot = LinePlot {
         title: format!(
             "q1 response at φ = {phi} rad/s, β = {beta}: {} (max|μ| = {:.5})",
-            if point.stable { "stable" } else { "unstable" },
-            point.max_multiplier
+            if point.summary.stable { "stable" } else { "unstable" },
+            point.summary.max_multiplier
         ),
         x_label: "time t (s)".into(),
         y_label: "Re q1 (vertical, modal)".into(),
@@ -273,8 +273,8 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
         r.first_period_peak,
         r.last_period_peak,
         r.growth_ratio(),
-        point.max_multiplier,
-        if point.stable { "stable" } else { "unstable" },
+        point.summary.max_multiplier,
+        if point.summary.stable { "stable" } else { "unstable" },
         out.display()
     ))
 }

@@ -34,9 +34,9 @@ pub enum PointStatus {
     Failed,
 }
 
-/// Floquet result at one point.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FloquetPoint {
+/// The scalar outcome of one (φ, β) point: what a chart stores.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PointSummary {
     /// Excitation frequency φ (rad/s).
     pub phi: f64,
     /// Dynamic load coefficient β (−).
@@ -49,26 +49,36 @@ pub struct FloquetPoint {
     pub growth_rate: f64,
     /// max|μ| ≤ tolerance.
     pub stable: bool,
+    /// Whether the point was computed normally.
+    pub status: PointStatus,
+}
+
+/// Floquet result at one point: the summary and all multipliers.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FloquetPoint {
+    /// φ, β, max|μ|, growth rate, verdict, status.
+    #[serde(flatten)]
+    pub summary: PointSummary,
     /// Multipliers e^{s}·(re, im) with s = `multiplier_log_scale` (0 unless huge).
     pub multipliers: Vec<[f64; 2]>,
     /// Natural-log scale factor of `multipliers`.
     pub multiplier_log_scale: f64,
-    /// Whether the point was computed normally.
-    pub status: PointStatus,
 }
 
 impl FloquetPoint {
     fn failed(phi: f64, beta: f64) -> FloquetPoint {
         FloquetPoint {
-            phi,
-            beta,
-            max_multiplier: f64::MAX,
-            ln_max_multiplier: f64::MAX,
-            growth_rate: f64::MAX,
-            stable: false,
+            summary: PointSummary {
+                phi,
+                beta,
+                max_multiplier: f64::MAX,
+                ln_max_multiplier: f64::MAX,
+                growth_rate: f64::MAX,
+                stable: false,
+                status: PointStatus::Failed,
+            },
             multipliers: Vec::new(),
             multiplier_log_scale: 0.0,
-            status: PointStatus::Failed,
         }
     }
 
@@ -98,15 +108,17 @@ impl FloquetPoint {
             (ev.iter().map(|z| [z.re, z.im]).collect(), mono.log_scale)
         };
         FloquetPoint {
-            phi,
-            beta,
-            max_multiplier: if ln_max < LN_F64_MAX { ln_max.exp() } else { f64::MAX },
-            ln_max_multiplier: ln_max,
-            growth_rate: ln_max / period,
-            stable: ln_max <= tolerance.ln(),
+            summary: PointSummary {
+                phi,
+                beta,
+                max_multiplier: if ln_max < LN_F64_MAX { ln_max.exp() } else { f64::MAX },
+                ln_max_multiplier: ln_max,
+                growth_rate: ln_max / period,
+                stable: ln_max <= tolerance.ln(),
+                status,
+            },
             multipliers,
             multiplier_log_scale,
-            status,
         }
     }
 }

@@ -75,7 +75,7 @@ pub struct CriticalLoad {
 
 /// Whether (φ, β) is unstable, from a table valid up to at least β.
 pub fn unstable(fs: &FloquetSystem, table: &PhiTable, beta: f64) -> bool {
-    !fs.point_fast(table, beta).stable
+    !fs.point_fast(table, beta).summary.stable
 }
 
 /// β_c(φ) in [0, β_max]: bracket from below at `beta_bracket`, then bisect.

@@ -104,7 +104,7 @@ pub fn locate_tip(
     let level = (beta0 * (1.0 + s.tip_margin.0) + s.tip_margin.1).min(beta_max);
     let mut growth = |phi: f64| {
         *count += 1;
-        fs.point_fast(&fs.table(phi, level), level).ln_max_multiplier
+        fs.point_fast(&fs.table(phi, level), level).summary.ln_max_multiplier
     };
     let g = (5f64.sqrt() - 1.0) / 2.0;
     let (mut a, mut b) = (seed_phi - half_width, seed_phi + half_width);
