@@ -141,6 +141,12 @@ pub fn regions_cmd(
             if r.resolved { "" } else { "tip not separable from a neighbour" }
         );
     }
+    for u in &cat.unexplained {
+        s += &format!(
+            "unexplained: unstable at the level in [{:.2}, {:.2}] rad/s (guard scan; no seeded region of order <= {})\n",
+            u.left, u.right, settings.max_order
+        );
+    }
     s += "stable bands at the level (rad/s):";
     for b in &cat.stable_bands {
         s += &format!(" [{:.1}, {:.1}]", b[0], b[1]);

@@ -90,7 +90,8 @@ fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bo
 /// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and bisection;
 /// (2) at the level β₀(1 + m_rel) + m_abs (`tip_margin`) the region is a short interval around its tip, and
 /// the tip φ_s is the maximum of ln max|μ| over φ there (golden section, one monodromy per
-/// φ); (3) the onset is β_c(φ_s), taken as min(β_c(φ_s), β₀). None if stable up to β_max,
+/// φ); (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (β₀ and the
+/// seed if φ_s is stable at β₀). None if stable up to β_max,
 /// or if the maximum sits at the window's edge (a neighbouring region's tip).
 pub fn locate_tip(
     fs: &FloquetSystem,
@@ -102,9 +103,12 @@ pub fn locate_tip(
     count: &mut usize,
 ) -> Option<(f64, f64)> {
     let level = (beta0 * (1.0 + s.tip_margin.0) + s.tip_margin.1).min(beta_max);
+    let mut samples: Vec<(f64, f64)> = Vec::with_capacity(s.tip_iterations + 2);
     let mut growth = |phi: f64| {
         *count += 1;
-        fs.point_fast(&fs.table(phi, level), level).summary.ln_max_multiplier
+        let g = fs.point_fast(&fs.table(phi, level), level).summary.ln_max_multiplier;
+        samples.push((phi, g));
+        g
     };
     let g = (5f64.sqrt() - 1.0) / 2.0;
     let (mut a, mut b) = (seed_phi - half_width, seed_phi + half_width);
@@ -125,16 +129,36 @@ pub fn locate_tip(
             f2 = growth(x2);
         }
     }
-    let tip = if f1 >= f2 { x1 } else { x2 };
+    let best = if f1 >= f2 { x1 } else { x2 };
+    let tip = parabolic_vertex(&mut samples).unwrap_or(best);
     if (tip - seed_phi).abs() > (1.0 - EDGE_FRACTION) * half_width {
         return None;
     }
-    let c1 = critical_load(fs, s, tip, beta_max);
+    let c1 = critical::critical_load_below(fs, s, tip, beta0);
     *count += c1.evaluations;
     match c1.beta {
-        Some(b1) if b1 <= beta0 => Some((tip, b1)),
-        _ => Some((seed_phi, beta0)),
+        Some(b1) => Some((tip, b1)),
+        None => Some((seed_phi, beta0)),
     }
+}
+
+/// The vertex of the parabola through the best sample and its two neighbours in φ, if
+/// the best is interior and the parabola opens downward; kept between the neighbours.
+fn parabolic_vertex(samples: &mut [(f64, f64)]) -> Option<f64> {
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let i = (0..samples.len()).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))?;
+    if i == 0 || i + 1 == samples.len() {
+        return None;
+    }
+    let ((x0, y0), (x1, y1), (x2, y2)) = (samples[i - 1], samples[i], samples[i + 1]);
+    let (d0, d2) = ((y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1));
+    let curvature = (d2 - d0) / (x2 - x0);
+    if curvature.is_nan() || curvature >= 0.0 {
+        return None;
+    }
+    // Vertex of the Newton form: x where the slope d0 + curvature·(2x − x0 − x1) vanishes.
+    let x = 0.5 * (x0 + x1) - d0 / (2.0 * curvature);
+    x.is_finite().then_some(x.clamp(x0, x2))
 }
 
 /// [`locate_tip`] in windows of ±w and ±w/5: a neighbour's flank can dominate the wide
@@ -271,8 +295,9 @@ pub struct Catalogue {
     pub range: [f64; 2],
     /// β_max.
     pub beta_max: f64,
-    /// Unstable points of the coarse guard scan at β_op not covered by any region.
-    pub unexplained: Vec<f64>,
+    /// Unstable intervals at the level found by the coarse guard scan outside every
+    /// catalogued region (edges bisected); they are excluded from the stable bands.
+    pub unexplained: Vec<Edges>,
     /// Total monodromy evaluations.
     pub evaluations: usize,
 }
@@ -345,16 +370,81 @@ pub fn catalogue(
         .collect();
     let mut regions: Vec<Region> = found.into_iter().flatten().collect();
     regions.sort_by(|a, b| a.start.total_cmp(&b.start));
-    let stable_bands = bands(&regions, range);
+    let unexplained = guard_scan(fs, s, &regions, range, level, &total);
+    let mut stable_bands = bands(&regions, range);
+    for gap in &unexplained {
+        stable_bands = subtract(&stable_bands, (gap.left, gap.right));
+    }
     Ok(Catalogue {
         regions,
         stable_bands,
         level,
         range: [range.0, range.1],
         beta_max,
-        unexplained: Vec::new(),
+        unexplained,
         evaluations: total.get(),
     })
+}
+
+/// The guard scan at the level: φ on a geometric grid of relative step `guard_step`
+/// (rayon over points); an unstable point outside every region's edges is a missed
+/// region, whose edges are bisected and returned.
+fn guard_scan(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    regions: &[Region],
+    range: (f64, f64),
+    level: f64,
+    total: &Counter,
+) -> Vec<Edges> {
+    if s.guard_step <= 0.0 || level <= 0.0 {
+        return Vec::new();
+    }
+    let covered =
+        |phi: f64| regions.iter().any(|r| matches!((r.left, r.right), (Some(l), Some(r)) if l <= phi && phi <= r));
+    let n = ((range.1 / range.0).ln() / s.guard_step.ln_1p()).ceil() as usize;
+    let grid: Vec<f64> =
+        (0..=n).map(|k| range.0 * (1.0 + s.guard_step).powi(k as i32)).filter(|&p| p <= range.1).collect();
+    let hits: Vec<f64> = grid
+        .par_iter()
+        .filter(|&&phi| !covered(phi))
+        .filter(|&&phi| {
+            faer::set_global_parallelism(faer::Par::Seq);
+            let mut count = 0;
+            let hit = unstable_at(fs, phi, level, &mut count);
+            total.add(count);
+            hit
+        })
+        .copied()
+        .collect();
+    let mut out: Vec<Edges> = Vec::new();
+    for phi in hits {
+        if out.iter().any(|e| e.left <= phi && phi <= e.right) {
+            continue;
+        }
+        let mut count = 0;
+        out.push(edges_at(fs, s, phi, level, &mut count));
+        total.add(count);
+    }
+    out
+}
+
+/// `bands` minus the interval `gap`.
+fn subtract(bands: &[[f64; 2]], gap: (f64, f64)) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for b in bands {
+        if gap.1 <= b[0] || gap.0 >= b[1] {
+            out.push(*b);
+            continue;
+        }
+        if gap.0 > b[0] {
+            out.push([b[0], gap.0]);
+        }
+        if gap.1 < b[1] {
+            out.push([gap.1, b[1]]);
+        }
+    }
+    out
 }
 
 /// Complement of the union of the regions' [left, right] at the level within `range`.
@@ -380,7 +470,8 @@ pub fn bands(regions: &[Region], range: (f64, f64)) -> Vec<[f64; 2]> {
 }
 
 /// The stable band at level β containing φ_op: march outward from φ_op until unstable on
-/// each side (bisecting the edges), or None if φ_op itself is unstable.
+/// each side (bisecting the edges; the two sides in parallel), or None if φ_op itself is
+/// unstable.
 pub fn band_at(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -392,7 +483,9 @@ pub fn band_at(
     if unstable_at(fs, phi_op, level, count) {
         return None;
     }
-    let side = |dir: f64, count: &mut usize| -> f64 {
+    let side = |dir: f64| -> (f64, usize) {
+        let mut n = 0;
+        let count = &mut n;
         // Steps of 0.5 % of φ_op: thinner regions (higher orders) can be stepped over; the
         // catalogue's seeds catch those.
         let step = phi_op * 0.005;
@@ -400,13 +493,26 @@ pub fn band_at(
         loop {
             let hi = lo + dir * step;
             if hi <= range.0 || hi >= range.1 {
-                return if dir < 0.0 { range.0 } else { range.1 };
+                return (if dir < 0.0 { range.0 } else { range.1 }, n);
             }
             if unstable_at(fs, hi, level, count) {
-                return bisect_boundary(fs, s, hi, lo, level, count);
+                let edge = bisect_boundary(fs, s, hi, lo, level, count);
+                return (edge, n);
             }
             lo = hi;
         }
     };
-    Some([side(-1.0, count), side(1.0, count)])
+    // The two sides are independent: the outermost parallel loop of this query.
+    let ((left, n_left), (right, n_right)) = rayon::join(
+        || {
+            faer::set_global_parallelism(faer::Par::Seq);
+            side(-1.0)
+        },
+        || {
+            faer::set_global_parallelism(faer::Par::Seq);
+            side(1.0)
+        },
+    );
+    *count += n_left + n_right;
+    Some([left, right])
 }
