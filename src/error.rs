@@ -11,6 +11,17 @@ pub enum Error {
     /// An analysis failed on valid input (e.g. a load at buckling).
     #[error("analysis failed: {0}")]
     Analysis(#[from] crate::analysis::AnalysisError),
+    /// A design run failed.
+    #[error("design failed: {0}")]
+    Design(#[from] crate::design::DesignError),
+    /// A study file is unreadable or invalid.
+    #[error("study file {file}: {message}")]
+    Study {
+        /// The study file.
+        file: String,
+        /// What is wrong (with the key path).
+        message: String,
+    },
     /// Bad command-line argument (range syntax, counts).
     #[error("argument `{argument}`: {message}")]
     Argument {

@@ -16,7 +16,7 @@
 //! the quadratic eigenproblem of Eq. (16), solved by shift-invert (Eq. 18–21).
 //!
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
-//! (matrices) → [`analysis`] → [`report`]. SI units and rad/s throughout.
+//! (matrices) → [`analysis`] → [`design`] → [`report`]. SI units and rad/s throughout.
 //!
 //! ```
 //! let problem = rotorshunt::problem::Problem::from_path("problems/paper-open.toml", &[]).unwrap();
@@ -30,6 +30,7 @@
 pub mod analysis;
 pub mod assembly;
 pub mod commands;
+pub mod design;
 pub mod error;
 pub mod linalg;
 pub mod model;

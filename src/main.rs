@@ -143,6 +143,27 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Optimise the shunt circuit for the file's [design] table and write the tuned-parameter
+    /// report (report.md, report.json), tuned.toml and plots.
+    Design {
+        #[command(flatten)]
+        input: Input,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run a batch study (STUDY.toml: a base problem and a list or sweep of cases), in
+    /// parallel, with per-case reports and a summary; finished cases are skipped on re-runs.
+    Study {
+        /// The study file.
+        file: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Recompute cases that are already finished.
+        #[arg(long)]
+        force: bool,
+    },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
         #[command(flatten)]
@@ -225,6 +246,8 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
             commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref())
         }
         Command::Band { input, phi_op, level, json } => commands::band_cmd(&load(&input)?, phi_op, level, json),
+        Command::Design { input, out } => commands::design_cmd(&load(&input)?, &out, &bar()),
+        Command::Study { file, out, force } => commands::study_cmd(&file, &out, force, &bar()),
         Command::Response { input, point, periods, out } => {
             commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out)
         }
@@ -241,7 +264,12 @@ fn main() -> ExitCode {
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {
-                rotorshunt::Error::Problem(_) | rotorshunt::Error::Argument { .. } => 2,
+                rotorshunt::Error::Problem(_)
+                | rotorshunt::Error::Argument { .. }
+                | rotorshunt::Error::Study { .. }
+                | rotorshunt::Error::Design(
+                    rotorshunt::design::DesignError::NoDesign | rotorshunt::design::DesignError::Candidate(_),
+                ) => 2,
                 _ => 1,
             })
         }

@@ -2,14 +2,18 @@
 //! renders reports and writes files. Commands return the text for standard output.
 
 mod args;
+mod design;
 mod floquet;
 mod out;
 mod regions;
+mod study;
 
 pub use args::parse_range;
+pub use design::{design_cmd, design_report, summary_text, tuned_toml};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, Compare};
 pub use out::OutDir;
 pub use regions::{band_cmd, regions_cmd};
+pub use study::{study_cmd, CaseKind, CaseResult};
 
 use crate::analysis::campbell::campbell;
 use crate::analysis::modes::{whirl_modes_of, WhirlMode};

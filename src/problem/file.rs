@@ -2,6 +2,7 @@
 //! Every key is documented in `problems/README.md`; units are SI and rad/s.
 
 use crate::analysis::Settings;
+pub use crate::design::spec::{Objective, Parameter};
 use crate::model::CircuitState;
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +37,69 @@ pub struct ProblemFile {
     /// Numerical settings.
     #[serde(default)]
     pub analysis: Settings,
+    /// A shunt design problem (`rotorshunt design`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<DesignFile>,
+}
+
+/// `[design]`: what the shunt design should achieve and what it may change.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignFile {
+    /// `widest-stable-band` or `clear-bands`.
+    pub objective: Objective,
+    /// β_op: the dynamic load level of bands and edges (−).
+    pub level: f64,
+    /// φ_op (rad/s): the operating frequency whose stable band is widened.
+    #[serde(default)]
+    pub phi_op: Option<f64>,
+    /// [φ_lo, φ_hi] (rad/s) searched by catalogues and band searches; default [100, 8000].
+    #[serde(default)]
+    pub phi_range: Option<[f64; 2]>,
+    /// β_max of the catalogues (−); default 1.
+    #[serde(default)]
+    pub beta_max: Option<f64>,
+    /// Operating speeds Ω (rad/s); default the file's `speed`.
+    #[serde(default)]
+    pub speeds: Option<Vec<f64>>,
+    /// `[[design.bands]]`: operating bands with clearances (clear-bands).
+    #[serde(default)]
+    pub bands: Vec<BandFile>,
+    /// `[[design.variables]]`: what may change.
+    pub variables: Vec<VariableFile>,
+    /// Nelder–Mead starts; default 4.
+    #[serde(default)]
+    pub starts: Option<i64>,
+    /// Iterations per start (Nelder–Mead) or sequential convex steps; default 40.
+    #[serde(default)]
+    pub max_iterations: Option<i64>,
+}
+
+/// `[[design.bands]]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BandFile {
+    /// Lower end (rad/s).
+    pub lo: f64,
+    /// Upper end (rad/s).
+    pub hi: f64,
+    /// Clearance on each side (rad/s); default 0.
+    #[serde(default)]
+    pub clearance: f64,
+}
+
+/// `[[design.variables]]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VariableFile {
+    /// Branch number, counted from 1 in the order of `[[circuit.branches]]`.
+    pub branch: i64,
+    /// `c_f`, `inductance`, `tuning_frequency` or `resistance`.
+    pub parameter: Parameter,
+    /// Lower bound (unit of the parameter).
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
 }
 
 /// `[shaft]`.

@@ -12,6 +12,7 @@ pub use file::ProblemFile;
 pub use source::Location;
 
 use crate::analysis::Settings;
+use crate::design::spec::DesignSpec;
 use crate::model::Model;
 use source::{line_of, parse_override_value, set_path, LineIndex};
 use std::path::Path;
@@ -27,6 +28,8 @@ pub struct Problem {
     pub model: Model,
     /// Numerical settings.
     pub settings: Settings,
+    /// The `[design]` problem, if the file has one.
+    pub design: Option<DesignSpec>,
     /// The `--set` overrides applied, in order.
     pub overrides: Vec<String>,
 }
@@ -121,7 +124,24 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        Ok(Problem { file: name.to_string(), data, model, settings, overrides: overrides.to_vec() })
+        let design = validate::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        Ok(Problem { file: name.to_string(), data, model, settings, design, overrides: overrides.to_vec() })
+    }
+}
+
+impl Problem {
+    /// A problem from edited file data (e.g. a candidate design): validated like a file,
+    /// errors located by key path only. `file` and `overrides` describe where it came from.
+    pub fn from_data(data: ProblemFile, file: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
+        let err = |(key, kind): validate::Failure| ProblemError {
+            file: file.to_string(),
+            location: Location::Unknown,
+            key: key.clone(),
+            kind,
+        };
+        let (model, settings) = validate::translate(&data).map_err(err)?;
+        let design = validate::design(&data).map_err(err)?;
+        Ok(Problem { file: file.to_string(), data, model, settings, design, overrides: overrides.to_vec() })
     }
 }
 

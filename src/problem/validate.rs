@@ -3,6 +3,7 @@
 use super::file::*;
 use super::ProblemErrorKind as K;
 use crate::analysis::Settings;
+use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable};
 use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
 
 /// A key path and what is wrong there.
@@ -214,4 +215,137 @@ fn settings(s: &Settings) -> Result<Settings, Failure> {
     count("analysis.steps_per_period", s.steps_per_period, 2, 1 << 16)?;
     count("analysis.reference_steps", s.reference_steps, 2, 1 << 20)?;
     Ok(s.clone())
+}
+
+/// Default φ range of a design's catalogues and band searches (rad/s): the paper's charts.
+const DEFAULT_PHI_RANGE: [f64; 2] = [100.0, 8000.0];
+/// Default Nelder–Mead starts and iterations.
+const DEFAULT_STARTS: i64 = 4;
+const DEFAULT_ITERATIONS: i64 = 40;
+
+/// Check `[design]` against the rest of the file.
+pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
+    let Some(d) = &f.design else { return Ok(None) };
+    let level = positive("design.level", d.level)?;
+    let range = d.phi_range.unwrap_or(DEFAULT_PHI_RANGE);
+    positive("design.phi_range[0]", range[0])?;
+    if finite("design.phi_range[1]", range[1])? <= range[0] {
+        return Err((
+            "design.phi_range[1]".into(),
+            K::OutOfRange { value: range[1], range: format!("above phi_range[0] = {} rad/s", range[0]) },
+        ));
+    }
+    let beta_max = positive("design.beta_max", d.beta_max.unwrap_or(1.0_f64.max(level)))?;
+    if beta_max < level {
+        return Err((
+            "design.beta_max".into(),
+            K::OutOfRange { value: beta_max, range: format!("at least design.level = {level}") },
+        ));
+    }
+    let speeds = match &d.speeds {
+        Some(v) if v.is_empty() => return Err(("design.speeds".into(), K::Schema("needs at least one speed".into()))),
+        Some(v) => v
+            .iter()
+            .enumerate()
+            .map(|(i, &w)| non_negative(&format!("design.speeds[{i}]"), w))
+            .collect::<Result<Vec<_>, _>>()?,
+        None => vec![f.speed],
+    };
+    let phi_op = d
+        .phi_op
+        .map(|p| within("design.phi_op", p, range[0], range[1], &format!("inside phi_range {range:?} rad/s")))
+        .transpose()?;
+    if d.objective == Objective::WidestStableBand && phi_op.is_none() {
+        return Err((
+            "design.phi_op".into(),
+            K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
+        ));
+    }
+    let bands = d
+        .bands
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let key = format!("design.bands[{i}]");
+            let lo = positive(&format!("{key}.lo"), b.lo)?;
+            let hi = finite(&format!("{key}.hi"), b.hi)?;
+            if hi <= lo {
+                return Err((
+                    format!("{key}.hi"),
+                    K::OutOfRange { value: hi, range: format!("above lo = {lo} rad/s") },
+                ));
+            }
+            let clearance = non_negative(&format!("{key}.clearance"), b.clearance)?;
+            Ok(Band { lo, hi, clearance })
+        })
+        .collect::<Result<Vec<_>, Failure>>()?;
+    if d.objective == Objective::ClearBands && bands.is_empty() {
+        return Err(("design.bands".into(), K::Schema("the clear-bands objective needs [[design.bands]]".into())));
+    }
+    if d.variables.is_empty() {
+        return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));
+    }
+    if f.circuit.state != CircuitState::Closed {
+        return Err((
+            "circuit.state".into(),
+            K::Schema("a design changes the shunt branches: the circuit must be `closed`".into()),
+        ));
+    }
+    let mut variables: Vec<Variable> = Vec::new();
+    for (i, v) in d.variables.iter().enumerate() {
+        let key = format!("design.variables[{i}]");
+        let n = f.circuit.branches.len();
+        if v.branch < 1 || v.branch as usize > n {
+            return Err((
+                format!("{key}.branch"),
+                K::OutOfRange { value: v.branch as f64, range: format!("a branch number from 1 to {n}") },
+            ));
+        }
+        let min = if v.parameter.logarithmic() {
+            positive(&format!("{key}.min"), v.min)?
+        } else {
+            non_negative(&format!("{key}.min"), v.min)?
+        };
+        let max = finite(&format!("{key}.max"), v.max)?;
+        if max <= min {
+            return Err((format!("{key}.max"), K::OutOfRange { value: max, range: format!("above min = {min}") }));
+        }
+        let var = Variable { branch: v.branch as usize - 1, parameter: v.parameter, min, max };
+        let exclusive = |p: Parameter| matches!(p, Parameter::Inductance | Parameter::TuningFrequency);
+        if variables.iter().any(|w| {
+            w.branch == var.branch
+                && (w.parameter == var.parameter || (exclusive(w.parameter) && exclusive(var.parameter)))
+        }) {
+            return Err((
+                format!("{key}.parameter"),
+                K::Schema(format!(
+                    "branch {} already has a variable for this parameter (inductance and tuning_frequency are one)",
+                    v.branch
+                )),
+            ));
+        }
+        variables.push(var);
+    }
+    let count = |key: &str, v: Option<i64>, default: i64, hi: i64| -> Result<usize, Failure> {
+        let v = v.unwrap_or(default);
+        if v < 1 || v > hi {
+            return Err((
+                key.into(),
+                K::OutOfRange { value: v as f64, range: format!("a whole number from 1 to {hi}") },
+            ));
+        }
+        Ok(v as usize)
+    };
+    Ok(Some(DesignSpec {
+        objective: d.objective,
+        level,
+        phi_op,
+        phi_range: (range[0], range[1]),
+        beta_max,
+        speeds,
+        bands,
+        variables,
+        starts: count("design.starts", d.starts, DEFAULT_STARTS, 64)?,
+        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, 10_000)?,
+    }))
 }

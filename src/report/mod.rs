@@ -3,6 +3,7 @@
 
 pub mod campbell;
 pub mod chart;
+pub mod design;
 pub mod plot;
 pub mod summary;
 

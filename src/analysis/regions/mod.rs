@@ -31,7 +31,8 @@ const SEED_MARGIN: f64 = 0.1;
 pub struct Counter(AtomicUsize);
 
 impl Counter {
-    fn add(&self, n: usize) {
+    /// Add `n` evaluations.
+    pub fn add(&self, n: usize) {
         self.0.fetch_add(n, Ordering::Relaxed);
     }
     /// Evaluations so far.

@@ -1,0 +1,300 @@
+//! `rotorshunt design FILE --out DIR`: run the `[design]` of a problem file and write the
+//! tuned-parameter report (report.md, report.json), the tuned problem (tuned.toml) and
+//! plots (charts before/after with the operating bands, Campbell diagram, history).
+
+use super::{title, OutDir, Progress, TOOL};
+use crate::analysis::campbell::campbell;
+use crate::analysis::chart::chart;
+use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::{catalogue, RegionSettings};
+use crate::analysis::Rotor;
+use crate::design::evaluate::problem_at;
+use crate::design::spec::{DesignSpec, Objective};
+use crate::design::{self, DesignError, DesignOutcome, Status};
+use crate::problem::Problem;
+use crate::report::campbell::campbell_plot;
+use crate::report::chart::{Layer, StabilityPlot};
+use crate::report::design::{markdown, BranchRow, DesignAtSpeed, DesignReport, WhirlRow};
+use crate::report::plot::{LinePlot, Series};
+use crate::Error;
+use std::path::Path;
+
+/// Whirls listed per design and speed in the report.
+const REPORT_WHIRLS: usize = 6;
+/// Grid of the before/after charts: φ points and β points.
+const CHART_GRID: (usize, usize) = (400, 31);
+/// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
+const CAMPBELL_SPEEDS: usize = 31;
+
+fn branches(p: &Problem) -> Vec<BranchRow> {
+    let cp_t = p.model.left.cp_t;
+    p.model
+        .circuit
+        .branches
+        .iter()
+        .enumerate()
+        .map(|(i, b)| BranchRow {
+            branch: i + 1,
+            c_f: b.c_f,
+            inductance: b.inductance,
+            resistance: b.resistance,
+            tuning_frequency: b.tuning_frequency(cp_t),
+        })
+        .collect()
+}
+
+fn at_speeds(p: &Problem, spec: &DesignSpec) -> Result<Vec<DesignAtSpeed>, Error> {
+    let rotor = Rotor::new(&p.model)?;
+    spec.speeds
+        .iter()
+        .map(|&w| {
+            let full = whirl_modes_of(&rotor, &p.settings, w)?;
+            let fs = FloquetSystem::new(&rotor, &p.settings, w)?;
+            let cat =
+                catalogue(&fs, &full, &RegionSettings::default(), spec.phi_range, spec.beta_max, spec.level, false)?;
+            let mut whirls: Vec<WhirlRow> = Vec::new();
+            for dir in [crate::analysis::modes::Whirl::Forward, crate::analysis::modes::Whirl::Backward] {
+                whirls.extend(
+                    full.modes
+                        .iter()
+                        .filter(|m| m.whirl == dir)
+                        .take(REPORT_WHIRLS)
+                        .map(|m| WhirlRow { tag: m.tag(), frequency: m.frequency }),
+                );
+            }
+            Ok(DesignAtSpeed { speed: w, whirls, catalogue: cat })
+        })
+        .collect()
+}
+
+/// The φ window of the charts: around φ_op or the bands, inside the design's range.
+fn chart_window(spec: &DesignSpec) -> (f64, f64) {
+    let (lo, hi) = match spec.objective {
+        Objective::WidestStableBand => {
+            let p = spec.phi_op.unwrap_or(spec.phi_range.0);
+            (p * 0.5, p * 1.5)
+        }
+        Objective::ClearBands => {
+            let lo = spec.bands.iter().map(|b| b.guarded().0).fold(f64::INFINITY, f64::min);
+            let hi = spec.bands.iter().map(|b| b.guarded().1).fold(0.0, f64::max);
+            (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
+        }
+    };
+    (lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
+}
+
+fn charts(dir: &OutDir, before: &Problem, after: &Problem, spec: &DesignSpec) -> Result<(), Error> {
+    let (lo, hi) = chart_window(spec);
+    let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
+    let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
+    let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
+    let mut markers = Vec::new();
+    if let Some(p) = spec.phi_op {
+        markers.push((p, "φ_op".to_string()));
+    }
+    for (i, b) in spec.bands.iter().enumerate() {
+        markers.push((b.lo, format!("band {} lo", i + 1)));
+        markers.push((b.hi, format!("band {} hi", i + 1)));
+    }
+    for (k, &w) in spec.speeds.iter().enumerate() {
+        let mut layers = Vec::new();
+        for (name, p, color) in [("reference circuit", before, (31, 119, 180)), ("tuned circuit", after, (214, 39, 40))]
+        {
+            let rotor = Rotor::new(&p.model)?;
+            let fs = FloquetSystem::new(&rotor, &p.settings, w)?;
+            layers.push(Layer { name: name.into(), color, chart: chart(&fs, &phis, &betas, &|| {}) });
+        }
+        // The operating level as a horizontal line.
+        let level = Series {
+            name: format!("β_op = {}", spec.level),
+            color: (0, 0, 0),
+            dashed: true,
+            points: vec![(lo, spec.level), (hi, spec.level)],
+        };
+        let plot = StabilityPlot::new(&format!("Stability before and after the design, Ω = {w} rad/s"), layers)
+            .with_markers(markers.clone())
+            .with_lines(vec![level]);
+        let name = if spec.speeds.len() == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
+        dir.write(&format!("{name}.svg"), plot.svg().map_err(|e| dir.error("charts.svg", e))?.as_bytes())?;
+        dir.write(&format!("{name}.png"), &plot.png().map_err(|e| dir.error("charts.png", e))?)?;
+    }
+    Ok(())
+}
+
+fn history_plot(o: &DesignOutcome) -> LinePlot {
+    let colors = [(31, 119, 180), (214, 39, 40), (44, 160, 44), (148, 103, 189), (255, 127, 14), (23, 190, 207)];
+    let starts = o.history.iter().map(|h| h.start).max().map_or(0, |m| m + 1);
+    let series: Vec<Series> = (0..starts)
+        .map(|k| Series {
+            name: match o.spec.objective {
+                Objective::WidestStableBand => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
+                Objective::ClearBands => {
+                    if k == 0 {
+                        "from the reference".into()
+                    } else {
+                        "from the best global point".into()
+                    }
+                }
+            },
+            color: colors[k % colors.len()],
+            dashed: false,
+            points: o.history.iter().filter(|h| h.start == k).map(|h| (h.step as f64, h.best)).collect(),
+        })
+        .collect();
+    let ys: Vec<f64> = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.abs() < 1e8).collect();
+    let (y0, y1) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
+    let (y0, y1) = if y0.is_finite() && y1 > y0 { (y0, y1) } else { (y0.min(0.0) - 1.0, y1.max(0.0) + 1.0) };
+    let x1 = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).fold(1.0, f64::max);
+    LinePlot {
+        title: "Optimiser history (best so far)".into(),
+        x_label: match o.spec.objective {
+            Objective::WidestStableBand => "candidate evaluations of the start".into(),
+            Objective::ClearBands => "convex step".into(),
+        },
+        y_label: match o.spec.objective {
+            Objective::WidestStableBand => "smallest band width over the speeds (rad/s)".into(),
+            Objective::ClearBands => "total intrusion into the bands (rad/s)".into(),
+        },
+        x_range: (0.0, x1),
+        y_range: (y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0)),
+        series: series.into_iter().filter(|s| !s.points.is_empty()).collect(),
+    }
+}
+
+/// The tuned problem file: the input (with overrides applied) and the tuned circuit.
+pub fn tuned_toml(tuned: &Problem, source: &Problem, outcome: &DesignOutcome) -> Result<String, Error> {
+    let body = toml::to_string(&tuned.data)
+        .map_err(|e| Error::Output { path: "tuned.toml".into(), message: e.to_string() })?;
+    Ok(format!(
+        "# Tuned by {TOOL} from {}{} (status: {:?}).\n# Circuit values are the optimiser's; every other key is the input's.\n{body}",
+        source.file,
+        if source.overrides.is_empty() { String::new() } else { format!(" with --set {}", source.overrides.join(" ")) },
+        outcome.status
+    ))
+}
+
+/// `rotorshunt design FILE --out DIR`.
+pub fn design_cmd(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<String, Error> {
+    let outcome = design_report(problem, out, progress)?;
+    Ok(summary_text(&outcome, out))
+}
+
+/// Run the design and write the report files to `out`; the outcome.
+pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
+    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    let dir = OutDir::create(out, &problem.file)?;
+    let expected = match spec.objective {
+        Objective::WidestStableBand => spec.starts * (2 * spec.max_iterations + spec.variables.len() + 1),
+        Objective::ClearBands => 4 * spec.starts + 1 + 2 * spec.max_iterations * (2 * spec.variables.len() + 1),
+    };
+    progress.start(expected as u64, "design");
+    let outcome = design::run(problem, &|_| progress.tick())?;
+    progress.finish();
+    let tuned = problem_at(problem, spec, &outcome.after)?;
+    let files: Vec<String> = [
+        "report.md",
+        "report.json",
+        "tuned.toml",
+        "charts.svg",
+        "charts.png",
+        "campbell.svg",
+        "campbell.png",
+        "history.svg",
+        "history.png",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let report = DesignReport {
+        tool: TOOL,
+        problem: problem.file.clone(),
+        overrides: problem.overrides.clone(),
+        title: title(problem),
+        branches_before: branches(problem),
+        branches_after: branches(&tuned),
+        before: at_speeds(problem, spec)?,
+        after: at_speeds(&tuned, spec)?,
+        outcome: outcome.clone(),
+        files,
+    };
+    dir.write("tuned.toml", tuned_toml(&tuned, problem, &outcome)?.as_bytes())?;
+    dir.write(
+        "report.json",
+        (serde_json::to_string_pretty(&report).expect("plain data serialises") + "\n").as_bytes(),
+    )?;
+    dir.write("report.md", markdown(&report).as_bytes())?;
+    charts(&dir, problem, &tuned, spec)?;
+    let rotor = Rotor::new(&tuned.model)?;
+    let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
+    let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
+    let c = campbell(&rotor, &tuned.settings, &speeds, REPORT_WHIRLS, &|| {})?;
+    let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
+    dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
+    dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
+    let h = history_plot(&outcome);
+    dir.write("history.svg", h.svg().map_err(|e| dir.error("history.svg", e))?.as_bytes())?;
+    dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
+    Ok(outcome)
+}
+
+/// The one-paragraph result on standard output.
+pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
+    let spec = &o.spec;
+    let values = |v: &[f64]| {
+        spec.variables
+            .iter()
+            .zip(v)
+            .map(|(var, x)| format!("{} = {x:.6e} {}", var.name(), var.parameter.unit()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut s = format!("design: {:?}", o.status).to_lowercase();
+    match spec.objective {
+        Objective::WidestStableBand => {
+            let w = |v: &[(f64, Option<[f64; 2]>)]| {
+                v.iter()
+                    .map(|(sp, b)| match b {
+                        Some(b) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at Ω = {sp}", b[0], b[1], b[1] - b[0]),
+                        None => format!("none (φ_op unstable) at Ω = {sp}"),
+                    })
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            };
+            s += &format!(
+                "\nstable band at beta = {} around phi_op = {} rad/s (1 rad/s grid check): before {}; after {}",
+                spec.level,
+                spec.phi_op.unwrap_or(f64::NAN),
+                w(&o.before_verified),
+                w(&o.after_verified)
+            );
+        }
+        Objective::ClearBands => {
+            s += &format!(
+                "\nbands: {} region(s) inside before, {} after; {} unstable 1 rad/s grid points inside the widened bands after",
+                o.before_intrusions.len(),
+                o.after_intrusions.len(),
+                o.fine_unstable.len()
+            );
+            if o.status == Status::Infeasible {
+                for it in &o.after_intrusions {
+                    let b = &spec.bands[it.band];
+                    s += &format!(
+                        "\nviolated: band [{}, {}] (clearance {}) at Ω = {}: {} at [{:.2}, {:.2}] rad/s",
+                        b.lo, b.hi, b.clearance, it.speed, it.label, it.left, it.right
+                    );
+                }
+            }
+        }
+    }
+    s += &format!(
+        "\nbefore: {}\nafter: {}\n{} candidates, {} Floquet evaluations, {:.1} s; wrote report.md, report.json, tuned.toml and plots to {}\n",
+        values(&o.before),
+        values(&o.after),
+        o.candidates,
+        o.floquet_evaluations,
+        o.seconds,
+        out.display()
+    );
+    s
+}

@@ -1,0 +1,55 @@
+//! Shunt design: choose C_f, L (or the tuning frequency of Eq. 4) and R of the branches so
+//! that instability regions stay out of the operating bands.
+//!
+//! Two objectives (see [`spec::Objective`]):
+//! - **widest stable band**: an outer Nelder–Mead (argmin) over the variables scaled to
+//!   [0, 1] (log for C_f, L, ω), maximising the smallest width over the speeds of the
+//!   stable band at β_op containing φ_op, found by marching and bisection
+//!   ([`crate::analysis::regions::band_at`]), never a chart. The landscape is multimodal
+//!   (each region crossing φ_op is a valley), so several starts run in parallel: the
+//!   reference design, a physics seed (the tuning that puts the electrical region starts
+//!   ω_whirl + ω_e farthest from φ_op) and a Halton spread.
+//! - **clear bands**: sequential convex programming from the reference design. Each step
+//!   linearises, by central differences, the edges (or the onset) of every region
+//!   intruding into a band widened by its clearance, and solves for the least weighted
+//!   change that moves each one out (clarabel QP, [`qp`]) inside a trust region and the
+//!   bounds; the step is accepted when the total intrusion decreases. A problem with no
+//!   feasible step is reported infeasible with the violated bands.
+//!
+//! Every result is checked independently on a 1 rad/s grid at β_op.
+
+pub mod evaluate;
+pub mod optimise;
+pub mod qp;
+pub mod spec;
+
+pub use optimise::{run, DesignOutcome, Status};
+pub use spec::DesignSpec;
+
+use thiserror::Error;
+
+/// Why a design run failed (an infeasible design is an outcome, not an error).
+#[derive(Debug, Error)]
+pub enum DesignError {
+    /// The problem file has no `[design]` table.
+    #[error("the problem file has no [design] table: add one (problems/README.md, section [design])")]
+    NoDesign,
+    /// A candidate's values do not make a valid problem.
+    #[error(transparent)]
+    Candidate(#[from] Box<crate::problem::ProblemError>),
+    /// The analysis of a candidate failed.
+    #[error("analysis of a candidate design failed: {0}")]
+    Analysis(#[from] crate::analysis::AnalysisError),
+    /// The optimiser failed.
+    #[error("the Nelder-Mead optimiser failed: {0}")]
+    Optimiser(String),
+    /// The convex step failed to solve.
+    #[error("the convex tuning step failed: {0}")]
+    Qp(String),
+}
+
+impl From<crate::problem::ProblemError> for DesignError {
+    fn from(e: crate::problem::ProblemError) -> Self {
+        DesignError::Candidate(Box::new(e))
+    }
+}

@@ -1,0 +1,139 @@
+//! The design problem of a problem file's `[design]` table, validated: objective, load
+//! level, operating speeds and bands, and the circuit variables with their bounds.
+
+use serde::{Deserialize, Serialize};
+
+/// What the optimiser is asked to do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Objective {
+    /// Maximise the width of the stable band at β_op containing φ_op (the smallest over
+    /// the speeds).
+    WidestStableBand,
+    /// Keep every operating band clear of instability at β_op by its clearance, with the
+    /// least weighted change to the reference design.
+    ClearBands,
+}
+
+/// A circuit parameter a design may change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Parameter {
+    /// Filtering capacitance C_f (F); searched on a log scale.
+    CF,
+    /// Inductance L (H); log scale.
+    Inductance,
+    /// Tuning frequency ω of Eq. (4) (rad/s), L following from it; log scale.
+    TuningFrequency,
+    /// Resistance R (Ω); linear scale (it may be 0).
+    Resistance,
+}
+
+impl Parameter {
+    /// The key of the parameter in `[[circuit.branches]]`.
+    pub fn key(self) -> &'static str {
+        match self {
+            Parameter::CF => "c_f",
+            Parameter::Inductance => "inductance",
+            Parameter::TuningFrequency => "tuning_frequency",
+            Parameter::Resistance => "resistance",
+        }
+    }
+
+    /// Unit, for reports.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Parameter::CF => "F",
+            Parameter::Inductance => "H",
+            Parameter::TuningFrequency => "rad/s",
+            Parameter::Resistance => "Ω",
+        }
+    }
+
+    /// Whether the optimiser works on ln(value) (positive, scale-free parameters).
+    pub fn logarithmic(self) -> bool {
+        !matches!(self, Parameter::Resistance)
+    }
+}
+
+/// One design variable: a parameter of one branch with bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Variable {
+    /// Branch index, 0-based (`branch = 1` in the file is index 0).
+    pub branch: usize,
+    /// Which parameter.
+    pub parameter: Parameter,
+    /// Lower bound (SI unit of the parameter).
+    pub min: f64,
+    /// Upper bound.
+    pub max: f64,
+}
+
+impl Variable {
+    /// The value → the unit interval: u = 0 at `min`, 1 at `max` (log or linear).
+    pub fn to_unit(&self, value: f64) -> f64 {
+        if self.parameter.logarithmic() {
+            (value / self.min).ln() / (self.max / self.min).ln()
+        } else {
+            (value - self.min) / (self.max - self.min)
+        }
+    }
+
+    /// The unit interval → the value (inverse of [`Variable::to_unit`]).
+    pub fn from_unit(&self, u: f64) -> f64 {
+        if self.parameter.logarithmic() {
+            self.min * (self.max / self.min).powf(u)
+        } else {
+            self.min + (self.max - self.min) * u
+        }
+    }
+
+    /// Name for reports, e.g. `branch 1 tuning_frequency`.
+    pub fn name(&self) -> String {
+        format!("branch {} {}", self.branch + 1, self.parameter.key())
+    }
+}
+
+/// An operating band [lo, hi] (rad/s) that must be free of instability at β_op, with
+/// `clearance` (rad/s) on each side.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Band {
+    /// Lower end (rad/s).
+    pub lo: f64,
+    /// Upper end (rad/s).
+    pub hi: f64,
+    /// Required clearance on both sides (rad/s).
+    pub clearance: f64,
+}
+
+impl Band {
+    /// The band widened by its clearance: no unstable φ may lie in it.
+    pub fn guarded(&self) -> (f64, f64) {
+        (self.lo - self.clearance, self.hi + self.clearance)
+    }
+}
+
+/// A validated design problem.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DesignSpec {
+    /// The objective.
+    pub objective: Objective,
+    /// β_op (−).
+    pub level: f64,
+    /// Operating frequency φ_op (rad/s) of the widest-stable-band objective.
+    pub phi_op: Option<f64>,
+    /// φ range of the catalogues and band searches (rad/s).
+    pub phi_range: (f64, f64),
+    /// β_max of the catalogues (−).
+    pub beta_max: f64,
+    /// Operating speeds Ω (rad/s); the file's `speed` if not given.
+    pub speeds: Vec<f64>,
+    /// Operating bands (clear-bands).
+    pub bands: Vec<Band>,
+    /// Design variables.
+    pub variables: Vec<Variable>,
+    /// Nelder–Mead starts (multi-start).
+    pub starts: usize,
+    /// Nelder–Mead iterations per start, or sequential convex steps.
+    pub max_iterations: usize,
+}
