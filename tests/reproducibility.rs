@@ -27,8 +27,14 @@ fn system(name: &str) -> (Rotor, FloquetSystem) {
     (rotor, fs)
 }
 
+/// φ, β, max|μ|, ln max|μ|, growth rate, speed as bit patterns; verdict; status.
+type PointBits = (u64, u64, u64, u64, u64, u64, bool, String);
+
+/// Standard output and the output files of one run.
+type RunOutput = (Vec<u8>, BTreeMap<String, Vec<u8>>);
+
 /// Every number of a chart as its bit pattern, with the verdicts.
-fn chart_bits(c: &ChartResult) -> Vec<(u64, u64, u64, u64, u64, u64, bool, String)> {
+fn chart_bits(c: &ChartResult) -> Vec<PointBits> {
     c.points
         .iter()
         .map(|p| {
@@ -122,7 +128,7 @@ fn strip_seconds(text: &[u8], expected: usize) -> String {
 #[test]
 fn cli_chart_files_are_byte_identical_across_threads_and_runs() {
     let file = problem_path("fig11-closed-2000.toml");
-    let mut reference: Option<(Vec<u8>, BTreeMap<String, Vec<u8>>)> = None;
+    let mut reference: Option<RunOutput> = None;
     // One `out` path for every run: it is part of the standard output.
     let dir = scratch("chart");
     let out = dir.to_str().unwrap().to_string();
