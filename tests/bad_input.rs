@@ -208,7 +208,11 @@ fn paper_closed() -> String {
 #[test]
 fn bad_overrides_are_refused() {
     let file = paper_closed();
+    // 10 000 levels overflowed the stack of a library caller's thread before the depth
+    // limit (found by tests/fuzz.rs).
+    let deep = format!("{}=1", vec!["a"; 10_000].join("."));
     let cases: &[(&str, &[&str])] = &[
+        (&deep, &["--set", "the key path has 10000 levels, more than the 79 a problem file may have"]),
         ("shaft.elements=0", &["--set", "key `shaft.elements`", "from 1 to 2000, found 0"]),
         ("nosuch.key=1", &["--set", "key `nosuch`", "unknown field `nosuch`"]),
         (

@@ -14,7 +14,7 @@ pub use source::Location;
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;
 use crate::model::Model;
-use source::{line_of, parse_override_value, set_path, LineIndex};
+use source::{deep_key_line, line_of, line_of_bytes, parse_override_value, set_path, LineIndex};
 use std::path::Path;
 
 /// A loaded, validated problem.
@@ -45,16 +45,20 @@ impl Problem {
             key: String::new(),
             kind: ProblemErrorKind::Read(e.to_string()),
         })?;
-        let text = String::from_utf8(bytes).map_err(|e| ProblemError {
-            file: name.clone(),
-            location: Location::Line(line_of(
-                &String::from_utf8_lossy(&e.as_bytes()[..e.utf8_error().valid_up_to()]),
-                usize::MAX,
-            )),
+        Problem::from_bytes(&bytes, &name, overrides)
+    }
+
+    /// Parse the raw bytes of a problem file; `name` is used in messages. Bytes that are
+    /// not UTF-8 are refused with [`ProblemErrorKind::NotUtf8`] (offset and line of the
+    /// first invalid byte).
+    pub fn from_bytes(bytes: &[u8], name: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
+        let text = std::str::from_utf8(bytes).map_err(|e| ProblemError {
+            file: name.to_string(),
+            location: Location::Line(line_of_bytes(bytes, e.valid_up_to())),
             key: String::new(),
-            kind: ProblemErrorKind::NotUtf8(e.utf8_error().valid_up_to()),
+            kind: ProblemErrorKind::NotUtf8(e.valid_up_to()),
         })?;
-        Problem::from_text(&text, &name, overrides)
+        Problem::from_text(text, name, overrides)
     }
 
     /// Parse problem text; `name` is used in messages.
@@ -62,7 +66,7 @@ impl Problem {
         let err =
             |location, key: &str, kind| ProblemError { file: name.to_string(), location, key: key.to_string(), kind };
         let doc = toml::de::DeTable::parse(text).map_err(|e| {
-            let loc = e.span().map(|s| Location::Line(line_of(text, s.start))).unwrap_or(Location::Unknown);
+            let loc = syntax_location(text, e.span());
             err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
         let mut index = LineIndex::new(text, &doc);
@@ -70,7 +74,7 @@ impl Problem {
             return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
         }
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
-            let loc = e.span().map(|s| Location::Line(line_of(text, s.start))).unwrap_or(Location::Unknown);
+            let loc = syntax_location(text, e.span());
             err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
         // The version decides the schema: check it before anything else, so a newer file
@@ -142,6 +146,15 @@ impl Problem {
         let (model, settings) = validate::translate(&data).map_err(err)?;
         let design = validate::design(&data).map_err(err)?;
         Ok(Problem { file: file.to_string(), data, model, settings, design, overrides: overrides.to_vec() })
+    }
+}
+
+/// Where a TOML syntax error is: its span, or, for the errors the parser reports without
+/// one (a key path nested too deep), the line of the offending key.
+fn syntax_location(text: &str, span: Option<std::ops::Range<usize>>) -> Location {
+    match span {
+        Some(s) => Location::Line(line_of(text, s.start)),
+        None => deep_key_line(text).map(Location::Line).unwrap_or(Location::Unknown),
     }
 }
 

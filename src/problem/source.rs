@@ -13,7 +13,35 @@ pub struct LineIndex {
 
 /// 1-based line of a byte offset.
 pub fn line_of(text: &str, offset: usize) -> usize {
-    text.as_bytes()[..offset.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+    line_of_bytes(text.as_bytes(), offset)
+}
+
+/// Depth of a key path (dotted key or table header) that the TOML parser refuses, with
+/// "recursion limit" and no position (toml 1.x: 80 segments).
+pub const KEY_DEPTH_LIMIT: usize = 80;
+
+/// 1-based line of the first key path with at least [`KEY_DEPTH_LIMIT`] segments: where a
+/// TOML error without a position ("recursion limit") comes from. Dots are counted in the
+/// key parts of a line (a table header, or the text before each `=`), not in values.
+pub fn deep_key_line(text: &str) -> Option<usize> {
+    text.lines()
+        .position(|line| {
+            let line = line.trim_start();
+            let dots = match line.strip_prefix('[') {
+                Some(header) => header.split(']').next().unwrap_or(header).matches('.').count(),
+                None => {
+                    let parts: Vec<&str> = line.split('=').collect();
+                    parts[..parts.len() - 1].iter().map(|p| p.matches('.').count()).sum()
+                }
+            };
+            dots + 1 >= KEY_DEPTH_LIMIT
+        })
+        .map(|i| i + 1)
+}
+
+/// 1-based line of a byte offset in raw bytes (which need not be UTF-8).
+pub fn line_of_bytes(bytes: &[u8], offset: usize) -> usize {
+    bytes[..offset.min(bytes.len())].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
 impl LineIndex {
@@ -141,6 +169,14 @@ pub fn parse_override_value(text: &str) -> toml::Value {
 /// missing tables on the way. Fails with a reason when the path does not fit the document.
 pub fn set_path(table: &mut toml::Table, path: &str, value: toml::Value) -> Result<(), String> {
     let segs = segments(path).ok_or_else(|| format!("`{path}` is not a key path like `a.b` or `a.b[0].c`"))?;
+    // The file may not nest deeper either; and each level below costs stack.
+    if segs.len() >= KEY_DEPTH_LIMIT {
+        return Err(format!(
+            "the key path has {} levels, more than the {} a problem file may have",
+            segs.len(),
+            KEY_DEPTH_LIMIT - 1
+        ));
+    }
     match segs.split_first() {
         Some((Segment::Key(k), rest)) => {
             if rest.is_empty() {

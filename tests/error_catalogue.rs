@@ -1,0 +1,226 @@
+//! `docs/errors.md` cannot drift: every example command in it is run and must print
+//! exactly the quoted message; every error kind has a section (the `match`es below are
+//! exhaustive, so a new kind does not compile until it is listed); every fixture in
+//! `tests/fixtures/bad` has its kind documented.
+
+mod common;
+use rotorshunt::analysis::AnalysisError;
+use rotorshunt::linalg::LinalgError;
+use rotorshunt::problem::{Problem, ProblemErrorKind};
+use rotorshunt::Error;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+const DOC: &str = "docs/errors.md";
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn problem_kind(k: &ProblemErrorKind) -> &'static str {
+    use ProblemErrorKind as K;
+    match k {
+        K::Read(_) => "Read",
+        K::NotUtf8(_) => "NotUtf8",
+        K::Empty => "Empty",
+        K::Syntax(_) => "Syntax",
+        K::Schema(_) => "Schema",
+        K::Version { .. } => "Version",
+        K::NotFinite(_) => "NotFinite",
+        K::NotPositive(_) => "NotPositive",
+        K::Negative(_) => "Negative",
+        K::OutOfRange { .. } => "OutOfRange",
+        K::BothGiven(..) => "BothGiven",
+        K::NeitherGiven(..) => "NeitherGiven",
+        K::DiskOffShaft { .. } => "DiskOffShaft",
+        K::DiskNodeOffShaft { .. } => "DiskNodeOffShaft",
+        K::NoBranches => "NoBranches",
+        K::Override { .. } => "Override",
+    }
+}
+
+fn analysis_kind(e: &AnalysisError) -> &'static str {
+    match e {
+        AnalysisError::Linalg(_) => "Linalg",
+        AnalysisError::ReducedModes { .. } => "ReducedModes",
+        AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
+    }
+}
+
+fn error_kind(e: &Error) -> &'static str {
+    match e {
+        Error::Problem(p) => problem_kind(&p.kind),
+        Error::Analysis(a) => analysis_kind(a),
+        Error::Argument { .. } => "Argument",
+        Error::Output { .. } => "Output",
+    }
+}
+
+/// One of every kind, so that the list of names follows the enums.
+fn every_kind() -> Vec<&'static str> {
+    let s = String::new;
+    let problem = [
+        ProblemErrorKind::Read(s()),
+        ProblemErrorKind::NotUtf8(0),
+        ProblemErrorKind::Empty,
+        ProblemErrorKind::Syntax(s()),
+        ProblemErrorKind::Schema(s()),
+        ProblemErrorKind::Version { found: 2, supported: 1 },
+        ProblemErrorKind::NotFinite(f64::NAN),
+        ProblemErrorKind::NotPositive(0.0),
+        ProblemErrorKind::Negative(-1.0),
+        ProblemErrorKind::OutOfRange { value: 0.0, range: s() },
+        ProblemErrorKind::BothGiven(s(), s()),
+        ProblemErrorKind::NeitherGiven(s(), s()),
+        ProblemErrorKind::DiskOffShaft { position: 0.0, length: 0.0 },
+        ProblemErrorKind::DiskNodeOffShaft { node: 0, last: 0 },
+        ProblemErrorKind::NoBranches,
+        ProblemErrorKind::Override { text: s(), reason: s() },
+    ];
+    let analysis = [
+        AnalysisError::Linalg(LinalgError::NotPositiveDefinite { what: "stiffness" }),
+        AnalysisError::ReducedModes { requested: 1, available: 0 },
+        AnalysisError::StaticLoadBuckles { alpha: 1.0, critical_load: 1.0 },
+    ];
+    let errors = [Error::Argument { argument: s(), message: s() }, Error::Output { path: s(), message: s() }];
+    let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
+    names.extend(analysis.iter().map(analysis_kind));
+    names.extend(errors.iter().map(error_kind));
+    // The argument parser's own errors (clap).
+    names.push("Usage");
+    names
+}
+
+/// Section name (`### \`Name\``) → its text.
+fn sections(doc: &str) -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    let mut current: Option<(String, String)> = None;
+    for line in doc.lines() {
+        if let Some(name) = line.strip_prefix("### `").and_then(|l| l.strip_suffix('`')) {
+            if let Some((n, t)) = current.take() {
+                out.insert(n, t);
+            }
+            current = Some((name.to_string(), String::new()));
+        } else if line.starts_with("## ") {
+            if let Some((n, t)) = current.take() {
+                out.insert(n, t);
+            }
+        } else if let Some((_, t)) = current.as_mut() {
+            t.push_str(line);
+            t.push('\n');
+        }
+    }
+    if let Some((n, t)) = current {
+        out.insert(n, t);
+    }
+    out
+}
+
+/// `$ rotorshunt ARGS` lines with the `error: …` line that follows each.
+fn examples(section: &str) -> Vec<(Vec<String>, String)> {
+    let lines: Vec<&str> = section.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        if let Some(cmd) = line.trim_start().strip_prefix("$ rotorshunt ") {
+            let expected = lines.get(i + 1).map(|l| l.trim()).unwrap_or_default();
+            assert!(expected.starts_with("error: "), "`{line}` is not followed by an `error: ` line");
+            out.push((cmd.split_whitespace().map(String::from).collect(), expected.to_string()));
+        }
+    }
+    out
+}
+
+fn doc() -> String {
+    std::fs::read_to_string(root().join(DOC)).unwrap_or_else(|e| panic!("{DOC}: {e}"))
+}
+
+#[test]
+fn every_error_kind_has_a_section_with_a_fix() {
+    let sections = sections(&doc());
+    let mut failures = Vec::new();
+    for kind in every_kind() {
+        match sections.get(kind) {
+            None => failures.push(format!("{DOC} has no section ### `{kind}`")),
+            Some(text) => {
+                if !text.contains("\nFix: ") && !text.starts_with("Fix: ") {
+                    failures.push(format!("`{kind}` has no `Fix: `"));
+                }
+                let library_only = text.contains("Library only");
+                if examples(text).is_empty() && !library_only {
+                    failures.push(format!("`{kind}` has no `$ rotorshunt …` example"));
+                }
+            }
+        }
+    }
+    let known = every_kind();
+    for name in sections.keys() {
+        if !known.contains(&name.as_str()) {
+            failures.push(format!("{DOC} documents `{name}`, which is not an error kind"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn documented_messages_are_what_the_binary_prints() {
+    let sections = sections(&doc());
+    let mut failures = Vec::new();
+    let mut count = 0;
+    for (kind, text) in &sections {
+        for (args, expected) in examples(text) {
+            count += 1;
+            let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+                .args(&args)
+                .current_dir(root())
+                .env_remove("RUST_BACKTRACE")
+                .output()
+                .expect("run rotorshunt");
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            let first = stderr.lines().next().unwrap_or_default();
+            if first != expected {
+                failures.push(format!(
+                    "`{kind}`: rotorshunt {}\n    doc:    {expected}\n    actual: {first}",
+                    args.join(" ")
+                ));
+            }
+            let code =
+                if ["Output", "ReducedModes", "StaticLoadBuckles", "Linalg"].contains(&kind.as_str()) { 1 } else { 2 };
+            if out.status.code() != Some(code) {
+                failures.push(format!("`{kind}`: exit status {:?}, expected {code}", out.status.code()));
+            }
+        }
+    }
+    assert!(count >= 20, "only {count} examples");
+    // The one library-only example.
+    let mut model = common::load("paper-open.toml", &[]).model;
+    model.load.alpha = 1.0;
+    let e = rotorshunt::analysis::Rotor::new(&model).unwrap_err();
+    let quoted = format!("Example (library): `{e}`.");
+    if !sections["StaticLoadBuckles"].contains(&quoted) {
+        failures.push(format!("`StaticLoadBuckles`: the doc does not quote {quoted}"));
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn every_bad_fixture_has_its_kind_documented() {
+    let sections = sections(&doc());
+    let dir = root().join("tests/fixtures/bad");
+    let mut fixtures: Vec<_> = std::fs::read_dir(&dir)
+        .expect("bad fixtures")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    fixtures.sort();
+    assert!(fixtures.len() >= 40);
+    let mut failures = Vec::new();
+    for path in fixtures {
+        let e = Problem::from_path(&path, &[]).expect_err("bad fixture loads");
+        let kind = problem_kind(&e.kind);
+        if !sections.contains_key(kind) {
+            failures.push(format!("{}: kind `{kind}` is not in {DOC} ({e})", path.display()));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -1,0 +1,194 @@
+//! Reproducibility: `chart` and `regions` give bit-identical results for 1, 2 and 8 threads
+//! and from one run to the next, through the library (rayon pools) and through the binary
+//! (`RAYON_NUM_THREADS`), whose output files must be byte-identical except the wall time
+//! (`"seconds"`). Grids and φ ranges are small so this takes seconds.
+
+mod common;
+use common::{load, problem_path};
+use rotorshunt::analysis::chart::{chart, ChartResult};
+use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::regions::{catalogue, RegionSettings};
+use rotorshunt::analysis::Rotor;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const THREADS: [usize; 3] = [1, 2, 8];
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool").install(f)
+}
+
+fn system(name: &str) -> (Rotor, FloquetSystem) {
+    let p = load(name, &[]);
+    let rotor = Rotor::new(&p.model).unwrap();
+    let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
+    (rotor, fs)
+}
+
+/// φ, β, max|μ|, ln max|μ|, growth rate, speed as bit patterns; verdict; status.
+type PointBits = (u64, u64, u64, u64, u64, u64, bool, String);
+
+/// Standard output and the output files of one run.
+type RunOutput = (Vec<u8>, BTreeMap<String, Vec<u8>>);
+
+/// Every number of a chart as its bit pattern, with the verdicts.
+fn chart_bits(c: &ChartResult) -> Vec<PointBits> {
+    c.points
+        .iter()
+        .map(|p| {
+            (
+                p.phi.to_bits(),
+                p.beta.to_bits(),
+                p.max_multiplier.to_bits(),
+                p.ln_max_multiplier.to_bits(),
+                p.growth_rate.to_bits(),
+                c.speed.to_bits(),
+                p.stable,
+                format!("{:?}", p.status),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn library_chart_is_bit_identical_across_threads_and_runs() {
+    let (_, fs) = system("fig11-closed-2000.toml");
+    let phis: Vec<f64> = (0..60).map(|i| 100.0 + 65.0 * i as f64).collect();
+    let betas: Vec<f64> = (0..11).map(|i| 0.05 * i as f64).collect();
+    let reference = chart_bits(&in_pool(1, || chart(&fs, &phis, &betas, &|| {})));
+    assert_eq!(reference.len(), 660);
+    // The grid must cross instability regions, or identical verdicts prove little.
+    let unstable = reference.iter().filter(|p| !p.6).count();
+    assert!(unstable > 20 && unstable < 640, "{unstable} unstable points");
+    for threads in THREADS.into_iter().chain([8]) {
+        let again = chart_bits(&in_pool(threads, || chart(&fs, &phis, &betas, &|| {})));
+        let diff = reference.iter().zip(&again).filter(|(a, b)| a != b).count();
+        assert_eq!(diff, 0, "{threads} threads: {diff} points differ from 1 thread");
+    }
+}
+
+#[test]
+fn library_regions_are_bit_identical_across_threads_and_runs() {
+    let (rotor, fs) = system("fig9-open-2000.toml");
+    let full = whirl_modes_of(&rotor, &fs.settings, fs.speed).unwrap();
+    let settings = RegionSettings::default();
+    let run = |threads| {
+        in_pool(threads, || {
+            let cat = catalogue(&fs, &full, &settings, (500.0, 1200.0), 0.5, 0.3, true).unwrap();
+            // serde_json writes the shortest text that reads back to the same bits.
+            serde_json::to_string(&cat).unwrap()
+        })
+    };
+    let reference = run(1);
+    assert!(reference.contains("\"label\""), "no region found: {reference}");
+    for threads in THREADS.into_iter().chain([8]) {
+        assert!(run(threads) == reference, "{threads} threads: catalogue differs from 1 thread");
+    }
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rotorshunt-repro-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Run the binary with `RAYON_NUM_THREADS`; stdout on success.
+fn run(threads: usize, args: &[&str]) -> Vec<u8> {
+    let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+        .args(args)
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .output()
+        .expect("run rotorshunt");
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    out.stdout
+}
+
+/// File name → content of every file in `dir`.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .expect("output directory")
+        .map(|e| {
+            let p = e.expect("entry").path();
+            (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).expect("read output"))
+        })
+        .collect()
+}
+
+/// JSON text without its wall-time lines (`"seconds": …`), the only legitimately
+/// variable field; fails if there is not exactly `expected` of them.
+fn strip_seconds(text: &[u8], expected: usize) -> String {
+    let text = String::from_utf8(text.to_vec()).expect("UTF-8 JSON");
+    let kept: Vec<&str> = text.lines().filter(|l| !l.trim_start().starts_with("\"seconds\":")).collect();
+    assert_eq!(text.lines().count() - kept.len(), expected, "wall-time lines in {text}");
+    kept.join("\n")
+}
+
+#[test]
+fn cli_chart_files_are_byte_identical_across_threads_and_runs() {
+    let file = problem_path("fig11-closed-2000.toml");
+    let mut reference: Option<RunOutput> = None;
+    // One `out` path for every run: it is part of the standard output.
+    let dir = scratch("chart");
+    let out = dir.to_str().unwrap().to_string();
+    for threads in THREADS.into_iter().chain([8]) {
+        let _ = std::fs::remove_dir_all(&dir);
+        let stdout = run(
+            threads,
+            &[
+                "chart",
+                &file,
+                "--phi",
+                "300:3000:90",
+                "--beta",
+                "0:0.5:0.1",
+                "--compare-set",
+                "circuit.state=open",
+                "--out",
+                &out,
+            ],
+        );
+        let produced = files(&dir);
+        for name in ["chart.json", "chart.csv", "compare.json", "compare.csv", "chart.svg", "chart.png", "growth.svg"] {
+            assert!(produced.contains_key(name), "{threads} threads: no {name}");
+        }
+        match &reference {
+            None => reference = Some((stdout, produced)),
+            Some((s, f)) => {
+                assert!(&stdout == s, "{threads} threads: standard output differs");
+                assert_eq!(f.keys().collect::<Vec<_>>(), produced.keys().collect::<Vec<_>>());
+                for (name, bytes) in &produced {
+                    assert!(bytes == &f[name], "{threads} threads: {name} differs from 1 thread");
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_regions_json_is_identical_except_wall_time() {
+    let file = problem_path("fig9-open-2000.toml");
+    let dir = scratch("regions");
+    let out = dir.to_str().unwrap().to_string();
+    let mut reference: Option<(String, String)> = None;
+    for threads in THREADS.into_iter().chain([8]) {
+        let _ = std::fs::remove_dir_all(&dir);
+        let stdout = run(
+            threads,
+            &["regions", &file, "--phi", "500:1200", "--beta-max", "0.5", "--level", "0.3", "--json", "--out", &out],
+        );
+        let json = strip_seconds(&stdout, 1);
+        let written = strip_seconds(&std::fs::read(dir.join("regions.json")).expect("regions.json"), 1);
+        assert!(json.contains("\"label\""), "no region: {json}");
+        match &reference {
+            None => reference = Some((json, written)),
+            Some((j, w)) => {
+                assert!(&json == j, "{threads} threads: regions --json differs from 1 thread");
+                assert!(&written == w, "{threads} threads: regions.json differs from 1 thread");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
