@@ -276,6 +276,8 @@ pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) 
     let base_text = std::fs::read(&base)
         .map_err(|e| study_error(file, format!("key `base`: cannot read {}: {e}", base.display())))?;
     let root = OutDir::create(out, file.to_str().unwrap_or_default())?;
+    // A killed run can leave write_atomic's temporaries (never a partial result file).
+    crate::report::remove_temporaries(out).map_err(|e| root.error("(temporaries)", e))?;
     let started = Instant::now();
     progress.start(cases.len() as u64, "study");
     // Cases in parallel (the outermost loop); results in case order.
