@@ -32,13 +32,13 @@ fn json(path: &Path) -> Value {
 
 /// Verdicts of `rotorshunt chart FILE` on a 1 rad/s grid over [lo, hi] at one β, by φ.
 fn fine_chart(file: &Path, lo: f64, hi: f64, beta: f64, dir: &Path) -> Vec<(f64, bool)> {
-    run_ok(bin().arg("chart").arg(file).args([
-        "--phi",
-        &format!("{}:{}:1", lo.ceil(), hi.floor()),
-        "--beta",
-        &format!("{beta}:{beta}:1"),
-        "--out",
-    ]).arg(dir));
+    run_ok(
+        bin()
+            .arg("chart")
+            .arg(file)
+            .args(["--phi", &format!("{}:{}:1", lo.ceil(), hi.floor()), "--beta", &format!("{beta}:{beta}:1"), "--out"])
+            .arg(dir),
+    );
     let v = json(&dir.join("chart.json"));
     v["chart"]["points"]
         .as_array()
@@ -186,7 +186,10 @@ fn a_design_run_is_reproducible_bit_for_bit_and_under_two_minutes() {
     // The full default run (4 starts × 25 iterations) is timed by the CLI test above; this
     // smaller one must also finish far inside the budget.
     assert!(a.seconds < 120.0, "{} s", a.seconds);
-    eprintln!("design run: {:.1} s, {} candidates, {} Floquet evaluations", a.seconds, a.candidates, a.floquet_evaluations);
+    eprintln!(
+        "design run: {:.1} s, {} candidates, {} Floquet evaluations",
+        a.seconds, a.candidates, a.floquet_evaluations
+    );
 }
 
 #[test]
@@ -205,7 +208,8 @@ fn design_problems_are_validated_with_key_paths() {
     let e = Problem::from_path(problem_path("design-clear-bands.toml"), &["circuit.state=open".into()]).unwrap_err();
     assert_eq!(e.key, "circuit.state", "{e}");
     // No [design] table: the design command says so and exits 2.
-    let out = bin().args(["design", &problem_path("fig11-closed-2000.toml"), "--out"]).arg(tmp("nodesign")).output().unwrap();
+    let out =
+        bin().args(["design", &problem_path("fig11-closed-2000.toml"), "--out"]).arg(tmp("nodesign")).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no [design] table"));
 }

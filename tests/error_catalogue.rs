@@ -5,6 +5,7 @@
 
 mod common;
 use rotorshunt::analysis::AnalysisError;
+use rotorshunt::design::DesignError;
 use rotorshunt::linalg::LinalgError;
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 use rotorshunt::Error;
@@ -48,10 +49,23 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
     }
 }
 
+fn design_kind(e: &DesignError) -> &'static str {
+    match e {
+        DesignError::NoDesign => "NoDesign",
+        // A candidate's file or analysis error is one of those kinds.
+        DesignError::Candidate(p) => problem_kind(&p.kind),
+        DesignError::Analysis(a) => analysis_kind(a),
+        DesignError::Optimiser(_) => "Optimiser",
+        DesignError::Qp(_) => "Qp",
+    }
+}
+
 fn error_kind(e: &Error) -> &'static str {
     match e {
         Error::Problem(p) => problem_kind(&p.kind),
         Error::Analysis(a) => analysis_kind(a),
+        Error::Design(d) => design_kind(d),
+        Error::Study { .. } => "Study",
         Error::Argument { .. } => "Argument",
         Error::Output { .. } => "Output",
     }
@@ -83,7 +97,14 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::ReducedModes { requested: 1, available: 0 },
         AnalysisError::StaticLoadBuckles { alpha: 1.0, critical_load: 1.0 },
     ];
-    let errors = [Error::Argument { argument: s(), message: s() }, Error::Output { path: s(), message: s() }];
+    let errors = [
+        Error::Argument { argument: s(), message: s() },
+        Error::Output { path: s(), message: s() },
+        Error::Study { file: s(), message: s() },
+        Error::Design(DesignError::NoDesign),
+        Error::Design(DesignError::Optimiser(s())),
+        Error::Design(DesignError::Qp(s())),
+    ];
     let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
     names.extend(analysis.iter().map(analysis_kind));
     names.extend(errors.iter().map(error_kind));

@@ -58,10 +58,8 @@ speed = [1000.0, 2000.0, 3000.0]
         assert!(out_dir.join(f).exists());
     }
     // Every finished case's result.json, with its modification time.
-    let results: Vec<PathBuf> = std::fs::read_dir(out_dir.join("cases"))
-        .unwrap()
-        .map(|e| e.unwrap().path().join("result.json"))
-        .collect();
+    let results: Vec<PathBuf> =
+        std::fs::read_dir(out_dir.join("cases")).unwrap().map(|e| e.unwrap().path().join("result.json")).collect();
     assert_eq!(results.len(), 13);
     let stamp = |p: &PathBuf| std::fs::metadata(p).unwrap().modified().unwrap();
     let before: Vec<_> = results.iter().map(stamp).collect();

@@ -207,9 +207,7 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
     .map(|s| s.to_string())
     .collect();
     let report = DesignReport {
-        tool: TOOL,
-        problem: problem.file.clone(),
-        overrides: problem.overrides.clone(),
+        provenance: super::Provenance::of(problem),
         title: title(problem),
         branches_before: branches(problem),
         branches_after: branches(&tuned),

@@ -1,11 +1,11 @@
 //! The Floquet commands: `floquet` (one point), `chart` (a grid, optionally compared with
 //! a second configuration) and `response` (time response at one point).
 
-use super::{parse_range, title, OutDir, Progress, TOOL};
+use super::{parse_range, title, OutDir, Progress, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::response::{response, ResponseResult};
-use crate::analysis::{Rotor, Settings};
+use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use crate::report::plot::{LinePlot, Series};
@@ -45,18 +45,15 @@ fn system(problem: &Problem) -> Result<FloquetSystem, Error> {
 
 /// JSON of `floquet`.
 #[derive(Debug, Serialize)]
-pub struct FloquetOutput<'a> {
-    /// Tool and version.
-    pub tool: &'static str,
-    /// Problem file.
-    pub problem: &'a str,
+pub struct FloquetOutput {
+    /// Tool, input hash and settings.
+    #[serde(flatten)]
+    pub provenance: Provenance,
     /// Ω (rad/s).
     pub speed: f64,
     /// The point.
     #[serde(flatten)]
     pub point: FloquetPoint,
-    /// Settings in force.
-    pub settings: &'a Settings,
 }
 
 /// `rotorshunt floquet FILE --phi P --beta B [--json]`.
@@ -65,8 +62,7 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
     let fs = system(problem)?;
     let point = fs.point(phi, beta);
     if json {
-        let out =
-            FloquetOutput { tool: TOOL, problem: &problem.file, speed: fs.speed, point, settings: &problem.settings };
+        let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
         return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
     }
     let mut s = format!(
@@ -93,10 +89,8 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
 
 #[derive(Serialize)]
 struct ChartJson<'a> {
-    tool: &'static str,
-    problem: &'a str,
-    overrides: Vec<String>,
-    settings: &'a Settings,
+    #[serde(flatten)]
+    provenance: Provenance,
     chart: &'a ChartResult,
 }
 
@@ -135,8 +129,7 @@ fn run_chart(
 }
 
 fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
-    let json =
-        ChartJson { tool: TOOL, problem: &problem.file, overrides: vec![], settings: &problem.settings, chart: c };
+    let json = ChartJson { provenance: Provenance::of(problem), chart: c };
     dir.write(&format!("{stem}.json"), serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
     let csv = chart_csv(c).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
     dir.write(&format!("{stem}.csv"), csv.as_bytes())
@@ -234,12 +227,12 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
     struct Json<'a> {
-        tool: &'static str,
-        problem: &'a str,
+        #[serde(flatten)]
+        provenance: Provenance,
         floquet: &'a FloquetPoint,
         response: &'a ResponseResult,
     }
-    let json = Json { tool: TOOL, problem: &problem.file, floquet: &point, response: &r };
+    let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r };
     dir.write("response.json", serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
     let mut csv = String::from("time_s,q1_re,q1_im\n");
     for (t, q) in r.time.iter().zip(&r.q1) {

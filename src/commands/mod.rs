@@ -27,6 +27,35 @@ use std::path::Path;
 /// Tool name and version recorded in outputs.
 pub const TOOL: &str = concat!("rotorshunt ", env!("CARGO_PKG_VERSION"));
 
+/// What produced an output, recorded in every JSON file and JSON print-out: the tool
+/// version, the problem file, the hash of its text and overrides, and the settings.
+#[derive(Debug, Clone, Serialize)]
+pub struct Provenance {
+    /// Tool and version.
+    pub tool: &'static str,
+    /// Problem file as given.
+    pub problem: String,
+    /// SHA-256 of the problem text and the overrides ([`crate::problem::input_hash`]).
+    pub input_sha256: String,
+    /// `--set` overrides.
+    pub overrides: Vec<String>,
+    /// Numerical settings in force.
+    pub settings: crate::analysis::Settings,
+}
+
+impl Provenance {
+    /// The provenance of outputs computed from `p`.
+    pub fn of(p: &Problem) -> Provenance {
+        Provenance {
+            tool: TOOL,
+            problem: p.file.clone(),
+            input_sha256: p.input_sha256.clone(),
+            overrides: p.overrides.clone(),
+            settings: p.settings.clone(),
+        }
+    }
+}
+
 /// A source of progress ticks for long loops; the CLI drives a progress bar with it.
 pub trait Progress: Sync {
     /// Announce the number of steps.
@@ -54,10 +83,9 @@ pub fn check(problem: &Problem) -> Result<String, Error> {
 /// JSON of `modes`.
 #[derive(Debug, Serialize)]
 pub struct ModesOutput {
-    /// Tool and version.
-    pub tool: &'static str,
-    /// Problem file.
-    pub problem: String,
+    /// Tool, input hash and settings.
+    #[serde(flatten)]
+    pub provenance: Provenance,
     /// Ω (rad/s).
     pub speed: f64,
     /// P_cr (N).
@@ -83,8 +111,7 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool) ->
     let rotor = Rotor::new(&problem.model)?;
     let r = whirl_modes_of(&rotor, &problem.settings, speed)?;
     let out = ModesOutput {
-        tool: TOOL,
-        problem: problem.file.clone(),
+        provenance: Provenance::of(problem),
         speed,
         critical_load: r.critical_load,
         static_load: r.static_load,
@@ -122,12 +149,11 @@ pub fn campbell_cmd(
     progress.finish();
     #[derive(Serialize)]
     struct Json<'a> {
-        tool: &'static str,
-        problem: &'a str,
-        settings: &'a crate::analysis::Settings,
+        #[serde(flatten)]
+        provenance: Provenance,
         campbell: &'a crate::analysis::campbell::CampbellResult,
     }
-    let json = Json { tool: TOOL, problem: &problem.file, settings: &problem.settings, campbell: &result };
+    let json = Json { provenance: Provenance::of(problem), campbell: &result };
     dir.write("campbell.json", serde_json::to_string_pretty(&json).expect("plain data serialises").as_bytes())?;
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;

@@ -1,7 +1,7 @@
 //! The region commands: `regions` (catalogue, stable bands, optional tracked boundaries)
 //! and `band` (the stable band around an operating frequency).
 
-use super::{parse_range, OutDir, TOOL};
+use super::{parse_range, OutDir, Provenance};
 use crate::analysis::chart::chart;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
@@ -62,11 +62,10 @@ fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Cata
 
 #[derive(Serialize)]
 struct RegionsJson<'a> {
-    tool: &'static str,
-    problem: &'a str,
-    overrides: &'a [String],
+    #[serde(flatten)]
+    provenance: Provenance,
     speed: f64,
-    settings: &'a RegionSettings,
+    region_settings: &'a RegionSettings,
     seconds: f64,
     #[serde(flatten)]
     catalogue: &'a Catalogue,
@@ -96,11 +95,9 @@ pub fn regions_cmd(
     let cat = catalogue(&fs, &full, &settings, range, beta_max, level, out.is_some())?;
     let seconds = start.elapsed().as_secs_f64();
     let doc = RegionsJson {
-        tool: TOOL,
-        problem: &problem.file,
-        overrides: &problem.overrides,
+        provenance: Provenance::of(problem),
         speed: problem.model.speed,
-        settings: &settings,
+        region_settings: &settings,
         seconds,
         catalogue: &cat,
     };
@@ -157,8 +154,9 @@ pub fn regions_cmd(
 /// JSON of `band`.
 #[derive(Debug, Serialize)]
 pub struct BandOutput {
-    /// Tool and version.
-    pub tool: &'static str,
+    /// Tool, input hash and settings.
+    #[serde(flatten)]
+    pub provenance: Provenance,
     /// Operating frequency (rad/s).
     pub phi_op: f64,
     /// Load level β_op.
@@ -186,7 +184,7 @@ pub fn band_cmd(problem: &Problem, phi_op: f64, level: f64, json: bool) -> Resul
     let mut count = 0;
     let band = band_at(&fs, &RegionSettings::default(), phi_op, level, (phi_op * 0.05, phi_op * 20.0), &mut count);
     let out = BandOutput {
-        tool: TOOL,
+        provenance: Provenance::of(problem),
         phi_op,
         level,
         band,

@@ -376,7 +376,14 @@ fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
         rec.extend(keys.iter().map(|k| cell(r.metrics.get(k))));
         rec.push(r.error.clone().unwrap_or_default());
         w.write_record(&rec).map_err(csv_err)?;
-        md += &format!("| {} |\n", rec.iter().map(|c| c.replace('|', "\\|")).collect::<Vec<_>>().join(" | "));
+        // Markdown is for people: numbers to 6 significant digits (the CSV keeps all).
+        let short = |c: &String| match c.parse::<f64>() {
+            Ok(x) if c.contains('.') || c.contains('e') => {
+                format!("{}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))
+            }
+            _ => c.replace('|', "\\|"),
+        };
+        md += &format!("| {} |\n", rec.iter().map(short).collect::<Vec<_>>().join(" | "));
     }
     let bytes = w.into_inner().map_err(|e| root.error("summary.csv", e))?;
     root.write("summary.csv", &bytes)?;

@@ -32,6 +32,21 @@ pub struct Problem {
     pub design: Option<DesignSpec>,
     /// The `--set` overrides applied, in order.
     pub overrides: Vec<String>,
+    /// SHA-256 (hex) of the problem text followed by the overrides, one per line: what
+    /// every output records to identify its input.
+    pub input_sha256: String,
+}
+
+/// SHA-256 (hex) of a problem text and its overrides.
+pub fn input_hash(text: &str, overrides: &[String]) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    h.update(text.as_bytes());
+    for o in overrides {
+        h.update(b"\n--set ");
+        h.update(o.as_bytes());
+    }
+    format!("{:x}", h.finalize())
 }
 
 impl Problem {
@@ -129,7 +144,15 @@ impl Problem {
             err(location, &key, kind)
         })?;
         let design = validate::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
-        Ok(Problem { file: name.to_string(), data, model, settings, design, overrides: overrides.to_vec() })
+        Ok(Problem {
+            file: name.to_string(),
+            data,
+            model,
+            settings,
+            design,
+            overrides: overrides.to_vec(),
+            input_sha256: input_hash(text, overrides),
+        })
     }
 }
 
@@ -145,7 +168,17 @@ impl Problem {
         };
         let (model, settings) = validate::translate(&data).map_err(err)?;
         let design = validate::design(&data).map_err(err)?;
-        Ok(Problem { file: file.to_string(), data, model, settings, design, overrides: overrides.to_vec() })
+        // The edited data are the input: hash their TOML form.
+        let input_sha256 = input_hash(&toml::to_string(&data).unwrap_or_default(), overrides);
+        Ok(Problem {
+            file: file.to_string(),
+            data,
+            model,
+            settings,
+            design,
+            overrides: overrides.to_vec(),
+            input_sha256,
+        })
     }
 }
 

@@ -46,12 +46,9 @@ pub struct DesignAtSpeed {
 /// The whole report.
 #[derive(Debug, Clone, Serialize)]
 pub struct DesignReport {
-    /// Tool and version.
-    pub tool: &'static str,
-    /// Problem file and `--set` overrides.
-    pub problem: String,
-    /// Overrides applied.
-    pub overrides: Vec<String>,
+    /// Tool, problem, input hash, overrides and settings.
+    #[serde(flatten)]
+    pub provenance: crate::commands::Provenance,
     /// Title of the problem.
     pub title: String,
     /// Circuit before.
@@ -90,16 +87,18 @@ fn branches_table(s: &mut String, rows: &[BranchRow]) {
 /// Markdown of a design report.
 pub fn markdown(r: &DesignReport) -> String {
     let o = &r.outcome;
+    let p = &r.provenance;
     let spec = &o.spec;
     let mut s = String::new();
     let _ = writeln!(s, "# Shunt design report: {}\n", r.title);
     let _ = writeln!(
         s,
-        "- problem: `{}`{}",
-        r.problem,
-        if r.overrides.is_empty() { String::new() } else { format!(" with `--set {}`", r.overrides.join(" ")) }
+        "- problem: `{}`{} (SHA-256 of text and overrides: `{}`)",
+        p.problem,
+        if p.overrides.is_empty() { String::new() } else { format!(" with `--set {}`", p.overrides.join(" ")) },
+        p.input_sha256
     );
-    let _ = writeln!(s, "- tool: {}", r.tool);
+    let _ = writeln!(s, "- tool: {}; settings: `{}`", p.tool, serde_json::to_string(&p.settings).unwrap_or_default());
     let objective = match spec.objective {
         Objective::WidestStableBand => {
             format!("widest stable band at β_op = {} containing φ_op = {} rad/s", spec.level, opt(spec.phi_op, 1))
