@@ -29,6 +29,9 @@ pub struct RegionSettings {
     /// Relative φ step of the catalogue's guard scan at the level (0 turns it off): an
     /// unstable grid point outside every seeded region is reported as unexplained.
     pub guard_step: f64,
+    /// φ step (rad/s) of the window scan at the level for order ≥ 2 seeds whose β_c at the
+    /// seed finds nothing (thin tilted tongues); 0 turns it off.
+    pub sliver_step: f64,
 }
 
 impl RegionSettings {
@@ -66,6 +69,9 @@ impl Default for RegionSettings {
             // cannot hide between two grid points (~220 points over 100..8000 rad/s,
             // about 5 % of the catalogue's cost).
             guard_step: 0.02,
+            // 0.5 rad/s: half the narrowest sliver seen at β = 0.3 on the paper's problems
+            // (1 rad/s); about 25 such seeds in 100..8000 rad/s.
+            sliver_step: 0.5,
         }
     }
 }

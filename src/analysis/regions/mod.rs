@@ -283,6 +283,46 @@ fn inside_at(
     path.last().filter(|e| (e.beta - level).abs() < 1e-12).map(|e| 0.5 * (e.left + e.right))
 }
 
+/// A thin higher-order region missed by the fixed-φ bracket at its seed. Near β = 0 an
+/// order-k ≥ 2 tongue is as narrow as its centre's drift (both grow like β²), so it can
+/// leave the line φ = seed at once and β_c(seed) never sees it. Scan the seed's window at
+/// the level on a `sliver_step` grid (outward from the seed); at the first unstable point
+/// take the edges there and β_c there as the onset (an upper bound, `resolved: false`).
+fn sliver(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    seed: &Seed,
+    half_width: f64,
+    level: f64,
+    count: &mut usize,
+) -> Option<Region> {
+    if seed.order < 2 || s.sliver_step <= 0.0 || level <= 0.0 {
+        return None;
+    }
+    let steps = (half_width / s.sliver_step).floor() as usize;
+    let phi = (0..=steps)
+        .flat_map(|k| [seed.phi + s.sliver_step * k as f64, seed.phi - s.sliver_step * k as f64])
+        .skip(1) // the seed itself was bracketed already
+        .find(|&p| unstable_at(fs, p, level, count))?;
+    let e = edges_at(fs, s, phi, level, count);
+    let c = critical_load(fs, s, phi, level);
+    *count += c.evaluations;
+    Some(Region {
+        label: seed.label.clone(),
+        kind: seed.kind,
+        order: seed.order,
+        predicted: seed.phi,
+        start: seed.phi,
+        onset_beta: c.beta.unwrap_or(level),
+        left: Some(e.left),
+        right: Some(e.right),
+        width: Some(e.right - e.left),
+        boundary: Vec::new(),
+        evaluations: 0,
+        resolved: false,
+    })
+}
+
 /// The catalogue of a φ range.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Catalogue {
@@ -365,11 +405,36 @@ pub fn catalogue(
                     }
                 })
             };
+            // The sliver scan searches the whole ±0.3 % window: neighbouring seeds (e.g. the
+            // near-equal r1 and r2) may share a sliver, found twice and merged below.
+            let region = match region {
+                None => sliver(fs, s, seed, START_WINDOW * seed.phi, level, &mut count),
+                // Below the level but not found there from its start: it may have drifted.
+                Some(r) if r.left.is_none() && r.onset_beta <= level => {
+                    match sliver(fs, s, seed, START_WINDOW * seed.phi, level, &mut count) {
+                        Some(f) => Some(Region { left: f.left, right: f.right, width: f.width, resolved: false, ..r }),
+                        None => Some(r),
+                    }
+                }
+                r => r,
+            };
             total.add(count);
             region
         })
         .collect();
-    let mut regions: Vec<Region> = found.into_iter().flatten().collect();
+    let mut regions: Vec<Region> = Vec::new();
+    for r in found.into_iter().flatten() {
+        // A sliver found from two seeds: keep the first (lower seed).
+        let twin = |q: &Region| {
+            !r.resolved
+                && r.boundary.is_empty()
+                && matches!((q.left, q.right, r.left, r.right), (Some(a), Some(b), Some(c), Some(d))
+                    if (a - c).abs() <= s.phi_tolerance && (b - d).abs() <= s.phi_tolerance)
+        };
+        if !regions.iter().any(twin) {
+            regions.push(r);
+        }
+    }
     regions.sort_by(|a, b| a.start.total_cmp(&b.start));
     let unexplained = guard_scan(fs, s, &regions, range, level, &total);
     let mut stable_bands = bands(&regions, range);
