@@ -1,7 +1,9 @@
 //! Reproducibility: `chart` and `regions` give bit-identical results for 1, 2 and 8 threads
 //! and from one run to the next, through the library (rayon pools) and through the binary
 //! (`RAYON_NUM_THREADS`), whose output files must be byte-identical except the wall time
-//! (`"seconds"`). Grids and φ ranges are small so this takes seconds.
+//! (`"seconds"`). Grids and φ ranges are small so this takes seconds, except the `design`
+//! runs, whose reports chart and catalogue the whole design range: about 5 minutes for
+//! widest-band, and 6 for clear-bands, which is therefore `#[ignore]`d by default.
 
 mod common;
 use common::{load, problem_path};
@@ -191,4 +193,63 @@ fn cli_regions_json_is_identical_except_wall_time() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Every output file of `design` for 1, 2 and 8 threads and a second 8-thread run:
+/// tuned.toml and the plots byte-identical, report.json without its wall time
+/// (`"seconds"`), report.md without the wall time ending its `- cost:` line.
+fn design_files_are_identical(name: &str, tag: &str, sets: &[&str]) {
+    let file = problem_path(name);
+    let dir = scratch(tag);
+    let out = dir.to_str().unwrap().to_string();
+    let mut args = vec!["design", &file, "--out", &out];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let mut reference: Option<BTreeMap<String, Vec<u8>>> = None;
+    for threads in THREADS.into_iter().chain([8]) {
+        let _ = std::fs::remove_dir_all(&dir);
+        run(threads, &args);
+        let mut produced = files(&dir);
+        for name in ["tuned.toml", "report.json", "report.md"] {
+            assert!(produced.contains_key(name), "{threads} threads: no {name}");
+        }
+        let json = strip_seconds(&produced["report.json"], 1);
+        produced.insert("report.json".into(), json.into_bytes());
+        let md = String::from_utf8(produced["report.md"].clone()).expect("UTF-8 Markdown");
+        let md: Vec<&str> = md
+            .lines()
+            .map(|l| if l.starts_with("- cost:") { l.rsplit_once(", ").map_or(l, |(a, _)| a) } else { l })
+            .collect();
+        produced.insert("report.md".into(), md.join("\n").into_bytes());
+        match &reference {
+            None => reference = Some(produced),
+            Some(f) => {
+                assert_eq!(f.keys().collect::<Vec<_>>(), produced.keys().collect::<Vec<_>>());
+                for (name, bytes) in &produced {
+                    assert!(bytes == &f[name], "{threads} threads: {name} differs from 1 thread");
+                }
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_widest_band_design_is_identical_except_wall_time() {
+    design_files_are_identical(
+        "design-widest-band.toml",
+        "design-widest",
+        &["design.starts=2", "design.max_iterations=8"],
+    );
+}
+
+#[test]
+#[ignore = "about 6 minutes on 2 cores; run with `cargo test --test reproducibility -- --ignored`"]
+fn cli_clear_bands_design_is_identical_except_wall_time() {
+    design_files_are_identical(
+        "design-clear-bands.toml",
+        "design-clear",
+        &["design.max_iterations=3", "design.starts=1"],
+    );
 }
