@@ -154,9 +154,10 @@ pub struct DesignOutcome {
     pub linear_infeasible: bool,
     /// Candidate designs analysed.
     pub candidates: usize,
-    /// Candidates whose analysis failed (counted in `candidates`), with the first error.
+    /// Candidates whose analysis failed (counted in `candidates`).
     pub failed_candidates: usize,
-    /// The first failure's message.
+    /// One failure's message (the alphabetically first, so that it does not depend on
+    /// thread timing).
     pub first_failure: Option<String>,
     /// Monodromy (Floquet) evaluations.
     pub floquet_evaluations: usize,
@@ -187,8 +188,12 @@ impl Context<'_> {
         let c = Candidate::new(self.base, self.spec, &self.values(u));
         if let Err(e) = &c {
             self.failures.fetch_add(1, Ordering::Relaxed);
+            // The smallest message, not the first in time: independent of thread timing.
             let mut first = self.first_failure.lock().unwrap_or_else(|p| p.into_inner());
-            first.get_or_insert_with(|| e.to_string());
+            let m = e.to_string();
+            if first.as_ref().is_none_or(|f| m < *f) {
+                *first = Some(m);
+            }
         }
         c
     }
