@@ -54,6 +54,8 @@ pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
 pub struct Candidate {
     /// The problem with the variables set.
     pub problem: Problem,
+    /// Its assembled rotor.
+    pub rotor: Rotor,
     /// (speed, reduced periodic system) per operating speed.
     pub systems: Vec<(f64, FloquetSystem)>,
 }
@@ -68,13 +70,12 @@ impl Candidate {
             .iter()
             .map(|&w| Ok((w, FloquetSystem::new(&rotor, &problem.settings, w)?)))
             .collect::<Result<Vec<_>, DesignError>>()?;
-        Ok(Candidate { problem, systems })
+        Ok(Candidate { problem, rotor, systems })
     }
 
     /// Full-model whirls at each speed (for region labels).
     pub fn modes(&self) -> Result<Vec<ModesResult>, DesignError> {
-        let rotor = Rotor::new(&self.problem.model)?;
-        self.systems.iter().map(|(w, _)| Ok(whirl_modes_of(&rotor, &self.problem.settings, *w)?)).collect()
+        self.systems.iter().map(|(w, _)| Ok(whirl_modes_of(&self.rotor, &self.problem.settings, *w)?)).collect()
     }
 }
 
