@@ -252,8 +252,13 @@ pub fn track(
                 c(q) + (c(q) - c(p)) * (beta - q.beta) / (q.beta - p.beta)
             }
         };
-        // The predicted centre must be inside; fall back to the start, then give up.
-        let inside = [centre, start].into_iter().find(|&phi| unstable_at(fs, phi, beta, count));
+        // The predicted centre must be inside; else look beside it (a thin region that
+        // tilts can slip past a linear prediction) at ±¼, ½, 1 and 2 of the last width,
+        // then fall back to the start, then give up.
+        let width = out.last().map_or(4.0 * s.phi_tolerance, |e| (e.right - e.left).max(4.0 * s.phi_tolerance));
+        let beside = [0.25, 0.5, 1.0, 2.0].into_iter().flat_map(|f| [centre - f * width, centre + f * width]);
+        let inside =
+            std::iter::once(centre).chain(beside).chain([start]).find(|&phi| unstable_at(fs, phi, beta, count));
         match inside {
             Some(phi) => out.push(edges_at(fs, s, phi, beta, count)),
             None => break,
