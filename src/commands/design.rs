@@ -5,11 +5,9 @@
 use super::{title, OutDir, Progress, TOOL};
 use crate::analysis::campbell::campbell;
 use crate::analysis::chart::chart;
-use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::{catalogue, RegionSettings};
-use crate::analysis::Rotor;
-use crate::design::evaluate::problem_at;
+use crate::design::evaluate::Candidate;
 use crate::design::spec::{DesignSpec, Objective};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
@@ -44,15 +42,14 @@ fn branches(p: &Problem) -> Vec<BranchRow> {
         .collect()
 }
 
-fn at_speeds(p: &Problem, spec: &DesignSpec) -> Result<Vec<DesignAtSpeed>, Error> {
-    let rotor = Rotor::new(&p.model)?;
-    spec.speeds
+fn at_speeds(c: &Candidate, spec: &DesignSpec) -> Result<Vec<DesignAtSpeed>, Error> {
+    c.systems
         .iter()
-        .map(|&w| {
-            let full = whirl_modes_of(&rotor, &p.settings, w)?;
-            let fs = FloquetSystem::new(&rotor, &p.settings, w)?;
+        .map(|(w, fs)| {
+            let w = *w;
+            let full = whirl_modes_of(&c.rotor, &c.problem.settings, w)?;
             let cat =
-                catalogue(&fs, &full, &RegionSettings::default(), spec.phi_range, spec.beta_max, spec.level, false)?;
+                catalogue(fs, &full, &RegionSettings::default(), spec.phi_range, spec.beta_max, spec.level, false)?;
             let mut whirls: Vec<WhirlRow> = Vec::new();
             for dir in [crate::analysis::modes::Whirl::Forward, crate::analysis::modes::Whirl::Backward] {
                 whirls.extend(
@@ -84,7 +81,7 @@ fn chart_window(spec: &DesignSpec) -> (f64, f64) {
     (lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
 }
 
-fn charts(dir: &OutDir, before: &Problem, after: &Problem, spec: &DesignSpec) -> Result<(), Error> {
+fn charts(dir: &OutDir, before: &Candidate, after: &Candidate, spec: &DesignSpec) -> Result<(), Error> {
     let (lo, hi) = chart_window(spec);
     let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
@@ -99,11 +96,10 @@ fn charts(dir: &OutDir, before: &Problem, after: &Problem, spec: &DesignSpec) ->
     }
     for (k, &w) in spec.speeds.iter().enumerate() {
         let mut layers = Vec::new();
-        for (name, p, color) in [("reference circuit", before, (31, 119, 180)), ("tuned circuit", after, (214, 39, 40))]
+        for (name, c, color) in [("reference circuit", before, (31, 119, 180)), ("tuned circuit", after, (214, 39, 40))]
         {
-            let rotor = Rotor::new(&p.model)?;
-            let fs = FloquetSystem::new(&rotor, &p.settings, w)?;
-            layers.push(Layer { name: name.into(), color, chart: chart(&fs, &phis, &betas, &|| {}) });
+            let fs = &c.systems[k].1;
+            layers.push(Layer { name: name.into(), color, chart: chart(fs, &phis, &betas, &|| {}) });
         }
         // The operating level as a horizontal line.
         let level = Series {
@@ -191,7 +187,10 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
     progress.start(expected as u64, "design");
     let outcome = design::run(problem, &|_| progress.tick())?;
     progress.finish();
-    let tuned = problem_at(problem, spec, &outcome.after)?;
+    // Each design's rotor and reduced systems, built once for the report, charts and Campbell.
+    let before = Candidate::new(problem, spec, &outcome.before)?;
+    let after = Candidate::new(problem, spec, &outcome.after)?;
+    let tuned = &after.problem;
     let files: Vec<String> = [
         "report.md",
         "report.json",
@@ -210,23 +209,22 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
         provenance: super::Provenance::of(problem),
         title: title(problem),
         branches_before: branches(problem),
-        branches_after: branches(&tuned),
-        before: at_speeds(problem, spec)?,
-        after: at_speeds(&tuned, spec)?,
+        branches_after: branches(tuned),
+        before: at_speeds(&before, spec)?,
+        after: at_speeds(&after, spec)?,
         outcome: outcome.clone(),
         files,
     };
-    dir.write("tuned.toml", tuned_toml(&tuned, problem, &outcome)?.as_bytes())?;
+    dir.write("tuned.toml", tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
     dir.write(
         "report.json",
         (serde_json::to_string_pretty(&report).expect("plain data serialises") + "\n").as_bytes(),
     )?;
     dir.write("report.md", markdown(&report).as_bytes())?;
-    charts(&dir, problem, &tuned, spec)?;
-    let rotor = Rotor::new(&tuned.model)?;
+    charts(&dir, &before, &after, spec)?;
     let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
     let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
-    let c = campbell(&rotor, &tuned.settings, &speeds, REPORT_WHIRLS, &|| {})?;
+    let c = campbell(&after.rotor, &tuned.settings, &speeds, REPORT_WHIRLS, &|| {})?;
     let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;

@@ -6,7 +6,7 @@ use super::spec::{Band, DesignSpec, Parameter};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, ModesResult};
-use crate::analysis::regions::{band_at, catalogue, edges_at, Counter, RegionSettings};
+use crate::analysis::regions::{band_at, catalogue, edges_at, unstable_at, Counter, RegionSettings};
 use crate::analysis::Rotor;
 use crate::problem::{Problem, ProblemFile};
 use serde::Serialize;
@@ -161,7 +161,7 @@ fn unstable_grid(fs: &FloquetSystem, lo: f64, hi: f64, level: f64, count: &Count
     grid.par_iter()
         .filter(|&&phi| {
             faer::set_global_parallelism(faer::Par::Seq);
-            !fs.point_fast(&fs.table(phi, level), level).summary.stable
+            unstable_at(fs, phi, level, &mut 0)
         })
         .copied()
         .collect()
@@ -173,7 +173,7 @@ pub fn unstable_near(fs: &FloquetSystem, phi: f64, half: f64, level: f64, count:
     let steps = (half / 0.25).ceil() as usize;
     (0..=steps).flat_map(|k| [phi + 0.25 * k as f64, phi - 0.25 * k as f64]).find(|&p| {
         count.add(1);
-        p > 0.0 && !fs.point_fast(&fs.table(p, level), level).summary.stable
+        p > 0.0 && unstable_at(fs, p, level, &mut 0)
     })
 }
 
@@ -257,7 +257,7 @@ pub fn fine_check(c: &Candidate, bands: &[Band], level: f64, count: &Counter) ->
 /// scanning outward from φ_op inside `band`, each end bisected to 0.01 rad/s between the
 /// last stable and the first unstable grid point: the independent check of a band.
 pub fn fine_band(fs: &FloquetSystem, phi_op: f64, level: f64, band: [f64; 2], count: &Counter) -> [f64; 2] {
-    let unstable = |phi: f64| !fs.point_fast(&fs.table(phi, level), level).summary.stable;
+    let unstable = |phi: f64| unstable_at(fs, phi, level, &mut 0);
     let side = |dir: f64| -> f64 {
         faer::set_global_parallelism(faer::Par::Seq);
         let mut phi = phi_op;

@@ -496,7 +496,7 @@ fn evaluate_bands(ctx: &Context<'_>, u: &[f64]) -> Result<Evaluated, DesignError
     Ok((modes, ints))
 }
 
-/// Weighted squared distance in scaled units.
+/// Squared distance in scaled units (the QP's weights are all 1).
 fn change(u: &[f64], r: &[f64]) -> f64 {
     u.iter().zip(r).map(|(a, b)| (a - b) * (a - b)).sum()
 }

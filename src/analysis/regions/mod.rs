@@ -82,7 +82,8 @@ pub struct Region {
     pub resolved: bool,
 }
 
-fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bool {
+/// Whether (φ, β) is unstable, from a fresh per-φ table; counts one evaluation.
+pub fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> bool {
     *count += 1;
     critical::unstable(fs, &fs.table(phi, beta), beta)
 }
@@ -323,7 +324,7 @@ fn sliver(
         right: Some(e.right),
         width: Some(e.right - e.left),
         boundary: Vec::new(),
-        evaluations: 0,
+        evaluations: 0, // set by the catalogue, which counts the whole search
         resolved: false,
     })
 }
@@ -423,6 +424,7 @@ pub fn catalogue(
                 }
                 r => r,
             };
+            let region = region.map(|r| Region { evaluations: count, ..r });
             total.add(count);
             region
         })
