@@ -22,6 +22,8 @@ use faer::{c64, Accum, Mat, MatRef, Par};
 
 /// Largest Chebyshev degree tried; beyond it the point is flagged (see [`PhiTable::converged`]).
 const MAX_CHEBYSHEV_POINTS: usize = 64;
+/// Chebyshev point counts tried, in order (the interpolant is rebuilt at each).
+const CHEBYSHEV_DEGREES: [usize; 11] = [4, 6, 8, 10, 12, 16, 20, 24, 32, 48, 64];
 /// Most CFM4 steps per period the automatic doubling goes to.
 const MAX_STEPS: usize = 4096;
 /// Relative size of the trailing Chebyshev coefficients accepted as converged: a few ulps
@@ -53,6 +55,11 @@ pub struct PhiTable {
     /// False if the interpolant did not reach its tolerance (trailing Chebyshev
     /// coefficients below 1e-13 of the leading one).
     pub converged: bool,
+}
+
+/// 1-norm of the n×n matrix with entries `f(i, j)`.
+fn norm1(n: usize, f: impl Fn(usize, usize) -> f64) -> f64 {
+    (0..n).map(|j| (0..n).map(|i| f(i, j)).sum::<f64>()).fold(0.0, f64::max)
 }
 
 fn axpy(y: &mut Mat<c64>, a: f64, x: MatRef<'_, c64>) {
@@ -93,14 +100,32 @@ impl PhiTable {
             xi.push(2.0 * (w2 * f1 + w1 * f2));
         }
         let x_max = beta_max * xi.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        // B0 holds ω² (stiffness) next to 1 (the identity block), so ‖τB‖ ~ τω²_max and
+        // the exponential would need ~10 squarings. In the coordinates [q̇; w·q], w_i the
+        // modal frequency, every block is ~ω and ‖τB‖ ~ τω_max ≲ 1: exp is computed there
+        // (no squaring) and scaled back, E_ij = E'_ij·s_j/s_i — the same matrix to round-off.
+        let m = n / 2;
+        let scale: Vec<f64> =
+            (0..n).map(|i| if i < m { 1.0 } else { sys.b0[(i - m, i)].norm().sqrt().max(1.0) }).collect();
         let e = |x: f64| {
-            let a = Mat::from_fn(n, n, |i, j| (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * tau);
-            expm(a.as_ref())
+            let a = Mat::from_fn(n, n, |i, j| (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * (tau * scale[i] / scale[j]));
+            let e = expm(a.as_ref());
+            Mat::from_fn(n, n, |i, j| e[(i, j)] * (scale[j] / scale[i]))
         };
         if x_max == 0.0 {
             return PhiTable { phi, steps, xi, x_max, coeffs: vec![flat(&e(0.0))], n, converged: true };
         }
-        let mut points = 8;
+        // Chebyshev coefficients of E(x) decay like those of e^{a·u}, u ∈ [−1, 1], with
+        // a = x_max·‖τB1‖ (balanced coordinates): c_k ≈ 2(a/2)^k/k!. Start from the
+        // smallest degree that bound accepts, rather than from a fixed 8 doubled to 16:
+        // a failed attempt costs as many exponentials as the interpolant itself.
+        let a = x_max * norm1(n, |i, j| sys.b1[(i, j)].norm() * tau * scale[i] / scale[j]);
+        let bound = |p: usize| {
+            let k = p - 2;
+            2.0 * (1..=k).fold(1.0, |acc, i| acc * (a / 2.0) / i as f64)
+        };
+        let mut points =
+            CHEBYSHEV_DEGREES.iter().copied().find(|&p| bound(p) <= 0.1 * CHEBYSHEV_TOLERANCE).unwrap_or(8);
         loop {
             let samples: Vec<Mat<c64>> = (0..points)
                 .map(|j| e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos()))
@@ -122,7 +147,7 @@ impl PhiTable {
                 let coeffs = coeffs.iter().map(flat).collect();
                 return PhiTable { phi, steps, xi, x_max, coeffs, n, converged };
             }
-            points *= 2;
+            points = CHEBYSHEV_DEGREES.iter().copied().find(|&p| p > points).unwrap_or(MAX_CHEBYSHEV_POINTS);
         }
     }
 
