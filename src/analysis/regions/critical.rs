@@ -29,12 +29,24 @@ pub struct RegionSettings {
     /// Relative φ step of the catalogue's guard scan at the level (0 turns it off): an
     /// unstable grid point outside every seeded region is reported as unexplained.
     pub guard_step: f64,
-    /// φ step (rad/s) of the window scan at the level for order ≥ 2 seeds whose β_c at the
-    /// seed finds nothing (thin tilted tongues); 0 turns it off.
-    pub sliver_step: f64,
+    /// Highest order searched beyond `max_order`, pair by pair: order k + 1 of a pair is
+    /// searched (by the detuning of its multipliers, [`super::centre`]) only if its
+    /// order-k region was found — higher orders of a pair are thinner and start higher.
+    pub search_order: usize,
+    /// Secant iterations of the centre search.
+    pub centre_iterations: usize,
+    /// Largest φ step when marching to a region's edge, (absolute rad/s, relative to φ):
+    /// the larger of the two. A stable gap between two tongues at least this wide is never
+    /// stepped over.
+    pub edge_step: (f64, f64),
 }
 
 impl RegionSettings {
+    /// The largest edge-march step at φ (rad/s).
+    pub fn max_edge_step(&self, phi: f64) -> f64 {
+        self.edge_step.0.max(self.edge_step.1 * phi.abs())
+    }
+
     /// Tight tolerances for finite-difference sensitivities: quantities must be resolved
     /// far below their change over the step (start to ~1e-8·φ, β to 1e-8).
     pub fn precise() -> RegionSettings {
@@ -69,9 +81,15 @@ impl Default for RegionSettings {
             // cannot hide between two grid points (~220 points over 100..8000 rad/s,
             // about 5 % of the catalogue's cost).
             guard_step: 0.02,
-            // 0.5 rad/s: half the narrowest sliver seen at β = 0.3 on the paper's problems
-            // (1 rad/s); about 25 such seeds in 100..8000 rad/s.
-            sliver_step: 0.5,
+            // 8: the f1+b1 tongues of the paper's rotor reach β = 0.3 up to order 6 in
+            // φ ≥ 100 rad/s; each order costs a few evaluations per pair still found.
+            search_order: 8,
+            // 3: from the seed the first secant step lands inside a drifted tongue in the
+            // cases examined; two more absorb a misidentified first step.
+            centre_iterations: 3,
+            // 2 rad/s or 0.2 %: below ~1000 rad/s twice the 1 rad/s grid the edges are
+            // checked on; above it a tenth of the 2 % guard step.
+            edge_step: (2.0, 2e-3),
         }
     }
 }

@@ -2,10 +2,12 @@
 //! curves, region starts and onsets, edges at a load level, boundaries by continuation,
 //! the catalogue of a φ range and the stable bands between regions.
 
+pub mod centre;
 pub mod critical;
 pub mod seeds;
 pub mod sensitivity;
 
+pub use centre::{centre_search, ModeBasis, CENTRE_WINDOW};
 pub use critical::{critical_load, CriticalLoad, RegionSettings};
 pub use seeds::{seeds, RegionKind, Seed};
 
@@ -22,6 +24,10 @@ pub const START_WINDOW: f64 = 0.003;
 /// A minimum within this fraction of the window's edge is the neighbour's tip, not this
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
+
+/// Relative φ offset of the two growth samples beside an inside point that predict a
+/// region's edges (at least 1 rad/s): a region narrower than twice this is marched.
+const EDGE_PROBE: f64 = 1e-3;
 
 /// Seeds are taken this far (relative) beyond the φ range.
 const SEED_MARGIN: f64 = 0.1;
@@ -77,8 +83,10 @@ pub struct Region {
     pub boundary: Vec<Edges>,
     /// Monodromy evaluations spent on this region.
     pub evaluations: usize,
-    /// False when the tip could not be separated from a neighbouring region's flank:
-    /// `start` is then the predicted seed and `onset_beta` is β_c there.
+    /// False when the tip was not located — it could not be separated from a neighbouring
+    /// region's flank, or the region was found only at the level (a thin or drifted
+    /// tongue): `start` is then a point of the region (the seed, or where it was found at
+    /// the level) and `onset_beta` is β_c there, an upper bound of the onset.
     pub resolved: bool,
 }
 
@@ -186,20 +194,82 @@ pub fn locate_start(
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
-/// `dir` (−1 left, +1 right): march outward with growing steps until stable, then bisect.
+/// `dir` (−1 left, +1 right): march outward with growing steps (at most `max_edge_step`,
+/// so a stable gap that wide is not stepped over) until stable, then bisect.
 pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir: f64, count: &mut usize) -> f64 {
-    let mut step = (inside * 2e-4).max(4.0 * s.phi_tolerance);
+    edge_from(fs, s, inside, None, beta, dir, count)
+}
+
+/// [`edge`] with a predicted edge `guess` checked first: the way to it must be unstable
+/// at its quarters, and the two points ±tolerance/2 around it either bracket the edge
+/// (done), or tell which side it is on — before the guess (bisect), or beyond it (march
+/// on from there). The result is bracketed to `phi_tolerance` either way.
+fn edge_from(
+    fs: &FloquetSystem,
+    s: &RegionSettings,
+    inside: f64,
+    guess: Option<f64>,
+    beta: f64,
+    dir: f64,
+    count: &mut usize,
+) -> f64 {
     let mut lo = inside;
-    let mut hi = inside + dir * step;
+    if let Some(p) = guess.filter(|p| (p - inside) * dir > s.phi_tolerance && *p > 0.0) {
+        // The way to the guess must stay unstable: checked at least at its quarters and at
+        // most `max_edge_step` apart, so a gap to a neighbouring tongue is not jumped.
+        let parts = ((p - inside).abs() / s.max_edge_step(inside)).ceil().max(4.0) as usize;
+        for k in 1..parts {
+            let x = inside + (p - inside) * k as f64 / parts as f64;
+            if !unstable_at(fs, x, beta, count) {
+                return bisect_boundary(fs, s, lo, x, beta, count);
+            }
+            lo = x;
+        }
+        let (a, b) = (p - 0.5 * dir * s.phi_tolerance, p + 0.5 * dir * s.phi_tolerance);
+        if !unstable_at(fs, a, beta, count) {
+            return bisect_boundary(fs, s, lo, a, beta, count);
+        }
+        if !unstable_at(fs, b, beta, count) {
+            return p;
+        }
+        lo = b;
+    }
+    let mut step = (lo * 2e-4).max(4.0 * s.phi_tolerance);
+    let mut hi = lo + dir * step;
     while unstable_at(fs, hi, beta, count) {
         lo = hi;
-        step *= 1.6;
+        step = (step * 1.6).min(s.max_edge_step(lo));
         hi = lo + dir * step;
         if hi <= 0.0 {
             return f64::MIN_POSITIVE;
         }
     }
     bisect_boundary(fs, s, lo, hi, beta, count)
+}
+
+/// Predicted edges of the region around φ_in (unstable) at level β from the growth
+/// h = ln max|μ| − ln(tolerance) at φ_in and φ_in ± d: inside a tongue h² is close to a
+/// downward parabola in φ whose roots are the edges (the Floquet exponent of a detuned
+/// pair is √(ε² − δ²) with δ linear in φ). None unless all three samples are unstable
+/// and the parabola opens downward.
+fn predicted_edges(fs: &FloquetSystem, phi_in: f64, beta: f64, count: &mut usize) -> Option<(f64, f64)> {
+    let d = (phi_in * EDGE_PROBE).max(1.0);
+    let ln_tol = fs.settings.instability_tolerance.ln();
+    let mut h = |phi: f64| {
+        *count += 1;
+        let p = fs.point_fast(&fs.table(phi, beta), beta).summary;
+        (!p.stable).then_some((p.ln_max_multiplier - ln_tol).powi(2))
+    };
+    let (ym, y0, yp) = (h(phi_in - d)?, h(phi_in)?, h(phi_in + d)?);
+    // y = y0 + b·x + c·x², x = φ − φ_in.
+    let (b, c) = ((yp - ym) / (2.0 * d), (yp + ym - 2.0 * y0) / (2.0 * d * d));
+    if c >= 0.0 || !c.is_finite() {
+        return None;
+    }
+    let disc = (b * b - 4.0 * c * y0).sqrt();
+    let (x1, x2) = ((-b + disc) / (2.0 * c), (-b - disc) / (2.0 * c));
+    let (l, r) = (phi_in + x1.min(x2), phi_in + x1.max(x2));
+    (l.is_finite() && r.is_finite()).then_some((l, r))
 }
 
 /// The stability boundary at level β between an unstable φ and a stable φ, by bisection
@@ -224,9 +294,15 @@ fn bisect_boundary(
     0.5 * (inside + outside)
 }
 
-/// Both edges at level β of the region containing φ_in (unstable there).
+/// Both edges at level β of the region containing φ_in (unstable there): predicted from
+/// the growth near φ_in ([`predicted_edges`]) and checked, else marched and bisected.
 pub fn edges_at(fs: &FloquetSystem, s: &RegionSettings, phi_in: f64, beta: f64, count: &mut usize) -> Edges {
-    Edges { beta, left: edge(fs, s, phi_in, beta, -1.0, count), right: edge(fs, s, phi_in, beta, 1.0, count) }
+    let guess = predicted_edges(fs, phi_in, beta, count);
+    Edges {
+        beta,
+        left: edge_from(fs, s, phi_in, guess.map(|g| g.0), beta, -1.0, count),
+        right: edge_from(fs, s, phi_in, guess.map(|g| g.1), beta, 1.0, count),
+    }
 }
 
 /// Boundary tracking by predictor–corrector continuation from the onset upward: at each
@@ -269,8 +345,9 @@ pub fn track(
 }
 
 /// A point of the region inside the unstable set at `level`: the start or the seed if
-/// either is, otherwise the centre of the region followed up from its start by
-/// continuation (regions bend away from their start as β grows).
+/// either is, otherwise (if `follow`) the centre of the region followed up from its start
+/// by continuation (regions bend away from their start as β grows).
+#[allow(clippy::too_many_arguments)]
 fn inside_at(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -278,6 +355,7 @@ fn inside_at(
     seed: f64,
     onset: f64,
     level: f64,
+    follow: bool,
     count: &mut usize,
 ) -> Option<f64> {
     for phi in [start, seed] {
@@ -285,40 +363,26 @@ fn inside_at(
             return Some(phi);
         }
     }
+    if !follow {
+        return None;
+    }
     let path = track(fs, s, start, onset, level, count);
     path.last().filter(|e| (e.beta - level).abs() < 1e-12).map(|e| 0.5 * (e.left + e.right))
 }
 
-/// A thin higher-order region missed by the fixed-φ bracket at its seed. Near β = 0 an
-/// order-k ≥ 2 tongue is as narrow as its centre's drift (both grow like β²), so it can
-/// leave the line φ = seed at once and β_c(seed) never sees it. Scan the seed's window at
-/// the level on a `sliver_step` grid (outward from the seed); at the first unstable point
-/// take the edges there and β_c there as the onset (an upper bound, `resolved: false`).
-fn sliver(
-    fs: &FloquetSystem,
-    s: &RegionSettings,
-    seed: &Seed,
-    half_width: f64,
-    level: f64,
-    count: &mut usize,
-) -> Option<Region> {
-    if seed.order < 2 || s.sliver_step <= 0.0 || level <= 0.0 {
-        return None;
-    }
-    let steps = (half_width / s.sliver_step).floor() as usize;
-    let phi = (0..=steps)
-        .flat_map(|k| [seed.phi + s.sliver_step * k as f64, seed.phi - s.sliver_step * k as f64])
-        .skip(1) // the seed itself was bracketed already
-        .find(|&p| unstable_at(fs, p, level, count))?;
+/// The region of `seed` through the unstable point φ at the level: its edges there, and
+/// φ with β_c there as start and onset (an upper bound: the region was not followed down
+/// to its tip, `resolved: false`).
+fn found_at(fs: &FloquetSystem, s: &RegionSettings, seed: &Seed, phi: f64, level: f64, count: &mut usize) -> Region {
     let e = edges_at(fs, s, phi, level, count);
-    let c = critical_load(fs, s, phi, level);
+    let c = critical::critical_load_below(fs, s, phi, level);
     *count += c.evaluations;
-    Some(Region {
+    Region {
         label: seed.label.clone(),
         kind: seed.kind,
         order: seed.order,
         predicted: seed.phi,
-        start: seed.phi,
+        start: phi,
         onset_beta: c.beta.unwrap_or(level),
         left: Some(e.left),
         right: Some(e.right),
@@ -326,7 +390,26 @@ fn sliver(
         boundary: Vec::new(),
         evaluations: 0, // set by the catalogue, which counts the whole search
         resolved: false,
-    })
+    }
+}
+
+/// A thin or drifted region of an order ≥ 2 seed at the level, by the centre search on
+/// its multipliers' detuning ([`centre_search`]). Near β = 0 an order-k ≥ 2 tongue is no
+/// wider than its centre's drift (both grow like β² at k = 2, the width like β^k above),
+/// so it can leave the line φ = seed at once and β_c(seed) never sees it.
+fn drifted(
+    fs: &FloquetSystem,
+    basis: Option<&ModeBasis>,
+    s: &RegionSettings,
+    seed: &Seed,
+    level: f64,
+    count: &mut usize,
+) -> Option<Region> {
+    if seed.order < 2 || level <= 0.0 {
+        return None;
+    }
+    let phi = basis.and_then(|b| centre_search(fs, b, s, seed, level, count))?;
+    Some(found_at(fs, s, seed, phi, level, count))
 }
 
 /// The catalogue of a φ range.
@@ -350,7 +433,9 @@ pub struct Catalogue {
 }
 
 /// Catalogue every region with onset below β_max in `range`, with edges at `level`,
-/// optionally tracking boundaries; regions in parallel over seeds.
+/// optionally tracking boundaries; regions in parallel over seeds. Seeds of order ≤
+/// `max_order` are located from their start; higher orders, up to `search_order`, are
+/// searched at the level pair by pair while the pair's previous order was found.
 pub fn catalogue(
     fs: &FloquetSystem,
     full: &ModesResult,
@@ -377,6 +462,7 @@ pub fn catalogue(
         })
         .collect();
     let total = Counter::default();
+    let basis = ModeBasis::new(fs);
     let found: Vec<Option<Region>> = candidates
         .par_iter()
         .zip(windows.par_iter())
@@ -386,9 +472,12 @@ pub fn catalogue(
             // Screening is β_c at the seed itself (bracketed from below): a region whose tip
             // is at its seed is found even where it bends away from the seed at higher β.
             let region = {
-                locate_start(fs, s, seed.phi, half_width, beta_max, &mut count).map(|(start, onset, resolved)| {
+                // Order ≥ 2: no continuation to the level; the centre search below follows a
+                // tongue that has left its seed.
+                let located = locate_start(fs, s, seed.phi, half_width, beta_max, &mut count);
+                located.map(|(start, onset, resolved)| {
                     let at_level = if onset <= level {
-                        inside_at(fs, s, start, seed.phi, onset, level, &mut count)
+                        inside_at(fs, s, start, seed.phi, onset, level, seed.order == 1, &mut count)
                             .map(|phi| edges_at(fs, s, phi, level, &mut count))
                     } else {
                         None
@@ -411,15 +500,26 @@ pub fn catalogue(
                     }
                 })
             };
-            // The sliver scan searches the whole ±0.3 % window: neighbouring seeds (e.g. the
-            // near-equal r1 and r2) may share a sliver, found twice and merged below.
+            // Neighbouring seeds (e.g. the near-equal r1 and r2) may find the same thin
+            // region at the level: twins are merged below.
             let region = match region {
-                None => sliver(fs, s, seed, START_WINDOW * seed.phi, level, &mut count),
-                // Below the level but not found there from its start: it may have drifted.
-                Some(r) if r.left.is_none() && r.onset_beta <= level => {
-                    match sliver(fs, s, seed, START_WINDOW * seed.phi, level, &mut count) {
-                        Some(f) => Some(Region { left: f.left, right: f.right, width: f.width, resolved: false, ..r }),
-                        None => Some(r),
+                None => drifted(fs, basis.as_ref(), s, seed, level, &mut count),
+                // Not found at the level from its start, or with an unlocated tip (β_c on the
+                // line φ = seed only, and edges possibly those of a neighbour containing the
+                // seed): a tilted or drifted tongue can reach the level beside the seed.
+                Some(r) if !r.resolved || (r.left.is_none() && r.onset_beta <= level) => {
+                    let beside = |f: &Region| match (r.left, r.right) {
+                        (Some(l), Some(h)) => f.start < l || f.start > h,
+                        _ => true,
+                    };
+                    match drifted(fs, basis.as_ref(), s, seed, level, &mut count) {
+                        Some(f) if beside(&f) && f.onset_beta < r.onset_beta => {
+                            Some(Region { boundary: r.boundary, ..f })
+                        }
+                        Some(f) if beside(&f) => {
+                            Some(Region { left: f.left, right: f.right, width: f.width, resolved: false, ..r })
+                        }
+                        _ => Some(r),
                     }
                 }
                 r => r,
@@ -429,11 +529,18 @@ pub fn catalogue(
             region
         })
         .collect();
+    let mut found: Vec<Option<Region>> = found;
+    if level > 0.0 {
+        let seeded: Vec<(Seed, bool)> = candidates.iter().cloned().zip(found.iter().map(Option::is_some)).collect();
+        let spans: Vec<(f64, f64)> = found.iter().flatten().filter_map(|r| Some((r.left?, r.right?))).collect();
+        found.extend(higher_orders(fs, basis.as_ref(), s, &seeded, &spans, range, level, &total));
+    }
     let mut regions: Vec<Region> = Vec::new();
     for r in found.into_iter().flatten() {
-        // A sliver found from two seeds: keep the first (lower seed).
+        // A thin region found from two seeds: keep the first (lower seed).
         let twin = |q: &Region| {
             !r.resolved
+                && !q.resolved
                 && r.boundary.is_empty()
                 && matches!((q.left, q.right, r.left, r.right), (Some(a), Some(b), Some(c), Some(d))
                     if (a - c).abs() <= s.phi_tolerance && (b - d).abs() <= s.phi_tolerance)
@@ -457,6 +564,70 @@ pub fn catalogue(
         unexplained,
         evaluations: total.get(),
     })
+}
+
+/// Orders above `max_order`, searched at the level pair by pair ([`drifted`]): order k of a
+/// pair is searched if order k − 1 or k − 2 was found (a lower order outside the seeded
+/// range, or whose seed lies inside a region already found at the level, counts as found). Higher orders of a pair are thinner and start higher, but
+/// parity matters: a pair whose modes couple only through a third can skip an order
+/// (n1+n4 at rest has regions of order 1 and 3, none of order 2).
+#[allow(clippy::too_many_arguments)] // the catalogue's state, passed down once
+fn higher_orders(
+    fs: &FloquetSystem,
+    basis: Option<&ModeBasis>,
+    s: &RegionSettings,
+    seeded: &[(Seed, bool)],
+    spans: &[(f64, f64)],
+    range: (f64, f64),
+    level: f64,
+    total: &Counter,
+) -> Vec<Option<Region>> {
+    let (lo, hi) = (range.0 / (1.0 + SEED_MARGIN), range.1 * (1.0 + SEED_MARGIN));
+    // One entry per pair: its seed and which orders (index k) were found.
+    let mut pairs: Vec<(Seed, Vec<bool>)> = Vec::new();
+    for (seed, hit) in seeded {
+        let same = |p: &(Seed, Vec<bool>)| p.0.forward == seed.forward && p.0.backward == seed.backward;
+        let i = match pairs.iter().position(same) {
+            Some(i) => i,
+            None => {
+                // Orders outside the seeded range are unknown: count them as found.
+                let flags = (0..=s.search_order)
+                    .map(|k| k > 0 && k <= s.max_order && !(lo..=hi).contains(&seed.at_order(k).phi))
+                    .collect();
+                pairs.push((seed.clone(), flags));
+                pairs.len() - 1
+            }
+        };
+        pairs[i].1[seed.order] |= *hit;
+    }
+    // Pairs in parallel (the outermost loop), each pair's orders in sequence.
+    pairs
+        .into_par_iter()
+        .map(|(pair, mut flags)| {
+            faer::set_global_parallelism(faer::Par::Seq);
+            let mut out = Vec::new();
+            for k in s.max_order + 1..=s.search_order {
+                let seed = pair.at_order(k);
+                if !(flags[k - 1] || flags[k - 2]) || seed.phi < lo {
+                    break;
+                }
+                // Outside the range, or inside a region already found at the level (its
+                // tongue could not be told apart there): not searched, counted as found.
+                if seed.phi > hi || spans.iter().any(|&(l, r)| l <= seed.phi && seed.phi <= r) {
+                    flags[k] = true;
+                    continue;
+                }
+                let mut count = 0;
+                let r = drifted(fs, basis, s, &seed, level, &mut count).map(|r| Region { evaluations: count, ..r });
+                total.add(count);
+                flags[k] = r.is_some();
+                out.extend(r);
+            }
+            out
+        })
+        .flatten()
+        .map(Some)
+        .collect()
 }
 
 /// The guard scan at the level: φ on a geometric grid of relative step `guard_step`

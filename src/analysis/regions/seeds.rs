@@ -29,6 +29,17 @@ pub struct Seed {
     pub order: usize,
     /// (ω_i + ω_j)/k (rad/s).
     pub phi: f64,
+    /// ω_i, the forward whirl (eigenvalue +jω_i of B0) (rad/s).
+    pub forward: f64,
+    /// ω_j, the backward whirl (eigenvalue −jω_j of B0) (rad/s).
+    pub backward: f64,
+}
+
+impl Seed {
+    /// The same pair at order `k`: start (ω_i + ω_j)/k.
+    pub fn at_order(&self, k: usize) -> Seed {
+        Seed { order: k, phi: (self.forward + self.backward) / k as f64, ..self.clone() }
+    }
 }
 
 /// Name of a reduced whirl: the tag of the nearest full-model whirl of the same direction
@@ -76,7 +87,7 @@ pub fn seeds(
             for k in 1..=max_order {
                 let phi = (wf + wb) / k as f64;
                 if phi >= range.0 && phi <= range.1 {
-                    out.push(Seed { label: label.clone(), kind, order: k, phi });
+                    out.push(Seed { label: label.clone(), kind, order: k, phi, forward: *wf, backward: *wb });
                 }
             }
         }
