@@ -135,13 +135,13 @@ pub fn regions_cmd(
             f(r.left),
             f(r.right),
             f(r.width),
-            if r.resolved { "" } else { "tip not separable from a neighbour" }
+            if r.resolved { "" } else { "tip not located: start and onset are a point of the region and beta_c there" }
         );
     }
     for u in &cat.unexplained {
         s += &format!(
-            "unexplained: unstable at the level in [{:.2}, {:.2}] rad/s (guard scan; no seeded region of order <= {})\n",
-            u.left, u.right, settings.max_order
+            "unexplained: unstable at the level in [{:.2}, {:.2}] rad/s (guard scan; no region of order <= {} found there)\n",
+            u.left, u.right, settings.search_order
         );
     }
     s += "stable bands at the level (rad/s):";

@@ -169,6 +169,27 @@ pub fn markdown(r: &DesignReport) -> String {
                     band_text(o.after_verified[k].1)
                 );
             }
+            // Regions of the catalogue inside a verified band are thinner than the 1 rad/s
+            // grid the band is verified on: say so rather than leave them to the table.
+            for (k, d) in r.after.iter().enumerate() {
+                let Some(band) = o.after_verified.get(k).and_then(|v| v.1) else { continue };
+                let thin: Vec<String> = d
+                    .catalogue
+                    .regions
+                    .iter()
+                    .filter_map(|g| Some((g, g.left?, g.right?)))
+                    .filter(|(_, l, h)| *h > band[0] && *l < band[1])
+                    .map(|(g, l, h)| format!("{} (k = {}) [{l:.2}, {h:.2}]", g.label, g.order))
+                    .collect();
+                if !thin.is_empty() {
+                    let _ = writeln!(
+                        s,
+                        "\nAt Ω = {} rad/s the catalogue finds tongues thinner than the 1 rad/s verification grid inside the band after: {}.",
+                        d.speed,
+                        thin.join(", ")
+                    );
+                }
+            }
         }
         Objective::ClearBands => {
             let _ = writeln!(s, "\n## Operating bands\n\n| band (rad/s) | clearance (rad/s) | regions inside before | regions inside after | unstable 1 rad/s grid points after |\n|---|---|---|---|---|");
