@@ -530,11 +530,25 @@ pub fn catalogue(
         })
         .collect();
     let mut found: Vec<Option<Region>> = found;
-    if level > 0.0 {
-        let seeded: Vec<(Seed, bool)> = candidates.iter().cloned().zip(found.iter().map(Option::is_some)).collect();
-        let spans: Vec<(f64, f64)> = found.iter().flatten().filter_map(|r| Some((r.left?, r.right?))).collect();
-        found.extend(higher_orders(fs, basis.as_ref(), s, &seeded, &spans, range, level, &total));
-    }
+    // The higher orders and the guard scan (against the regions so far) run side by side.
+    let seeded: Vec<(Seed, bool)> = candidates.iter().cloned().zip(found.iter().map(Option::is_some)).collect();
+    let spans: Vec<(f64, f64)> = found.iter().flatten().filter_map(|r| Some((r.left?, r.right?))).collect();
+    let pass1: Vec<Region> = found.iter().flatten().cloned().collect();
+    let (more, guarded) = rayon::join(
+        || {
+            faer::set_global_parallelism(faer::Par::Seq);
+            if level > 0.0 {
+                higher_orders(fs, basis.as_ref(), s, &seeded, &spans, range, level, &total)
+            } else {
+                Vec::new()
+            }
+        },
+        || {
+            faer::set_global_parallelism(faer::Par::Seq);
+            guard_scan(fs, s, &pass1, range, level, &total)
+        },
+    );
+    found.extend(more);
     let mut regions: Vec<Region> = Vec::new();
     for r in found.into_iter().flatten() {
         // A thin region found from two seeds: keep the first (lower seed).
@@ -550,7 +564,13 @@ pub fn catalogue(
         }
     }
     regions.sort_by(|a, b| a.start.total_cmp(&b.start));
-    let unexplained = guard_scan(fs, s, &regions, range, level, &total);
+    // Unstable intervals of the guard scan that a higher-order region explains are dropped.
+    let unexplained: Vec<Edges> = guarded
+        .into_iter()
+        .filter(|e| {
+            !regions.iter().any(|r| matches!((r.left, r.right), (Some(l), Some(h)) if l <= e.right && e.left <= h))
+        })
+        .collect();
     let mut stable_bands = bands(&regions, range);
     for gap in &unexplained {
         stable_bands = subtract(&stable_bands, (gap.left, gap.right));
@@ -600,8 +620,10 @@ fn higher_orders(
         };
         pairs[i].1[seed.order] |= *hit;
     }
-    // Pairs in parallel (the outermost loop), each pair's orders in sequence.
-    pairs
+    // Pairs in parallel (the outermost loop), each pair's orders in sequence; only the
+    // centre search is in the chain, the edges and onsets of what it finds follow in a
+    // second parallel pass (a long chain would otherwise hold one thread alone).
+    let hits: Vec<(Seed, f64, usize)> = pairs
         .into_par_iter()
         .map(|(pair, mut flags)| {
             faer::set_global_parallelism(faer::Par::Seq);
@@ -618,15 +640,25 @@ fn higher_orders(
                     continue;
                 }
                 let mut count = 0;
-                let r = drifted(fs, basis, s, &seed, level, &mut count).map(|r| Region { evaluations: count, ..r });
+                let phi = basis.and_then(|b| centre_search(fs, b, s, &seed, level, &mut count));
                 total.add(count);
-                flags[k] = r.is_some();
-                out.extend(r);
+                flags[k] = phi.is_some();
+                if let Some(phi) = phi {
+                    out.push((seed, phi, count));
+                }
             }
             out
         })
         .flatten()
-        .map(Some)
+        .collect();
+    hits.into_par_iter()
+        .map(|(seed, phi, searched)| {
+            faer::set_global_parallelism(faer::Par::Seq);
+            let mut count = 0;
+            let r = found_at(fs, s, &seed, phi, level, &mut count);
+            total.add(count);
+            Some(Region { evaluations: searched + count, ..r })
+        })
         .collect()
 }
 
