@@ -20,7 +20,7 @@ pub struct RegionSettings {
     /// Number of β levels of the boundary tracking between the onset and β_max.
     pub tracking_levels: usize,
     /// Golden-section iterations of the tip search: each shrinks the ±0.3 % window by
-    /// 0.618 (5: to 5.4e-4·φ), then a parabola through the best three samples places the
+    /// 0.618 (6: to 3.3e-4·φ), then a parabola through the best three samples places the
     /// tip inside that bracket.
     pub tip_iterations: usize,
     /// The tip is searched at β = β_c(seed)·(1 + relative) + absolute: the region is a short
@@ -73,7 +73,7 @@ impl Default for RegionSettings {
             phi_tolerance: 0.2,
             max_order: 2,
             tracking_levels: 12,
-            tip_iterations: 5,
+            tip_iterations: 6,
             // 5 % + 0.002: wide enough to find the tip at 8 iterations, while the bias
             // stays far below the 0.1 % the start is checked to.
             tip_margin: (0.05, 2e-3),
@@ -87,9 +87,9 @@ impl Default for RegionSettings {
             // 3: from the seed the first secant step lands inside a drifted tongue in the
             // cases examined; two more absorb a misidentified first step.
             centre_iterations: 3,
-            // 2 rad/s or 0.5 %: below 400 rad/s twice the 1 rad/s grid the edges are
-            // checked on; above it the step of the stable-band query's march.
-            edge_step: (2.0, 5e-3),
+            // 2 rad/s or 0.2 %: below 1000 rad/s twice the 1 rad/s grid the edges are
+            // checked on (0.5 % let a gap at 4768 rad/s on Fig. 11 be stepped over).
+            edge_step: (2.0, 2e-3),
         }
     }
 }

@@ -25,10 +25,6 @@ pub const START_WINDOW: f64 = 0.003;
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
 
-/// Relative φ offset of the two growth samples beside an inside point that predict a
-/// region's edges (at least 1 rad/s): a region narrower than twice this is marched.
-const EDGE_PROBE: f64 = 1e-3;
-
 /// Seeds are taken this far (relative) beyond the φ range.
 const SEED_MARGIN: f64 = 0.1;
 
@@ -194,46 +190,11 @@ pub fn locate_start(
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
-/// `dir` (−1 left, +1 right): march outward with growing steps (at most `max_edge_step`,
-/// so a stable gap that wide is not stepped over) until stable, then bisect.
+/// `dir` (−1 left, +1 right): march outward with growing steps (at most
+/// [`RegionSettings::max_edge_step`], so a stable gap that wide between two tongues is
+/// never stepped over) until stable, then bisect.
 pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir: f64, count: &mut usize) -> f64 {
-    edge_from(fs, s, inside, None, beta, dir, count)
-}
-
-/// [`edge`] with a predicted edge `guess` checked first: the way to it must be unstable
-/// at its quarters, and the two points ±tolerance/2 around it either bracket the edge
-/// (done), or tell which side it is on — before the guess (bisect), or beyond it (march
-/// on from there). The result is bracketed to `phi_tolerance` either way.
-fn edge_from(
-    fs: &FloquetSystem,
-    s: &RegionSettings,
-    inside: f64,
-    guess: Option<f64>,
-    beta: f64,
-    dir: f64,
-    count: &mut usize,
-) -> f64 {
     let mut lo = inside;
-    if let Some(p) = guess.filter(|p| (p - inside) * dir > s.phi_tolerance && *p > 0.0) {
-        // The way to the guess must stay unstable: checked at least at its quarters and at
-        // most `max_edge_step` apart, so a gap to a neighbouring tongue is not jumped.
-        let parts = ((p - inside).abs() / s.max_edge_step(inside)).ceil().max(4.0) as usize;
-        for k in 1..parts {
-            let x = inside + (p - inside) * k as f64 / parts as f64;
-            if !unstable_at(fs, x, beta, count) {
-                return bisect_boundary(fs, s, lo, x, beta, count);
-            }
-            lo = x;
-        }
-        let (a, b) = (p - 0.5 * dir * s.phi_tolerance, p + 0.5 * dir * s.phi_tolerance);
-        if !unstable_at(fs, a, beta, count) {
-            return bisect_boundary(fs, s, lo, a, beta, count);
-        }
-        if !unstable_at(fs, b, beta, count) {
-            return p;
-        }
-        lo = b;
-    }
     let mut step = (lo * 2e-4).max(4.0 * s.phi_tolerance);
     let mut hi = lo + dir * step;
     while unstable_at(fs, hi, beta, count) {
@@ -245,31 +206,6 @@ fn edge_from(
         }
     }
     bisect_boundary(fs, s, lo, hi, beta, count)
-}
-
-/// Predicted edges of the region around φ_in (unstable) at level β from the growth
-/// h = ln max|μ| − ln(tolerance) at φ_in and φ_in ± d: inside a tongue h² is close to a
-/// downward parabola in φ whose roots are the edges (the Floquet exponent of a detuned
-/// pair is √(ε² − δ²) with δ linear in φ). None unless all three samples are unstable
-/// and the parabola opens downward.
-fn predicted_edges(fs: &FloquetSystem, phi_in: f64, beta: f64, count: &mut usize) -> Option<(f64, f64)> {
-    let d = (phi_in * EDGE_PROBE).max(1.0);
-    let ln_tol = fs.settings.instability_tolerance.ln();
-    let mut h = |phi: f64| {
-        *count += 1;
-        let p = fs.point_fast(&fs.table(phi, beta), beta).summary;
-        (!p.stable).then_some((p.ln_max_multiplier - ln_tol).powi(2))
-    };
-    let (ym, y0, yp) = (h(phi_in - d)?, h(phi_in)?, h(phi_in + d)?);
-    // y = y0 + b·x + c·x², x = φ − φ_in.
-    let (b, c) = ((yp - ym) / (2.0 * d), (yp + ym - 2.0 * y0) / (2.0 * d * d));
-    if c >= 0.0 || !c.is_finite() {
-        return None;
-    }
-    let disc = (b * b - 4.0 * c * y0).sqrt();
-    let (x1, x2) = ((-b + disc) / (2.0 * c), (-b - disc) / (2.0 * c));
-    let (l, r) = (phi_in + x1.min(x2), phi_in + x1.max(x2));
-    (l.is_finite() && r.is_finite()).then_some((l, r))
 }
 
 /// The stability boundary at level β between an unstable φ and a stable φ, by bisection
@@ -294,15 +230,9 @@ fn bisect_boundary(
     0.5 * (inside + outside)
 }
 
-/// Both edges at level β of the region containing φ_in (unstable there): predicted from
-/// the growth near φ_in ([`predicted_edges`]) and checked, else marched and bisected.
+/// Both edges at level β of the region containing φ_in (unstable there).
 pub fn edges_at(fs: &FloquetSystem, s: &RegionSettings, phi_in: f64, beta: f64, count: &mut usize) -> Edges {
-    let guess = predicted_edges(fs, phi_in, beta, count);
-    Edges {
-        beta,
-        left: edge_from(fs, s, phi_in, guess.map(|g| g.0), beta, -1.0, count),
-        right: edge_from(fs, s, phi_in, guess.map(|g| g.1), beta, 1.0, count),
-    }
+    Edges { beta, left: edge(fs, s, phi_in, beta, -1.0, count), right: edge(fs, s, phi_in, beta, 1.0, count) }
 }
 
 /// Boundary tracking by predictor–corrector continuation from the onset upward: at each
