@@ -26,7 +26,9 @@ use std::f64::consts::PI;
 /// per cent are seen at β = 0.3 and grow like β².
 pub const CENTRE_WINDOW: f64 = 0.1;
 /// Frequency mismatch (relative to the mode's frequency) at which an eigenvector's
-/// identification score halves.
+/// identification score halves. Generous: the local frequency is read at t = 0, where the
+/// load is at its peak α + β, and the first bending whirls soften by a third at β = 0.3;
+/// its job is to tell a forward whirl from the backward one of the same shape.
 const FREQUENCY_MATCH: f64 = 0.5;
 
 /// |δ| (rad) below which an unstable point is inside the seed's own tongue.

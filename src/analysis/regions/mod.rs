@@ -365,7 +365,7 @@ pub struct Catalogue {
 /// Catalogue every region with onset below β_max in `range`, with edges at `level`,
 /// optionally tracking boundaries; regions in parallel over seeds. Seeds of order ≤
 /// `max_order` are located from their start; higher orders, up to `search_order`, are
-/// searched at the level pair by pair while the pair's previous order was found.
+/// searched at the level pair by pair ([`higher_orders`]).
 pub fn catalogue(
     fs: &FloquetSystem,
     full: &ModesResult,
@@ -393,7 +393,7 @@ pub fn catalogue(
         .collect();
     let total = Counter::default();
     let basis = ModeBasis::new(fs);
-    let found: Vec<Option<Region>> = candidates
+    let mut found: Vec<Option<Region>> = candidates
         .par_iter()
         .zip(windows.par_iter())
         .map(|(seed, &half_width)| {
@@ -402,10 +402,10 @@ pub fn catalogue(
             // Screening is β_c at the seed itself (bracketed from below): a region whose tip
             // is at its seed is found even where it bends away from the seed at higher β.
             let region = {
-                // Order ≥ 2: no continuation to the level; the centre search below follows a
-                // tongue that has left its seed.
                 let located = locate_start(fs, s, seed.phi, half_width, beta_max, &mut count);
                 located.map(|(start, onset, resolved)| {
+                    // Order ≥ 2 is not continued up to the level: the centre search below
+                    // follows a tongue that has left its seed.
                     let at_level = if onset <= level {
                         inside_at(fs, s, start, seed.phi, onset, level, seed.order == 1, &mut count)
                             .map(|phi| edges_at(fs, s, phi, level, &mut count))
@@ -459,7 +459,6 @@ pub fn catalogue(
             region
         })
         .collect();
-    let mut found: Vec<Option<Region>> = found;
     // The higher orders and the guard scan (against the regions so far) run side by side.
     let seeded: Vec<(Seed, bool)> = candidates.iter().cloned().zip(found.iter().map(Option::is_some)).collect();
     let spans: Vec<(f64, f64)> = found.iter().flatten().filter_map(|r| Some((r.left?, r.right?))).collect();
@@ -516,11 +515,12 @@ pub fn catalogue(
     })
 }
 
-/// Orders above `max_order`, searched at the level pair by pair ([`drifted`]): order k of a
-/// pair is searched if order k − 1 or k − 2 was found (a lower order outside the seeded
-/// range, or whose seed lies inside a region already found at the level, counts as found). Higher orders of a pair are thinner and start higher, but
-/// parity matters: a pair whose modes couple only through a third can skip an order
-/// (n1+n4 at rest has regions of order 1 and 3, none of order 2).
+/// Orders above `max_order`, searched at the level pair by pair ([`centre_search`]): order
+/// k of a pair is searched if order k − 1 or k − 2 was found (a lower order outside the
+/// seeded range, or whose seed lies inside a region already found at the level, counts as
+/// found). Higher orders of a pair are thinner and start higher, but parity matters: a
+/// pair whose modes couple only through a third can skip an order (n1+n4 at rest has
+/// regions of order 1 and 3, none of order 2).
 #[allow(clippy::too_many_arguments)] // the catalogue's state, passed down once
 fn higher_orders(
     fs: &FloquetSystem,
