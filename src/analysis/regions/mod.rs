@@ -541,7 +541,7 @@ fn higher_orders(
             Some(i) => i,
             None => {
                 // Orders outside the seeded range are unknown: count them as found.
-                let flags = (0..=s.search_order)
+                let flags = (0..=s.search_order.max(s.max_order))
                     .map(|k| k > 0 && k <= s.max_order && !(lo..=hi).contains(&seed.at_order(k).phi))
                     .collect();
                 pairs.push((seed.clone(), flags));
