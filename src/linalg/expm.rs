@@ -67,7 +67,8 @@ fn pade_low(a: MatRef<'_, c64>, b: &[f64]) -> Mat<c64> {
     q.partial_piv_lu().solve(&p)
 }
 
-fn norm1(a: MatRef<'_, c64>) -> f64 {
+/// The 1-norm (largest column sum of moduli).
+pub fn norm1(a: MatRef<'_, c64>) -> f64 {
     (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm()).sum::<f64>()).fold(0.0, f64::max)
 }
 

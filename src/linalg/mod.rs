@@ -7,7 +7,7 @@ mod qep;
 mod symmetric;
 
 pub use balance::balance;
-pub use expm::expm;
+pub use expm::{expm, norm1};
 pub use qep::{qep_residual, solve_qep, QepSolution};
 pub use symmetric::{definite_eigen, DefiniteEigen};
 

@@ -16,7 +16,7 @@
 
 use super::product::ScaledProduct;
 use crate::analysis::reduction::PeriodicSystem;
-use crate::linalg::expm;
+use crate::linalg::{expm, norm1};
 use faer::linalg::matmul::matmul;
 use faer::{c64, Accum, Mat, MatRef, Par};
 
@@ -65,11 +65,6 @@ pub struct PhiTable {
     coupling: f64,
 }
 
-/// 1-norm of the n×n matrix with entries `f(i, j)`.
-fn norm1(n: usize, f: impl Fn(usize, usize) -> f64) -> f64 {
-    (0..n).map(|j| (0..n).map(|i| f(i, j)).sum::<f64>()).fold(0.0, f64::max)
-}
-
 fn axpy(y: &mut Mat<c64>, a: f64, x: MatRef<'_, c64>) {
     for j in 0..y.ncols() {
         for i in 0..y.nrows() {
@@ -115,9 +110,11 @@ impl PhiTable {
         let m = n / 2;
         let scale: Vec<f64> =
             (0..n).map(|i| if i < m { 1.0 } else { sys.b0[(i - m, i)].norm().sqrt().max(1.0) }).collect();
+        // τB0 and τB1 in the scaled coordinates, formed once per table.
+        let scaled = |b: &Mat<c64>| Mat::from_fn(n, n, |i, j| b[(i, j)] * (tau * scale[i] / scale[j]));
+        let (b0, b1) = (scaled(&sys.b0), scaled(&sys.b1));
         let e = |x: f64| {
-            let a = Mat::from_fn(n, n, |i, j| (sys.b0[(i, j)] + sys.b1[(i, j)] * x) * (tau * scale[i] / scale[j]));
-            let e = expm(a.as_ref());
+            let e = expm(Mat::from_fn(n, n, |i, j| b0[(i, j)] + b1[(i, j)] * x).as_ref());
             Mat::from_fn(n, n, |i, j| e[(i, j)] * (scale[j] / scale[i]))
         };
         if x_max == 0.0 {
@@ -127,7 +124,7 @@ impl PhiTable {
         // a = x_max·‖τB1‖ (balanced coordinates): c_k ≈ 2(a/2)^k/k!. Start from the
         // smallest degree that bound accepts, rather than from a fixed 8 doubled to 16:
         // a failed attempt costs as many exponentials as the interpolant itself.
-        let a = x_max * norm1(n, |i, j| sys.b1[(i, j)].norm() * tau * scale[i] / scale[j]);
+        let a = x_max * norm1(b1.as_ref());
         let bound = |p: usize| {
             let k = p - 2;
             2.0 * (1..=k).fold(1.0, |acc, i| acc * (a / 2.0) / i as f64)

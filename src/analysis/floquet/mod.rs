@@ -198,9 +198,14 @@ impl FloquetSystem {
 
     /// One point from a prepared per-φ table (β ≤ the table's β_max).
     pub fn point_fast(&self, table: &PhiTable, beta: f64) -> FloquetPoint {
+        self.point_of(table, &table.monodromy(&self.symmetry, beta), beta)
+    }
+
+    /// The point of a monodromy computed from `table` at β (for callers that also need
+    /// the monodromy itself).
+    pub fn point_of(&self, table: &PhiTable, mono: &ScaledProduct, beta: f64) -> FloquetPoint {
         let status = if table.converged { PointStatus::Ok } else { PointStatus::Inaccurate };
-        let mono = table.monodromy(&self.symmetry, beta);
-        FloquetPoint::from_monodromy(table.phi, beta, &mono, self.settings.instability_tolerance, status)
+        FloquetPoint::from_monodromy(table.phi, beta, mono, self.settings.instability_tolerance, status)
     }
 
     /// One point by the reference DSTM with `steps` steps.

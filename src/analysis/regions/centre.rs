@@ -18,7 +18,7 @@
 
 use super::critical::RegionSettings;
 use super::seeds::Seed;
-use crate::analysis::floquet::{FloquetPoint, FloquetSystem, PointStatus};
+use crate::analysis::floquet::FloquetSystem;
 use faer::c64;
 use std::f64::consts::PI;
 
@@ -86,9 +86,7 @@ pub fn detuning(fs: &FloquetSystem, basis: &ModeBasis, seed: &Seed, phi: f64, be
     let table = fs.table(phi, beta);
     let mono = table.monodromy(&fs.symmetry, beta);
     // The verdict exactly as `point_fast` gives it, from the same monodromy.
-    let status = if table.converged { PointStatus::Ok } else { PointStatus::Inaccurate };
-    let tolerance = fs.settings.instability_tolerance;
-    let unstable = !FloquetPoint::from_monodromy(phi, beta, &mono, tolerance, status).summary.stable;
+    let unstable = !fs.point_of(&table, &mono, beta).summary.stable;
     let e = mono.matrix.eigen().ok()?;
     let mu = e.S().column_vector();
     let w = e.U();

@@ -29,9 +29,10 @@ pub struct RegionSettings {
     /// Relative φ step of the catalogue's guard scan at the level (0 turns it off): an
     /// unstable grid point outside every seeded region is reported as unexplained.
     pub guard_step: f64,
-    /// Highest order searched beyond `max_order`, pair by pair: order k + 1 of a pair is
-    /// searched (by the detuning of its multipliers, [`super::centre`]) only if its
-    /// order-k region was found — higher orders of a pair are thinner and start higher.
+    /// Highest order searched beyond `max_order`, pair by pair (by the detuning of its
+    /// multipliers, [`super::centre`]): order k of a pair is searched only if its order
+    /// k − 1 or k − 2 region was found — higher orders of a pair are thinner and start
+    /// higher.
     pub search_order: usize,
     /// Secant iterations of the centre search.
     pub centre_iterations: usize,

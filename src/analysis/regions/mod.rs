@@ -462,7 +462,6 @@ pub fn catalogue(
     // The higher orders and the guard scan (against the regions so far) run side by side.
     let seeded: Vec<(Seed, bool)> = candidates.iter().cloned().zip(found.iter().map(Option::is_some)).collect();
     let spans: Vec<(f64, f64)> = found.iter().flatten().filter_map(|r| Some((r.left?, r.right?))).collect();
-    let pass1: Vec<Region> = found.iter().flatten().cloned().collect();
     let (more, guarded) = rayon::join(
         || {
             faer::set_global_parallelism(faer::Par::Seq);
@@ -474,7 +473,7 @@ pub fn catalogue(
         },
         || {
             faer::set_global_parallelism(faer::Par::Seq);
-            guard_scan(fs, s, &pass1, range, level, &total)
+            guard_scan(fs, s, &spans, range, level, &total)
         },
     );
     found.extend(more);
@@ -598,7 +597,7 @@ fn higher_orders(
 fn guard_scan(
     fs: &FloquetSystem,
     s: &RegionSettings,
-    regions: &[Region],
+    spans: &[(f64, f64)],
     range: (f64, f64),
     level: f64,
     total: &Counter,
@@ -606,8 +605,7 @@ fn guard_scan(
     if s.guard_step <= 0.0 || level <= 0.0 {
         return Vec::new();
     }
-    let covered =
-        |phi: f64| regions.iter().any(|r| matches!((r.left, r.right), (Some(l), Some(r)) if l <= phi && phi <= r));
+    let covered = |phi: f64| spans.iter().any(|&(l, r)| l <= phi && phi <= r);
     let n = ((range.1 / range.0).ln() / s.guard_step.ln_1p()).ceil() as usize;
     let grid: Vec<f64> =
         (0..=n).map(|k| range.0 * (1.0 + s.guard_step).powi(k as i32)).filter(|&p| p <= range.1).collect();
