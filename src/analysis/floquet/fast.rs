@@ -18,7 +18,7 @@ use super::product::ScaledProduct;
 use crate::analysis::reduction::PeriodicSystem;
 use crate::linalg::{expm, norm1};
 use faer::linalg::matmul::matmul;
-use faer::{c64, Accum, Mat, MatRef, Par};
+use faer::{c64, Accum, Mat, Par};
 
 /// Largest Chebyshev degree tried; beyond it the point is flagged (see [`PhiTable::converged`]).
 const MAX_CHEBYSHEV_POINTS: usize = 64;
@@ -53,8 +53,10 @@ pub struct PhiTable {
     xi: Vec<f64>,
     /// Interval half-width of the interpolant in x.
     x_max: f64,
-    /// Chebyshev coefficients (c₀ not halved), each n×n column-major and contiguous.
-    coeffs: Vec<Vec<c64>>,
+    /// Chebyshev coefficients, one per column (c₀ halved, so E(x) = Σ_j c_j·T_j(x/x_max)):
+    /// rows 0..n² hold the real parts of the n×n matrix (column-major), rows n²..2n² the
+    /// imaginary parts — a real matrix, so that many exponentials are one real product.
+    cheb: Mat<f64>,
     /// State dimension n = 2M.
     n: usize,
     /// False if the interpolant did not reach its tolerance (trailing Chebyshev
@@ -65,12 +67,22 @@ pub struct PhiTable {
     coupling: f64,
 }
 
-fn axpy(y: &mut Mat<c64>, a: f64, x: MatRef<'_, c64>) {
-    for j in 0..y.ncols() {
-        for i in 0..y.nrows() {
-            y[(i, j)] += x[(i, j)] * a;
+/// Columns of exponentials evaluated per real matrix product in [`PhiTable::monodromy`]:
+/// enough for the product to run at matrix-multiply speed, little enough to stay in cache.
+const EVALUATION_BATCH: usize = 32;
+
+/// The split real form of an n×n complex matrix as one column: real parts, then imaginary.
+fn split(m: &Mat<c64>) -> Vec<f64> {
+    let n2 = m.nrows() * m.ncols();
+    let mut v = vec![0.0; 2 * n2];
+    for j in 0..m.ncols() {
+        for i in 0..m.nrows() {
+            let k = i + j * m.nrows();
+            v[k] = m[(i, j)].re;
+            v[n2 + k] = m[(i, j)].im;
         }
     }
+    v
 }
 
 impl PhiTable {
@@ -118,7 +130,8 @@ impl PhiTable {
             Mat::from_fn(n, n, |i, j| e[(i, j)] * (scale[j] / scale[i]))
         };
         if x_max == 0.0 {
-            return PhiTable { phi, steps, xi, x_max, coeffs: vec![flat(&e(0.0))], n, converged: true, coupling: 0.0 };
+            let cheb = Mat::from_fn(2 * n * n, 1, |i, _| split(&e(0.0))[i]);
+            return PhiTable { phi, steps, xi, x_max, cheb, n, converged: true, coupling: 0.0 };
         }
         // Chebyshev coefficients of E(x) decay like those of e^{a·u}, u ∈ [−1, 1], with
         // a = x_max·‖τB1‖ (balanced coordinates): c_k ≈ 2(a/2)^k/k!. Start from the
@@ -132,25 +145,37 @@ impl PhiTable {
         let mut points =
             CHEBYSHEV_DEGREES.iter().copied().find(|&p| bound(p) <= 0.1 * CHEBYSHEV_TOLERANCE).unwrap_or(8);
         loop {
-            let samples: Vec<Mat<c64>> = (0..points)
-                .map(|j| e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos()))
+            // Samples at the Chebyshev points, one split column each; the coefficients are
+            // their discrete cosine transform, one real product: C = S·W.
+            let samples: Vec<Vec<f64>> = (0..points)
+                .map(|j| split(&e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos())))
                 .collect();
-            let coeffs: Vec<Mat<c64>> = (0..points)
-                .map(|k| {
-                    let mut c = Mat::<c64>::zeros(n, n);
-                    for (j, s) in samples.iter().enumerate() {
-                        let w = (std::f64::consts::PI * k as f64 * (j as f64 + 0.5) / points as f64).cos();
-                        axpy(&mut c, 2.0 * w / points as f64, s.as_ref());
-                    }
+            let s_mat = Mat::from_fn(2 * n * n, points, |i, j| samples[j][i]);
+            let w = Mat::from_fn(points, points, |j, k| {
+                let c =
+                    2.0 / points as f64 * (std::f64::consts::PI * k as f64 * (j as f64 + 0.5) / points as f64).cos();
+                if k == 0 {
+                    0.5 * c
+                } else {
                     c
-                })
-                .collect();
-            let scale = coeffs[0].norm_max().max(1e-300);
-            let tail = coeffs[points - 2..].iter().map(|c| c.norm_max()).fold(0.0, f64::max);
+                }
+            });
+            let mut cheb = Mat::<f64>::zeros(2 * n * n, points);
+            matmul(cheb.as_mut(), Accum::Replace, s_mat.as_ref(), w.as_ref(), 1.0, Par::Seq);
+            // Largest |entry| of coefficient k (the halved c₀ counts twice).
+            let size = |k: usize| {
+                let m = (0..n * n).map(|i| cheb[(i, k)].hypot(cheb[(n * n + i, k)])).fold(0.0, f64::max);
+                if k == 0 {
+                    2.0 * m
+                } else {
+                    m
+                }
+            };
+            let scale = size(0).max(1e-300);
+            let tail = (points - 2..points).map(size).fold(0.0, f64::max);
             let converged = tail <= CHEBYSHEV_TOLERANCE * scale;
             if converged || points >= MAX_CHEBYSHEV_POINTS {
-                let coeffs = coeffs.iter().map(flat).collect();
-                return PhiTable { phi, steps, xi, x_max, coeffs, n, converged, coupling: a };
+                return PhiTable { phi, steps, xi, x_max, cheb, n, converged, coupling: a };
             }
             points = CHEBYSHEV_DEGREES.iter().copied().find(|&p| p > points).unwrap_or(MAX_CHEBYSHEV_POINTS);
         }
@@ -158,63 +183,51 @@ impl PhiTable {
 
     /// Number of Chebyshev terms of the interpolant.
     pub fn terms(&self) -> usize {
-        self.coeffs.len()
+        self.cheb.ncols()
     }
 
-    /// E(x) by Clenshaw's recurrence into `out`; `b1`, `b2` are scratch (all n² long).
-    fn evaluate(&self, x: f64, out: &mut [c64], b1: &mut [c64], b2: &mut [c64]) {
-        // (b1, b2) are (b_{j+1}, b_{j+2}).
-        let k = self.coeffs.len();
-        if k == 1 {
-            out.copy_from_slice(&self.coeffs[0]);
-            return;
-        }
-        let u = x / self.x_max;
-        let two_u = 2.0 * u;
-        // b_j = c_j + 2u·b_{j+1} − b_{j+2}, starting from b_k = b_{k+1} = 0.
-        b1.copy_from_slice(&self.coeffs[k - 1]);
-        b2.fill(c64::new(0.0, 0.0));
-        // Three rotating buffers: (b_{j+1}, b_{j+2}) live in two of them and b_j is written
-        // over b_{j+2}, so no copies are needed.
-        let (mut next, mut after) = (b1, b2);
-        for j in (1..k - 1).rev() {
-            for ((p2, c), p1) in after.iter_mut().zip(self.coeffs[j].iter()).zip(next.iter()) {
-                *p2 = c + p1 * two_u - *p2;
-            }
-            std::mem::swap(&mut next, &mut after);
-        }
-        for ((o, (c, p1)), p2) in out.iter_mut().zip(self.coeffs[0].iter().zip(next.iter())).zip(after.iter()) {
-            *o = c * 0.5 + p1 * u - p2;
-        }
-    }
-
-    /// Monodromy Φ(T) at load β (≤ the table's β_max), with the symmetry X.
+    /// Monodromy Φ(T) at load β (≤ the table's β_max), with the symmetry X. The step
+    /// exponentials E(β·ξ_k) = Σ_j c_j·T_j(β·ξ_k/x_max) are formed a batch at a time as one
+    /// real matrix product (coefficients × Chebyshev values): the same sums Clenshaw's
+    /// recurrence would give, at matrix-multiply speed.
     pub fn monodromy(&self, sym: &Symmetry, beta: f64) -> ScaledProduct {
-        let n = self.n;
+        let (n, n2, p) = (self.n, self.n * self.n, self.terms());
         let mut half = ScaledProduct::identity(n);
-        let (mut e, mut b1, mut b2) =
-            (vec![c64::new(0.0, 0.0); n * n], vec![c64::new(0.0, 0.0); n * n], vec![c64::new(0.0, 0.0); n * n]);
-        for (k, &xi) in self.xi.iter().enumerate() {
-            self.evaluate(beta * xi, &mut e, &mut b1, &mut b2);
-            let step = MatRef::from_column_major_slice(&e, n, n);
-            if k == 0 {
-                half.matrix.copy_from(step);
-            } else {
-                half.left_multiply(step);
+        let mut step = Mat::<c64>::zeros(n, n);
+        let mut values = Mat::<f64>::zeros(2 * n2, EVALUATION_BATCH);
+        let mut first = true;
+        for chunk in self.xi.chunks(EVALUATION_BATCH) {
+            // T_j(u) for each u = β·ξ/x_max of the batch, by the three-term recurrence.
+            let mut t = Mat::<f64>::zeros(p, chunk.len());
+            for (k, &xi) in chunk.iter().enumerate() {
+                let u = if self.x_max > 0.0 { beta * xi / self.x_max } else { 0.0 };
+                t[(0, k)] = 1.0;
+                if p > 1 {
+                    t[(1, k)] = u;
+                }
+                for j in 2..p {
+                    t[(j, k)] = 2.0 * u * t[(j - 1, k)] - t[(j - 2, k)];
+                }
+            }
+            let out = values.as_mut().subcols_mut(0, chunk.len());
+            matmul(out, Accum::Replace, self.cheb.as_ref(), t.as_ref(), 1.0, Par::Seq);
+            for k in 0..chunk.len() {
+                let col = values.col(k);
+                for j in 0..n {
+                    for i in 0..n {
+                        step[(i, j)] = c64::new(col[i + j * n], col[n2 + i + j * n]);
+                    }
+                }
+                if first {
+                    half.matrix.copy_from(step.as_ref());
+                    first = false;
+                } else {
+                    half.left_multiply(step.as_ref());
+                }
             }
         }
         sym.close_period(&half)
     }
-}
-
-fn flat(m: &Mat<c64>) -> Vec<c64> {
-    let mut v = Vec::with_capacity(m.nrows() * m.ncols());
-    for j in 0..m.ncols() {
-        for i in 0..m.nrows() {
-            v.push(m[(i, j)]);
-        }
-    }
-    v
 }
 
 /// X = [[0, I], [I, D̃]] and X⁻¹ = [[−D̃, I], [I, 0]] of the state y = [q̇; q].
