@@ -19,10 +19,11 @@ pub struct RegionSettings {
     pub max_order: usize,
     /// Number of β levels of the boundary tracking between the onset and β_max.
     pub tracking_levels: usize,
-    /// Golden-section iterations of the tip search: each shrinks the ±0.3 % window by
-    /// 0.618 (6: to 3.3e-4·φ), then a parabola through the best three samples places the
-    /// tip inside that bracket.
+    /// Most refinement steps of the tip search once its maximum is bracketed (parabolic,
+    /// or golden section where the parabola does not help).
     pub tip_iterations: usize,
+    /// The tip search stops when its bracket is narrower than this, relative to φ.
+    pub tip_tolerance: f64,
     /// The tip is searched at β = β_c(seed)·(1 + relative) + absolute: the region is a short
     /// interval there whose growth maximum is the start, biased by at most its half-width.
     pub tip_margin: (f64, f64),
@@ -54,7 +55,8 @@ impl RegionSettings {
         RegionSettings {
             beta_tolerance: 1e-10,
             phi_tolerance: 1e-5,
-            tip_iterations: 36,
+            tip_iterations: 60,
+            tip_tolerance: 1e-9,
             tip_margin: (1e-4, 1e-8),
             ..RegionSettings::default()
         }
@@ -74,9 +76,14 @@ impl Default for RegionSettings {
             phi_tolerance: 0.2,
             max_order: 2,
             tracking_levels: 12,
-            tip_iterations: 6,
-            // 5 % + 0.002: wide enough to find the tip at 8 iterations, while the bias
-            // stays far below the 0.1 % the start is checked to.
+            // 8: parabolic steps converge in 3–5 on a smooth dome; golden steps take over
+            // where the region is narrower than the climb's first step.
+            tip_iterations: 8,
+            // 1e-5: a hundredth of the 0.1 % the starts are checked to.
+            tip_tolerance: 1e-5,
+            // 5 % + 0.002: a region wide enough for the climb's first steps to see its dome,
+            // while the bias (at most its half-width there) stays far below the 0.1 % the
+            // start is checked to.
             tip_margin: (0.05, 2e-3),
             // 2 %: a region the seeds missed that is wider than 2 % of φ at the level
             // cannot hide between two grid points (~220 points over 100..8000 rad/s,

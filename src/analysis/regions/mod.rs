@@ -25,6 +25,10 @@ pub const START_WINDOW: f64 = 0.003;
 /// seed's: the seed's own region then has no onset below β_max in its window.
 const EDGE_FRACTION: f64 = 0.05;
 
+/// Largest edge-march step where the growth does not fall, relative to φ: the guard
+/// scan's grid step, so the march is never coarser than the catalogue's safety net.
+pub const MAX_REACH: f64 = 0.02;
+
 /// Seeds are taken this far (relative) beyond the φ range.
 const SEED_MARGIN: f64 = 0.1;
 
@@ -92,13 +96,18 @@ pub fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -
     critical::unstable(fs, &fs.table(phi, beta), beta)
 }
 
+/// First step of the tip climb, relative to φ: below the shift of a tip from its seed
+/// (~1e-4 relative on the paper's problems), so the climb starts on the tip's own dome.
+const CLIMB_STEP: f64 = 2e-5;
+
 /// The start and onset of the region seeded at `seed_phi`, searched within
-/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and bisection;
-/// (2) at the level β₀(1 + m_rel) + m_abs (`tip_margin`) the region is a short interval around its tip, and
-/// the tip φ_s is the maximum of ln max|μ| over φ there (golden section, one monodromy per
-/// φ); (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (β₀ and the
-/// seed if φ_s is stable at β₀). None if stable up to β_max,
-/// or if the maximum sits at the window's edge (a neighbouring region's tip).
+/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and
+/// bisection; (2) at the level β₀(1 + m_rel) + m_abs (`tip_margin`) the region is a short
+/// interval around its tip that contains the seed, and the tip φ_s is the maximum of
+/// ln max|μ| over φ there ([`climb`]: uphill from the seed, then parabolic steps);
+/// (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (β₀ and the seed if
+/// φ_s is stable at β₀). None if the climb leaves the window: the seed lies on the flank
+/// of a neighbouring region, whose tip it is climbing to.
 pub fn locate_tip(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -109,34 +118,8 @@ pub fn locate_tip(
     count: &mut usize,
 ) -> Option<(f64, f64)> {
     let level = (beta0 * (1.0 + s.tip_margin.0) + s.tip_margin.1).min(beta_max);
-    let mut samples: Vec<(f64, f64)> = Vec::with_capacity(s.tip_iterations + 2);
-    let mut growth = |phi: f64| {
-        *count += 1;
-        let g = fs.point_fast(&fs.table(phi, level), level).summary.ln_max_multiplier;
-        samples.push((phi, g));
-        g
-    };
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut a, mut b) = (seed_phi - half_width, seed_phi + half_width);
-    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
-    let (mut f1, mut f2) = (growth(x1), growth(x2));
-    for _ in 0..s.tip_iterations {
-        if f1 >= f2 {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = b - g * (b - a);
-            f1 = growth(x1);
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = a + g * (b - a);
-            f2 = growth(x2);
-        }
-    }
-    let best = if f1 >= f2 { x1 } else { x2 };
-    let tip = parabolic_vertex(&mut samples).unwrap_or(best);
+    let growth = |phi: f64, count: &mut usize| growth_at(fs, phi, level, count);
+    let tip = climb(growth, s, seed_phi, half_width, count)?;
     if (tip - seed_phi).abs() > (1.0 - EDGE_FRACTION) * half_width {
         return None;
     }
@@ -148,15 +131,83 @@ pub fn locate_tip(
     }
 }
 
-/// The vertex of the parabola through the best sample and its two neighbours in φ, if
-/// the best is interior and the parabola opens downward; kept between the neighbours.
-fn parabolic_vertex(samples: &mut [(f64, f64)]) -> Option<f64> {
-    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let i = (0..samples.len()).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1))?;
-    if i == 0 || i + 1 == samples.len() {
-        return None;
+/// The local maximum of `g` nearest `from` within ±`half_width`: uphill from `from` with
+/// doubling steps (first [`CLIMB_STEP`]·φ, at most a quarter of the window) until `g`
+/// falls, then a parabola through the bracketing triple, or a golden-section step where
+/// the parabola is no help, until the bracket is below `tip_tolerance`·φ or
+/// `tip_iterations` steps are spent. None if the climb leaves the window.
+///
+/// Brent's minimiser (argmin's `BrentOpt`) does the second part, but it cannot start from
+/// a known interior point: it would spend evaluations re-finding the bracket's best.
+fn climb(
+    mut g: impl FnMut(f64, &mut usize) -> f64,
+    s: &RegionSettings,
+    from: f64,
+    half_width: f64,
+    count: &mut usize,
+) -> Option<f64> {
+    let h = (CLIMB_STEP * from.abs()).min(0.25 * half_width);
+    let (gm, g0, gp) = (g(from - h, count), g(from, count), g(from + h, count));
+    // The bracketing triple (a, b, c), a < b < c, g(b) ≥ g(a), g(c).
+    let (mut a, mut b, mut c) = ((from - h, gm), (from, g0), (from + h, gp));
+    if gp > g0 || gm > g0 {
+        let dir = if gp >= gm { 1.0 } else { -1.0 };
+        let (mut prev, mut here) = (b, if dir > 0.0 { c } else { a });
+        let mut step = h;
+        let next = loop {
+            step *= 2.0;
+            // The last step stops at the window's edge; a climb already there has left it.
+            let x = (here.0 + dir * step).clamp(from - half_width, from + half_width);
+            if x == here.0 {
+                return None;
+            }
+            let next = (x, g(x, count));
+            if next.1 < here.1 {
+                break next;
+            }
+            (prev, here) = (here, next);
+        };
+        (a, b, c) = if dir > 0.0 { (prev, here, next) } else { (next, here, prev) };
     }
-    let ((x0, y0), (x1, y1), (x2, y2)) = (samples[i - 1], samples[i], samples[i + 1]);
+    let tolerance = s.tip_tolerance * from.abs();
+    let golden = (3.0 - 5f64.sqrt()) / 2.0;
+    let mut last_width = f64::INFINITY;
+    for _ in 0..s.tip_iterations {
+        let width = c.0 - a.0;
+        if width <= tolerance {
+            break;
+        }
+        // The parabola's vertex if it lies well inside the bracket and the last step
+        // halved it; else golden section into the larger side.
+        let vertex = parabola_vertex(a, b, c).filter(|&x| {
+            let margin = 0.25 * tolerance;
+            x > a.0 + margin && x < c.0 - margin && (x - b.0).abs() > margin && width < 0.5 * last_width
+        });
+        last_width = width;
+        let x = vertex.unwrap_or(if c.0 - b.0 > b.0 - a.0 {
+            b.0 + golden * (c.0 - b.0)
+        } else {
+            b.0 - golden * (b.0 - a.0)
+        });
+        let u = (x, g(x, count));
+        if u.1 >= b.1 {
+            if u.0 > b.0 {
+                a = b;
+            } else {
+                c = b;
+            }
+            b = u;
+        } else if u.0 > b.0 {
+            c = u;
+        } else {
+            a = u;
+        }
+    }
+    Some(parabola_vertex(a, b, c).map_or(b.0, |x| x.clamp(a.0, c.0)))
+}
+
+/// The vertex of the parabola through three points (x ascending), if it opens downward.
+fn parabola_vertex((x0, y0): (f64, f64), (x1, y1): (f64, f64), (x2, y2): (f64, f64)) -> Option<f64> {
     let (d0, d2) = ((y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1));
     let curvature = (d2 - d0) / (x2 - x0);
     if curvature.is_nan() || curvature >= 0.0 {
@@ -164,12 +215,11 @@ fn parabolic_vertex(samples: &mut [(f64, f64)]) -> Option<f64> {
     }
     // Vertex of the Newton form: x where the slope d0 + curvature·(2x − x0 − x1) vanishes.
     let x = 0.5 * (x0 + x1) - d0 / (2.0 * curvature);
-    x.is_finite().then_some(x.clamp(x0, x2))
+    x.is_finite().then_some(x)
 }
 
-/// [`locate_tip`] in windows of ±w and ±w/5: a neighbour's flank can dominate the wide
-/// window. Returns (start, onset, resolved); unresolved regions keep the seed and
-/// β_c(seed) as start and onset.
+/// [`locate_tip`] from the seed. Returns (start, onset, resolved); unresolved regions keep
+/// the seed and β_c(seed) as start and onset.
 pub fn locate_start(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -181,35 +231,54 @@ pub fn locate_start(
     let c0 = critical_load(fs, s, seed_phi, beta_max);
     *count += c0.evaluations;
     let beta0 = c0.beta?;
-    for shrink in [1.0, 0.2] {
-        if let Some((phi, beta)) = locate_tip(fs, s, seed_phi, beta0, half_width * shrink, beta_max, count) {
-            return Some((phi, beta, true));
-        }
+    match locate_tip(fs, s, seed_phi, beta0, half_width, beta_max, count) {
+        Some((phi, beta)) => Some((phi, beta, true)),
+        None => Some((seed_phi, beta0, false)),
     }
-    Some((seed_phi, beta0, false))
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
-/// `dir` (−1 left, +1 right): march outward with growing steps (at most
-/// [`RegionSettings::max_edge_step`], so a stable gap that wide between two tongues is
-/// never stepped over) until stable, then bisect.
+/// `dir` (−1 left, +1 right): march outward with growing steps until stable, then bisect.
+///
+/// A step is at most [`RegionSettings::max_edge_step`] where the growth g = ln max|μ|
+/// falls towards the threshold, so a stable gap that wide between two tongues is never
+/// stepped over. Where g stays well above it, the step may grow to half the distance at
+/// which g, falling at the rate of the last step, would reach the threshold (at most
+/// [`MAX_REACH`]·φ): a gap is a dip of g to the threshold, and g is continuous in φ.
 pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir: f64, count: &mut usize) -> f64 {
-    let mut lo = inside;
-    let mut step = (lo * 2e-4).max(4.0 * s.phi_tolerance);
-    let mut hi = lo + dir * step;
-    while unstable_at(fs, hi, beta, count) {
-        lo = hi;
-        step = (step * 1.6).min(s.max_edge_step(lo));
-        hi = lo + dir * step;
-        if hi <= 0.0 {
+    let threshold = fs.settings.instability_tolerance.ln();
+    let mut step = (inside * 2e-4).max(4.0 * s.phi_tolerance);
+    // The last unstable sample (φ, g − threshold); g is not known at `inside`.
+    let mut lo = (inside, f64::NAN);
+    loop {
+        let phi = lo.0 + dir * step;
+        if phi <= 0.0 {
             return f64::MIN_POSITIVE;
         }
+        let here = (phi, growth_at(fs, phi, beta, count) - threshold);
+        // Stable exactly as `critical::unstable` judges (a NaN growth is no verdict of
+        // stability).
+        if here.1 <= 0.0 {
+            return bisect_boundary(fs, s, lo.0, here.0, beta, count);
+        }
+        let decline = (lo.1 - here.1) / step;
+        let reach = if decline > 0.0 && here.1.is_finite() { 0.5 * here.1 / decline } else { f64::INFINITY };
+        lo = here;
+        step = (step * 1.6).min(reach.min(MAX_REACH * phi.abs()).max(s.max_edge_step(phi)));
     }
-    bisect_boundary(fs, s, lo, hi, beta, count)
+}
+
+/// ln max|μ| at (φ, β) from a fresh per-φ table; counts one evaluation.
+pub fn growth_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> f64 {
+    *count += 1;
+    fs.point_fast(&fs.table(phi, beta), beta).summary.ln_max_multiplier
 }
 
 /// The stability boundary at level β between an unstable φ and a stable φ, by bisection
-/// to `phi_tolerance`.
+/// to `phi_tolerance`: the midpoint of the final bracket. (Predicting the edge from the
+/// growth samples — (g − g_outside)² is nearly linear in φ next to an edge — was tried
+/// and cost more evaluations than bisection on Fig. 11: the median bracket is already
+/// within two halvings of the tolerance.)
 fn bisect_boundary(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -700,8 +769,7 @@ pub fn band_at(
                 return (if dir < 0.0 { range.0 } else { range.1 }, n);
             }
             if unstable_at(fs, hi, level, count) {
-                let edge = bisect_boundary(fs, s, hi, lo, level, count);
-                return (edge, n);
+                return (bisect_boundary(fs, s, hi, lo, level, count), n);
             }
             lo = hi;
         }
