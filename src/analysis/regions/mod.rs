@@ -396,18 +396,24 @@ fn found_at(fs: &FloquetSystem, s: &RegionSettings, seed: &Seed, phi: f64, level
 /// its multipliers' detuning ([`centre_search`]). Near β = 0 an order-k ≥ 2 tongue is no
 /// wider than its centre's drift (both grow like β² at k = 2, the width like β^k above),
 /// so it can leave the line φ = seed at once and β_c(seed) never sees it.
+/// A point found inside `known` (the edges the seed's region already has at the level)
+/// is that region again: None, without the edges and onset a new region would cost.
 fn drifted(
     fs: &FloquetSystem,
     basis: Option<&ModeBasis>,
     s: &RegionSettings,
     seed: &Seed,
     level: f64,
+    known: Option<(f64, f64)>,
     count: &mut usize,
 ) -> Option<Region> {
     if seed.order < 2 || level <= 0.0 {
         return None;
     }
     let phi = basis.and_then(|b| centre_search(fs, b, s, seed, level, count))?;
+    if known.is_some_and(|(l, h)| l <= phi && phi <= h) {
+        return None;
+    }
     Some(found_at(fs, s, seed, phi, level, count))
 }
 
@@ -502,23 +508,17 @@ pub fn catalogue(
             // Neighbouring seeds (e.g. the near-equal r1 and r2) may find the same thin
             // region at the level: twins are merged below.
             let region = match region {
-                None => drifted(fs, basis.as_ref(), s, seed, level, &mut count),
+                None => drifted(fs, basis.as_ref(), s, seed, level, None, &mut count),
                 // Not found at the level from its start, or with an unlocated tip (β_c on the
                 // line φ = seed only, and edges possibly those of a neighbour containing the
                 // seed): a tilted or drifted tongue can reach the level beside the seed.
+                // A tongue found inside the edges r already has is r's region: kept as it is.
                 Some(r) if !r.resolved || (r.left.is_none() && r.onset_beta <= level) => {
-                    let beside = |f: &Region| match (r.left, r.right) {
-                        (Some(l), Some(h)) => f.start < l || f.start > h,
-                        _ => true,
-                    };
-                    match drifted(fs, basis.as_ref(), s, seed, level, &mut count) {
-                        Some(f) if beside(&f) && f.onset_beta < r.onset_beta => {
-                            Some(Region { boundary: r.boundary, ..f })
-                        }
-                        Some(f) if beside(&f) => {
-                            Some(Region { left: f.left, right: f.right, width: f.width, resolved: false, ..r })
-                        }
-                        _ => Some(r),
+                    let known = r.left.zip(r.right);
+                    match drifted(fs, basis.as_ref(), s, seed, level, known, &mut count) {
+                        Some(f) if f.onset_beta < r.onset_beta => Some(Region { boundary: r.boundary, ..f }),
+                        Some(f) => Some(Region { left: f.left, right: f.right, width: f.width, resolved: false, ..r }),
+                        None => Some(r),
                     }
                 }
                 r => r,
