@@ -121,25 +121,62 @@ pub fn unstable(fs: &FloquetSystem, table: &PhiTable, beta: f64) -> bool {
 /// β_c(φ) in [0, β_max]: bracket from below at `beta_bracket`, then bisect.
 pub fn critical_load(fs: &FloquetSystem, settings: &RegionSettings, phi: f64, beta_max: f64) -> CriticalLoad {
     let table = fs.table(phi, beta_max);
-    let mut evaluations = 0;
-    let mut eval = |b: f64| {
-        evaluations += 1;
-        unstable(fs, &table, b)
-    };
-    let steps = (beta_max / settings.beta_bracket).ceil().max(1.0) as usize;
-    let mut lo = 0.0;
-    if eval(0.0) {
-        return CriticalLoad { phi, beta: Some(0.0), evaluations: 1 };
-    }
-    for s in 1..=steps {
-        let hi = (s as f64 * settings.beta_bracket).min(beta_max);
-        if eval(hi) {
-            let beta = bisect_load(settings, lo, hi, &mut eval);
-            return CriticalLoad { phi, beta: Some(beta), evaluations };
+    let crossing = Crossing::below(fs, settings, &table, beta_max, settings.beta_tolerance);
+    CriticalLoad { phi, beta: crossing.bracket.map(|b| b.1), evaluations: crossing.evaluations }
+}
+
+/// The first stable → unstable crossing in β on one per-φ table, bracketed from below.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crossing {
+    /// (stable, unstable) loads at most the tolerance apart; (0, 0) if unstable at β = 0;
+    /// None if stable up to β_max.
+    pub bracket: Option<(f64, f64)>,
+    /// Monodromy evaluations used.
+    pub evaluations: usize,
+}
+
+impl Crossing {
+    /// Bracket from below at `beta_bracket` up to β_max, then bisect to `tolerance`.
+    pub fn below(
+        fs: &FloquetSystem,
+        settings: &RegionSettings,
+        table: &PhiTable,
+        beta_max: f64,
+        tolerance: f64,
+    ) -> Crossing {
+        let mut evaluations = 0;
+        let mut eval = |b: f64| {
+            evaluations += 1;
+            unstable(fs, table, b)
+        };
+        if eval(0.0) {
+            return Crossing { bracket: Some((0.0, 0.0)), evaluations };
         }
-        lo = hi;
+        let steps = (beta_max / settings.beta_bracket).ceil().max(1.0) as usize;
+        let mut lo = 0.0;
+        for s in 1..=steps {
+            let hi = (s as f64 * settings.beta_bracket).min(beta_max);
+            if eval(hi) {
+                let bracket = bisect(lo, hi, tolerance, &mut eval);
+                return Crossing { bracket: Some(bracket), evaluations };
+            }
+            lo = hi;
+        }
+        Crossing { bracket: None, evaluations }
     }
-    CriticalLoad { phi, beta: None, evaluations }
+
+    /// The crossing bisected further, to `tolerance`, on the same table (evaluations
+    /// counted from the start of the screening).
+    pub fn refine(self, fs: &FloquetSystem, table: &PhiTable, tolerance: f64) -> Crossing {
+        let Some((lo, hi)) = self.bracket else { return self };
+        let mut evaluations = self.evaluations;
+        let mut eval = |b: f64| {
+            evaluations += 1;
+            unstable(fs, table, b)
+        };
+        let bracket = bisect(lo, hi, tolerance, &mut eval);
+        Crossing { bracket: Some(bracket), evaluations }
+    }
 }
 
 /// β_c(φ) below a load `beta_hi` known to be near the region's onset (the β_c of a point
@@ -160,7 +197,7 @@ pub fn critical_load_below(fs: &FloquetSystem, settings: &RegionSettings, phi: f
     loop {
         let lo = (hi - settings.beta_bracket).max(0.0);
         if !eval(lo) {
-            let beta = bisect_load(settings, lo, hi, &mut eval);
+            let beta = bisect(lo, hi, settings.beta_tolerance, &mut eval).1;
             return CriticalLoad { phi, beta: Some(beta), evaluations };
         }
         if lo == 0.0 {
@@ -170,9 +207,10 @@ pub fn critical_load_below(fs: &FloquetSystem, settings: &RegionSettings, phi: f
     }
 }
 
-/// Bisect between a stable `lo` and an unstable `hi` to `beta_tolerance`; the unstable end.
-fn bisect_load(settings: &RegionSettings, mut lo: f64, mut hi: f64, eval: &mut impl FnMut(f64) -> bool) -> f64 {
-    while hi - lo > settings.beta_tolerance {
+/// Bisect between a stable `lo` and an unstable `hi` until they are at most `tolerance`
+/// apart; the final (stable, unstable) pair.
+fn bisect(mut lo: f64, mut hi: f64, tolerance: f64, eval: &mut impl FnMut(f64) -> bool) -> (f64, f64) {
+    while hi - lo > tolerance {
         let mid = 0.5 * (lo + hi);
         if eval(mid) {
             hi = mid;
@@ -180,5 +218,5 @@ fn bisect_load(settings: &RegionSettings, mut lo: f64, mut hi: f64, eval: &mut i
             lo = mid;
         }
     }
-    hi
+    (lo, hi)
 }

@@ -96,28 +96,33 @@ pub fn unstable_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -
     critical::unstable(fs, &fs.table(phi, beta), beta)
 }
 
+/// Bisection tolerance of β_c at a seed before its tip is searched: 1/512, four halvings
+/// of the 1/32 bracket. The onset is bisected to `beta_tolerance` where it is reported.
+pub const SCREENING_TOLERANCE: f64 = 1.0 / 512.0;
+
 /// First step of the tip climb, relative to φ: below the shift of a tip from its seed
 /// (~1e-4 relative on the paper's problems), so the climb starts on the tip's own dome.
 const CLIMB_STEP: f64 = 2e-5;
 
 /// The start and onset of the region seeded at `seed_phi`, searched within
-/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) (given) by bracketing from below and
-/// bisection; (2) at the level β₀(1 + m_rel) + m_abs (`tip_margin`) the region is a short
+/// ±`half_width` (rad/s). (1) β₀ = β_c(seed) is given as a bracket (stable β₋, unstable
+/// β₀) at most the tip margin's absolute part wide; (2) at the level β₋(1 + m_rel) + m_abs
+/// (`tip_margin`), above β₀, the region is a short
 /// interval around its tip that contains the seed, and the tip φ_s is the maximum of
 /// ln max|μ| over φ there ([`climb`]: uphill from the seed, then parabolic steps);
-/// (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (β₀ and the seed if
-/// φ_s is stable at β₀). None if the climb leaves the window: the seed lies on the flank
-/// of a neighbouring region, whose tip it is climbing to.
+/// (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (None if φ_s is
+/// stable at β₀: the seed and β₀ stand). None if the climb leaves the window: the seed
+/// lies on the flank of a neighbouring region, whose tip it is climbing to.
 pub fn locate_tip(
     fs: &FloquetSystem,
     s: &RegionSettings,
     seed_phi: f64,
-    beta0: f64,
+    (below, beta0): (f64, f64),
     half_width: f64,
     beta_max: f64,
     count: &mut usize,
-) -> Option<(f64, f64)> {
-    let level = (beta0 * (1.0 + s.tip_margin.0) + s.tip_margin.1).min(beta_max);
+) -> Option<(f64, Option<f64>)> {
+    let level = (below * (1.0 + s.tip_margin.0) + s.tip_margin.1).max(beta0).min(beta_max);
     let growth = |phi: f64, count: &mut usize| growth_at(fs, phi, level, count);
     let tip = climb(growth, s, seed_phi, half_width, count)?;
     if (tip - seed_phi).abs() > (1.0 - EDGE_FRACTION) * half_width {
@@ -125,10 +130,7 @@ pub fn locate_tip(
     }
     let c1 = critical::critical_load_below(fs, s, tip, beta0);
     *count += c1.evaluations;
-    match c1.beta {
-        Some(b1) => Some((tip, b1)),
-        None => Some((seed_phi, beta0)),
-    }
+    Some((tip, c1.beta))
 }
 
 /// The local maximum of `g` nearest `from` within ±`half_width`: uphill from `from` with
@@ -220,6 +222,11 @@ fn parabola_vertex((x0, y0): (f64, f64), (x1, y1): (f64, f64), (x2, y2): (f64, f
 
 /// [`locate_tip`] from the seed. Returns (start, onset, resolved); unresolved regions keep
 /// the seed and β_c(seed) as start and onset.
+///
+/// β_c(seed) is screened to [`SCREENING_TOLERANCE`] only: the tip search needs no more
+/// (its level lies 5 % + 0.002 above), and the onset reported is then β_c at the tip,
+/// bisected to `beta_tolerance`. Where β_c(seed) itself is the onset it is bisected on,
+/// on the same table.
 pub fn locate_start(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -228,13 +235,25 @@ pub fn locate_start(
     beta_max: f64,
     count: &mut usize,
 ) -> Option<(f64, f64, bool)> {
-    let c0 = critical_load(fs, s, seed_phi, beta_max);
-    *count += c0.evaluations;
-    let beta0 = c0.beta?;
-    match locate_tip(fs, s, seed_phi, beta0, half_width, beta_max, count) {
-        Some((phi, beta)) => Some((phi, beta, true)),
-        None => Some((seed_phi, beta0, false)),
-    }
+    let table = fs.table(seed_phi, beta_max);
+    // Never coarser than the tip margin's absolute part, so that the level, taken from the
+    // stable end, is still above β_c(seed).
+    let tolerance = SCREENING_TOLERANCE.min(s.tip_margin.1).max(s.beta_tolerance);
+    let screened = critical::Crossing::below(fs, s, &table, beta_max, tolerance);
+    *count += screened.evaluations;
+    let (below, beta0) = screened.bracket?;
+    let tip = locate_tip(fs, s, seed_phi, (below, beta0), half_width, beta_max, count);
+    let mut at_seed = || {
+        let fine = screened.refine(fs, &table, s.beta_tolerance);
+        *count += fine.evaluations - screened.evaluations;
+        fine.bracket.map_or(beta0, |b| b.1)
+    };
+    let (start, onset, resolved) = match tip {
+        Some((phi, Some(beta))) => (phi, beta, true),
+        Some((_, None)) => (seed_phi, at_seed(), true),
+        None => (seed_phi, at_seed(), false),
+    };
+    Some((start, onset, resolved))
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
