@@ -55,21 +55,30 @@ fn pade_low(a: MatRef<'_, c64>, b: &[f64]) -> Mat<c64> {
     let mut v = Mat::<c64>::zeros(n, n);
     for (k, p) in powers.iter().enumerate() {
         for j in 0..n {
-            for i in 0..n {
-                u_sum[(i, j)] += p[(i, j)] * b[2 * k + 1];
-                v[(i, j)] += p[(i, j)] * b[2 * k];
+            let (pc, uc, vc) = (p.col_as_slice(j), u_sum.col_as_slice_mut(j), v.col_as_slice_mut(j));
+            for ((x, u), w) in pc.iter().zip(uc.iter_mut()).zip(vc.iter_mut()) {
+                *u += x * b[2 * k + 1];
+                *w += x * b[2 * k];
             }
         }
     }
     let u = mul(a, u_sum.as_ref());
-    let p = Mat::from_fn(n, n, |i, j| v[(i, j)] + u[(i, j)]);
-    let q = Mat::from_fn(n, n, |i, j| v[(i, j)] - u[(i, j)]);
+    // (V − U)·X = V + U, formed in place: v becomes V + U, u becomes V − U.
+    let (mut p, mut q) = (v, u);
+    for j in 0..n {
+        for (pv, qu) in p.col_as_slice_mut(j).iter_mut().zip(q.col_as_slice_mut(j).iter_mut()) {
+            let (vv, uu) = (*pv, *qu);
+            *pv = vv + uu;
+            *qu = vv - uu;
+        }
+    }
     q.partial_piv_lu().solve(&p)
 }
 
-/// The 1-norm (largest column sum of moduli).
+/// The 1-norm (largest column sum of moduli; the modulus as √(re² + im²), not the slower
+/// overflow-safe `hypot`: entries here are far from overflow).
 pub fn norm1(a: MatRef<'_, c64>) -> f64 {
-    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm()).sum::<f64>()).fold(0.0, f64::max)
+    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm_sqr().sqrt()).sum::<f64>()).fold(0.0, f64::max)
 }
 
 fn mul(a: MatRef<'_, c64>, b: MatRef<'_, c64>) -> Mat<c64> {
