@@ -6,6 +6,9 @@ use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
 use faer::{c64, Accum, Mat, MatRef, Par};
 
+/// Most squarings of the scaling and squaring step.
+const MAX_SQUARINGS: f64 = 1100.0;
+
 /// Padé-13 coefficients b_0 … b_13.
 const B: [f64; 14] = [
     64764752532480000.0,
@@ -75,10 +78,19 @@ fn pade_low(a: MatRef<'_, c64>, b: &[f64]) -> Mat<c64> {
     q.partial_piv_lu().solve(&p)
 }
 
-/// The 1-norm (largest column sum of moduli; the modulus as √(re² + im²), not the slower
-/// overflow-safe `hypot`: entries here are far from overflow).
+/// The 1-norm (largest column sum of moduli; the modulus as √(re² + im²), and the slower
+/// overflow-safe `hypot` only where that overflows).
 pub fn norm1(a: MatRef<'_, c64>) -> f64 {
-    (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| a[(i, j)].norm_sqr().sqrt()).sum::<f64>()).fold(0.0, f64::max)
+    let norm = |modulus: fn(c64) -> f64| {
+        (0..a.ncols()).map(|j| (0..a.nrows()).map(|i| modulus(a[(i, j)])).sum::<f64>()).fold(0.0, f64::max)
+    };
+    let fast = norm(|z| z.norm_sqr().sqrt());
+    // Entries above ~1e154 overflow the square: the overflow-safe modulus then.
+    if fast.is_finite() {
+        fast
+    } else {
+        norm(|z| z.norm())
+    }
 }
 
 fn mul(a: MatRef<'_, c64>, b: MatRef<'_, c64>) -> Mat<c64> {
@@ -95,7 +107,9 @@ pub fn expm(a: MatRef<'_, c64>) -> Mat<c64> {
     if let Some((_, b)) = LOW_ORDERS.iter().find(|(theta, _)| norm <= *theta) {
         return pade_low(a, b);
     }
-    let s = if norm > THETA_13 { (norm / THETA_13).log2().ceil() as i32 } else { 0 };
+    // At most MAX_SQUARINGS: any finite norm needs fewer (log2 of f64::MAX is 1024), and an
+    // infinite one must not loop ~2³¹ times.
+    let s = if norm > THETA_13 { (norm / THETA_13).log2().ceil().min(MAX_SQUARINGS) as i32 } else { 0 };
     let scale = 0.5f64.powi(s);
     let a1 = Mat::from_fn(n, n, |i, j| a[(i, j)] * scale);
     let a2 = mul(a1.as_ref(), a1.as_ref());
@@ -142,6 +156,20 @@ mod tests {
             ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale
         };
         Mat::from_fn(n, n, |_, _| c64::new(next(), next()))
+    }
+
+    #[test]
+    fn infinite_input_returns_at_once() {
+        // The squaring count is capped: an infinite norm must not loop ~2³¹ times.
+        let mut a = random(16, 9, 0.1);
+        a[(3, 4)] = c64::new(f64::INFINITY, 0.0);
+        let start = std::time::Instant::now();
+        let e = expm(a.as_ref());
+        assert!(start.elapsed().as_secs_f64() < 1.0);
+        assert!(e.norm_max().is_nan() || !e.norm_max().is_finite());
+        // Entries whose squares overflow still get a finite 1-norm.
+        let b = Mat::from_fn(2, 2, |i, j| c64::new(if i == j { 1e160 } else { 0.0 }, 0.0));
+        assert_eq!(norm1(b.as_ref()), 1e160);
     }
 
     #[test]

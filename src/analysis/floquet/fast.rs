@@ -7,8 +7,9 @@
 //!    whirl frequency (measured: N⁻⁴ convergence with h·ω_max up to 8).
 //! 2. **Exponentials shared across β and steps**: for one φ every exponential is
 //!    E(x) = exp(τ(B0 + xB1)) for a scalar x with |x| ≤ x_max, an entire function of x.
-//!    It is interpolated once per φ at Chebyshev points (a handful of `expm`) and then
-//!    evaluated for every step and every β by Clenshaw's recurrence (matrix additions).
+//!    It is interpolated once per φ at Chebyshev points (a handful of `expm`); for each
+//!    β the steps' exponentials Σ_j c_j·T_j(x/x_max) are then formed 32 at a time as one
+//!    real matrix product (coefficients × Chebyshev values).
 //! 3. **Half a period**: with X = [[0, I], [I, D̃]] (complex symmetric, constant),
 //!    B(t)ᵀ = X·B(t)·X⁻¹, so every step satisfies Eᵀ = X·E·X⁻¹. cos φt is symmetric about
 //!    T/2, so the exponentials of the second half are those of the first in reverse order,
@@ -137,7 +138,8 @@ impl PhiTable {
             Mat::from_fn(n, n, |i, j| e[(i, j)] * (scale[j] / scale[i]))
         };
         if x_max == 0.0 {
-            let cheb = Mat::from_fn(2 * n * n, 1, |i, _| split(&e(0.0))[i]);
+            let e0 = split(&e(0.0));
+            let cheb = Mat::from_fn(2 * n * n, 1, |i, _| e0[i]);
             return PhiTable { phi, steps, xi, x_max, cheb, n, converged: true, coupling: 0.0 };
         }
         // Chebyshev coefficients of E(x) decay like those of e^{a·u}, u ∈ [−1, 1], with
