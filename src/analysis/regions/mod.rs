@@ -21,13 +21,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Half-width of the φ window searched for a region's start around its seed, relative.
 /// Damping and the static load shift a start from the undamped sum by far less.
 pub const START_WINDOW: f64 = 0.003;
-/// A minimum within this fraction of the window's edge is the neighbour's tip, not this
-/// seed's: the seed's own region then has no onset below β_max in its window.
+/// A growth maximum within this fraction of the window's edge is the neighbour's tip, not
+/// this seed's: the seed's own tip is then not located in its window.
 const EDGE_FRACTION: f64 = 0.05;
-
-/// Largest edge-march step where the growth does not fall, relative to φ: the guard
-/// scan's grid step, so the march is never coarser than the catalogue's safety net.
-pub const MAX_REACH: f64 = 0.02;
 
 /// Seeds are taken this far (relative) beyond the φ range.
 const SEED_MARGIN: f64 = 0.1;
@@ -111,8 +107,9 @@ const CLIMB_STEP: f64 = 2e-5;
 /// interval around its tip that contains the seed, and the tip φ_s is the maximum of
 /// ln max|μ| over φ there ([`climb`]: uphill from the seed, then parabolic steps);
 /// (3) the onset is β_c(φ_s) ≤ β₀ by [`critical::critical_load_below`] (None if φ_s is
-/// stable at β₀: the seed and β₀ stand). None if the climb leaves the window: the seed
-/// lies on the flank of a neighbouring region, whose tip it is climbing to.
+/// stable at β₀: the seed and β₀ stand). None if the climb leaves the window, or ends
+/// within [`EDGE_FRACTION`] of its edge: the seed lies on the flank of a neighbouring
+/// region, whose tip it is climbing to.
 pub fn locate_tip(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -226,7 +223,9 @@ fn parabola_vertex((x0, y0): (f64, f64), (x1, y1): (f64, f64), (x2, y2): (f64, f
 /// β_c(seed) is screened to [`SCREENING_TOLERANCE`] only: the tip search needs no more
 /// (its level lies 5 % + 0.002 above), and the onset reported is then β_c at the tip,
 /// bisected to `beta_tolerance`. Where β_c(seed) itself is the onset it is bisected on,
-/// on the same table.
+/// on the same table; where β_c at the tip lies inside the screening bracket, one
+/// evaluation at the seed tells whether the seed is lower (the onset is then min β_c of
+/// the two to the tolerance, as with a fully bisected β_c(seed)).
 pub fn locate_start(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -249,6 +248,24 @@ pub fn locate_start(
         fine.bracket.map_or(beta0, |b| b.1)
     };
     let (start, onset, resolved) = match tip {
+        // β_c at the tip inside the screening bracket: β_c(seed) may be lower by more than
+        // the tolerance, which one evaluation on the seed's table tells; the seed is then
+        // the better start, and its β_c is bisected on from there.
+        Some((phi, Some(beta))) if beta > below => {
+            let probe = beta - s.beta_tolerance;
+            *count += 1;
+            if probe > below && critical::unstable(fs, &table, probe) {
+                let lower = critical::Crossing { bracket: Some((below, probe)), evaluations: 0 }.refine(
+                    fs,
+                    &table,
+                    s.beta_tolerance,
+                );
+                *count += lower.evaluations;
+                (seed_phi, lower.bracket.map_or(probe, |b| b.1), true)
+            } else {
+                (phi, beta, true)
+            }
+        }
         Some((phi, Some(beta))) => (phi, beta, true),
         Some((_, None)) => (seed_phi, at_seed(), true),
         None => (seed_phi, at_seed(), false),
@@ -257,34 +274,22 @@ pub fn locate_start(
 }
 
 /// The edge of the unstable set at level β next to `inside` (unstable) on the side
-/// `dir` (−1 left, +1 right): march outward with growing steps until stable, then bisect.
-///
-/// A step is at most [`RegionSettings::max_edge_step`] where the growth g = ln max|μ|
-/// falls towards the threshold, so a stable gap that wide between two tongues is never
-/// stepped over. Where g stays well above it, the step may grow to half the distance at
-/// which g, falling at the rate of the last step, would reach the threshold (at most
-/// [`MAX_REACH`]·φ): a gap is a dip of g to the threshold, and g is continuous in φ.
+/// `dir` (−1 left, +1 right): march outward with growing steps (at most
+/// [`RegionSettings::max_edge_step`], so a stable gap that wide between two tongues is
+/// never stepped over) until stable, then bisect.
 pub fn edge(fs: &FloquetSystem, s: &RegionSettings, inside: f64, beta: f64, dir: f64, count: &mut usize) -> f64 {
-    let threshold = fs.settings.instability_tolerance.ln();
-    let mut step = (inside * 2e-4).max(4.0 * s.phi_tolerance);
-    // The last unstable sample (φ, g − threshold); g is not known at `inside`.
-    let mut lo = (inside, f64::NAN);
-    loop {
-        let phi = lo.0 + dir * step;
-        if phi <= 0.0 {
+    let mut lo = inside;
+    let mut step = (lo * 2e-4).max(4.0 * s.phi_tolerance);
+    let mut hi = lo + dir * step;
+    while unstable_at(fs, hi, beta, count) {
+        lo = hi;
+        step = (step * 1.6).min(s.max_edge_step(lo));
+        hi = lo + dir * step;
+        if hi <= 0.0 {
             return f64::MIN_POSITIVE;
         }
-        let here = (phi, growth_at(fs, phi, beta, count) - threshold);
-        // Stable exactly as `critical::unstable` judges (a NaN growth is no verdict of
-        // stability).
-        if here.1 <= 0.0 {
-            return bisect_boundary(fs, s, lo.0, here.0, beta, count);
-        }
-        let decline = (lo.1 - here.1) / step;
-        let reach = if decline > 0.0 && here.1.is_finite() { 0.5 * here.1 / decline } else { f64::INFINITY };
-        lo = here;
-        step = (step * 1.6).min(reach.min(MAX_REACH * phi.abs()).max(s.max_edge_step(phi)));
     }
+    bisect_boundary(fs, s, lo, hi, beta, count)
 }
 
 /// ln max|μ| at (φ, β) from a fresh per-φ table; counts one evaluation.
@@ -297,7 +302,8 @@ pub fn growth_at(fs: &FloquetSystem, phi: f64, beta: f64, count: &mut usize) -> 
 /// to `phi_tolerance`: the midpoint of the final bracket. (Predicting the edge from the
 /// growth samples — (g − g_outside)² is nearly linear in φ next to an edge — was tried
 /// and cost more evaluations than bisection on Fig. 11: the median bracket is already
-/// within two halvings of the tolerance.)
+/// within two halvings of the tolerance. Longer march steps where the growth does not
+/// fall saved under 1 % of the catalogue's evaluations and gave up the gap guarantee.)
 fn bisect_boundary(
     fs: &FloquetSystem,
     s: &RegionSettings,
