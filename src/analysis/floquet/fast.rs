@@ -79,18 +79,17 @@ pub struct PhiTable {
 /// enough for the product to run at matrix-multiply speed, little enough to stay in cache.
 const EVALUATION_BATCH: usize = 32;
 
-/// The split real form of an n×n complex matrix as one column: real parts, then imaginary.
-fn split(m: &Mat<c64>) -> Vec<f64> {
+/// The split real form of an n×n complex matrix written into one column `out` (2n² long):
+/// real parts, then imaginary.
+fn split_into(m: &Mat<c64>, out: &mut [f64]) {
     let n2 = m.nrows() * m.ncols();
-    let mut v = vec![0.0; 2 * n2];
     for j in 0..m.ncols() {
         for i in 0..m.nrows() {
             let k = i + j * m.nrows();
-            v[k] = m[(i, j)].re;
-            v[n2 + k] = m[(i, j)].im;
+            out[k] = m[(i, j)].re;
+            out[n2 + k] = m[(i, j)].im;
         }
     }
-    v
 }
 
 impl PhiTable {
@@ -138,8 +137,8 @@ impl PhiTable {
             Mat::from_fn(n, n, |i, j| e[(i, j)] * (scale[j] / scale[i]))
         };
         if x_max == 0.0 {
-            let e0 = split(&e(0.0));
-            let cheb = Mat::from_fn(2 * n * n, 1, |i, _| e0[i]);
+            let mut cheb = Mat::<f64>::zeros(2 * n * n, 1);
+            split_into(&e(0.0), cheb.col_as_slice_mut(0));
             return PhiTable { phi, steps, xi, x_max, cheb, n, converged: true, coupling: 0.0 };
         }
         // Chebyshev coefficients of E(x) decay like those of e^{a·u}, u ∈ [−1, 1], with
@@ -156,10 +155,11 @@ impl PhiTable {
         loop {
             // Samples at the Chebyshev points, one split column each; the coefficients are
             // their discrete cosine transform, one real product: C = S·W.
-            let samples: Vec<Vec<f64>> = (0..points)
-                .map(|j| split(&e(x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos())))
-                .collect();
-            let s_mat = Mat::from_fn(2 * n * n, points, |i, j| samples[j][i]);
+            let mut s_mat = Mat::<f64>::zeros(2 * n * n, points);
+            for j in 0..points {
+                let x = x_max * (std::f64::consts::PI * (j as f64 + 0.5) / points as f64).cos();
+                split_into(&e(x), s_mat.col_as_slice_mut(j));
+            }
             let w = Mat::from_fn(points, points, |j, k| {
                 let c =
                     2.0 / points as f64 * (std::f64::consts::PI * k as f64 * (j as f64 + 0.5) / points as f64).cos();
@@ -204,10 +204,10 @@ impl PhiTable {
         let mut half = ScaledProduct::identity(n);
         let mut step = Mat::<c64>::zeros(n, n);
         let mut values = Mat::<f64>::zeros(2 * n2, EVALUATION_BATCH);
+        let mut t = Mat::<f64>::zeros(p, EVALUATION_BATCH);
         let mut first = true;
         for chunk in self.xi.chunks(EVALUATION_BATCH) {
             // T_j(u) for each u = β·ξ/x_max of the batch, by the three-term recurrence.
-            let mut t = Mat::<f64>::zeros(p, chunk.len());
             for (k, &xi) in chunk.iter().enumerate() {
                 let u = if self.x_max > 0.0 { beta * xi / self.x_max } else { 0.0 };
                 t[(0, k)] = 1.0;
@@ -219,7 +219,7 @@ impl PhiTable {
                 }
             }
             let out = values.as_mut().subcols_mut(0, chunk.len());
-            matmul(out, Accum::Replace, self.cheb.as_ref(), t.as_ref(), 1.0, Par::Seq);
+            matmul(out, Accum::Replace, self.cheb.as_ref(), t.as_ref().subcols(0, chunk.len()), 1.0, Par::Seq);
             for k in 0..chunk.len() {
                 let col = values.col(k);
                 for j in 0..n {

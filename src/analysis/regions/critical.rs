@@ -165,8 +165,8 @@ impl Crossing {
         Crossing { bracket: None, evaluations }
     }
 
-    /// The crossing bisected further, to `tolerance`, on the same table (evaluations
-    /// counted from the start of the screening).
+    /// The crossing bisected further, to `tolerance`, on the same table; `evaluations`
+    /// adds the refinement's to those already counted.
     pub fn refine(self, fs: &FloquetSystem, table: &PhiTable, tolerance: f64) -> Crossing {
         let Some((lo, hi)) = self.bracket else { return self };
         let mut evaluations = self.evaluations;

@@ -242,33 +242,28 @@ pub fn locate_start(
     *count += screened.evaluations;
     let (below, beta0) = screened.bracket?;
     let tip = locate_tip(fs, s, seed_phi, (below, beta0), half_width, beta_max, count);
-    let mut at_seed = || {
-        let fine = screened.refine(fs, &table, s.beta_tolerance);
-        *count += fine.evaluations - screened.evaluations;
-        fine.bracket.map_or(beta0, |b| b.1)
+    // β_c(seed) bisected on from a (stable, unstable) bracket, on the seed's table.
+    let refine = |lo: f64, hi: f64, count: &mut usize| {
+        let fine = critical::Crossing { bracket: Some((lo, hi)), evaluations: 0 }.refine(fs, &table, s.beta_tolerance);
+        *count += fine.evaluations;
+        fine.bracket.map_or(hi, |b| b.1)
     };
     let (start, onset, resolved) = match tip {
         // β_c at the tip inside the screening bracket: β_c(seed) may be lower by more than
         // the tolerance, which one evaluation on the seed's table tells; the seed is then
         // the better start, and its β_c is bisected on from there.
-        Some((phi, Some(beta))) if beta > below => {
+        Some((phi, Some(beta))) if beta - s.beta_tolerance > below => {
             let probe = beta - s.beta_tolerance;
             *count += 1;
-            if probe > below && critical::unstable(fs, &table, probe) {
-                let lower = critical::Crossing { bracket: Some((below, probe)), evaluations: 0 }.refine(
-                    fs,
-                    &table,
-                    s.beta_tolerance,
-                );
-                *count += lower.evaluations;
-                (seed_phi, lower.bracket.map_or(probe, |b| b.1), true)
+            if critical::unstable(fs, &table, probe) {
+                (seed_phi, refine(below, probe, count), true)
             } else {
                 (phi, beta, true)
             }
         }
         Some((phi, Some(beta))) => (phi, beta, true),
-        Some((_, None)) => (seed_phi, at_seed(), true),
-        None => (seed_phi, at_seed(), false),
+        Some((_, None)) => (seed_phi, refine(below, beta0, count), true),
+        None => (seed_phi, refine(below, beta0, count), false),
     };
     Some((start, onset, resolved))
 }
