@@ -1,14 +1,17 @@
-//! Thin wrappers over faer: the quadratic eigenproblem by shift-invert (Eq. 18–21) and
-//! the symmetric-definite generalised eigenproblem (buckling, undamped modes).
+//! Thin wrappers over faer: the quadratic eigenproblem by shift-invert (Eq. 18–21), the
+//! symmetric-definite generalised eigenproblem (buckling, undamped modes), the matrix
+//! exponential and complex products as real ones.
 
 mod balance;
 mod expm;
 mod qep;
+mod split;
 mod symmetric;
 
 pub use balance::balance;
 pub use expm::{expm, norm1};
 pub use qep::{qep_residual, solve_qep, QepSolution};
+pub use split::{ExpWorkspace, SplitMatrix};
 pub use symmetric::{definite_eigen, DefiniteEigen};
 
 use thiserror::Error;

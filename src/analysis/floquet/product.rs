@@ -1,6 +1,7 @@
 //! A running product of step matrices, kept finite by rescaling: the true value is
 //! e^{log_scale}·matrix, so strongly unstable points never overflow (issue: no inf/NaN).
 
+use crate::linalg::SplitMatrix;
 use faer::linalg::matmul::matmul;
 use faer::{c64, Accum, Mat, MatRef, Par};
 
@@ -23,6 +24,12 @@ impl ScaledProduct {
         ScaledProduct { matrix: Mat::identity(n, n), log_scale: 0.0, scratch: Mat::zeros(n, n) }
     }
 
+    /// e^{log_scale}·matrix.
+    pub fn from_matrix(matrix: Mat<c64>, log_scale: f64) -> ScaledProduct {
+        let n = matrix.nrows();
+        ScaledProduct { matrix, log_scale, scratch: Mat::zeros(n, n) }
+    }
+
     /// Φ ← step·Φ.
     pub fn left_multiply(&mut self, step: MatRef<'_, c64>) {
         matmul(self.scratch.as_mut(), Accum::Replace, step, self.matrix.as_ref(), c64::new(1.0, 0.0), Par::Seq);
@@ -32,13 +39,56 @@ impl ScaledProduct {
 
     fn rescale(&mut self) {
         let m = self.matrix.norm_max();
-        if m > RESCALE_ABOVE && m.is_finite() {
+        if rescales(m) {
             let inv = 1.0 / m;
             for j in 0..self.matrix.ncols() {
                 for i in 0..self.matrix.nrows() {
                     self.matrix[(i, j)] *= inv;
                 }
             }
+            self.log_scale += m.ln();
+        }
+    }
+}
+
+/// Whether a product whose largest entry is `m` is rescaled (by 1/m).
+fn rescales(m: f64) -> bool {
+    m > RESCALE_ABOVE && m.is_finite()
+}
+
+/// The same running product with the matrix in split form ([`SplitMatrix`]): the fast
+/// path's products, as real matrix products.
+#[derive(Debug, Clone)]
+pub struct ScaledSplit {
+    /// The scaled matrix.
+    pub matrix: SplitMatrix,
+    /// Natural logarithm of the scale factor.
+    pub log_scale: f64,
+    scratch: SplitMatrix,
+}
+
+impl ScaledSplit {
+    /// The product of one matrix, given by its row form [A_r A_i] (n×2n).
+    pub fn new(first_row: MatRef<'_, f64>) -> ScaledSplit {
+        let n = first_row.nrows();
+        let mut matrix = SplitMatrix::zeros(n);
+        matrix.set_row(first_row);
+        let mut p = ScaledSplit { matrix, log_scale: 0.0, scratch: SplitMatrix::zeros(n) };
+        p.rescale();
+        p
+    }
+
+    /// Φ ← step·Φ, the step given by its row form.
+    pub fn left_multiply(&mut self, step_row: MatRef<'_, f64>) {
+        self.scratch.set_product(step_row, &self.matrix);
+        std::mem::swap(&mut self.matrix, &mut self.scratch);
+        self.rescale();
+    }
+
+    fn rescale(&mut self) {
+        let m = self.matrix.norm_max();
+        if rescales(m) {
+            self.matrix.scale(1.0 / m);
             self.log_scale += m.ln();
         }
     }
