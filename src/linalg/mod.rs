@@ -45,3 +45,25 @@ pub enum LinalgError {
         what: &'static str,
     },
 }
+
+/// Test helpers shared by the exponentials' tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    use faer::{c64, Mat};
+
+    /// The largest entry error of `ours` against nalgebra's Padé exp of `a`, relative to
+    /// the largest entry of e^A (nalgebra is accurate to 1e-14 relative at ‖A‖ = 10,
+    /// STACK.md).
+    pub fn exp_error_against_nalgebra(a: &Mat<c64>, ours: &Mat<c64>) -> f64 {
+        use nalgebra::DMatrix;
+        use num_complex::Complex;
+        let n = a.nrows();
+        let na = DMatrix::<Complex<f64>>::from_fn(n, n, |i, j| a[(i, j)]).exp();
+        let norm = na.iter().map(|z| z.norm()).fold(0.0, f64::max);
+        let err = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| (ours[(i, j)] - na[(i, j)]).norm())
+            .fold(0.0, f64::max);
+        err / norm
+    }
+}
