@@ -75,29 +75,24 @@ impl SplitMatrix {
         self.row().norm_max()
     }
 
-    /// The complex 1-norm: the largest column sum of moduli (infinite where the squares of
-    /// the entries overflow, above ~1e154: only the exponential's step count uses it).
+    /// The complex 1-norm: the largest column sum of moduli (the modulus as √(re² + im²),
+    /// and the slower overflow-safe `hypot` only where the squares overflow, as
+    /// [`crate::linalg::norm1`]). NaN if an entry is NaN.
     pub fn norm1(&self) -> f64 {
         let n = self.size();
-        (0..n)
-            .map(|j| {
-                let (re, im) = (self.block.col_as_slice(j), self.block.col_as_slice(n + j));
-                re[..n].iter().zip(&im[..n]).map(|(x, y)| (x * x + y * y).sqrt()).sum::<f64>()
-            })
-            .fold(0.0, f64::max)
-    }
-
-    /// The identity of size n.
-    pub fn identity(n: usize) -> SplitMatrix {
-        let mut s = SplitMatrix::zeros(n);
-        s.add_identity(1.0);
-        s
-    }
-
-    /// self ← self + c·I.
-    pub fn add_identity(&mut self, c: f64) {
-        for i in 0..self.block.nrows() {
-            self.block[(i, i)] += c;
+        let norm = |modulus: fn(f64, f64) -> f64| {
+            (0..n)
+                .map(|j| {
+                    let (re, im) = (self.block.col_as_slice(j), self.block.col_as_slice(n + j));
+                    re[..n].iter().zip(&im[..n]).map(|(x, y)| modulus(*x, *y)).sum::<f64>()
+                })
+                .fold(0.0, |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x) })
+        };
+        let fast = norm(|x, y| (x * x + y * y).sqrt());
+        if fast.is_finite() {
+            fast
+        } else {
+            norm(f64::hypot)
         }
     }
 
@@ -131,7 +126,8 @@ impl SplitMatrix {
     /// e^A by its Taylor polynomial, evaluated by Paterson–Stockmeyer, with scaling and
     /// squaring above [`TAYLOR_DEGREES`]' last degree. Every product is a real one; there
     /// is no linear solve (a Padé approximant needs one, which for 16×16 costs as much as
-    /// three products). Non-finite input gives a matrix of NaN at once.
+    /// three products). Input with an infinite or NaN entry, or a 1-norm beyond f64::MAX,
+    /// gives a matrix of NaN at once.
     pub fn exp(&self) -> SplitMatrix {
         let mut workspace = ExpWorkspace::new(self.size());
         self.exp_in(&mut workspace).clone()
@@ -145,6 +141,7 @@ impl SplitMatrix {
             *ws = ExpWorkspace::new(n);
         }
         let norm = self.norm1();
+        // Infinite or NaN entries (or a 1-norm beyond f64::MAX, whose exponential overflows).
         if !norm.is_finite() {
             ws.acc.block.fill(f64::NAN);
             return &ws.acc;
@@ -155,15 +152,15 @@ impl SplitMatrix {
         for k in 1..=degree {
             c[k] = c[k - 1] / k as f64;
         }
-        // A^0 … A^s, s = the block size (A^0 = I is kept).
+        // powers[k − 1] = A^k for k = 1 … s, s = the block size.
         let powers = &mut ws.powers;
-        powers[1].block.copy_from(&self.block);
-        powers[1].scale(0.5f64.powi(squarings));
+        powers[0].block.copy_from(&self.block);
+        powers[0].scale(0.5f64.powi(squarings));
         for k in 2..=block {
-            let (done, rest) = powers.split_at_mut(k);
-            rest[0].set_product(done[k - 1].row(), &done[1]);
+            let (done, rest) = powers.split_at_mut(k - 1);
+            rest[0].set_product(done[k - 2].row(), &done[0]);
         }
-        let powers = &ws.powers[..=block];
+        let powers = &ws.powers[..block];
         // T(A) = Σ_i B_i·(A^s)^i with B_i = Σ_{l<s} c_{is+l}·A^l, by Horner in A^s; the top
         // block B_r = c_m·I is folded into the first step (m = r·s).
         let blocks = degree / block;
@@ -175,7 +172,7 @@ impl SplitMatrix {
             matmul(
                 next.block.as_mut().subrows_mut(0, n),
                 Accum::Replace,
-                powers[block].row(),
+                powers[block - 1].row(),
                 acc.block.as_ref(),
                 1.0,
                 Par::Seq,
@@ -192,9 +189,9 @@ impl SplitMatrix {
     }
 
     /// Top rows only (the bottom rows follow at [`Self::complete`]): self ← self +
-    /// Σ_l c_l·P_l with P_0 = I, in one pass over each column.
+    /// c_0·I + Σ_{l≥1} c_l·powers[l − 1], in one pass over each column.
     fn add_combination_top(&mut self, c: &[f64], powers: &[SplitMatrix]) {
-        let (identity, c, terms, rows) = (c[0], &c[1..], &powers[1..], self.size());
+        let (identity, c, terms, rows) = (c[0], &c[1..], powers, self.size());
         pulp::Arch::new().dispatch(Combination { acc: &mut self.block, identity, c, terms, rows });
     }
 
@@ -226,6 +223,8 @@ impl pulp::WithSimd for Combination<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let (n, rows) = (self.acc.nrows() / 2, self.rows);
+        // The identity goes on the top-left block only: callers complete the bottom rows.
+        debug_assert!(rows == n || self.identity == 0.0);
         for j in 0..self.acc.ncols() {
             let x = &mut self.acc.col_as_slice_mut(j)[..rows];
             if j < n {
@@ -266,7 +265,7 @@ impl pulp::WithSimd for Complete<'_> {
     }
 }
 
-/// Buffers of [`SplitMatrix::exp_in`]: the powers A^0 … A^s and two accumulators.
+/// Buffers of [`SplitMatrix::exp_in`]: the powers A^1 … A^s and two accumulators.
 #[derive(Debug, Clone)]
 pub struct ExpWorkspace {
     powers: Vec<SplitMatrix>,
@@ -278,8 +277,7 @@ impl ExpWorkspace {
     /// Buffers for n×n matrices.
     pub fn new(n: usize) -> ExpWorkspace {
         let most = TAYLOR_DEGREES.iter().map(|&(_, s)| s).max().unwrap_or(1);
-        let mut powers = vec![SplitMatrix::identity(n)];
-        powers.extend((0..most).map(|_| SplitMatrix::zeros(n)));
+        let powers = (0..most).map(|_| SplitMatrix::zeros(n)).collect();
         ExpWorkspace { powers, acc: SplitMatrix::zeros(n), next: SplitMatrix::zeros(n) }
     }
 }
@@ -351,8 +349,10 @@ mod tests {
         let mut sum = SplitMatrix::zeros(n);
         sum.copy_from(&sa);
         sum.add_scaled(2.5, &sb);
-        let sum = sum.to_complex();
-        assert!((0..n).all(|i| (0..n).all(|j| (sum[(i, j)] - (a[(i, j)] + b[(i, j)] * 2.5)).norm() < 1e-15)));
+        let exact = SplitMatrix::from_complex(Mat::from_fn(n, n, |i, j| a[(i, j)] + b[(i, j)] * 2.5).as_ref());
+        assert!(sum.block == exact.block, "the whole block, bottom rows too");
+        // A product is a consistent block form.
+        assert!(sc.block == SplitMatrix::from_complex(sc.to_complex().as_ref()).block);
         // The transpose's row form is the row form of Aᵀ.
         let mut st = SplitMatrix::zeros(n);
         st.set_row(sa.transposed_row().as_ref());
@@ -362,13 +362,21 @@ mod tests {
 
     #[test]
     fn taylor_exponential_agrees_with_nalgebra() {
-        // As for `expm`; the scales use every degree and the squarings.
-        for (k, scale) in [0.0005, 0.005, 0.03, 0.1, 0.2, 0.5, 1.0, 10.0, 50.0].into_iter().enumerate() {
+        // As for `expm`; the scales (1-norms 0.0075 … 750) use every degree and the
+        // squarings, which the test checks.
+        let mut degrees = Vec::new();
+        for (k, scale) in [0.0005, 0.005, 0.02, 0.03, 0.07, 0.1, 0.2, 0.5, 1.0, 10.0, 50.0].into_iter().enumerate() {
             let a = Mat::from_fn(16, 16, |i, j| sample(16, k as f64)[(i, j)] * scale);
-            let ours = SplitMatrix::from_complex(a.as_ref()).exp().to_complex();
-            let err = crate::linalg::testing::exp_error_against_nalgebra(&a, &ours);
+            let split = SplitMatrix::from_complex(a.as_ref());
+            degrees.push(taylor_plan(split.norm1()));
+            let e = split.exp();
+            let err = crate::linalg::testing::exp_error_against_nalgebra(&a, &e.to_complex());
             assert!(err < 1e-11, "scale {scale}: relative error {err}");
+            // The result is a consistent block form.
+            assert!(e.block == SplitMatrix::from_complex(e.to_complex().as_ref()).block);
         }
+        assert!(TAYLOR_DEGREES.iter().all(|&(m, _)| degrees.iter().any(|p| p.0 == m && p.2 == 0)), "{degrees:?}");
+        assert!(degrees.iter().any(|p| p.2 > 0));
     }
 
     #[test]
@@ -376,7 +384,8 @@ mod tests {
         // Unit round-off needs degree 6 near 0.01 and more squarings as the norm doubles.
         assert_eq!(taylor_plan(0.01), (6, 3, 0));
         let plans: Vec<_> = [0.1, 0.3, 0.7, 1.2, 2.0].iter().map(|&x| taylor_plan(x)).collect();
-        assert!(plans.windows(2).all(|w| w[0].0 <= w[1].0 && w[0].2 == 0));
+        assert!(plans.windows(2).all(|w| w[0].0 <= w[1].0));
+        assert!(plans.iter().all(|p| p.2 == 0));
         let (_, _, s1) = taylor_plan(10.0);
         let (_, _, s2) = taylor_plan(20.0);
         assert_eq!(s2, s1 + 1);
@@ -389,9 +398,23 @@ mod tests {
 
     #[test]
     fn taylor_exponential_of_non_finite_input_is_nan() {
-        let mut a = sample(4, 1.0);
-        a[(1, 2)] = c64::new(f64::INFINITY, 0.0);
+        for bad in [f64::INFINITY, f64::NAN] {
+            let mut a = sample(4, 1.0);
+            a[(1, 2)] = c64::new(bad, 0.0);
+            let e = SplitMatrix::from_complex(a.as_ref()).exp().to_complex();
+            assert!((0..4).all(|i| (0..4).all(|j| e[(i, j)].re.is_nan())));
+        }
+        // Huge but finite: e^{−1e160·I} underflows to 0, as the Padé `expm` gives.
+        let a = Mat::from_fn(3, 3, |i, j| c64::new(if i == j { -1e160 } else { 0.0 }, 0.0));
         let e = SplitMatrix::from_complex(a.as_ref()).exp().to_complex();
-        assert!((0..4).all(|i| (0..4).all(|j| e[(i, j)].re.is_nan())));
+        assert!((0..3).all(|i| (0..3).all(|j| e[(i, j)] == c64::new(0.0, 0.0))));
+    }
+
+    #[test]
+    fn norm1_is_the_complex_one_norm() {
+        for a in [sample(9, 0.4), Mat::from_fn(2, 2, |i, j| c64::new(if i == j { 1e160 } else { 3e159 }, 1e159))] {
+            let (ours, reference) = (SplitMatrix::from_complex(a.as_ref()).norm1(), crate::linalg::norm1(a.as_ref()));
+            assert!((ours - reference).abs() <= 1e-15 * reference, "{ours} vs {reference}");
+        }
     }
 }

@@ -38,22 +38,22 @@ impl ScaledProduct {
     }
 
     fn rescale(&mut self) {
-        let m = self.matrix.norm_max();
-        if rescales(m) {
-            let inv = 1.0 / m;
+        if let Some(e) = rescaling(self.matrix.norm_max()) {
+            let factor = 0.5f64.powi(e);
             for j in 0..self.matrix.ncols() {
                 for i in 0..self.matrix.nrows() {
-                    self.matrix[(i, j)] *= inv;
+                    self.matrix[(i, j)] *= factor;
                 }
             }
-            self.log_scale += m.ln();
+            self.log_scale += e as f64 * std::f64::consts::LN_2;
         }
     }
 }
 
-/// Whether a product whose largest entry is `m` is rescaled (by 1/m).
-fn rescales(m: f64) -> bool {
-    m > RESCALE_ABOVE && m.is_finite()
+/// For a product whose largest entry is `m`: None, or the power of two 2^e ≤ m it is
+/// divided by (a power of two, so that the scaling itself is exact).
+fn rescaling(m: f64) -> Option<i32> {
+    (m > RESCALE_ABOVE && m.is_finite()).then(|| m.log2().floor() as i32)
 }
 
 /// The same running product with the matrix in split form ([`SplitMatrix`]): the fast
@@ -86,10 +86,9 @@ impl ScaledSplit {
     }
 
     fn rescale(&mut self) {
-        let m = self.matrix.norm_max();
-        if rescales(m) {
-            self.matrix.scale(1.0 / m);
-            self.log_scale += m.ln();
+        if let Some(e) = rescaling(self.matrix.norm_max()) {
+            self.matrix.scale(0.5f64.powi(e));
+            self.log_scale += e as f64 * std::f64::consts::LN_2;
         }
     }
 }
