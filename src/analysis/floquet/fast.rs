@@ -16,7 +16,7 @@
 //!    and Φ(T) = X⁻¹·Lᵀ·X·L with L the first half's product.
 //! 4. **Real arithmetic**: the complex products and the exponentials at the Chebyshev
 //!    points are real ones in split form ([`SplitMatrix`]: Taylor exponential, no linear
-//!    solve), ~1.8× and 1.4–2× faster than faer's complex product and the Padé `expm`
+//!    solve), ~1.8× and 1.3–2× faster than faer's complex product and the Padé `expm`
 //!    (`cargo bench --bench kernels`). [`monodromy_cfm4_direct`] keeps the Padé `expm`
 //!    and complex products: the test of the fast path against it checks these too.
 
