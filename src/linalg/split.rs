@@ -1,14 +1,16 @@
-//! Complex matrix products carried out as real ones.
+//! Complex matrix products and exponentials in real arithmetic.
 //!
 //! A complex n×n matrix A = A_r + i·A_i is held as the real 2n×2n block matrix
 //! [[A_r, A_i], [−A_i, A_r]], whose top n rows [A_r A_i] are its *row form*. The row form
 //! of a product is a real product, [A_r A_i]·[[B_r, B_i], [−B_i, B_r]] =
 //! [A_rB_r − A_iB_i, A_rB_i + A_iB_r], and the bottom rows are copies of the top ones.
+//! The exponential is a Taylor polynomial of such products ([`SplitMatrix::exp_in`]).
 //!
 //! Why: for the 16×16 matrices of the paper's reduced model faer's complex kernel takes
-//! ~1.5 µs per product, the real 16×32·32×32 product ~0.85 µs (measured on this machine,
-//! README "Floquet"). The products of the monodromy go this way; the reference paths keep
-//! faer's complex products, so the two stay independent.
+//! ~1.4 µs per product, the real 16×32·32×32 product ~0.8 µs, and the Taylor exponential
+//! 1.3–2× less than the Padé `expm` with its linear solve (`cargo bench --bench kernels`,
+//! same run). The fast monodromy path uses these; the reference paths keep faer's complex
+//! products and the Padé `expm`, so the two stay independent.
 
 use faer::linalg::matmul::matmul;
 use faer::{c64, Accum, Mat, MatRef, Par};
@@ -155,7 +157,9 @@ impl SplitMatrix {
         // powers[k − 1] = A^k for k = 1 … s, s = the block size.
         let powers = &mut ws.powers;
         powers[0].block.copy_from(&self.block);
-        powers[0].scale(0.5f64.powi(squarings));
+        if squarings > 0 {
+            powers[0].scale(0.5f64.powi(squarings));
+        }
         for k in 2..=block {
             let (done, rest) = powers.split_at_mut(k - 1);
             rest[0].set_product(done[k - 2].row(), &done[0]);
