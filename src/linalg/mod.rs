@@ -9,7 +9,7 @@ mod split;
 mod symmetric;
 
 pub use balance::balance;
-pub use expm::{expm, norm1};
+pub use expm::{expm, norm1, with_modulus};
 pub use qep::{qep_residual, solve_qep, QepSolution};
 pub use split::{ExpWorkspace, SplitMatrix};
 pub use symmetric::{definite_eigen, DefiniteEigen};

@@ -12,6 +12,7 @@
 //! same run). The fast monodromy path uses these; the reference paths keep faer's complex
 //! products and the Padé `expm`, so the two stay independent.
 
+use super::with_modulus;
 use faer::linalg::matmul::matmul;
 use faer::{c64, Accum, Mat, MatRef, Par};
 
@@ -77,25 +78,18 @@ impl SplitMatrix {
         self.row().norm_max()
     }
 
-    /// The complex 1-norm: the largest column sum of moduli (the modulus as √(re² + im²),
-    /// and the slower overflow-safe `hypot` only where the squares overflow, as
+    /// The complex 1-norm: the largest column sum of moduli ([`with_modulus`], as
     /// [`crate::linalg::norm1`]). NaN if an entry is NaN.
     pub fn norm1(&self) -> f64 {
         let n = self.size();
-        let norm = |modulus: fn(f64, f64) -> f64| {
+        with_modulus(|modulus| {
             (0..n)
                 .map(|j| {
                     let (re, im) = (self.block.col_as_slice(j), self.block.col_as_slice(n + j));
                     re[..n].iter().zip(&im[..n]).map(|(x, y)| modulus(*x, *y)).sum::<f64>()
                 })
                 .fold(0.0, |m: f64, x| if x.is_nan() { f64::NAN } else { m.max(x) })
-        };
-        let fast = norm(|x, y| (x * x + y * y).sqrt());
-        if fast.is_finite() {
-            fast
-        } else {
-            norm(f64::hypot)
-        }
+        })
     }
 
     /// self ← other (same size).

@@ -22,7 +22,7 @@
 
 use super::product::{ScaledProduct, ScaledSplit};
 use crate::analysis::reduction::PeriodicSystem;
-use crate::linalg::{expm, ExpWorkspace, SplitMatrix};
+use crate::linalg::{expm, with_modulus, ExpWorkspace, SplitMatrix};
 use faer::linalg::matmul::matmul;
 use faer::{c64, Accum, Mat, MatRef, Par};
 
@@ -188,14 +188,7 @@ impl PhiTable {
             // Largest |entry| of coefficient k (the halved c₀ counts twice).
             let size = |k: usize| {
                 let (re, im) = cheb.col_as_slice(k).split_at(n * n);
-                // The modulus as √(re² + im²) (`hypot` costs ~20 ns each: 15 µs a table);
-                // `hypot` only where the squares overflow.
-                let square = re.iter().zip(im).map(|(x, y)| x * x + y * y).fold(0.0, f64::max);
-                let m = if square.is_finite() {
-                    square.sqrt()
-                } else {
-                    re.iter().zip(im).map(|(x, y)| x.hypot(*y)).fold(0.0, f64::max)
-                };
+                let m = with_modulus(|modulus| re.iter().zip(im).map(|(x, y)| modulus(*x, *y)).fold(0.0, f64::max));
                 if k == 0 {
                     2.0 * m
                 } else {

@@ -165,11 +165,10 @@ impl Crossing {
         Crossing { bracket: None, evaluations }
     }
 
-    /// The crossing bisected further, to `tolerance`, on the same table; `evaluations`
-    /// adds the refinement's to those already counted.
-    pub fn refine(self, fs: &FloquetSystem, table: &PhiTable, tolerance: f64) -> Crossing {
-        let Some((lo, hi)) = self.bracket else { return self };
-        let mut evaluations = self.evaluations;
+    /// A (stable, unstable) bracket bisected to `tolerance` on its table; `evaluations`
+    /// counts this bisection's.
+    pub fn bisected(fs: &FloquetSystem, table: &PhiTable, (lo, hi): (f64, f64), tolerance: f64) -> Crossing {
+        let mut evaluations = 0;
         let mut eval = |b: f64| {
             evaluations += 1;
             unstable(fs, table, b)

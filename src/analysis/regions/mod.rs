@@ -244,7 +244,7 @@ pub fn locate_start(
     let tip = locate_tip(fs, s, seed_phi, (below, beta0), half_width, beta_max, count);
     // β_c(seed) bisected on from a (stable, unstable) bracket, on the seed's table.
     let refine = |lo: f64, hi: f64, count: &mut usize| {
-        let fine = critical::Crossing { bracket: Some((lo, hi)), evaluations: 0 }.refine(fs, &table, s.beta_tolerance);
+        let fine = critical::Crossing::bisected(fs, &table, (lo, hi), s.beta_tolerance);
         *count += fine.evaluations;
         fine.bracket.map_or(hi, |b| b.1)
     };
