@@ -136,9 +136,12 @@ enum Command {
         /// Operating excitation frequency φ_op (rad/s).
         #[arg(long = "phi-op")]
         phi_op: f64,
-        /// Load level β_op.
+        /// Load level β_op (> 0).
         #[arg(long)]
         level: f64,
+        /// φ window A:B searched (rad/s); default φ_op/20 to 20·φ_op.
+        #[arg(long)]
+        phi: Option<String>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
@@ -208,14 +211,27 @@ fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
     Ok(Problem::from_path(&input.file, &input.set)?)
 }
 
-fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
+/// Exit codes (docs/errors.md): 0 a result, 1 an analysis failure, 2 bad input, 3 an
+/// infeasible design, 4 a design that failed its verification, 5 a study with failed
+/// cases.
+mod exit {
+    pub const INFEASIBLE: u8 = 3;
+    pub const NOT_VERIFIED: u8 = 4;
+    pub const STUDY_FAILED_CASES: u8 = 5;
+}
+
+/// The text for standard output and the exit code of a run that produced output.
+fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
+    let plain = |r: Result<String, rotorshunt::Error>| r.map(|t| (t, 0));
     match cli.command {
-        Command::Check { input } => commands::check(&load(&input)?),
-        Command::Modes { input, speed, count, json } => commands::modes(&load(&input)?, speed, count, json),
+        Command::Check { input } => plain(commands::check(&load(&input)?)),
+        Command::Modes { input, speed, count, json } => plain(commands::modes(&load(&input)?, speed, count, json)),
         Command::Campbell { input, speeds, count, out } => {
-            commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar())
+            plain(commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar()))
         }
-        Command::Floquet { input, point, json } => commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json),
+        Command::Floquet { input, point, json } => {
+            plain(commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json))
+        }
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
             let other = match (&compare, compare_set.is_empty()) {
@@ -240,26 +256,42 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,
             };
-            commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar())
+            plain(commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar()))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
-            commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref())
+            plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref()))
         }
-        Command::Band { input, phi_op, level, json } => commands::band_cmd(&load(&input)?, phi_op, level, json),
-        Command::Design { input, out } => commands::design_cmd(&load(&input)?, &out, &bar()),
-        Command::Study { file, out, force } => commands::study_cmd(&file, &out, force, &bar()),
+        Command::Band { input, phi_op, level, phi, json } => {
+            plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json))
+        }
+        Command::Design { input, out } => {
+            let (text, outcome) = commands::design_cmd(&load(&input)?, &out, &bar())?;
+            let code = match outcome.status {
+                rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,
+                rotorshunt::design::Status::NotVerified => exit::NOT_VERIFIED,
+                _ => 0,
+            };
+            Ok((text, code))
+        }
+        Command::Study { file, out, force } => {
+            let (text, failed) = commands::study_cmd(&file, &out, force, &bar())?;
+            Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
+        }
         Command::Response { input, point, periods, out } => {
-            commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out)
+            plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out))
         }
     }
 }
 
 fn main() -> ExitCode {
+    // The CLI parallelises its outermost loops with rayon; faer's own kernels run
+    // sequentially, so results do not depend on the thread count.
+    faer::set_global_parallelism(faer::Par::Seq);
     let cli = Cli::parse();
     match run(cli) {
-        Ok(text) => {
+        Ok((text, code)) => {
             print!("{text}");
-            ExitCode::SUCCESS
+            ExitCode::from(code)
         }
         Err(e) => {
             eprintln!("error: {e}");

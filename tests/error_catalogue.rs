@@ -46,12 +46,14 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::Linalg(_) => "Linalg",
         AnalysisError::ReducedModes { .. } => "ReducedModes",
         AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
+        AnalysisError::OutsideWindow { .. } => "OutsideWindow",
     }
 }
 
 fn design_kind(e: &DesignError) -> &'static str {
     match e {
         DesignError::NoDesign => "NoDesign",
+        DesignError::NoOperatingFrequency => "NoOperatingFrequency",
         // A candidate's file or analysis error is one of those kinds.
         DesignError::Candidate(p) => problem_kind(&p.kind),
         DesignError::Analysis(a) => analysis_kind(a),
@@ -96,12 +98,14 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::Linalg(LinalgError::NotPositiveDefinite { what: "stiffness" }),
         AnalysisError::ReducedModes { requested: 1, available: 0 },
         AnalysisError::StaticLoadBuckles { alpha: 1.0, critical_load: 1.0 },
+        AnalysisError::OutsideWindow { phi: 1.0, window: rotorshunt::analysis::Interval::new(2.0, 3.0) },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
         Error::Design(DesignError::NoDesign),
+        Error::Design(DesignError::NoOperatingFrequency),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
     ];

@@ -6,8 +6,10 @@ use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::{
-    catalogue, critical_load, edges_at, locate_start, seeds, track, Catalogue, RegionSettings, CENTRE_WINDOW,
+    catalogue, critical_load, edges_at, locate_start, seeds, track, Catalogue, CatalogueRequest, RegionSettings,
+    CENTRE_WINDOW,
 };
+use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
 
 fn prepared(name: &str, overrides: &[&str]) -> (FloquetSystem, rotorshunt::analysis::modes::ModesResult) {
@@ -34,13 +36,18 @@ fn unstable(fs: &FloquetSystem, phi: f64, beta: f64) -> bool {
 /// Catalogued spans at the level, with the guard scan's unexplained intervals.
 fn spans(c: &Catalogue) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = c.regions.iter().filter_map(|r| Some((r.left?, r.right?))).collect();
-    out.extend(c.unexplained.iter().map(|e| (e.left, e.right)));
+    out.extend(c.unexplained.iter().map(|e| (e.lo, e.hi)));
     out
+}
+
+/// The catalogue request of these tests: φ = 100..8000 rad/s, β_max = 1, at `level`.
+fn request(level: f64) -> CatalogueRequest {
+    CatalogueRequest { range: Interval::new(100.0, 8000.0), beta_max: 1.0, level, track: false }
 }
 
 fn cat(name: &str, overrides: &[&str], level: f64) -> (FloquetSystem, Catalogue) {
     let (fs, full) = prepared(name, overrides);
-    let c = catalogue(&fs, &full, &RegionSettings::default(), (100.0, 8000.0), 1.0, level, false).unwrap();
+    let c = catalogue(&fs, &full, &RegionSettings::default(), &request(level)).unwrap();
     (fs, c)
 }
 
@@ -86,7 +93,7 @@ fn catalogue_covers_the_floquet_chart_on_every_paper_problem() {
     for (name, overrides) in PAPER_PROBLEMS {
         let (fs, full) = prepared(name, overrides);
         for level in [0.25, 0.5, 0.75, 1.0] {
-            let c = catalogue(&fs, &full, &RegionSettings::default(), (100.0, 8000.0), 1.0, level, false).unwrap();
+            let c = catalogue(&fs, &full, &RegionSettings::default(), &request(level)).unwrap();
             let spans = spans(&c);
             let missed: Vec<f64> = (0..=316)
                 .map(|i| 100.0 + 25.0 * i as f64)
@@ -179,8 +186,8 @@ fn catalogued_edges_match_a_fine_chart_at_the_level() {
         }
         // The stable bands are the complement: a point in a band's interior is stable.
         for b in &c.stable_bands {
-            if b[1] - b[0] > 4.0 {
-                assert!(!unstable(&fs, 0.5 * (b[0] + b[1]), 0.3), "{name}: band {b:?}");
+            if b.width() > 4.0 {
+                assert!(!unstable(&fs, b.centre(), 0.3), "{name}: band {b:?}");
             }
         }
     }
@@ -192,14 +199,14 @@ fn tracked_edges_agree_with_the_grid_within_one_step() {
     // step (1 rad/s) outside each edge are stable and one step inside are unstable.
     let (fs, full) = prepared("fig9-open-2000.toml", &[]);
     let s = RegionSettings::default();
-    let seeds = seeds(&fs, &full, (100.0, 8000.0), 1).unwrap();
+    let seeds = seeds(&fs, Some(&full), (100.0, 8000.0), 1).unwrap();
     let mut checked = 0;
     for label in ["f1+b2", "f2+b1", "f2+b2"] {
         let seed = seeds.iter().find(|x| x.label == label).unwrap();
         let mut n = 0;
-        let (start, onset, resolved) = locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, 1.0, &mut n).unwrap();
-        assert!(resolved);
-        let boundary = track(&fs, &s, start, onset, 0.6, &mut n);
+        let st = locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, (1.0, 1.0), &mut n).unwrap();
+        assert!(st.resolved);
+        let boundary = track(&fs, &s, st.phi, st.onset, 0.6, &mut n);
         assert!(boundary.len() >= 4, "{label}: {} levels", boundary.len());
         for e in &boundary {
             let u = |phi: f64| !fs.point_fast(&fs.table(phi, e.beta), e.beta).summary.stable;
@@ -239,9 +246,9 @@ fn damping_and_resistance_lift_the_onsets() {
     let s = RegionSettings::default();
     let onset = |name: &str, label: &str| {
         let (fs, full) = prepared(name, &[]);
-        let seed = seeds(&fs, &full, (100.0, 8000.0), 1).unwrap().into_iter().find(|x| x.label == label).unwrap();
+        let seed = seeds(&fs, Some(&full), (100.0, 8000.0), 1).unwrap().into_iter().find(|x| x.label == label).unwrap();
         let mut n = 0;
-        locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, 1.0, &mut n).unwrap().1
+        locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, (1.0, 1.0), &mut n).unwrap().onset
     };
     let eta: Vec<f64> =
         ["fig8-eta0.toml", "fig8-eta200.toml", "fig8-eta4000.toml"].iter().map(|n| onset(n, "n1+n2")).collect();

@@ -3,7 +3,9 @@
 pub mod buckling;
 pub mod campbell;
 pub mod chart;
+pub mod criterion;
 pub mod floquet;
+pub mod interval;
 pub mod modes;
 pub mod reduction;
 pub mod regions;
@@ -11,6 +13,8 @@ pub mod response;
 mod rotor;
 mod settings;
 
+pub use criterion::Criterion;
+pub use interval::Interval;
 pub use rotor::Rotor;
 pub use settings::{MonodromyMethod, Settings};
 
@@ -30,6 +34,14 @@ pub enum AnalysisError {
         requested: usize,
         /// Finite undamped modes of the model.
         available: usize,
+    },
+    /// A stable band was asked around a φ outside the window searched.
+    #[error("phi_op = {phi} rad/s lies outside the phi window {window:.2} rad/s searched for its band")]
+    OutsideWindow {
+        /// φ_op (rad/s).
+        phi: f64,
+        /// The window (rad/s).
+        window: Interval,
     },
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]

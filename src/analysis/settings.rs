@@ -19,6 +19,16 @@ pub struct Settings {
     pub reduced_modes: usize,
     /// The paper's instability criterion: unstable when max|μ| exceeds this (Eq. 28).
     pub instability_tolerance: f64,
+    /// Growth-rate floor σ_min of the declared criterion (1/s): an unstable point whose
+    /// growth rate ln(max|μ|)/T is below it does not count in stable bands, designs and
+    /// studies (it is listed as ignored). 0 keeps the paper's criterion.
+    pub min_growth_rate: f64,
+    /// Smallest width at β_op (rad/s) of a tongue that counts in stable bands, designs and
+    /// studies; narrower ones are listed as ignored. 0 keeps the paper's criterion.
+    pub min_tongue_width: f64,
+    /// Highest order k of the tongues (ω_i + ω_j)/k searched at β_op: the stable bands are
+    /// complete up to this order (the stated guarantee).
+    pub max_tongue_order: usize,
     /// Monodromy path used by charts and points.
     pub method: MonodromyMethod,
     /// CFM4 steps per period of the fast path (minimum; doubled automatically where the
@@ -53,6 +63,12 @@ impl Default for Settings {
             // The paper reduces to M = 4 (open, Ω = 0) and M = 8 (closed); 8 covers both.
             reduced_modes: 8,
             instability_tolerance: 1.0001,
+            // Nothing ignored: the paper's criterion as it stands.
+            min_growth_rate: 0.0,
+            min_tongue_width: 0.0,
+            // 8: the f1+b1 tongues of the paper's rotor reach β = 0.3 up to order 7 in
+            // φ ≥ 100 rad/s; each order costs a few evaluations per pair and order.
+            max_tongue_order: 8,
             method: MonodromyMethod::Fast,
             // 32 CFM4 steps: max|μ| within 1e-6 of a converged reference at every tested
             // point of the paper's problems, and within 1e-5 of 4× finer on the Fig. 11

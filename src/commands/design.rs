@@ -5,21 +5,19 @@
 use super::{title, OutDir, Progress, TOOL};
 use crate::analysis::campbell::campbell;
 use crate::analysis::chart::chart;
-use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::{catalogue, RegionSettings};
 use crate::design::evaluate::Candidate;
 use crate::design::spec::{DesignSpec, Objective};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
 use crate::report::campbell::campbell_plot;
 use crate::report::chart::{Layer, StabilityPlot};
-use crate::report::design::{markdown, BranchRow, DesignAtSpeed, DesignReport, WhirlRow};
+use crate::report::design::{markdown, BranchRow, DesignReport};
 use crate::report::plot::{LinePlot, Series};
 use crate::Error;
 use std::path::Path;
 
-/// Whirls listed per design and speed in the report.
-const REPORT_WHIRLS: usize = 6;
+/// Whirls tracked in the tuned design's Campbell diagram.
+const CAMPBELL_WHIRLS: usize = 6;
 /// Grid of the before/after charts: φ points and β points.
 const CHART_GRID: (usize, usize) = (400, 31);
 /// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
@@ -42,29 +40,6 @@ fn branches(p: &Problem) -> Vec<BranchRow> {
         .collect()
 }
 
-fn at_speeds(c: &Candidate, spec: &DesignSpec) -> Result<Vec<DesignAtSpeed>, Error> {
-    c.systems
-        .iter()
-        .map(|(w, fs)| {
-            let w = *w;
-            let full = whirl_modes_of(&c.rotor, &c.problem.settings, w)?;
-            let cat =
-                catalogue(fs, &full, &RegionSettings::default(), spec.phi_range, spec.beta_max, spec.level, false)?;
-            let mut whirls: Vec<WhirlRow> = Vec::new();
-            for dir in [crate::analysis::modes::Whirl::Forward, crate::analysis::modes::Whirl::Backward] {
-                whirls.extend(
-                    full.modes
-                        .iter()
-                        .filter(|m| m.whirl == dir)
-                        .take(REPORT_WHIRLS)
-                        .map(|m| WhirlRow { tag: m.tag(), frequency: m.frequency }),
-                );
-            }
-            Ok(DesignAtSpeed { speed: w, whirls, catalogue: cat })
-        })
-        .collect()
-}
-
 /// The φ window of the charts: around φ_op or the bands, inside the design's range.
 fn chart_window(spec: &DesignSpec) -> (f64, f64) {
     let (lo, hi) = match spec.objective {
@@ -73,8 +48,8 @@ fn chart_window(spec: &DesignSpec) -> (f64, f64) {
             (p * 0.5, p * 1.5)
         }
         Objective::ClearBands => {
-            let lo = spec.bands.iter().map(|b| b.guarded().0).fold(f64::INFINITY, f64::min);
-            let hi = spec.bands.iter().map(|b| b.guarded().1).fold(0.0, f64::max);
+            let lo = spec.bands.iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
+            let hi = spec.bands.iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
             (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
         }
     };
@@ -158,22 +133,46 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
     }
 }
 
+/// The name of the design file written: `tuned.toml` for a result that can be handed on,
+/// `best-effort.toml` for an infeasible or unverified one.
+pub fn design_file_name(status: Status) -> &'static str {
+    if status.is_result() {
+        "tuned.toml"
+    } else {
+        "best-effort.toml"
+    }
+}
+
 /// The tuned problem file: the input (with overrides applied) and the tuned circuit.
 pub fn tuned_toml(tuned: &Problem, source: &Problem, outcome: &DesignOutcome) -> Result<String, Error> {
     let body = toml::to_string(&tuned.data)
-        .map_err(|e| Error::Output { path: "tuned.toml".into(), message: e.to_string() })?;
+        .map_err(|e| Error::Output { path: design_file_name(outcome.status).into(), message: e.to_string() })?;
+    let warning = if outcome.status.is_result() {
+        String::new()
+    } else {
+        format!(
+            "# NOT A RESULT: the design is {}; this is the optimiser's best effort, for inspection only.\n",
+            status_word(outcome.status)
+        )
+    };
     Ok(format!(
-        "# Tuned by {TOOL} from {}{} (status: {:?}).\n# Circuit values are the optimiser's; every other key is the input's.\n{body}",
+        "{warning}# Tuned by {TOOL} from {}{} (status: {}).\n# Circuit values are the optimiser's; every other key is the input's.\n{body}",
         source.file,
         if source.overrides.is_empty() { String::new() } else { format!(" with --set {}", source.overrides.join(" ")) },
-        outcome.status
+        status_word(outcome.status)
     ))
 }
 
-/// `rotorshunt design FILE --out DIR`.
-pub fn design_cmd(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<String, Error> {
+/// The status as a word (kebab-case, as in report.json).
+pub fn status_word(status: Status) -> String {
+    serde_json::to_value(status).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
+}
+
+/// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
+/// decides the exit code).
+pub fn design_cmd(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<(String, DesignOutcome), Error> {
     let outcome = design_report(problem, out, progress)?;
-    Ok(summary_text(&outcome, out))
+    Ok((summary_text(&outcome, out), outcome))
 }
 
 /// Run the design and write the report files to `out`; the outcome.
@@ -187,35 +186,28 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
     progress.start(expected as u64, "design");
     let outcome = design::run(problem, &|_| progress.tick())?;
     progress.finish();
-    // Each design's rotor and reduced systems, built once for the report, charts and Campbell.
+    // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(problem, spec, &outcome.before)?;
     let after = Candidate::new(problem, spec, &outcome.after)?;
     let tuned = &after.problem;
-    let files: Vec<String> = [
-        "report.md",
-        "report.json",
-        "tuned.toml",
-        "charts.svg",
-        "charts.png",
-        "campbell.svg",
-        "campbell.png",
-        "history.svg",
-        "history.png",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let chart_files: Vec<String> = if spec.speeds.len() == 1 {
+        vec!["charts.svg".into(), "charts.png".into()]
+    } else {
+        (1..=spec.speeds.len()).flat_map(|k| [format!("charts-{k}.svg"), format!("charts-{k}.png")]).collect()
+    };
+    let mut files: Vec<String> =
+        vec!["report.md".into(), "report.json".into(), design_file_name(outcome.status).into()];
+    files.extend(chart_files);
+    files.extend(["campbell.svg", "campbell.png", "history.svg", "history.png"].iter().map(|s| s.to_string()));
     let report = DesignReport {
         provenance: super::Provenance::of(problem),
         title: title(problem),
         branches_before: branches(problem),
         branches_after: branches(tuned),
-        before: at_speeds(&before, spec)?,
-        after: at_speeds(&after, spec)?,
         outcome: outcome.clone(),
         files,
     };
-    dir.write("tuned.toml", tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
+    dir.write(design_file_name(outcome.status), tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
     dir.write(
         "report.json",
         (serde_json::to_string_pretty(&report).expect("plain data serialises") + "\n").as_bytes(),
@@ -224,7 +216,7 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
     charts(&dir, &before, &after, spec)?;
     let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
     let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
-    let c = campbell(&after.rotor, &tuned.settings, &speeds, REPORT_WHIRLS, &|| {})?;
+    let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, &|| {})?;
     let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
@@ -245,32 +237,34 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let mut s = format!("design: {:?}", o.status).to_lowercase();
+    let mut s = format!("design: {}", status_word(o.status));
     match spec.objective {
         Objective::WidestStableBand => {
-            let w = |v: &[(f64, Option<[f64; 2]>)]| {
+            let w = |v: &[crate::design::evaluate::OperatingBand]| {
                 v.iter()
-                    .map(|(sp, b)| match b {
-                        Some(b) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at Ω = {sp}", b[0], b[1], b[1] - b[0]),
-                        None => format!("none (φ_op unstable) at Ω = {sp}"),
+                    .map(|b| match b.band.band {
+                        Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at Ω = {}", x.lo, x.hi, x.width(), b.speed),
+                        None => format!("none (φ_op unstable) at Ω = {}", b.speed),
                     })
                     .collect::<Vec<_>>()
                     .join("; ")
             };
             s += &format!(
-                "\nstable band at beta = {} around phi_op = {} rad/s (1 rad/s grid check): before {}; after {}",
+                "\nstable band at beta = {} around phi_op = {} rad/s: before {}; after {}",
                 spec.level,
-                spec.phi_op.unwrap_or(f64::NAN),
-                w(&o.before_verified),
-                w(&o.after_verified)
+                spec.phi_op.map_or_else(|| "?".into(), |p| p.to_string()),
+                w(&o.before_bands),
+                w(&o.after_bands)
             );
+            if let Some(b) = o.after_bands.first() {
+                s += &format!("\nguarantee: {}", b.band.guarantee);
+            }
         }
         Objective::ClearBands => {
             s += &format!(
-                "\nbands: {} region(s) inside before, {} after; {} unstable 1 rad/s grid points inside the widened bands after",
+                "\nbands: {} tongue(s) inside before, {} after",
                 o.before_intrusions.len(),
-                o.after_intrusions.len(),
-                o.fine_unstable.len()
+                o.after_intrusions.len()
             );
             if o.status == Status::Infeasible {
                 for it in &o.after_intrusions {
@@ -283,13 +277,22 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             }
         }
     }
+    s += &format!("\nverification: {}", if o.verified { "passed" } else { "FAILED" });
+    for d in &o.after_speeds {
+        for f in &d.failures {
+            s += &format!("\n  at Ω = {}: {f}", d.speed);
+        }
+    }
     s += &format!(
-        "\nbefore: {}\nafter: {}\n{} candidates, {} Floquet evaluations, {:.1} s; wrote report.md, report.json, tuned.toml and plots to {}\n",
+        "\nbefore: {}\nafter: {}\n{} candidates, {} Floquet evaluations, {:.1} s optimising; verification {} evaluations, {:.1} s; wrote report.md, report.json, {} and plots to {}\n",
         values(&o.before),
         values(&o.after),
         o.candidates,
         o.floquet_evaluations,
         o.seconds,
+        o.verification_cost.evaluations,
+        o.verification_cost.seconds,
+        design_file_name(o.status),
         out.display()
     );
     s

@@ -9,7 +9,7 @@ mod regions;
 mod study;
 
 pub use args::parse_range;
-pub use design::{design_cmd, design_report, summary_text, tuned_toml};
+pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, Compare};
 pub use out::OutDir;
 pub use regions::{band_cmd, regions_cmd};

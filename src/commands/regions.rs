@@ -5,7 +5,8 @@ use super::{parse_range, OutDir, Provenance};
 use crate::analysis::chart::chart;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::{band_at, catalogue, Catalogue, Edges, RegionSettings};
+use crate::analysis::regions::{band, catalogue, Band, Bound, Catalogue, CatalogueRequest, Edges, RegionSettings};
+use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::report::chart::{Layer, StabilityPlot};
@@ -19,14 +20,14 @@ fn arg(argument: &str, message: String) -> Error {
     Error::Argument { argument: argument.into(), message }
 }
 
-fn range_of(text: &str) -> Result<(f64, f64), Error> {
+fn range_of(text: &str) -> Result<Interval, Error> {
     let parts: Vec<&str> = text.split(':').collect();
     let v =
         if parts.len() == 2 { parse_range(&format!("{}:{}:{}", parts[0], parts[1], 1e9), "--phi")? } else { vec![] };
     let lo = v.first().copied();
     let hi = parts.get(1).and_then(|p| p.trim().parse::<f64>().ok());
     match (lo, hi) {
-        (Some(lo), Some(hi)) if lo > 0.0 && hi > lo && hi.is_finite() => Ok((lo, hi)),
+        (Some(lo), Some(hi)) if lo > 0.0 && hi > lo && hi.is_finite() => Ok(Interval::new(lo, hi)),
         _ => Err(arg("--phi", format!("`{text}` must be A:B with 0 < A < B (rad/s)"))),
     }
 }
@@ -39,7 +40,7 @@ fn prepare(problem: &Problem) -> Result<(Rotor, FloquetSystem), Error> {
 
 /// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid).
 fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Catalogue) -> Result<(), Error> {
-    let (lo, hi) = (cat.range[0], cat.range[1]);
+    let (lo, hi) = (cat.range.lo, cat.range.hi);
     let phis: Vec<f64> = (0..600).map(|i| lo + (hi - lo) * i as f64 / 599.0).collect();
     let betas: Vec<f64> = (0..41).map(|i| cat.beta_max * i as f64 / 40.0).collect();
     let c = chart(fs, &phis, &betas, &|| {});
@@ -92,7 +93,8 @@ pub fn regions_cmd(
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let settings = RegionSettings::default();
     let start = Instant::now();
-    let cat = catalogue(&fs, &full, &settings, range, beta_max, level, out.is_some())?;
+    let req = CatalogueRequest { range, beta_max, level, track: out.is_some() };
+    let cat = catalogue(&fs, &full, &settings, &req)?;
     let seconds = start.elapsed().as_secs_f64();
     let doc = RegionsJson {
         provenance: Provenance::of(problem),
@@ -113,8 +115,8 @@ pub fn regions_cmd(
     let mut s = format!(
         "{} regions with onset below beta = {beta_max} in phi = {}..{} rad/s (speed {} rad/s), edges at beta = {level}; {} monodromy evaluations in {seconds:.2} s\n",
         cat.regions.len(),
-        range.0,
-        range.1,
+        range.lo,
+        range.hi,
         problem.model.speed,
         cat.evaluations
     );
@@ -140,13 +142,13 @@ pub fn regions_cmd(
     }
     for u in &cat.unexplained {
         s += &format!(
-            "unexplained: unstable at the level in [{:.2}, {:.2}] rad/s (guard scan; no region of order <= {} found there)\n",
-            u.left, u.right, settings.search_order
+            "unexplained: unstable at the level in [{:.2}, {:.2}] rad/s (guard lattice; no seed of order <= {} identified there)\n",
+            u.lo, u.hi, cat.criterion.max_order
         );
     }
     s += "stable bands at the level (rad/s):";
     for b in &cat.stable_bands {
-        s += &format!(" [{:.1}, {:.1}]", b[0], b[1]);
+        s += &format!(" [{:.1}, {:.1}]", b.lo, b.hi);
     }
     Ok(s + "\n")
 }
@@ -154,56 +156,95 @@ pub fn regions_cmd(
 /// JSON of `band`.
 #[derive(Debug, Serialize)]
 pub struct BandOutput {
-    /// Tool, input hash and settings.
+    /// Tool, input hash and settings (the criterion among them).
     #[serde(flatten)]
     pub provenance: Provenance,
-    /// Operating frequency (rad/s).
-    pub phi_op: f64,
-    /// Load level β_op.
-    pub level: f64,
-    /// The stable band [lo, hi] containing φ_op, or null when φ_op is unstable.
-    pub band: Option<[f64; 2]>,
-    /// Width (rad/s).
+    /// Speed Ω (rad/s).
+    pub speed: f64,
+    /// The φ window searched (rad/s).
+    pub window: Interval,
+    /// The band and what bounds it.
+    #[serde(flatten)]
+    pub band: Band,
+    /// Width (rad/s), when φ_op is stable.
     pub width: Option<f64>,
-    /// Monodromy evaluations used.
-    pub evaluations: usize,
     /// Wall time (s).
     pub seconds: f64,
 }
 
-/// `rotorshunt band FILE --phi-op P --level BOP [--json]`.
-pub fn band_cmd(problem: &Problem, phi_op: f64, level: f64, json: bool) -> Result<String, Error> {
+/// The default φ window of `band` around φ_op (rad/s): a twentieth to twenty times φ_op.
+pub fn default_window(phi_op: f64) -> Interval {
+    Interval::new(phi_op / 20.0, phi_op * 20.0)
+}
+
+fn bound_text(b: &Option<Bound>) -> String {
+    match b {
+        Some(Bound::Tongue { edge, label, inside }) => {
+            format!("{label} (edge {edge:.3} rad/s, unstable at {inside:.3} rad/s)")
+        }
+        _ => "the end of the search window".into(),
+    }
+}
+
+/// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`.
+pub fn band_cmd(problem: &Problem, phi_op: f64, level: f64, window: Option<&str>, json: bool) -> Result<String, Error> {
     if !(phi_op.is_finite() && phi_op > 0.0) {
         return Err(arg("--phi-op", format!("must be a positive frequency in rad/s, found {phi_op}")));
     }
-    if !(level.is_finite() && level >= 0.0) {
-        return Err(arg("--level", format!("must be a load coefficient >= 0, found {level}")));
+    if !(level.is_finite() && level > 0.0) {
+        return Err(arg("--level", format!("must be a positive load coefficient, found {level}")));
     }
-    let (_, fs) = prepare(problem)?;
+    let window = match window {
+        Some(text) => range_of(text)?,
+        None => default_window(phi_op),
+    };
+    if !window.contains(phi_op) {
+        return Err(arg("--phi", format!("the window {window} rad/s must contain phi-op = {phi_op}")));
+    }
+    let (rotor, fs) = prepare(problem)?;
+    let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
-    let mut count = 0;
-    let band = band_at(&fs, &RegionSettings::default(), phi_op, level, (phi_op * 0.05, phi_op * 20.0), &mut count);
+    let b = band(&fs, &full, &RegionSettings::default(), window, phi_op, level)?;
     let out = BandOutput {
         provenance: Provenance::of(problem),
-        phi_op,
-        level,
-        band,
-        width: band.map(|b| b[1] - b[0]),
-        evaluations: count,
+        speed: problem.model.speed,
+        window,
+        width: b.band.map(|x| x.width()),
+        band: b,
         seconds: start.elapsed().as_secs_f64(),
     };
     if json {
         return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
     }
-    Ok(match band {
-        Some(b) => format!(
-            "stable band at beta = {level} around phi = {phi_op} rad/s: [{:.2}, {:.2}] rad/s, width {:.2} rad/s ({} evaluations, {:.3} s)\n",
-            b[0],
-            b[1],
-            b[1] - b[0],
-            count,
-            out.seconds
+    let b = &out.band;
+    let mut text = match b.band {
+        Some(x) => format!(
+            "stable band at beta = {level} around phi = {phi_op} rad/s: [{:.2}, {:.2}] rad/s, width {:.2} rad/s ({} evaluations, {:.3} s)\n  guarantee: {}\n  below: {}\n  above: {}\n",
+            x.lo,
+            x.hi,
+            x.width(),
+            b.evaluations,
+            out.seconds,
+            b.guarantee,
+            bound_text(&b.left),
+            bound_text(&b.right),
         ),
-        None => format!("phi = {phi_op} rad/s is unstable at beta = {level}: no stable band contains it ({count} evaluations)\n"),
-    })
+        None => {
+            let t = b.containing.unwrap_or(Interval::new(phi_op, phi_op));
+            format!(
+                "phi = {phi_op} rad/s is unstable at beta = {level}: it lies in the tongue [{:.2}, {:.2}] rad/s, so no stable band contains it ({} evaluations)\n",
+                t.lo, t.hi, b.evaluations
+            )
+        }
+    };
+    for t in &b.ignored {
+        text += &format!(
+            "  ignored by the criterion: {} at [{:.3}, {:.3}] rad/s ({:.3} rad/s wide)\n",
+            t.label(),
+            t.extent.lo,
+            t.extent.hi,
+            t.extent.width()
+        );
+    }
+    Ok(text)
 }

@@ -9,7 +9,8 @@ use super::design::design_report;
 use super::{OutDir, Progress, Quiet, TOOL};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::{band_at, catalogue, RegionSettings};
+use crate::analysis::regions::{band, catalogue, CatalogueRequest, RegionSettings};
+use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::Error;
@@ -215,12 +216,19 @@ fn run_case(
         CaseKind::Design => {
             let o = design_report(&problem, dir, &Quiet)?;
             m.insert("design_status".into(), metric(o.status));
-            let width = |v: &[(f64, Option<[f64; 2]>)]| {
-                v.iter().map(|(_, b)| b.map_or(0.0, |b| b[1] - b[0])).fold(f64::INFINITY, f64::min)
+            m.insert("verified".into(), metric(o.verified));
+            // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
+            // the smallest over the speeds.
+            let width = |v: &[crate::design::evaluate::OperatingBand]| {
+                v.iter().map(|b| b.band.band.map_or(0.0, |x| x.width())).fold(f64::INFINITY, f64::min)
             };
-            if !o.before_verified.is_empty() {
-                m.insert("band_width_before".into(), metric(width(&o.before_verified)));
-                m.insert("band_width_after".into(), metric(width(&o.after_verified)));
+            if !o.before_bands.is_empty() {
+                m.insert("band_width_before".into(), metric(width(&o.before_bands)));
+                m.insert("band_width_after".into(), metric(width(&o.after_bands)));
+                if let [only] = o.after_bands.as_slice() {
+                    m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
+                    m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
+                }
             }
             if let Some(spec) = problem.design.as_ref() {
                 if !spec.bands.is_empty() {
@@ -240,7 +248,9 @@ fn run_case(
             let fs = FloquetSystem::new(&rotor, &problem.settings, speed)?;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = RegionSettings::default();
-            let cat = catalogue(&fs, &full, &s, (study.phi[0], study.phi[1]), study.beta_max, level, false)?;
+            let range = Interval::new(study.phi[0], study.phi[1]);
+            let cat =
+                catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
             let out = OutDir::create(dir, base.to_str().unwrap_or_default())?;
             out.write(
                 "regions.json",
@@ -252,11 +262,11 @@ fn run_case(
             m.insert("lowest_onset_region".into(), metric(lowest.map(|r| r.label.clone())));
             m.insert("floquet_evaluations".into(), metric(cat.evaluations));
             if let Some(p) = study.phi_op {
-                let mut n = 0;
-                let band = band_at(&fs, &s, p, level, (study.phi[0], study.phi[1]), &mut n);
-                m.insert("band_lo".into(), metric(band.map(|b| b[0])));
-                m.insert("band_hi".into(), metric(band.map(|b| b[1])));
-                m.insert("band_width".into(), metric(band.map(|b| b[1] - b[0])));
+                // The same band as `rotorshunt band` over the study's φ range.
+                let b = band(&fs, &full, &s, range, p, level)?.band;
+                m.insert("band_lo".into(), metric(b.map(|b| b.lo)));
+                m.insert("band_hi".into(), metric(b.map(|b| b.hi)));
+                m.insert("band_width".into(), metric(b.map(|b| b.width())));
             }
         }
     }
@@ -271,7 +281,8 @@ fn finished(dir: &Path, hash: &str) -> Option<CaseResult> {
 }
 
 /// `rotorshunt study STUDY.toml --out DIR [--force]`.
-pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) -> Result<String, Error> {
+/// The summary text and the number of failed cases.
+pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) -> Result<(String, usize), Error> {
     let (study, base, cases) = read(file)?;
     let base_text = std::fs::read(&base)
         .map_err(|e| study_error(file, format!("key `base`: cannot read {}: {e}", base.display())))?;
@@ -342,7 +353,7 @@ pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) 
     for r in rows.iter().filter(|r| r.status != "ok") {
         text += &format!("failed: {}: {}\n", r.name, r.error.clone().unwrap_or_default());
     }
-    Ok(text)
+    Ok((text, failed))
 }
 
 fn cell(v: Option<&serde_json::Value>) -> String {

@@ -1,13 +1,14 @@
 //! One candidate design: the problem with the variables set, its Floquet systems at the
-//! operating speeds, and the quantities the optimiser works on (the signed width of the
-//! operating band, the regions intruding into the operating bands).
+//! operating speeds, and the quantities the optimiser works on: the true stable band at
+//! β_op around φ_op ([`crate::analysis::regions::band_around`], the same function as
+//! `rotorshunt band`) and the tongues intruding into the operating bands (from the same
+//! unstable set at β_op, [`Level::scan`]).
 
-use super::spec::{Band, DesignSpec, Parameter};
+use super::spec::{Band as OperatingRange, DesignSpec, Parameter};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
-use crate::analysis::modes::{whirl_modes_of, ModesResult};
-use crate::analysis::regions::{band_at, catalogue, edges_at, unstable_at, Counter, RegionSettings};
-use crate::analysis::Rotor;
+use crate::analysis::regions::{band_around, critical, seeds_for, Band, Counter, Level, RegionSettings, Seed, Tongue};
+use crate::analysis::{Criterion, Interval, Rotor};
 use crate::problem::{Problem, ProblemFile};
 use serde::Serialize;
 
@@ -73,46 +74,58 @@ impl Candidate {
         Ok(Candidate { problem, rotor, systems })
     }
 
-    /// Full-model whirls at each speed (for region labels).
-    pub fn modes(&self) -> Result<Vec<ModesResult>, DesignError> {
-        self.systems.iter().map(|(w, _)| Ok(whirl_modes_of(&self.rotor, &self.problem.settings, *w)?)).collect()
+    /// The declared criterion of the candidate (that of the problem file).
+    pub fn criterion(&self) -> Criterion {
+        Criterion::of(&self.problem.settings)
+    }
+
+    /// The seeds of the design's φ range at speed index `k`, without full-model labels
+    /// (the same list, in the same order, as a labelled catalogue of the range takes).
+    pub fn seeds(&self, k: usize, spec: &DesignSpec) -> Result<Vec<Seed>, DesignError> {
+        Ok(seeds_for(&self.systems[k].1, None, spec.range(), self.criterion().max_order)?)
     }
 }
 
 /// The operating band at one speed.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OperatingBand {
     /// Speed Ω (rad/s).
     pub speed: f64,
-    /// The stable band [lo, hi] containing φ_op at β_op, or None when φ_op is unstable.
-    pub band: Option<[f64; 2]>,
-    /// Width of the band (rad/s) if stable; minus the distance from φ_op to the nearer
-    /// edge of the region containing it otherwise (continuous across the transition).
-    pub signed_width: f64,
+    /// The stable band around φ_op at β_op, as `rotorshunt band` gives it over the
+    /// design's φ range.
+    pub band: Band,
+}
+
+impl OperatingBand {
+    /// The band's width if φ_op is stable, minus the distance to the nearer edge of the
+    /// tongue containing it otherwise (rad/s).
+    pub fn signed_width(&self) -> f64 {
+        self.band.signed_width()
+    }
 }
 
 /// The band around φ_op at every speed; the objective is the smallest signed width.
-pub fn operating_bands(c: &Candidate, spec: &DesignSpec, s: &RegionSettings, count: &Counter) -> Vec<OperatingBand> {
-    let phi_op = spec.phi_op.expect("validated: widest-stable-band has phi_op");
+pub fn operating_bands(
+    c: &Candidate,
+    spec: &DesignSpec,
+    phi_op: f64,
+    s: &RegionSettings,
+    count: &Counter,
+) -> Result<Vec<OperatingBand>, DesignError> {
     c.systems
         .iter()
-        .map(|(speed, fs)| {
-            let mut n = 0;
-            let band = band_at(fs, s, phi_op, spec.level, spec.phi_range, &mut n);
-            let signed_width = match band {
-                Some(b) => b[1] - b[0],
-                None => {
-                    let e = edges_at(fs, s, phi_op, spec.level, &mut n);
-                    -(phi_op - e.left).min(e.right - phi_op)
-                }
-            };
-            count.add(n);
-            OperatingBand { speed: *speed, band, signed_width }
+        .enumerate()
+        .map(|(k, (speed, fs))| {
+            let seeds = c.seeds(k, spec)?;
+            let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
+            let band = band_around(&level, &seeds, phi_op);
+            count.add(level.evaluations());
+            Ok(OperatingBand { speed: *speed, band })
         })
         .collect()
 }
 
-/// A region at the level that reaches into an operating band widened by its clearance
+/// A counted tongue at β_op that reaches into an operating band widened by its clearance
 /// (`inside`), or lies next to it (within [`NEIGHBOURHOOD`] of the band's centre).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Intrusion {
@@ -122,17 +135,21 @@ pub struct Intrusion {
     pub speed: f64,
     /// Index of the band in the spec.
     pub band: usize,
-    /// Region label and order (`unexplained` for a guard-scan interval).
+    /// Label and order of the seed whose pair collides in it, or `unlabelled`.
     pub label: String,
-    /// Order k.
-    pub order: usize,
-    /// Onset β_min of the region.
+    /// The pair (i, j) and order k of that seed, which identify the tongue in a nearby
+    /// design; None when unlabelled.
+    #[serde(skip)]
+    pub identity: Option<((usize, usize), usize)>,
+    /// A counted point inside it at β_op (rad/s).
+    pub point: f64,
+    /// β_c at that point (−): an upper bound of the tongue's onset.
     pub onset: f64,
-    /// Edges at the level (rad/s).
+    /// Left edge at the level (rad/s).
     pub left: f64,
     /// Right edge (rad/s).
     pub right: f64,
-    /// How far the region must move down (right edge to band.lo − clearance) (rad/s).
+    /// How far the tongue must move down (right edge to band.lo − clearance) (rad/s).
     pub push_down: f64,
     /// How far it must move up (left edge to band.hi + clearance) (rad/s).
     pub push_up: f64,
@@ -149,143 +166,111 @@ impl Intrusion {
     }
 }
 
-/// Regions whose edges at the level lie within this fraction of a band's centre outside
+/// Tongues whose edges at the level lie within this fraction of a band's centre outside
 /// the widened band are its neighbours: a design step must not push them in.
 pub const NEIGHBOURHOOD: f64 = 0.05;
 
-/// Unstable points of a 1 rad/s grid over [lo, hi] at the level (rayon over points).
-fn unstable_grid(fs: &FloquetSystem, lo: f64, hi: f64, level: f64, count: &Counter) -> Vec<f64> {
-    use rayon::prelude::*;
-    let grid: Vec<f64> = (0..).map(|k| lo.ceil() + k as f64).take_while(|&p| p <= hi).collect();
-    count.add(grid.len());
-    grid.par_iter()
-        .filter(|&&phi| {
-            faer::set_global_parallelism(faer::Par::Seq);
-            unstable_at(fs, phi, level, &mut 0)
-        })
-        .copied()
-        .collect()
+/// The window around an operating band in which its intruders and neighbours are looked
+/// for (rad/s).
+pub fn neighbourhood(band: &OperatingRange) -> Interval {
+    let g = band.guarded();
+    let reach = NEIGHBOURHOOD * g.centre();
+    Interval::new((g.lo - reach).max(f64::MIN_POSITIVE), g.hi + reach)
 }
 
-/// An unstable φ within ±`half` of `phi` at the level (stepping outward by 0.25 rad/s),
-/// for following a thin unlabelled interval under a small design change.
-pub fn unstable_near(fs: &FloquetSystem, phi: f64, half: f64, level: f64, count: &Counter) -> Option<f64> {
-    let steps = (half / 0.25).ceil() as usize;
-    (0..=steps).flat_map(|k| [phi + 0.25 * k as f64, phi - 0.25 * k as f64]).find(|&p| {
-        count.add(1);
-        p > 0.0 && unstable_at(fs, p, level, &mut 0)
+/// The intrusion record of a tongue next to band `i`, if it lies in its neighbourhood.
+fn intrusion_of(
+    t: &Tongue,
+    seeds: &[Seed],
+    speed: f64,
+    i: usize,
+    band: &OperatingRange,
+    onset: f64,
+) -> Option<Intrusion> {
+    let (g, near) = (band.guarded(), neighbourhood(band));
+    if !t.counted || !t.extent.overlaps(&near) {
+        return None;
+    }
+    let own = t.seeds.first();
+    Some(Intrusion {
+        inside: t.extent.hi > g.lo && t.extent.lo < g.hi,
+        speed,
+        band: i,
+        label: own
+            .map_or_else(|| "unlabelled".to_string(), |(j, _)| format!("{}/{}", seeds[*j].label, seeds[*j].order)),
+        identity: own.map(|(j, _)| (seeds[*j].pair, seeds[*j].order)),
+        point: own.map_or(t.inside, |(_, p)| *p),
+        onset,
+        left: t.extent.lo,
+        right: t.extent.hi,
+        push_down: t.extent.hi - g.lo,
+        push_up: g.hi - t.extent.lo,
     })
 }
 
-/// All regions intruding into the operating bands (widened by their clearance) or next to
-/// them, at every speed: the labelled regions of the catalogue around each band (onset up
-/// to β_op) and, as `unlabelled` (order 0), every other cluster of unstable points of a
-/// 1 rad/s grid over the widened band (thin higher-order slivers), edges bisected.
+/// Every counted tongue at β_op intruding into an operating band (widened by its
+/// clearance) or next to it, at every speed, from the unstable set at β_op over each
+/// band's neighbourhood ([`Level::scan`]: seeds of every order up to the criterion's and
+/// the guard lattice).
 pub fn intrusions(
     c: &Candidate,
-    modes: &[ModesResult],
     spec: &DesignSpec,
     s: &RegionSettings,
     count: &Counter,
 ) -> Result<Vec<Intrusion>, DesignError> {
     let mut out = Vec::new();
-    for ((speed, fs), full) in c.systems.iter().zip(modes) {
+    for (k, (speed, fs)) in c.systems.iter().enumerate() {
+        let seeds = c.seeds(k, spec)?;
+        let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
         for (i, band) in spec.bands.iter().enumerate() {
-            let g = band.guarded();
-            let reach = NEIGHBOURHOOD * 0.5 * (g.0 + g.1);
-            let near = ((g.0 - reach).max(1.0), g.1 + reach);
-            let cat = catalogue(fs, full, s, near, spec.level, spec.level, false)?;
-            count.add(cat.evaluations);
-            let mut found: Vec<Intrusion> = Vec::new();
-            let make = |label: String, order: usize, onset: f64, left: f64, right: f64| {
-                (right > near.0 && left < near.1).then_some(Intrusion {
-                    inside: right > g.0 && left < g.1,
-                    speed: *speed,
-                    band: i,
-                    label,
-                    order,
-                    onset,
-                    left,
-                    right,
-                    push_down: right - g.0,
-                    push_up: g.1 - left,
-                })
-            };
-            for r in &cat.regions {
-                if let (Some(l), Some(rr)) = (r.left, r.right) {
-                    found.extend(make(r.label.clone(), r.order, r.onset_beta, l, rr));
-                }
+            let near = neighbourhood(band).clipped(&spec.range());
+            for t in level.scan(&seeds, near) {
+                let point = t.seeds.first().map_or(t.inside, |(_, p)| *p);
+                let onset = critical::critical_load_below(fs, s, point, spec.level);
+                count.add(onset.evaluations);
+                out.extend(intrusion_of(&t, &seeds, *speed, i, band, onset.beta.unwrap_or(spec.level)));
             }
-            let known: Vec<(f64, f64)> =
-                found.iter().filter(|x| x.inside).map(|x| (x.left - 1.0, x.right + 1.0)).collect();
-            let mut loose: Vec<f64> = unstable_grid(fs, g.0.max(1.0), g.1, spec.level, count)
-                .into_iter()
-                .filter(|&p| !known.iter().any(|(l, r)| *l <= p && p <= *r))
-                .collect();
-            loose.sort_by(f64::total_cmp);
-            let mut k = 0;
-            while k < loose.len() {
-                let mut n = 0;
-                let mut e = edges_at(fs, s, loose[k], spec.level, &mut n);
-                count.add(n);
-                e.left = e.left.min(loose[k]);
-                found.extend(make("unlabelled".into(), 0, spec.level, e.left, e.right));
-                while k < loose.len() && loose[k] <= e.right + 1.0 {
-                    k += 1;
-                }
-            }
-            out.extend(found);
         }
+        count.add(level.evaluations());
     }
     Ok(out)
 }
 
-/// Unstable points of a 1 rad/s grid over each widened band at β_op, at every speed:
-/// the independent check of a clear-bands result.
-pub fn fine_check(c: &Candidate, bands: &[Band], level: f64, count: &Counter) -> Vec<(f64, f64)> {
-    let mut out = Vec::new();
-    for (speed, fs) in &c.systems {
-        for b in bands {
-            let g = b.guarded();
-            out.extend(unstable_grid(fs, g.0.max(1.0), g.1, level, count).into_iter().map(|p| (*speed, p)));
-        }
-    }
-    out
-}
-
-/// The widest interval around φ_op free of unstable points of a 1 rad/s grid at β_op,
-/// scanning outward from φ_op inside `band`, each end bisected to 0.01 rad/s between the
-/// last stable and the first unstable grid point: the independent check of a band.
-pub fn fine_band(fs: &FloquetSystem, phi_op: f64, level: f64, band: [f64; 2], count: &Counter) -> [f64; 2] {
-    let unstable = |phi: f64| unstable_at(fs, phi, level, &mut 0);
-    let side = |dir: f64| -> f64 {
-        faer::set_global_parallelism(faer::Par::Seq);
-        let mut phi = phi_op;
-        let mut n = 0;
-        loop {
-            let next = if dir < 0.0 { (phi - 1.0).ceil() } else { (phi + 1.0).floor() };
-            if (dir < 0.0 && next < band[0]) || (dir > 0.0 && next > band[1]) {
-                count.add(n);
-                return if dir < 0.0 { band[0] } else { band[1] };
-            }
-            n += 1;
-            if unstable(next) {
-                let (mut stable, mut bad) = (phi, next);
-                while (bad - stable).abs() > 0.01 {
-                    let mid = 0.5 * (stable + bad);
-                    n += 1;
-                    if unstable(mid) {
-                        bad = mid;
-                    } else {
-                        stable = mid;
-                    }
-                }
-                count.add(n);
-                return stable;
-            }
-            phi = next;
+/// The tongue of an intrusion found again in a nearby candidate: by its seed's pair and
+/// order where it has one, else as the counted tongue nearest its old point within its
+/// old width plus `search` (rad/s). (onset upper bound, left, right) at β_op.
+pub fn follow(
+    c: &Candidate,
+    spec: &DesignSpec,
+    s: &RegionSettings,
+    it: &Intrusion,
+    search: f64,
+    count: &Counter,
+) -> Result<Option<(f64, f64, f64)>, DesignError> {
+    let Some(k) = spec.speeds.iter().position(|&w| w == it.speed) else { return Ok(None) };
+    let fs = &c.systems[k].1;
+    let seeds = c.seeds(k, spec)?;
+    let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
+    let point = match it.identity {
+        Some((pair, order)) => seeds
+            .iter()
+            .position(|x| x.pair == pair && x.order == order)
+            .and_then(|i| level.hits(&seeds, i).into_iter().find(|h| h.seed == Some(i)).map(|h| h.phi)),
+        None => {
+            let half = 0.5 * (it.right - it.left) + search;
+            let mid = 0.5 * (it.left + it.right);
+            let steps = (half / level.cell()).ceil() as usize;
+            (0..=steps)
+                .flat_map(|j| [mid + level.cell() * j as f64, mid - level.cell() * j as f64])
+                .find(|&p| p > 0.0 && level.counts(p))
         }
     };
-    let (lo, hi) = rayon::join(|| side(-1.0), || side(1.0));
-    [lo, hi]
+    let out = point.and_then(|p| {
+        let e = level.extent(p)?;
+        let onset = critical::critical_load_below(fs, s, p, spec.level);
+        count.add(onset.evaluations);
+        Some((onset.beta.unwrap_or(spec.level), e.lo, e.hi))
+    });
+    count.add(level.evaluations());
+    Ok(out)
 }

@@ -22,6 +22,7 @@ pub mod evaluate;
 pub mod optimise;
 pub mod qp;
 pub mod spec;
+pub mod verify;
 
 pub use optimise::{run, DesignOutcome, Status};
 pub use spec::DesignSpec;
@@ -34,6 +35,10 @@ pub enum DesignError {
     /// The problem file has no `[design]` table.
     #[error("the problem file has no [design] table: add one (problems/README.md, section [design])")]
     NoDesign,
+    /// The widest-stable-band objective without an operating frequency (a spec built
+    /// through the library without `phi_op`).
+    #[error("the widest-stable-band objective needs design.phi_op (rad/s)")]
+    NoOperatingFrequency,
     /// A candidate's values do not make a valid problem.
     #[error(transparent)]
     Candidate(#[from] Box<crate::problem::ProblemError>),

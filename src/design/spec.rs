@@ -1,6 +1,7 @@
 //! The design problem of a problem file's `[design]` table, validated: objective, load
 //! level, operating speeds and bands, and the circuit variables with their bounds.
 
+use crate::analysis::Interval;
 use serde::{Deserialize, Serialize};
 
 /// What the optimiser is asked to do.
@@ -107,9 +108,9 @@ pub struct Band {
 }
 
 impl Band {
-    /// The band widened by its clearance: no unstable φ may lie in it.
-    pub fn guarded(&self) -> (f64, f64) {
-        (self.lo - self.clearance, self.hi + self.clearance)
+    /// The band widened by its clearance: no unstable φ may lie in it (rad/s).
+    pub fn guarded(&self) -> Interval {
+        Interval::new(self.lo - self.clearance, self.hi + self.clearance)
     }
 }
 
@@ -136,4 +137,11 @@ pub struct DesignSpec {
     pub starts: usize,
     /// Nelder–Mead iterations per start, or sequential convex steps.
     pub max_iterations: usize,
+}
+
+impl DesignSpec {
+    /// The φ range of the catalogues and band searches (rad/s).
+    pub fn range(&self) -> Interval {
+        Interval::new(self.phi_range.0, self.phi_range.1)
+    }
 }

@@ -54,6 +54,11 @@ fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(
     }
 }
 
+/// Highest tongue order the search may be asked for: orders cost a few evaluations per
+/// pair each, and beyond 32 the tongues of any physical rotor are thinner than any φ
+/// tolerance (their width shrinks like β^k).
+pub const MAX_TONGUE_ORDER: usize = 32;
+
 /// Check every value and build the model and settings.
 pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
     if f.version != FORMAT_VERSION {
@@ -214,6 +219,10 @@ fn settings(s: &Settings) -> Result<Settings, Failure> {
     count("analysis.reduced_modes", s.reduced_modes, 1, 200)?;
     count("analysis.steps_per_period", s.steps_per_period, 2, 1 << 16)?;
     count("analysis.reference_steps", s.reference_steps, 2, 1 << 20)?;
+    // The criterion's floors: 0 (nothing ignored) up to any finite value.
+    non_negative("analysis.min_growth_rate", s.min_growth_rate)?;
+    non_negative("analysis.min_tongue_width", s.min_tongue_width)?;
+    count("analysis.max_tongue_order", s.max_tongue_order, 1, MAX_TONGUE_ORDER)?;
     Ok(s.clone())
 }
 

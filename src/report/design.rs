@@ -1,8 +1,7 @@
 //! The tuned-parameter report of a design run: the content (serialised as report.json)
 //! and its Markdown rendering (report.md). Rendering only: no file I/O here.
 
-use crate::analysis::regions::Catalogue;
-use crate::design::evaluate::OperatingBand;
+use crate::analysis::regions::{Band, Bound};
 use crate::design::spec::Objective;
 use crate::design::{DesignOutcome, Status};
 use serde::Serialize;
@@ -23,26 +22,6 @@ pub struct BranchRow {
     pub tuning_frequency: f64,
 }
 
-/// A whirl frequency.
-#[derive(Debug, Clone, Serialize)]
-pub struct WhirlRow {
-    /// `f1`, `b1`, `fr1`, …
-    pub tag: String,
-    /// Frequency (rad/s).
-    pub frequency: f64,
-}
-
-/// One design (before or after) at one speed.
-#[derive(Debug, Clone, Serialize)]
-pub struct DesignAtSpeed {
-    /// Ω (rad/s).
-    pub speed: f64,
-    /// Lowest whirls.
-    pub whirls: Vec<WhirlRow>,
-    /// Region catalogue at β_op over the design's φ range.
-    pub catalogue: Catalogue,
-}
-
 /// The whole report.
 #[derive(Debug, Clone, Serialize)]
 pub struct DesignReport {
@@ -55,11 +34,8 @@ pub struct DesignReport {
     pub branches_before: Vec<BranchRow>,
     /// Circuit after.
     pub branches_after: Vec<BranchRow>,
-    /// Whirls and regions before, per speed.
-    pub before: Vec<DesignAtSpeed>,
-    /// The same after.
-    pub after: Vec<DesignAtSpeed>,
-    /// The optimiser's outcome (bands, intrusions, starts, history, counts).
+    /// The optimiser's outcome (bands, intrusions, catalogues, verification, starts,
+    /// history, counts).
     pub outcome: DesignOutcome,
     /// Files written next to the report.
     pub files: Vec<String>,
@@ -69,8 +45,19 @@ fn opt(x: Option<f64>, digits: usize) -> String {
     x.map(|v| format!("{v:.digits$}")).unwrap_or_else(|| "–".into())
 }
 
-fn band_text(b: Option<[f64; 2]>) -> String {
-    b.map(|b| format!("[{:.1}, {:.1}] ({:.1})", b[0], b[1], b[1] - b[0])).unwrap_or_else(|| "φ_op unstable".into())
+fn band_text(b: &Band) -> String {
+    match (b.band, b.containing) {
+        (Some(x), _) => format!("[{:.2}, {:.2}] ({:.2})", x.lo, x.hi, x.width()),
+        (None, Some(t)) => format!("φ_op unstable, inside [{:.2}, {:.2}]", t.lo, t.hi),
+        _ => "φ_op unstable".into(),
+    }
+}
+
+fn bound_text(b: &Option<Bound>) -> String {
+    match b {
+        Some(Bound::Tongue { label, edge, .. }) => format!("{label} at {edge:.2}"),
+        _ => "window end".into(),
+    }
 }
 
 fn branches_table(s: &mut String, rows: &[BranchRow]) {
@@ -109,11 +96,14 @@ pub fn markdown(r: &DesignReport) -> String {
     };
     let _ = writeln!(s, "- objective: {objective}; speeds {:?} rad/s", spec.speeds);
     let status = match o.status {
-        Status::Improved => "**improved**: the tuned band is wider than the reference's (checked on a 1 rad/s grid)",
-        Status::Unchanged => "**unchanged**: no start beat the reference design, which is kept",
-        Status::Feasible => "**feasible**: every band is clear by its clearance (checked on a 1 rad/s grid)",
+        Status::Improved => "**improved**: the tuned band is wider than the reference's, and verified",
+        Status::Unchanged => "**unchanged**: no start beat the reference design, which is kept (verified)",
+        Status::Feasible => "**feasible**: every band is clear by its clearance, and verified",
         Status::Infeasible => {
-            "**infeasible**: no design inside the bounds clears every band; the violated bands are listed below"
+            "**infeasible**: no design inside the bounds clears every band; the violated bands are listed below, and the optimiser's best effort is `best-effort.toml`, not a result"
+        }
+        Status::NotVerified => {
+            "**not verified**: the design found failed its independent verification (below); `best-effort.toml` is not a result"
         }
     };
     let _ = writeln!(s, "- status: {status}");
@@ -153,46 +143,61 @@ pub fn markdown(r: &DesignReport) -> String {
             o.after[j]
         );
     }
+    let criterion = r.provenance.settings.clone();
+    let _ = writeln!(
+        s,
+        "- criterion: unstable when max|μ| > {}{}{}; tongues searched up to order {}\n",
+        criterion.instability_tolerance,
+        if criterion.min_growth_rate > 0.0 {
+            format!(", counted when the growth rate is at least {} 1/s", criterion.min_growth_rate)
+        } else {
+            String::new()
+        },
+        if criterion.min_tongue_width > 0.0 {
+            format!(", tongues narrower than {} rad/s ignored", criterion.min_tongue_width)
+        } else {
+            String::new()
+        },
+        criterion.max_tongue_order
+    );
     match spec.objective {
         Objective::WidestStableBand => {
             let _ = writeln!(s, "\n## Stable band around φ_op (rad/s; width in brackets)\n");
-            let _ = writeln!(s, "| speed | before (march + bisection) | before (1 rad/s grid) | after (march + bisection) | after (1 rad/s grid) |\n|---|---|---|---|---|");
-            for (k, b) in o.before_bands.iter().enumerate() {
-                let a: &OperatingBand = &o.after_bands[k];
+            let _ = writeln!(
+                s,
+                "The band is the interval around φ_op in which no tongue counts by the criterion: {}. It is the same function as `rotorshunt band` over the design's φ range, and the design's objective.\n",
+                o.after_bands.first().map_or_else(String::new, |b| b.band.guarantee.clone())
+            );
+            let _ = writeln!(
+                s,
+                "| speed | before | after | after: bounded below by | after: bounded above by |\n|---|---|---|---|---|"
+            );
+            for (b, a) in o.before_bands.iter().zip(&o.after_bands) {
                 let _ = writeln!(
                     s,
                     "| {:.0} | {} | {} | {} | {} |",
                     b.speed,
-                    band_text(b.band),
-                    band_text(o.before_verified[k].1),
-                    band_text(a.band),
-                    band_text(o.after_verified[k].1)
+                    band_text(&b.band),
+                    band_text(&a.band),
+                    bound_text(&a.band.left),
+                    bound_text(&a.band.right)
                 );
             }
-            // Regions of the catalogue inside a verified band are thinner than the 1 rad/s
-            // grid the band is verified on: say so rather than leave them to the table.
-            for (k, d) in r.after.iter().enumerate() {
-                let Some(band) = o.after_verified.get(k).and_then(|v| v.1) else { continue };
-                let thin: Vec<String> = d
-                    .catalogue
-                    .regions
-                    .iter()
-                    .filter_map(|g| Some((g, g.left?, g.right?)))
-                    .filter(|(_, l, h)| *h > band[0] && *l < band[1])
-                    .map(|(g, l, h)| format!("{} (k = {}) [{l:.2}, {h:.2}]", g.label, g.order))
-                    .collect();
-                if !thin.is_empty() {
+            for a in &o.after_bands {
+                for t in &a.band.ignored {
                     let _ = writeln!(
                         s,
-                        "\nAt Ω = {} rad/s the catalogue finds tongues thinner than the 1 rad/s verification grid inside the band after: {}.",
-                        d.speed,
-                        thin.join(", ")
+                        "\nIgnored by the criterion at Ω = {}: {} at [{:.3}, {:.3}] rad/s.",
+                        a.speed,
+                        t.label(),
+                        t.extent.lo,
+                        t.extent.hi
                     );
                 }
             }
         }
         Objective::ClearBands => {
-            let _ = writeln!(s, "\n## Operating bands\n\n| band (rad/s) | clearance (rad/s) | regions inside before | regions inside after | unstable 1 rad/s grid points after |\n|---|---|---|---|---|");
+            let _ = writeln!(s, "\n## Operating bands\n\n| band (rad/s) | clearance (rad/s) | tongues inside before | tongues inside after | unstable verification grid points after |\n|---|---|---|---|---|");
             for (i, b) in spec.bands.iter().enumerate() {
                 let names = |v: &[crate::design::evaluate::Intrusion]| {
                     let l: Vec<String> = v
@@ -207,7 +212,11 @@ pub fn markdown(r: &DesignReport) -> String {
                     }
                 };
                 let g = b.guarded();
-                let fine = o.fine_unstable.iter().filter(|(_, p)| *p >= g.0 && *p <= g.1).count();
+                let fine: usize = o
+                    .after_speeds
+                    .iter()
+                    .flat_map(|d| d.grids.iter().filter(|x| x.window == g).map(|x| x.unstable.len()))
+                    .sum();
                 let _ = writeln!(
                     s,
                     "| [{}, {}] | {} | {} | {} | {} |",
@@ -225,7 +234,40 @@ pub fn markdown(r: &DesignReport) -> String {
             }
         }
     }
-    for (name, designs) in [("before", &r.before), ("after", &r.after)] {
+    let _ = writeln!(s, "\n## Verification of the tuned design\n");
+    let _ = writeln!(
+        s,
+        "Independent of the optimiser: (1) the full catalogue of the tuned design over φ = {}..{} rad/s; (2) the reference (DSTM) Floquet point at the centre of every catalogued tongue near the band(s); (3) a grid chart over the band(s). Result: **{}**.\n",
+        spec.phi_range.0,
+        spec.phi_range.1,
+        if o.verified { "passed" } else { "failed" }
+    );
+    for d in &o.after_speeds {
+        let unstable_centres = d.centres.iter().filter(|c| c.inside && c.unstable).count();
+        let _ = writeln!(
+            s,
+            "- Ω = {} rad/s: catalogue band {}; {} tongue centres checked by DSTM, {} inside the band(s) unstable; {}",
+            d.speed,
+            d.catalogue_band.map_or_else(|| "–".to_string(), |b| format!("{b:.2}")),
+            d.centres.len(),
+            unstable_centres,
+            d.grids
+                .iter()
+                .map(|g| format!(
+                    "grid {:.2} at {} rad/s: {} points, {} unstable",
+                    g.window,
+                    g.step,
+                    g.points,
+                    g.unstable.len()
+                ))
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+        for f in &d.failures {
+            let _ = writeln!(s, "  - failed: {f}");
+        }
+    }
+    for (name, designs) in [("before", &o.before_speeds), ("after", &o.after_speeds)] {
         for d in designs.iter() {
             let _ = writeln!(s, "\n## Whirl frequencies {name}, Ω = {} rad/s\n", d.speed);
             let _ = writeln!(s, "| mode | rad/s |\n|---|---|");
@@ -236,7 +278,7 @@ pub fn markdown(r: &DesignReport) -> String {
             let _ = writeln!(
                 s,
                 "\n## Regions {name}, Ω = {} rad/s (φ = {}..{} rad/s, onset below β = {}, edges at β_op = {})\n",
-                d.speed, c.range[0], c.range[1], c.beta_max, c.level
+                d.speed, c.range.lo, c.range.hi, c.beta_max, c.level
             );
             let _ = writeln!(
                 s,
@@ -258,10 +300,10 @@ pub fn markdown(r: &DesignReport) -> String {
             for u in &c.unexplained {
                 let _ = writeln!(
                     s,
-                    "| (unexplained, guard scan) | – | – | – | {:.2} | {:.2} | {:.2} |",
-                    u.left,
-                    u.right,
-                    u.right - u.left
+                    "| (unexplained, guard lattice) | – | – | – | {:.2} | {:.2} | {:.2} |",
+                    u.lo,
+                    u.hi,
+                    u.width()
                 );
             }
         }
@@ -270,26 +312,25 @@ pub fn markdown(r: &DesignReport) -> String {
     match spec.objective {
         Objective::WidestStableBand => {
             let _ = writeln!(s, "Nelder–Mead (argmin) from {} starts in parallel; objective = smallest band width over the speeds (rad/s).\n", o.starts.len());
-            let _ = writeln!(s, "| start | initial | best | objective (rad/s) | evaluations | iterations | termination | width on 1 rad/s grid |\n|---|---|---|---|---|---|---|---|");
+            let _ = writeln!(s, "| start | initial | best | objective (rad/s) | evaluations | iterations | termination |\n|---|---|---|---|---|---|---|");
         }
         Objective::ClearBands => {
             let _ = writeln!(s, "Coarse global pass (objective = minus the total intrusion, rad/s), then sequential convex steps (clarabel QP) from the reference and from the best global point.\n");
-            let _ = writeln!(s, "| point | values | | −intrusion (rad/s) | evaluations | iterations | stage | |\n|---|---|---|---|---|---|---|---|");
+            let _ = writeln!(s, "| point | values | | −intrusion (rad/s) | evaluations | iterations | stage |\n|---|---|---|---|---|---|---|");
         }
     }
     let vals = |v: &[f64]| v.iter().map(|x| format!("{x:.5e}")).collect::<Vec<_>>().join(", ");
     for st in &o.starts {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.2} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {:.2} | {} | {} | {} |",
             st.origin,
             vals(&st.initial),
             vals(&st.best),
             st.objective,
             st.evaluations,
             st.iterations,
-            st.termination,
-            opt(st.checked_width, 2)
+            st.termination
         );
     }
     if !o.convex_steps.is_empty() {

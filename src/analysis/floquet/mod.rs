@@ -17,6 +17,14 @@ use super::{AnalysisError, MonodromyMethod, Rotor, Settings};
 use fast::{PhiTable, Symmetry};
 use serde::Serialize;
 
+/// Aliased orders kept clear of the step rate: a combination of two whirls may lie at
+/// most at (N − 1 − ALIAS_ORDERS)·φ, so the aliased tongues nearest to it are at least of
+/// order 4, as thin as the physical tongues the criterion's search reaches at β ≤ 1.
+pub const ALIAS_ORDERS: usize = 4;
+/// Relative margin of 2ω_max/φ below the step rate: the whirls drift under the static and
+/// parametric load, and the margin keeps them away from the aliased resonance.
+pub const ALIAS_MARGIN: f64 = 1.1;
+
 /// Largest |ln max|μ|| reported as a plain `max_multiplier`; beyond it the value is
 /// saturated to f64::MAX and only the logarithm is exact.
 const LN_F64_MAX: f64 = 709.0;
@@ -180,12 +188,24 @@ impl FloquetSystem {
     }
 
     /// CFM4 steps per period at φ: the configured minimum, or more so that each step
-    /// spans at most `max_step_phase` of the lowest basis mode.
+    /// spans at most `max_step_phase` of the lowest basis mode, and so that no
+    /// combination of two basis whirls resonates with the step rate.
+    ///
+    /// The step rule sees the excitation cos φt only at N points per period, so the
+    /// discrete system is also excited at (mN ± l)·φ: a combination ω_i + ω_j near
+    /// (N − l)·φ gives a tongue of order-l strength that the continuous system does not
+    /// have (seen at φ = 1125 rad/s on the open rotor with M = 8: the 17 443 rad/s whirl at
+    /// 2ω₇ = 31φ with N = 32 steps gave max|μ| = 1.0012 at β = 0.1, where the DSTM gives
+    /// 1). So N − [`ALIAS_ORDERS`] must exceed 2ω_max/φ with [`ALIAS_MARGIN`] to spare.
     pub fn steps_for(&self, phi: f64) -> usize {
-        let w_min = self.reduced.frequencies.iter().copied().fold(f64::INFINITY, f64::min);
+        let freqs = &self.reduced.frequencies;
+        let w_min = freqs.iter().copied().fold(f64::INFINITY, f64::min);
+        let w_max = freqs.iter().copied().fold(0.0, f64::max);
         let period = 2.0 * std::f64::consts::PI / phi;
         let by_phase = (period * w_min / self.settings.max_step_phase).ceil();
-        self.settings.steps_per_period.max(if by_phase.is_finite() { by_phase.min(1e6) as usize } else { 0 })
+        let by_alias = (ALIAS_MARGIN * 2.0 * w_max / phi).ceil() + ALIAS_ORDERS as f64;
+        let needed = by_phase.max(by_alias);
+        self.settings.steps_per_period.max(if needed.is_finite() { needed.min(1e6) as usize } else { 0 })
     }
 
     /// One point with the configured method.

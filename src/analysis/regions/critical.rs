@@ -27,14 +27,10 @@ pub struct RegionSettings {
     /// The tip is searched at β = β_c(seed)·(1 + relative) + absolute: the region is a short
     /// interval there whose growth maximum is the start, biased by at most its half-width.
     pub tip_margin: (f64, f64),
-    /// Relative φ step of the catalogue's guard scan at the level (0 turns it off): an
-    /// unstable grid point outside every seeded region is reported as unexplained.
+    /// Relative spacing g of the guard lattice (1 + g)^n at the level (0 turns it off):
+    /// an unstable lattice point outside every seeded tongue is a tongue no seed found,
+    /// reported as unexplained. The band's march from φ_op visits the same points.
     pub guard_step: f64,
-    /// Highest order searched beyond `max_order`, pair by pair (by the detuning of its
-    /// multipliers, [`super::centre`]): order k of a pair is searched only if its order
-    /// k − 1 or k − 2 region was found — higher orders of a pair are thinner and start
-    /// higher.
-    pub search_order: usize,
     /// Secant iterations of the centre search.
     pub centre_iterations: usize,
     /// Largest φ step when marching to a region's edge, (absolute rad/s, relative to φ):
@@ -85,13 +81,10 @@ impl Default for RegionSettings {
             // while the bias (at most its half-width there) stays far below the 0.1 % the
             // start is checked to.
             tip_margin: (0.05, 2e-3),
-            // 2 %: a region the seeds missed that is wider than 2 % of φ at the level
-            // cannot hide between two grid points (~220 points over 100..8000 rad/s,
-            // about 5 % of the catalogue's cost).
-            guard_step: 0.02,
-            // 8: the f1+b1 tongues of the paper's rotor reach β = 0.3 up to order 6 in
-            // φ ≥ 100 rad/s; each order costs a few evaluations per pair still found.
-            search_order: 8,
+            // 0.5 %: a tongue the seeds missed that is wider than 0.5 % of φ at the level
+            // cannot hide between two lattice points (~880 points over 100..8000 rad/s,
+            // of which only those in stable bands are evaluated).
+            guard_step: 0.005,
             // 3: from the seed the first secant step lands inside a drifted tongue in the
             // cases examined; two more absorb a misidentified first step.
             centre_iterations: 3,
@@ -121,7 +114,7 @@ pub fn unstable(fs: &FloquetSystem, table: &PhiTable, beta: f64) -> bool {
 /// β_c(φ) in [0, β_max]: bracket from below at `beta_bracket`, then bisect.
 pub fn critical_load(fs: &FloquetSystem, settings: &RegionSettings, phi: f64, beta_max: f64) -> CriticalLoad {
     let table = fs.table(phi, beta_max);
-    let crossing = Crossing::below(fs, settings, &table, beta_max, settings.beta_tolerance);
+    let crossing = Crossing::below(fs, settings, &table, (0.0, beta_max), settings.beta_tolerance);
     CriticalLoad { phi, beta: crossing.bracket.map(|b| b.1), evaluations: crossing.evaluations }
 }
 
@@ -136,12 +129,14 @@ pub struct Crossing {
 }
 
 impl Crossing {
-    /// Bracket from below at `beta_bracket` up to β_max, then bisect to `tolerance`.
+    /// The first crossing in (from, to] on one table: bracket upward from `from` (known
+    /// stable, or 0, which is evaluated) at the multiples of `beta_bracket` and `to`
+    /// itself, then bisect to `tolerance`.
     pub fn below(
         fs: &FloquetSystem,
         settings: &RegionSettings,
         table: &PhiTable,
-        beta_max: f64,
+        (from, to): (f64, f64),
         tolerance: f64,
     ) -> Crossing {
         let mut evaluations = 0;
@@ -149,13 +144,17 @@ impl Crossing {
             evaluations += 1;
             unstable(fs, table, b)
         };
-        if eval(0.0) {
+        if from == 0.0 && eval(0.0) {
             return Crossing { bracket: Some((0.0, 0.0)), evaluations };
         }
-        let steps = (beta_max / settings.beta_bracket).ceil().max(1.0) as usize;
-        let mut lo = 0.0;
-        for s in 1..=steps {
-            let hi = (s as f64 * settings.beta_bracket).min(beta_max);
+        let first = (from / settings.beta_bracket).floor() as usize + 1;
+        let last = (to / settings.beta_bracket).ceil().max(1.0) as usize;
+        let mut lo = from;
+        for k in first..=last {
+            let hi = (k as f64 * settings.beta_bracket).min(to);
+            if hi <= lo {
+                continue;
+            }
             if eval(hi) {
                 let bracket = bisect(lo, hi, tolerance, &mut eval);
                 return Crossing { bracket: Some(bracket), evaluations };

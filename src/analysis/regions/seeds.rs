@@ -33,6 +33,9 @@ pub struct Seed {
     pub forward: f64,
     /// ω_j, the backward whirl (eigenvalue −jω_j of B0) (rad/s).
     pub backward: f64,
+    /// (i, j): indices of the forward and backward whirls among the reduced model's
+    /// (each ascending), which identify the pair across nearby designs.
+    pub pair: (usize, usize),
 }
 
 impl Seed {
@@ -43,20 +46,24 @@ impl Seed {
 }
 
 /// Name of a reduced whirl: the tag of the nearest full-model whirl of the same direction
-/// (`f1`, `b2`, …; electrical ones without the whirl letter, `r1`, `s2`, as in ω_ej).
-fn name(full: &ModesResult, w: f64, whirl: Whirl) -> String {
-    full.modes
-        .iter()
-        .filter(|m| m.whirl == whirl)
-        .min_by(|a, b| (a.frequency - w).abs().total_cmp(&(b.frequency - w).abs()))
-        .map(|m| if m.label.chars().next().is_some_and(|c| c.is_ascii_digit()) { m.tag() } else { m.label.clone() })
-        .unwrap_or_else(|| format!("{}{w:.0}", whirl.letter()))
+/// (`f1`, `b2`, …; electrical ones without the whirl letter, `r1`, `s2`, as in ω_ej), or,
+/// without the full model, the whirl letter and the frequency (`f399`).
+fn name(full: Option<&ModesResult>, w: f64, whirl: Whirl) -> String {
+    full.and_then(|full| {
+        full.modes
+            .iter()
+            .filter(|m| m.whirl == whirl)
+            .min_by(|a, b| (a.frequency - w).abs().total_cmp(&(b.frequency - w).abs()))
+            .map(|m| if m.label.chars().next().is_some_and(|c| c.is_ascii_digit()) { m.tag() } else { m.label.clone() })
+    })
+    .unwrap_or_else(|| format!("{}{w:.0}", whirl.letter()))
 }
 
-/// All predicted starts in [φ_lo, φ_hi] up to order `max_order`, sorted by φ.
+/// All predicted starts in [φ_lo, φ_hi] up to order `max_order`, sorted by φ; labelled
+/// after the full model's whirls when `full` is given.
 pub fn seeds(
     fs: &FloquetSystem,
-    full: &ModesResult,
+    full: Option<&ModesResult>,
     range: (f64, f64),
     max_order: usize,
 ) -> Result<Vec<Seed>, AnalysisError> {
@@ -87,11 +94,19 @@ pub fn seeds(
             for k in 1..=max_order {
                 let phi = (wf + wb) / k as f64;
                 if phi >= range.0 && phi <= range.1 {
-                    out.push(Seed { label: label.clone(), kind, order: k, phi, forward: *wf, backward: *wb });
+                    out.push(Seed {
+                        label: label.clone(),
+                        kind,
+                        order: k,
+                        phi,
+                        forward: *wf,
+                        backward: *wb,
+                        pair: (i, j),
+                    });
                 }
             }
         }
     }
-    out.sort_by(|a, b| a.phi.total_cmp(&b.phi));
+    out.sort_by(|a, b| a.phi.total_cmp(&b.phi).then(a.pair.cmp(&b.pair)).then(a.order.cmp(&b.order)));
     Ok(out)
 }

@@ -9,6 +9,7 @@
 //! (relative above the catalogue's resolution, see [`sensitivity`]).
 
 use super::{edges_at, locate_start, seeds, RegionSettings, START_WINDOW};
+
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::ModesResult;
 use serde::Serialize;
@@ -67,7 +68,7 @@ pub fn region_quantities(
     beta_max: f64,
     level: f64,
 ) -> Option<Quantities> {
-    let all = seeds(fs, full, (1.0, f64::MAX), order).ok()?;
+    let all = seeds(fs, Some(full), (1.0, f64::MAX), order).ok()?;
     let i = all.iter().position(|x| x.label == label && x.order == order)?;
     let seed = all[i].phi;
     let nearest = all
@@ -77,9 +78,9 @@ pub fn region_quantities(
         .map(|(_, x)| (x.phi - seed).abs())
         .fold(f64::INFINITY, f64::min);
     let mut n = 0;
-    let (start, onset, _) = locate_start(fs, s, seed, (START_WINDOW * seed).min(0.45 * nearest), beta_max, &mut n)?;
-    let edges = (onset < level).then(|| edges_at(fs, s, start, level, &mut n));
-    Some(Quantities { start, onset, left: edges.map(|e| e.left), right: edges.map(|e| e.right) })
+    let st = locate_start(fs, s, seed, (START_WINDOW * seed).min(0.45 * nearest), (level, beta_max), &mut n)?;
+    let edges = (st.onset < level).then(|| edges_at(fs, s, st.phi, level, &mut n));
+    Some(Quantities { start: st.phi, onset: st.onset, left: edges.map(|e| e.left), right: edges.map(|e| e.right) })
 }
 
 fn diff(plus: &Quantities, minus: &Quantities, h: f64) -> Derivatives {

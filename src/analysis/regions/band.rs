@@ -1,0 +1,234 @@
+//! The stable band at β_op around an operating frequency φ_op: the interval containing φ_op
+//! in which no tongue counts by the declared criterion, complete up to the criterion's
+//! order.
+//!
+//! Each side is searched outward from φ_op by local work only: the guard lattice points
+//! and the seeds (of every order up to the criterion's) whose search window reaches the
+//! side are taken in order of the nearest φ they can report, until that φ lies beyond the
+//! nearest counted tongue found so far. The band's edge is that tongue's lattice-refined
+//! edge ([`super::level`]), the same number the catalogue of a range reports for it.
+
+use super::level::{Hit, Level, Tongue};
+use super::seeds::Seed;
+use super::CENTRE_WINDOW;
+use crate::analysis::Interval;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Searches evaluated together (in parallel) before the nearest tongue is updated: enough
+/// to keep two threads busy, few enough that little work lands beyond the tongue.
+const BATCH: usize = 8;
+
+/// What bounds a band on one side.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Bound {
+    /// The end of the search window: no counted tongue before it.
+    Window,
+    /// A counted tongue.
+    Tongue {
+        /// Its edge facing φ_op (rad/s).
+        edge: f64,
+        /// A counted point inside it (rad/s).
+        inside: f64,
+        /// Label and order of the seed whose pair collides there, or `unlabelled`.
+        label: String,
+    },
+}
+
+/// The stable band around φ_op at β_op.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Band {
+    /// Operating frequency φ_op (rad/s).
+    pub phi_op: f64,
+    /// Level β_op (−).
+    pub level: f64,
+    /// The band [lo, hi] (rad/s), or None when φ_op itself counts as unstable.
+    pub band: Option<Interval>,
+    /// When φ_op is unstable: the tongue containing it (rad/s).
+    pub containing: Option<Interval>,
+    /// What bounds the band below.
+    pub left: Option<Bound>,
+    /// What bounds the band above.
+    pub right: Option<Bound>,
+    /// Tongues inside the band that the criterion ignores (narrower than its width floor).
+    pub ignored: Vec<Tongue>,
+    /// What the band guarantees, in words.
+    pub guarantee: String,
+    /// Monodromy evaluations used.
+    pub evaluations: usize,
+}
+
+impl Band {
+    /// The band's width (rad/s) if φ_op is stable; otherwise minus the distance from φ_op
+    /// to the nearer edge of the tongue containing it (continuous across the transition,
+    /// so an optimiser can climb out of a tongue).
+    pub fn signed_width(&self) -> f64 {
+        match (self.band, self.containing) {
+            (Some(b), _) => b.width(),
+            (None, Some(t)) => -(self.phi_op - t.lo).min(t.hi - self.phi_op),
+            (None, None) => 0.0,
+        }
+    }
+}
+
+/// One search of a side: a guard lattice point or a seed.
+#[derive(Debug, Clone, Copy)]
+enum Search {
+    Lattice(f64),
+    Seed(usize),
+}
+
+/// The stable band around `phi_op` at the level of `level`, inside its window. `seeds`
+/// are the seeds of the window (as the catalogue of that window takes them).
+pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
+    let start = level.evaluations();
+    let criterion = *level.criterion();
+    let mut out = Band {
+        phi_op,
+        level: level.beta(),
+        band: None,
+        containing: None,
+        left: None,
+        right: None,
+        ignored: Vec::new(),
+        guarantee: criterion.guarantee(level.beta()),
+        evaluations: 0,
+    };
+    if level.counts(phi_op) {
+        out.containing = level.extent(phi_op);
+        out.evaluations = level.evaluations() - start;
+        return out;
+    }
+    let reach = |s: &Seed| Interval::new(s.phi * (1.0 - CENTRE_WINDOW), s.phi * (1.0 + CENTRE_WINDOW));
+    let limits = level.limits();
+    let relevant: Vec<usize> = (0..seeds.len())
+        .filter(|&i| seeds[i].order <= criterion.max_order && reach(&seeds[i]).overlaps(&limits))
+        .collect();
+    // Seeds whose window contains φ_op serve both sides: searched once, first.
+    let both: Vec<usize> = relevant.iter().copied().filter(|&i| reach(&seeds[i]).contains(phi_op)).collect();
+    let shared: Vec<Hit> = both.par_iter().flat_map_iter(|&i| level.hits(seeds, i)).collect();
+    let ((left, left_ignored), (right, right_ignored)) = rayon::join(
+        || side(level, seeds, &relevant, &shared, phi_op, -1.0),
+        || side(level, seeds, &relevant, &shared, phi_op, 1.0),
+    );
+    let edge = |b: &Option<Bound>, fallback: f64| match b {
+        Some(Bound::Tongue { edge, .. }) => *edge,
+        _ => fallback,
+    };
+    out.band = Some(Interval::new(edge(&left, limits.lo), edge(&right, limits.hi)));
+    out.left = left;
+    out.right = right;
+    out.ignored = left_ignored.into_iter().chain(right_ignored).collect();
+    out.evaluations = level.evaluations() - start;
+    out
+}
+
+/// The nearest counted tongue beyond φ_op on side `dir`, and the ignored tongues before it.
+fn side(
+    level: &Level<'_>,
+    seeds: &[Seed],
+    relevant: &[usize],
+    shared: &[Hit],
+    phi_op: f64,
+    dir: f64,
+) -> (Option<Bound>, Vec<Tongue>) {
+    let limits = level.limits();
+    // The key of a search: the nearest φ (beyond φ_op, on this side) it can report.
+    let nearest = |s: &Seed| if dir > 0.0 { s.phi * (1.0 - CENTRE_WINDOW) } else { s.phi * (1.0 + CENTRE_WINDOW) };
+    let ahead = |x: f64| (x - phi_op) * dir > 0.0;
+    // Seeds whose window lies wholly on this side (those containing φ_op were searched
+    // already, `shared`).
+    let mut searches: Vec<(f64, Search)> = relevant
+        .iter()
+        .filter(|&&i| ahead(nearest(&seeds[i])))
+        .map(|&i| (nearest(&seeds[i]), Search::Seed(i)))
+        .collect();
+    let window = if dir > 0.0 { Interval::new(phi_op, limits.hi) } else { Interval::new(limits.lo, phi_op) };
+    searches.extend(level.lattice(window).into_iter().filter(|&p| ahead(p)).map(|p| (p, Search::Lattice(p))));
+    // Nearest first; seeds before lattice points at equal keys, then by index.
+    searches.sort_by(|a, b| {
+        ((a.0 - phi_op) * dir).total_cmp(&((b.0 - phi_op) * dir)).then_with(|| order_of(&a.1).cmp(&order_of(&b.1)))
+    });
+    let mut hits: Vec<Hit> = shared.iter().copied().filter(|h| ahead(h.phi)).collect();
+    let mut ignored: Vec<Tongue> = Vec::new();
+    let mut next = 0;
+    loop {
+        let candidate = |hits: &[Hit], ignored: &[Tongue]| {
+            hits.iter()
+                .filter(|h| ahead(h.phi) && !ignored.iter().any(|t| t.extent.contains(h.phi)))
+                .min_by(|a, b| ((a.phi - phi_op) * dir).total_cmp(&((b.phi - phi_op) * dir)))
+                .copied()
+        };
+        let best = candidate(&hits, &ignored);
+        let before = |key: f64| best.is_none_or(|b| (key - phi_op) * dir < (b.phi - phi_op) * dir);
+        let batch: Vec<Search> =
+            searches[next..].iter().take_while(|(k, _)| before(*k)).take(BATCH).map(|(_, s)| *s).collect();
+        if !batch.is_empty() {
+            next += batch.len();
+            let found: Vec<Vec<Hit>> = batch
+                .par_iter()
+                .map(|s| match *s {
+                    Search::Lattice(p) => {
+                        if level.counts(p) {
+                            vec![Hit { phi: p, seed: None }]
+                        } else {
+                            Vec::new()
+                        }
+                    }
+                    Search::Seed(i) => level.hits(seeds, i),
+                })
+                .collect();
+            hits.extend(found.into_iter().flatten().filter(|h| ahead(h.phi)));
+            continue;
+        }
+        // Every search that could report a nearer point has been made.
+        let Some(hit) = best else { return (None, ignored) };
+        let criterion = level.criterion();
+        let labels = |extent: &Interval| {
+            let mut v: Vec<(String, usize)> = Vec::new();
+            let mut inside: Vec<usize> =
+                hits.iter().filter_map(|h| h.seed.filter(|_| extent.contains(h.phi))).collect();
+            inside.sort_unstable();
+            inside.dedup();
+            v.extend(inside.into_iter().map(|i| (seeds[i].label.clone(), seeds[i].order)));
+            v
+        };
+        let extent = if criterion.min_tongue_width > 0.0 {
+            level.extent(hit.phi)
+        } else {
+            // Only the edge facing φ_op is needed.
+            let edge = level.edge(hit.phi, -dir);
+            let reaches = if dir > 0.0 { edge < limits.hi } else { edge > limits.lo };
+            reaches.then(|| {
+                if dir > 0.0 {
+                    Interval::new(edge, hit.phi.min(limits.hi))
+                } else {
+                    Interval::new(hit.phi.max(limits.lo), edge)
+                }
+            })
+        };
+        // The nearest tongue lies beyond the window: the band ends at the window.
+        let Some(extent) = extent else { return (None, ignored) };
+        let tongue = Tongue {
+            extent,
+            inside: hit.phi,
+            labels: labels(&extent),
+            seeds: Vec::new(),
+            counted: extent.width() >= criterion.min_tongue_width,
+        };
+        if !tongue.counted {
+            ignored.push(tongue);
+            continue;
+        }
+        let edge = if dir > 0.0 { extent.lo } else { extent.hi };
+        return (Some(Bound::Tongue { edge, inside: hit.phi, label: tongue.label() }), ignored);
+    }
+}
+
+fn order_of(s: &Search) -> (u8, usize) {
+    match s {
+        Search::Seed(i) => (0, *i),
+        Search::Lattice(_) => (1, 0),
+    }
+}

@@ -1,0 +1,237 @@
+//! Independent verification of a design's result, and the per-speed content of its
+//! report (whirls and the full region catalogue).
+//!
+//! A result is verified at every operating speed by three checks that share nothing with
+//! the optimiser's incremental state:
+//! 1. the full catalogue of the design over the design's φ range (every seed of every
+//!    order up to the criterion's, and the guard lattice): its stable band around φ_op
+//!    must be the band reported (the same numbers), and none of its counted tongues may
+//!    reach into the band or a widened operating band;
+//! 2. the Floquet point by the reference DSTM path (Eq. 26–27) at the centre of every
+//!    catalogued tongue near the band: none inside the band may count as unstable;
+//! 3. a grid chart at [`GRID_STEP`] over the band (or each widened operating band): no
+//!    grid point may count as unstable.
+//!
+//! A design that fails any check is reported as not verified, never as improved.
+
+use super::evaluate::{Candidate, OperatingBand};
+use super::spec::{DesignSpec, Objective};
+use super::DesignError;
+use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::modes::{whirl_modes_of, Whirl};
+use crate::analysis::regions::{catalogue, Catalogue, CatalogueRequest, Counter, RegionSettings};
+use crate::analysis::{Criterion, Interval};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Spacing of the verification grid (rad/s): a twentieth of the 1 rad/s charts of the
+/// paper's figures, fine enough to see the 0.1 rad/s tongues of order 3–5 at β = 0.3.
+pub const GRID_STEP: f64 = 0.05;
+/// Most grid points per window; a wider window gets a proportionally coarser grid.
+pub const MAX_GRID_POINTS: usize = 40_000;
+/// Tongues within this fraction of φ_op (or of a band's centre) outside the band are
+/// "near": their centres are checked.
+pub const NEAR: f64 = 0.1;
+/// Agreement asked of two computations of the same band edge (rad/s): the lattice-refined
+/// edges are the same numbers, so only round-off may separate them.
+pub const SAME_EDGE: f64 = 1e-9;
+
+/// A whirl frequency, for the report.
+#[derive(Debug, Clone, Serialize)]
+pub struct WhirlRow {
+    /// `f1`, `b1`, `fr1`, …
+    pub tag: String,
+    /// Frequency (rad/s).
+    pub frequency: f64,
+}
+
+/// The Floquet point at a catalogued tongue's centre by the reference path.
+#[derive(Debug, Clone, Serialize)]
+pub struct CentreCheck {
+    /// The tongue's label (or `unlabelled`).
+    pub label: String,
+    /// Its centre (rad/s).
+    pub phi: f64,
+    /// max|μ| there by the DSTM (−).
+    pub max_multiplier: f64,
+    /// Whether that counts as unstable by the criterion.
+    pub unstable: bool,
+    /// Whether the centre lies inside the band (or a widened operating band).
+    pub inside: bool,
+}
+
+/// The grid chart over one window.
+#[derive(Debug, Clone, Serialize)]
+pub struct GridCheck {
+    /// The window (rad/s).
+    pub window: Interval,
+    /// Grid spacing (rad/s).
+    pub step: f64,
+    /// Points evaluated.
+    pub points: usize,
+    /// Points that count as unstable (rad/s).
+    pub unstable: Vec<f64>,
+}
+
+/// A design at one operating speed: whirls, catalogue and, for the result, its checks.
+#[derive(Debug, Clone, Serialize)]
+pub struct DesignAtSpeed {
+    /// Ω (rad/s).
+    pub speed: f64,
+    /// Lowest whirls.
+    pub whirls: Vec<WhirlRow>,
+    /// Region catalogue at β_op over the design's φ range.
+    pub catalogue: Catalogue,
+    /// The catalogue's stable band around φ_op (widest-stable-band).
+    pub catalogue_band: Option<Interval>,
+    /// Reference-path points at the centres of the catalogued tongues near the band(s).
+    pub centres: Vec<CentreCheck>,
+    /// Grid charts over the band or the widened operating bands.
+    pub grids: Vec<GridCheck>,
+    /// What failed, in words (empty when verified).
+    pub failures: Vec<String>,
+}
+
+/// Whirls per direction listed in the report.
+const REPORT_WHIRLS: usize = 6;
+
+/// Whirls and catalogue of a design at each operating speed (no checks).
+pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<Vec<DesignAtSpeed>, DesignError> {
+    c.systems
+        .iter()
+        .map(|(w, fs)| {
+            let full = whirl_modes_of(&c.rotor, &c.problem.settings, *w)?;
+            let req =
+                CatalogueRequest { range: spec.range(), beta_max: spec.beta_max, level: spec.level, track: false };
+            let cat = catalogue(fs, &full, s, &req)?;
+            let mut whirls = Vec::new();
+            for dir in [Whirl::Forward, Whirl::Backward] {
+                whirls.extend(
+                    full.modes
+                        .iter()
+                        .filter(|m| m.whirl == dir)
+                        .take(REPORT_WHIRLS)
+                        .map(|m| WhirlRow { tag: m.tag(), frequency: m.frequency }),
+                );
+            }
+            let catalogue_band = spec.phi_op.and_then(|p| cat.band_containing(p));
+            Ok(DesignAtSpeed {
+                speed: *w,
+                whirls,
+                catalogue: cat,
+                catalogue_band,
+                centres: Vec::new(),
+                grids: Vec::new(),
+                failures: Vec::new(),
+            })
+        })
+        .collect()
+}
+
+/// Every catalogued tongue at the level: (label, extent, counted).
+fn tongues(cat: &Catalogue) -> Vec<(String, Interval, bool)> {
+    let mut out: Vec<(String, Interval, bool)> = cat
+        .regions
+        .iter()
+        .filter_map(|r| Some((format!("{}/{}", r.label, r.order), Interval::new(r.left?, r.right?), r.counted)))
+        .collect();
+    out.extend(cat.unexplained.iter().map(|e| ("unlabelled".to_string(), *e, true)));
+    out.extend(cat.ignored.iter().map(|t| (t.label(), t.extent, false)));
+    out
+}
+
+/// The grid over `window` at [`GRID_STEP`] (coarser beyond [`MAX_GRID_POINTS`]), interior
+/// points only, in parallel.
+fn grid(fs: &FloquetSystem, criterion: &Criterion, window: Interval, level: f64, count: &Counter) -> GridCheck {
+    let step = GRID_STEP.max(window.width() / MAX_GRID_POINTS as f64);
+    let n = (window.width() / step).floor() as usize;
+    let points: Vec<f64> = (1..n).map(|i| window.lo + step * i as f64).filter(|&p| p < window.hi).collect();
+    count.add(points.len());
+    let unstable: Vec<f64> = points
+        .par_iter()
+        .copied()
+        .filter(|&phi| criterion.counts(&fs.point_fast(&fs.table(phi, level), level).summary))
+        .collect();
+    GridCheck { window, step, points: points.len(), unstable }
+}
+
+/// Verify a design's result (module docs): `bands` are the design's operating bands at
+/// each speed (widest-stable-band), or empty (clear-bands). Fills the checks of `at`.
+pub fn verify(
+    c: &Candidate,
+    spec: &DesignSpec,
+    bands: &[OperatingBand],
+    at: &mut [DesignAtSpeed],
+    count: &Counter,
+) -> bool {
+    let criterion = c.criterion();
+    let mut passed = true;
+    for (k, d) in at.iter_mut().enumerate() {
+        let fs = &c.systems[k].1;
+        // The windows that must be free of instability, and the reach of "near".
+        let windows: Vec<Interval> = match spec.objective {
+            Objective::WidestStableBand => {
+                let b = bands.get(k).and_then(|b| b.band.band);
+                if let (Some(b), Some(cb)) = (b, d.catalogue_band) {
+                    if (b.lo - cb.lo).abs() > SAME_EDGE || (b.hi - cb.hi).abs() > SAME_EDGE {
+                        d.failures.push(format!("the catalogue's stable band {cb:.3} differs from the band {b:.3}"));
+                    }
+                } else if b.is_some() != d.catalogue_band.is_some() {
+                    d.failures.push(format!(
+                        "the catalogue's stable band ({:?}) and the band ({:?}) disagree on whether phi_op is stable",
+                        d.catalogue_band, b
+                    ));
+                }
+                b.into_iter().collect()
+            }
+            Objective::ClearBands => spec.bands.iter().map(|b| b.guarded()).collect(),
+        };
+        let all = tongues(&d.catalogue);
+        for w in &windows {
+            for (label, e, counted) in &all {
+                if *counted && e.hi > w.lo + SAME_EDGE && e.lo < w.hi - SAME_EDGE {
+                    d.failures.push(format!("catalogued tongue {label} at {e:.3} reaches into {w:.3}"));
+                }
+            }
+        }
+        let reach = |w: &Interval| NEAR * w.centre().max(spec.phi_op.unwrap_or(0.0));
+        let near: Vec<&(String, Interval, bool)> = all
+            .iter()
+            .filter(|(_, e, _)| windows.iter().any(|w| e.overlaps(&Interval::new(w.lo - reach(w), w.hi + reach(w)))))
+            .collect();
+        count.add(near.len());
+        d.centres = near
+            .par_iter()
+            .map(|(label, e, _)| {
+                let phi = e.centre();
+                let p = fs.point_dstm(phi, spec.level, fs.settings.reference_steps).summary;
+                CentreCheck {
+                    label: label.clone(),
+                    phi,
+                    max_multiplier: p.max_multiplier,
+                    unstable: criterion.counts(&p),
+                    inside: windows.iter().any(|w| w.lo < phi && phi < w.hi),
+                }
+            })
+            .collect();
+        for cc in d.centres.iter().filter(|cc| cc.inside && cc.unstable) {
+            d.failures.push(format!(
+                "the reference (DSTM) point at the centre of {} ({:.3} rad/s) is unstable, max|mu| = {:.6}",
+                cc.label, cc.phi, cc.max_multiplier
+            ));
+        }
+        d.grids = windows.iter().map(|w| grid(fs, &criterion, *w, spec.level, count)).collect();
+        for g in &d.grids {
+            if let Some(p) = g.unstable.first() {
+                d.failures.push(format!(
+                    "{} point(s) of the {} rad/s grid over {:.3} are unstable, the first at {p:.3} rad/s",
+                    g.unstable.len(),
+                    g.step,
+                    g.window
+                ));
+            }
+        }
+        passed &= d.failures.is_empty();
+    }
+    passed
+}

@@ -1,0 +1,129 @@
+//! The stable band is true (issue acceptance): for `band` on every problem in problems/ at
+//! φ_op = 300, 700, 1230, 1800 and 2500 rad/s and β_op = 0.1, 0.3 and 0.6,
+//! 1. the Floquet point at the centre of every catalogued tongue inside the reported band
+//!    is stable by the declared criterion;
+//! 2. a 0.05 rad/s grid over the band's neighbourhood finds no point inside the band that
+//!    the criterion counts, and finds an unstable point within 0.5 rad/s beyond each
+//!    finite edge (edges at the window's limit are exempt).
+//!
+//! The reference for 2 is the grid itself: plain Floquet points, independent of the band's
+//! search. A bounding tongue thinner than the grid spacing can fall between grid points;
+//! then the tongue's own counted point (reported by the band) must lie within 0.5 rad/s
+//! beyond the edge and be unstable by the reference DSTM path, and such cases are printed.
+
+mod common;
+
+use rayon::prelude::*;
+use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings};
+use rotorshunt::analysis::{Criterion, Interval, Rotor};
+
+const PHI_OPS: [f64; 5] = [300.0, 700.0, 1230.0, 1800.0, 2500.0];
+const LEVELS: [f64; 3] = [0.1, 0.3, 0.6];
+/// The window of every band and catalogue: the φ range of the paper's charts (rad/s).
+const WINDOW: Interval = Interval::new(100.0, 8000.0);
+/// Grid spacing (rad/s) and the reach beyond an edge (rad/s), from the acceptance.
+const GRID: f64 = 0.05;
+const BEYOND: f64 = 0.5;
+
+/// Every problem file of the catalogue (top level of problems/).
+fn problems() -> Vec<String> {
+    let dir = format!("{}/problems", env!("CARGO_MANIFEST_DIR"));
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Grid points k·GRID (k integer) strictly inside (lo, hi).
+fn grid(lo: f64, hi: f64) -> Vec<f64> {
+    let first = (lo / GRID).floor() as i64 + 1;
+    let last = (hi / GRID).ceil() as i64 - 1;
+    (first..=last).map(|k| k as f64 * GRID).filter(|&p| p > lo && p < hi).collect()
+}
+
+#[test]
+fn band_is_true_on_every_problem() {
+    let s = RegionSettings::default();
+    let mut checked = 0;
+    let mut thin = Vec::new();
+    let mut failures = Vec::new();
+    let mut total_points = 0;
+    for name in problems() {
+        let p = common::load(&name, &[]);
+        let rotor = Rotor::new(&p.model).unwrap();
+        let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
+        let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
+        let criterion = Criterion::of(&p.settings);
+        let counts = |phi: f64, beta: f64| criterion.counts(&fs.point_fast(&fs.table(phi, beta), beta).summary);
+        for &level in &LEVELS {
+            for &phi_op in &PHI_OPS {
+                let b = band(&fs, &full, &s, WINDOW, phi_op, level).unwrap();
+                let Some(found) = b.band else {
+                    // φ_op unstable: it must count, and lie in the reported tongue.
+                    let t = b.containing.unwrap();
+                    if !counts(phi_op, level) || !t.contains(phi_op) {
+                        failures.push(format!("{name} β {level} φ_op {phi_op}: unstable claim {t:?} wrong"));
+                    }
+                    continue;
+                };
+                checked += 1;
+                // 1. Centres of catalogued tongues inside the band.
+                let near =
+                    Interval::new((found.lo - 0.1 * phi_op).max(WINDOW.lo), (found.hi + 0.1 * phi_op).min(WINDOW.hi));
+                let req = CatalogueRequest { range: near, beta_max: level, level, track: false };
+                let cat = catalogue(&fs, &full, &s, &req).unwrap();
+                let mut tongues: Vec<Interval> =
+                    cat.regions.iter().filter_map(|r| Some(Interval::new(r.left?, r.right?))).collect();
+                tongues.extend(cat.unexplained.iter().copied());
+                for t in tongues.iter().filter(|t| found.lo < t.centre() && t.centre() < found.hi) {
+                    if counts(t.centre(), level) {
+                        failures
+                            .push(format!("{name} β {level} φ_op {phi_op}: catalogued tongue {t:?} inside {found:?}"));
+                    }
+                }
+                // 2. The grid over the band and BEYOND on each side.
+                let inside = grid(found.lo, found.hi);
+                total_points += inside.len();
+                let bad: Vec<f64> = inside.par_iter().copied().filter(|&phi| counts(phi, level)).collect();
+                if !bad.is_empty() {
+                    failures.push(format!(
+                        "{name} β {level} φ_op {phi_op}: band {found:?} has {} unstable grid points, first {:?}",
+                        bad.len(),
+                        &bad[..bad.len().min(5)]
+                    ));
+                }
+                for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
+                    let Some(Bound::Tongue { inside: point, label, .. }) = bound else { continue };
+                    let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
+                    let beyond = grid(lo, hi);
+                    total_points += beyond.len();
+                    if beyond.par_iter().any(|&phi| counts(phi, level)) {
+                        continue;
+                    }
+                    // A tongue thinner than the grid: its own point, by the reference path.
+                    let dstm = fs.point_dstm(*point, level, p.settings.reference_steps).summary;
+                    let close = (point - edge) * dir >= 0.0 && (point - edge).abs() <= BEYOND;
+                    if close && criterion.counts(&dstm) {
+                        thin.push(format!("{name} β {level} φ_op {phi_op}: {label} at {point:.4} (edge {edge:.4})"));
+                    } else {
+                        failures.push(format!(
+                            "{name} β {level} φ_op {phi_op}: no unstable point within {BEYOND} rad/s beyond edge {edge} ({label}, point {point}, DSTM max|mu| {})",
+                            dstm.max_multiplier
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{checked} bands checked, {total_points} grid points; bounded by tongues thinner than the grid: {thin:#?}"
+    );
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    assert!(checked >= 60, "only {checked} stable bands checked");
+}
