@@ -80,23 +80,21 @@ impl Problem {
     pub fn from_text(text: &str, name: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
         let err =
             |location, key: &str, kind| ProblemError { file: name.to_string(), location, key: key.to_string(), kind };
-        let doc = toml::de::DeTable::parse(text).map_err(|e| {
-            let loc = syntax_location(text, e.span());
-            err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
-        })?;
-        let mut index = LineIndex::new(text, &doc);
-        if text.trim().is_empty() {
-            return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
-        }
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
             let loc = syntax_location(text, e.span());
             err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
+        if text.trim().is_empty() {
+            return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
+        }
+        let mut index = LineIndex::new(text);
         // The version decides the schema: check it before anything else, so a newer file
         // is reported as such rather than as having unknown keys.
-        if let Some(toml::Value::Integer(v)) = table.get("version") {
-            if *v != file::FORMAT_VERSION {
-                let kind = ProblemErrorKind::Version { found: *v, supported: file::FORMAT_VERSION };
+        if let Some(found) = table.get("version").and_then(toml::Value::as_integer) {
+            if found != file::FORMAT_VERSION {
+                // Locating parses the text again: free the document first.
+                drop(table);
+                let kind = ProblemErrorKind::Version { found, supported: file::FORMAT_VERSION };
                 return Err(err(index.locate("version"), "version", kind));
             }
         }
