@@ -36,6 +36,8 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::NeitherGiven(..) => "NeitherGiven",
         K::DiskOffShaft { .. } => "DiskOffShaft",
         K::DiskNodeOffShaft { .. } => "DiskNodeOffShaft",
+        K::TooManyEntries { .. } => "TooManyEntries",
+        K::TooManyDofs { .. } => "TooManyDofs",
         K::NoBranches => "NoBranches",
         K::Override { .. } => "Override",
     }
@@ -89,6 +91,8 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::NeitherGiven(s(), s()),
         ProblemErrorKind::DiskOffShaft { position: 0.0, length: 0.0 },
         ProblemErrorKind::DiskNodeOffShaft { node: 0, last: 0 },
+        ProblemErrorKind::TooManyEntries { count: 0, limit: 0 },
+        ProblemErrorKind::TooManyDofs { dofs: 0, limit: 0 },
         ProblemErrorKind::NoBranches,
         ProblemErrorKind::Override { text: s(), reason: s() },
     ];

@@ -72,6 +72,26 @@ pub enum ProblemErrorKind {
         /// The last node index n.
         last: usize,
     },
+    /// More entries in an array of tables (`[[disks]]`, `[[circuit.branches]]`) than
+    /// allowed.
+    #[error("{count} entries, more than the {limit} allowed")]
+    TooManyEntries {
+        /// Entries found.
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The model would have more complex DOFs than the dense solvers are given
+    /// ([`super::MAX_DOFS`]).
+    #[error(
+        "the model would have {dofs} complex DOFs (2 per shaft node, 2 for the rings, 2 per closed branch), more than the {limit} allowed"
+    )]
+    TooManyDofs {
+        /// DOFs of the model.
+        dofs: usize,
+        /// The limit.
+        limit: usize,
+    },
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,

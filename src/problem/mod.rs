@@ -10,6 +10,7 @@ mod validate;
 pub use error::{ProblemError, ProblemErrorKind};
 pub use file::ProblemFile;
 pub use source::Location;
+pub use validate::{MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
 
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;
