@@ -133,7 +133,7 @@ fn study_error(file: &Path, message: impl Into<String>) -> Error {
 
 /// Read a study file: the base problem path and the cases.
 fn read(file: &Path) -> Result<(StudyFile, PathBuf, Vec<Case>), Error> {
-    let text = std::fs::read_to_string(file).map_err(|e| study_error(file, format!("cannot read: {e}")))?;
+    let text = crate::problem::read_toml(file)?;
     let de = toml::Deserializer::parse(&text).map_err(|e| study_error(file, e.to_string()))?;
     let study: StudyFile = serde_path_to_error::deserialize(de)
         .map_err(|e| study_error(file, format!("key `{}`: {}", e.path(), e.inner().message().trim())))?;
@@ -275,8 +275,8 @@ fn run_case(
 
 /// A previous result of this case with the same input, if it succeeded.
 fn finished(dir: &Path, hash: &str) -> Option<CaseResult> {
-    let text = std::fs::read_to_string(dir.join("result.json")).ok()?;
-    let r: CaseResult = serde_json::from_str(&text).ok()?;
+    let bytes = crate::problem::read_input(&dir.join("result.json")).ok()?;
+    let r: CaseResult = serde_json::from_slice(&bytes).ok()?;
     (r.input_hash == hash && r.status == "ok").then_some(r)
 }
 
@@ -284,8 +284,7 @@ fn finished(dir: &Path, hash: &str) -> Option<CaseResult> {
 /// The summary text and the number of failed cases.
 pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) -> Result<(String, usize), Error> {
     let (study, base, cases) = read(file)?;
-    let base_text = std::fs::read(&base)
-        .map_err(|e| study_error(file, format!("key `base`: cannot read {}: {e}", base.display())))?;
+    let base_text = crate::problem::read_input(&base)?;
     let root = OutDir::create(out, file.to_str().unwrap_or_default())?;
     // A killed run can leave write_atomic's temporaries (never a partial result file).
     crate::report::remove_temporaries(out).map_err(|e| root.error("(temporaries)", e))?;

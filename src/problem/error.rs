@@ -10,6 +10,42 @@ pub enum ProblemErrorKind {
     /// The file cannot be read.
     #[error("cannot read the file: {0}")]
     Read(String),
+    /// The path is not a regular file (or a link to one): a directory, a FIFO, a device
+    /// or a socket. Refused before opening.
+    #[error("the path is {kind}, not a regular file (only regular files and links to them are read)")]
+    NotARegularFile {
+        /// What it is, e.g. `a directory`, `a FIFO (named pipe)`, `a character device`.
+        kind: String,
+    },
+    /// The file is larger than [`super::input::MAX_FILE_BYTES`].
+    #[error("the file is too large: {size} bytes, more than the {} MiB ({limit} bytes) an input file may have", limit >> 20)]
+    TooLarge {
+        /// Bytes found (from the file's size, or read before stopping).
+        size: u64,
+        /// The limit (bytes).
+        limit: u64,
+    },
+    /// Parsing the TOML text would need more memory than
+    /// [`super::input::MAX_PARSE_BYTES`] (see [`super::input::TomlCost`]).
+    #[error(
+        "the TOML text is too complex: parsing {tokens} tokens (up to {tables} tables, {arrays} arrays, {keys} keys) would take about {} MiB, more than the {} MiB allowed",
+        estimate >> 20,
+        limit >> 20
+    )]
+    TooComplex {
+        /// Tokens of the text.
+        tokens: u64,
+        /// Tables the text may create, at most.
+        tables: u64,
+        /// Arrays of the text.
+        arrays: u64,
+        /// Key/value pairs of the text.
+        keys: u64,
+        /// Estimated parse memory (bytes).
+        estimate: u64,
+        /// The limit (bytes).
+        limit: u64,
+    },
     /// The file is not valid UTF-8 text.
     #[error("the file is not UTF-8 text (invalid byte at offset {0})")]
     NotUtf8(usize),
@@ -71,6 +107,26 @@ pub enum ProblemErrorKind {
         node: i64,
         /// The last node index n.
         last: usize,
+    },
+    /// More entries in an array of tables (`[[disks]]`, `[[circuit.branches]]`) than
+    /// allowed.
+    #[error("{count} entries, more than the {limit} allowed")]
+    TooManyEntries {
+        /// Entries found.
+        count: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The model would have more complex DOFs than the dense solvers are given
+    /// ([`super::MAX_DOFS`]).
+    #[error(
+        "the model would have {dofs} complex DOFs (2 per shaft node, 2 for the rings, 2 per closed branch), more than the {limit} allowed"
+    )]
+    TooManyDofs {
+        /// DOFs of the model.
+        dofs: usize,
+        /// The limit.
+        limit: usize,
     },
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]

@@ -4,17 +4,20 @@
 
 mod error;
 pub mod file;
+pub mod input;
 pub mod source;
 mod validate;
 
 pub use error::{ProblemError, ProblemErrorKind};
 pub use file::ProblemFile;
+pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
 pub use source::Location;
+pub use validate::{MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
 
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;
 use crate::model::Model;
-use source::{deep_key_line, line_of, line_of_bytes, parse_override_value, set_path, LineIndex};
+use source::{deep_key_line, line_of, parse_override_value, set_path, LineIndex};
 use std::path::Path;
 
 /// A loaded, validated problem.
@@ -50,53 +53,44 @@ pub fn input_hash(text: &str, overrides: &[String]) -> String {
 }
 
 impl Problem {
-    /// Load `path` and apply overrides `key.path=value`.
+    /// Load `path` and apply overrides `key.path=value`. The file is read by
+    /// [`read_input`]: a regular file of at most [`MAX_FILE_BYTES`].
     pub fn from_path(path: impl AsRef<Path>, overrides: &[String]) -> Result<Problem, ProblemError> {
         let path = path.as_ref();
-        let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|e| ProblemError {
-            file: name.clone(),
-            location: Location::Unknown,
-            key: String::new(),
-            kind: ProblemErrorKind::Read(e.to_string()),
-        })?;
-        Problem::from_bytes(&bytes, &name, overrides)
+        let bytes = read_input(path)?;
+        Problem::from_bytes(&bytes, &path.display().to_string(), overrides)
     }
 
     /// Parse the raw bytes of a problem file; `name` is used in messages. Bytes that are
     /// not UTF-8 are refused with [`ProblemErrorKind::NotUtf8`] (offset and line of the
     /// first invalid byte).
     pub fn from_bytes(bytes: &[u8], name: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
-        let text = std::str::from_utf8(bytes).map_err(|e| ProblemError {
-            file: name.to_string(),
-            location: Location::Line(line_of_bytes(bytes, e.valid_up_to())),
-            key: String::new(),
-            kind: ProblemErrorKind::NotUtf8(e.valid_up_to()),
-        })?;
-        Problem::from_text(text, name, overrides)
+        Problem::from_text(input::text_of(bytes, name)?, name, overrides)
     }
 
-    /// Parse problem text; `name` is used in messages.
+    /// Parse problem text; `name` is used in messages. Time and memory are linear in the
+    /// text's size; a text whose parse would need more than [`MAX_PARSE_BYTES`] is refused
+    /// with [`ProblemErrorKind::TooComplex`] before parsing.
     pub fn from_text(text: &str, name: &str, overrides: &[String]) -> Result<Problem, ProblemError> {
         let err =
             |location, key: &str, kind| ProblemError { file: name.to_string(), location, key: key.to_string(), kind };
-        let doc = toml::de::DeTable::parse(text).map_err(|e| {
-            let loc = syntax_location(text, e.span());
-            err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
-        })?;
-        let mut index = LineIndex::new(text, &doc);
-        if text.trim().is_empty() {
-            return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
-        }
+        // Before parsing: the parser's memory grows with the text's structure, not its size.
+        input::check_parse_cost(text).map_err(|kind| err(Location::Unknown, "", kind))?;
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
             let loc = syntax_location(text, e.span());
             err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
         })?;
+        if text.trim().is_empty() {
+            return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
+        }
+        let mut index = LineIndex::new(text);
         // The version decides the schema: check it before anything else, so a newer file
         // is reported as such rather than as having unknown keys.
-        if let Some(toml::Value::Integer(v)) = table.get("version") {
-            if *v != file::FORMAT_VERSION {
-                let kind = ProblemErrorKind::Version { found: *v, supported: file::FORMAT_VERSION };
+        if let Some(found) = table.get("version").and_then(toml::Value::as_integer) {
+            if found != file::FORMAT_VERSION {
+                // Locating parses the text again: free the document first.
+                drop(table);
+                let kind = ProblemErrorKind::Version { found, supported: file::FORMAT_VERSION };
                 return Err(err(index.locate("version"), "version", kind));
             }
         }

@@ -1,13 +1,17 @@
 //! Where things are in a problem file: key paths to lines, and `--set` overrides.
 
-use std::collections::BTreeMap;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
-/// Key path → 1-based line of its key in the file text, e.g. `disks[0].mass` → 14.
-#[derive(Debug, Clone, Default)]
-pub struct LineIndex {
-    lines: BTreeMap<String, usize>,
+/// Where key paths are in a problem file, e.g. `disks[0].mass` → line 14, and which key
+/// paths were set by `--set`.
+///
+/// Only errors need a line, so nothing is indexed while loading: [`LineIndex::locate`]
+/// parses the text again and follows the one path asked for. Loading stays linear in the
+/// file size however many keys the file has, and an error costs one more parse.
+#[derive(Debug, Clone)]
+pub struct LineIndex<'a> {
+    text: &'a str,
     overridden: Vec<String>,
 }
 
@@ -44,12 +48,10 @@ pub fn line_of_bytes(bytes: &[u8], offset: usize) -> usize {
     bytes[..offset.min(bytes.len())].iter().filter(|&&b| b == b'\n').count() + 1
 }
 
-impl LineIndex {
-    /// Index every key of a parsed document.
-    pub fn new(text: &str, doc: &Spanned<DeTable<'_>>) -> LineIndex {
-        let mut lines = BTreeMap::new();
-        walk_table(text, doc.get_ref(), "", &mut lines);
-        LineIndex { lines, overridden: Vec::new() }
+impl<'a> LineIndex<'a> {
+    /// The index of a problem text (which must parse as TOML for lines to be found).
+    pub fn new(text: &'a str) -> LineIndex<'a> {
+        LineIndex { text, overridden: Vec::new() }
     }
 
     /// Mark a key path as set on the command line.
@@ -73,15 +75,10 @@ impl LineIndex {
         {
             return Location::Override;
         }
-        let mut p = path.to_string();
-        loop {
-            if let Some(&l) = self.lines.get(&p) {
-                return Location::Line(l);
-            }
-            match p.rfind(['.', '[']) {
-                Some(i) => p.truncate(i),
-                None => return Location::Unknown,
-            }
+        let Ok(doc) = DeTable::parse(self.text) else { return Location::Unknown };
+        match offset_in_table(doc.get_ref(), path) {
+            Some(offset) => Location::Line(line_of(self.text, offset)),
+            None => Location::Unknown,
         }
     }
 }
@@ -97,34 +94,39 @@ pub enum Location {
     Unknown,
 }
 
-fn join(prefix: &str, key: &str) -> String {
-    if prefix.is_empty() {
-        key.to_string()
-    } else {
-        format!("{prefix}.{key}")
-    }
+/// Byte offset of the deepest part of `path` present below `table`: the key of a table
+/// entry, or the start of an array element. `None` when not even the first key is there.
+fn offset_in_table(table: &DeTable<'_>, path: &str) -> Option<usize> {
+    // The next key runs to the first `.` or `[`; a quoted key may itself hold those
+    // characters, so failing the plain split, take the longest key the path starts with.
+    let plain = &path[..path.find(['.', '[']).unwrap_or(path.len())];
+    let (key, value) = table.get_key_value(plain).or_else(|| {
+        table
+            .iter()
+            .filter(|(k, _)| {
+                let k: &str = k.get_ref();
+                path.strip_prefix(k).is_some_and(|rest| rest.is_empty() || rest.starts_with(['.', '[']))
+            })
+            .max_by_key(|(k, _)| k.get_ref().len())
+    })?;
+    let here = key.span().start;
+    Some(offset_in_value(value, &path[key.get_ref().len()..]).unwrap_or(here))
 }
 
-fn walk_table(text: &str, table: &DeTable<'_>, prefix: &str, out: &mut BTreeMap<String, usize>) {
-    for (k, v) in table.iter() {
-        let path = join(prefix, k.get_ref());
-        out.insert(path.clone(), line_of(text, k.span().start));
-        walk_value(text, v, &path, out);
+/// Byte offset of the deepest part of `rest` (`.key…` or `[i]…`, or empty) below `value`.
+fn offset_in_value(value: &Spanned<DeValue<'_>>, rest: &str) -> Option<usize> {
+    if let Some(path) = rest.strip_prefix('.') {
+        return match value.get_ref() {
+            DeValue::Table(t) => offset_in_table(t, path),
+            _ => None,
+        };
     }
-}
-
-fn walk_value(text: &str, v: &Spanned<DeValue<'_>>, path: &str, out: &mut BTreeMap<String, usize>) {
-    match v.get_ref() {
-        DeValue::Table(t) => walk_table(text, t, path, out),
-        DeValue::Array(a) => {
-            for (i, e) in a.iter().enumerate() {
-                let p = format!("{path}[{i}]");
-                out.insert(p.clone(), line_of(text, e.span().start));
-                walk_value(text, e, &p, out);
-            }
-        }
-        _ => {}
-    }
+    let inner = rest.strip_prefix('[')?;
+    let close = inner.find(']')?;
+    let i: usize = inner[..close].parse().ok()?;
+    let DeValue::Array(a) = value.get_ref() else { return None };
+    let element = a.get(i)?;
+    Some(offset_in_value(element, &inner[close + 1..]).unwrap_or(element.span().start))
 }
 
 /// One segment of a key path: a table key or an array index.

@@ -3,6 +3,7 @@
 use super::file::*;
 use super::ProblemErrorKind as K;
 use crate::analysis::Settings;
+use crate::assembly::DofMap;
 use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable};
 use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
 
@@ -12,6 +13,23 @@ pub type Failure = (String, K);
 /// Upper bound on shaft elements: the dense eigensolvers cost O(n³), and 2 000 elements
 /// already mean a 8 000 × 8 000 complex state matrix.
 pub const MAX_ELEMENTS: i64 = 2000;
+
+/// Upper bound on the model's complex DOFs, 2 per shaft node + 2 ring + 2 per closed
+/// branch ([`crate::assembly::DofMap::len`]). The dense solvers hold several n × n
+/// matrices and a 2n × 2n complex state matrix: `check` at 4 008 DOFs (2 000 elements, 2
+/// branches) peaks at 2 GB. The limit admits the longest shaft [`MAX_ELEMENTS`] allows
+/// with up to 48 closed branches, and refuses larger models before anything is assembled.
+pub const MAX_DOFS: usize = 4100;
+
+/// Upper bound on `[[circuit.branches]]`: each closed branch adds an electrical mode per
+/// ring, and a reduced model keeps at most 200 modes (`analysis.reduced_modes`), so more
+/// than 100 branches cannot all be represented.
+pub const MAX_BRANCHES: usize = 100;
+
+/// Upper bound on `[[disks]]`. Disks only add to the diagonal of M and G at the at most
+/// 2 001 nodes, so a model needs few; each costs about 2.3 KB to parse and a line of the
+/// `check` summary (10⁵ disks load in 0.3 s and 240 MB).
+pub const MAX_DISKS: usize = 100_000;
 
 fn finite(key: &str, v: f64) -> Result<f64, Failure> {
     if v.is_finite() {
@@ -66,6 +84,7 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
     }
     let speed = non_negative("speed", f.speed)?;
     let shaft = shaft(&f.shaft)?;
+    sizes(f, &shaft)?;
     let disks =
         f.disks.iter().enumerate().map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft)).collect::<Result<_, _>>()?;
     let left = ring("ring", &f.ring, &RingOverride::default())?;
@@ -102,6 +121,23 @@ fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
         youngs_modulus: positive("shaft.youngs_modulus", s.youngs_modulus)?,
         density: positive("shaft.density", s.density)?,
     })
+}
+
+/// Refuse a model too large to analyse before any per-entry work or allocation.
+fn sizes(f: &ProblemFile, shaft: &Shaft) -> Result<(), Failure> {
+    let branches = f.circuit.branches.len();
+    let closed = f.circuit.state == CircuitState::Closed;
+    let dofs = DofMap { nodes: shaft.nodes(), branches: if closed { branches } else { 0 } }.len();
+    if dofs > MAX_DOFS {
+        return Err(("circuit.branches".into(), K::TooManyDofs { dofs, limit: MAX_DOFS }));
+    }
+    if branches > MAX_BRANCHES {
+        return Err(("circuit.branches".into(), K::TooManyEntries { count: branches, limit: MAX_BRANCHES }));
+    }
+    if f.disks.len() > MAX_DISKS {
+        return Err(("disks".into(), K::TooManyEntries { count: f.disks.len(), limit: MAX_DISKS }));
+    }
+    Ok(())
 }
 
 fn disk(key: &str, d: &DiskFile, shaft: &Shaft) -> Result<Disk, Failure> {

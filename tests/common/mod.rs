@@ -18,3 +18,62 @@ pub fn load(name: &str, overrides: &[&str]) -> Problem {
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
+
+/// The repository root.
+pub fn root() -> &'static std::path::Path {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A generated input file `out/generated/NAME` (git-ignored; too large or too odd to keep
+/// in the repository), written by `write` unless already there, atomically (test binaries
+/// may run at once).
+pub fn generated(name: &str, write: impl FnOnce(&std::path::Path)) -> std::path::PathBuf {
+    let dir = root().join("out").join("generated");
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let path = dir.join(name);
+    if !path.exists() {
+        let tmp = dir.join(format!(".{name}.{}", std::process::id()));
+        write(&tmp);
+        std::fs::rename(&tmp, &path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
+    path
+}
+
+/// `out/generated/too_large.toml`: one byte over 17 MiB (sparse: cheap to make).
+pub fn too_large_file() -> std::path::PathBuf {
+    generated("too_large.toml", |p| {
+        let f = std::fs::File::create(p).expect("create too_large.toml");
+        f.set_len(17 * 1024 * 1024 + 1).expect("size too_large.toml");
+    })
+}
+
+/// TOML text of about `bytes` bytes of 70-level dotted keys: each line makes 71 tables,
+/// about 550 bytes of parser memory per byte of text.
+pub fn dotted_keys_text(bytes: usize) -> String {
+    let level = vec!["a"; 70].join(".");
+    let mut text = String::with_capacity(bytes + 200);
+    let mut i = 0;
+    while text.len() < bytes {
+        text.push_str(&format!("k{i}.{level} = 1\n"));
+        i += 1;
+    }
+    text
+}
+
+/// `out/generated/too_complex.toml`: 1 MiB of dotted keys (a 577 MB parse).
+pub fn too_complex_file() -> std::path::PathBuf {
+    generated("too_complex.toml", |p| std::fs::write(p, dotted_keys_text(1 << 20)).expect("write too_complex.toml"))
+}
+
+/// `problems/paper-closed.toml` with `n` `[[disks]]` (0.01 kg, J_p = 1e-5 kg m²) spread
+/// over the shaft's 65 nodes, in place of its one disk.
+pub fn many_disks_text(n: usize) -> String {
+    let base = std::fs::read_to_string(problem_path("paper-closed.toml")).expect("paper-closed.toml");
+    let (head, rest) = base.split_once("[[disks]]").expect("paper-closed.toml has a disk");
+    let tail = &rest[rest.find("[ring]").expect("paper-closed.toml has [ring]")..];
+    let mut text = String::from(head);
+    for i in 0..n {
+        text.push_str(&format!("[[disks]]\nnode = {}\nmass = 0.01\npolar_inertia = 1e-5\n\n", i * 64 / n.max(2)));
+    }
+    text + tail
+}
