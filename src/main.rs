@@ -163,6 +163,10 @@ enum Command {
         /// Recompute cases that are already finished.
         #[arg(long)]
         force: bool,
+        /// Use an --out folder that holds other files: the study writes beside them and
+        /// never changes, replaces or deletes any of them.
+        #[arg(long = "allow-non-empty")]
+        allow_non_empty: bool,
     },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
@@ -247,7 +251,9 @@ fn run(cli: Cli) -> Result<String, rotorshunt::Error> {
         }
         Command::Band { input, phi_op, level, json } => commands::band_cmd(&load(&input)?, phi_op, level, json),
         Command::Design { input, out } => commands::design_cmd(&load(&input)?, &out, &bar()),
-        Command::Study { file, out, force } => commands::study_cmd(&file, &out, force, &bar()),
+        Command::Study { file, out, force, allow_non_empty } => {
+            commands::study_cmd(&file, &out, commands::StudyOptions { force, allow_non_empty }, &bar())
+        }
         Command::Response { input, point, periods, out } => {
             commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out)
         }
@@ -267,6 +273,12 @@ fn main() -> ExitCode {
                 rotorshunt::Error::Problem(_)
                 | rotorshunt::Error::Argument { .. }
                 | rotorshunt::Error::Study { .. }
+                | rotorshunt::Error::StudyTooLarge { .. }
+                | rotorshunt::Error::FolderNotEmpty { .. }
+                | rotorshunt::Error::NotOwned { .. }
+                | rotorshunt::Error::OtherStudy { .. }
+                | rotorshunt::Error::StudyLocked { .. }
+                | rotorshunt::Error::OutputIsInput { .. }
                 | rotorshunt::Error::Design(
                     rotorshunt::design::DesignError::NoDesign | rotorshunt::design::DesignError::Candidate(_),
                 ) => 2,
