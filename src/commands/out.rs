@@ -50,11 +50,6 @@ impl OutDir {
         self.ledger.as_ref()
     }
 
-    /// The folder.
-    pub fn dir(&self) -> &Path {
-        &self.dir
-    }
-
     /// The path of an output file.
     pub fn path(&self, name: &str) -> PathBuf {
         self.dir.join(name)

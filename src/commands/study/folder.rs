@@ -55,7 +55,8 @@ pub enum Role {
     Case,
 }
 
-/// The manifest of a folder a study owns ([`MANIFEST`] or [`CASE_MANIFEST`]).
+/// The manifest of a folder a study owns: `.rotorshunt-study.json` in its `--out` folder,
+/// `.rotorshunt-case.json` in each case folder.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Manifest {
     /// Format of this record (1).

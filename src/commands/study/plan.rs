@@ -84,7 +84,7 @@ struct CaseFile {
 pub struct Case {
     /// Name (listed) or the sweep's key=value pairs joined by commas.
     pub name: String,
-    /// Folder name under `cases/` ([`slug`]).
+    /// Folder name under `cases/`: the name made safe (README, section Studies).
     pub slug: String,
     /// Kind.
     pub kind: CaseKind,
