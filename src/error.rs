@@ -30,7 +30,7 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
-    /// Writing an output failed.
+    /// Writing an output failed (including a read-only file, which is not replaced).
     #[error("cannot write {path}: {message}")]
     Output {
         /// The file or directory.
@@ -38,4 +38,93 @@ pub enum Error {
         /// Why.
         message: String,
     },
+    /// An output would replace an input of the same run (the same path, or a symbolic
+    /// link to it).
+    #[error("refusing to write {path}: it is {input} of this run; choose another --out folder")]
+    OutputIsInput {
+        /// The output file.
+        path: String,
+        /// Which input, e.g. "the --compare file".
+        input: String,
+    },
+    /// A study's `--out` folder holds entries that the study did not create.
+    #[error(
+        "--out folder {dir} holds {} this study did not create ({}): use a new or empty folder, or give --allow-non-empty to write the study beside them (they are never changed)",
+        entries_count(*count),
+        entries_list(entries, *count)
+    )]
+    FolderNotEmpty {
+        /// The folder.
+        dir: String,
+        /// The first few of those entries, sorted.
+        entries: Vec<String>,
+        /// How many there are.
+        count: usize,
+    },
+    /// An entry a study has to write exists and was not written by that study.
+    #[error("{path} exists and was not written by this study, so it is not replaced: move it away or choose another --out folder")]
+    NotOwned {
+        /// The entry.
+        path: String,
+    },
+    /// A study's `--out` folder belongs to another study (its manifest names another study
+    /// file and another plan), or holds a manifest that cannot be read.
+    #[error("--out folder {dir} belongs to {owner}: choose another --out folder")]
+    OtherStudy {
+        /// The folder.
+        dir: String,
+        /// The other study, e.g. "the study /data/other.toml", or what is wrong with the manifest.
+        owner: String,
+    },
+    /// Another run holds the lock of a study's `--out` folder.
+    #[error(
+        "--out folder {dir} is in use by another study run ({}): wait for it to end, or remove {lock} if that run is gone",
+        holder_text(*pid, host)
+    )]
+    StudyLocked {
+        /// The folder.
+        dir: String,
+        /// The lock file.
+        lock: String,
+        /// Process id of the holder, if its lock records one.
+        pid: Option<u32>,
+        /// Host of the holder, if its lock records one.
+        host: Option<String>,
+    },
+    /// A study's plan has more cases than a study may run.
+    #[error(
+        "study file {file}: the plan has {} cases, more than the limit of {limit}: split the study or sweep fewer values",
+        cases.map_or_else(|| format!("more than {}", u64::MAX), |n| n.to_string())
+    )]
+    StudyTooLarge {
+        /// The study file.
+        file: String,
+        /// Listed cases plus the product of the sweep's value counts (`None`: beyond u64).
+        cases: Option<u64>,
+        /// The limit.
+        limit: u64,
+    },
+}
+
+fn entries_count(count: usize) -> String {
+    if count == 1 {
+        "1 entry".into()
+    } else {
+        format!("{count} entries")
+    }
+}
+
+fn entries_list(entries: &[String], count: usize) -> String {
+    let mut s = entries.join(", ");
+    if count > entries.len() {
+        s += &format!(" and {} more", count - entries.len());
+    }
+    s
+}
+
+fn holder_text(pid: Option<u32>, host: &Option<String>) -> String {
+    match (pid, host) {
+        (Some(pid), Some(host)) => format!("pid {pid} on host {host}"),
+        _ => "a run that is starting: its lock records no holder yet".into(),
+    }
 }

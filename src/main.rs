@@ -166,6 +166,10 @@ enum Command {
         /// Recompute cases that are already finished.
         #[arg(long)]
         force: bool,
+        /// Use an --out folder that holds other files: the study writes beside them and
+        /// never changes, replaces or deletes any of them.
+        #[arg(long = "allow-non-empty")]
+        allow_non_empty: bool,
     },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
@@ -273,8 +277,9 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
             };
             Ok((text, code))
         }
-        Command::Study { file, out, force } => {
-            let (text, failed) = commands::study_cmd(&file, &out, force, &bar())?;
+        Command::Study { file, out, force, allow_non_empty } => {
+            let options = commands::StudyOptions { force, allow_non_empty };
+            let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
             Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
         }
         Command::Response { input, point, periods, out } => {
@@ -299,6 +304,12 @@ fn main() -> ExitCode {
                 rotorshunt::Error::Problem(_)
                 | rotorshunt::Error::Argument { .. }
                 | rotorshunt::Error::Study { .. }
+                | rotorshunt::Error::StudyTooLarge { .. }
+                | rotorshunt::Error::FolderNotEmpty { .. }
+                | rotorshunt::Error::NotOwned { .. }
+                | rotorshunt::Error::OtherStudy { .. }
+                | rotorshunt::Error::StudyLocked { .. }
+                | rotorshunt::Error::OutputIsInput { .. }
                 | rotorshunt::Error::Design(
                     rotorshunt::design::DesignError::NoDesign | rotorshunt::design::DesignError::Candidate(_),
                 ) => 2,

@@ -75,6 +75,12 @@ fn error_kind(e: &Error) -> &'static str {
         Error::Study { .. } => "Study",
         Error::Argument { .. } => "Argument",
         Error::Output { .. } => "Output",
+        Error::OutputIsInput { .. } => "OutputIsInput",
+        Error::FolderNotEmpty { .. } => "FolderNotEmpty",
+        Error::NotOwned { .. } => "NotOwned",
+        Error::OtherStudy { .. } => "OtherStudy",
+        Error::StudyLocked { .. } => "StudyLocked",
+        Error::StudyTooLarge { .. } => "StudyTooLarge",
     }
 }
 
@@ -114,6 +120,12 @@ fn every_kind() -> Vec<&'static str> {
         Error::Argument { argument: s(), message: s() },
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
+        Error::OutputIsInput { path: s(), input: s() },
+        Error::FolderNotEmpty { dir: s(), entries: vec![], count: 0 },
+        Error::NotOwned { path: s() },
+        Error::OtherStudy { dir: s(), owner: s() },
+        Error::StudyLocked { dir: s(), lock: s(), pid: None, host: None },
+        Error::StudyTooLarge { file: s(), cases: None, limit: 0 },
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::NoOperatingFrequency),
         Error::Design(DesignError::Optimiser(s())),

@@ -88,11 +88,14 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-/// A `write_atomic` temporary: `.NAME.tmp<digits>`.
+/// A `write_atomic` temporary: `.rotorshunt-tmp.NAME.<pid>.<n>`.
 fn is_temporary(p: &Path) -> bool {
     let name = p.file_name().unwrap().to_string_lossy();
-    name.starts_with('.')
-        && name.rsplit_once(".tmp").is_some_and(|(_, pid)| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    name.strip_prefix(".rotorshunt-tmp.")
+        .and_then(|rest| rest.rsplit_once('.'))
+        .and_then(|(rest, n)| rest.rsplit_once('.').map(|(target, pid)| (target, pid, n)))
+        .is_some_and(|(target, pid, n)| !target.is_empty() && digits(pid) && digits(n))
 }
 
 /// The value without its wall-time fields (`seconds`, at any depth).

@@ -164,7 +164,8 @@ fn dev_zero_is_refused_by_every_route() {
     std::fs::write(&study, "base = \"/dev/zero\"\n[[cases]]\nname = \"a\"\n").expect("write study");
     assert_refused(&["study", path_str(&study), "--out", path_str(&out)], "/dev/zero: the path is a character device");
     // The library's study command gives the typed error.
-    match rotorshunt::commands::study_cmd(&study, &out, false, &rotorshunt::commands::Quiet) {
+    let options = rotorshunt::commands::StudyOptions::default();
+    match rotorshunt::commands::study_cmd(&study, &out, options, &rotorshunt::commands::Quiet) {
         Err(rotorshunt::Error::Problem(e)) => {
             assert!(matches!(e.kind, ProblemErrorKind::NotARegularFile { .. }), "{e}");
             assert_eq!(e.file, "/dev/zero");

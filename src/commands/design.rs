@@ -171,14 +171,15 @@ pub fn status_word(status: Status) -> String {
 /// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
 /// decides the exit code).
 pub fn design_cmd(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<(String, DesignOutcome), Error> {
-    let outcome = design_report(problem, out, progress)?;
+    // No folder is created for a file without a [design] table.
+    problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    let outcome = design_report(problem, &OutDir::create(out, &problem.file)?, progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
 
-/// Run the design and write the report files to `out`; the outcome.
-pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
+/// Run the design and write the report files to `dir`; the outcome.
+pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let dir = OutDir::create(out, &problem.file)?;
     let expected = match spec.objective {
         Objective::WidestStableBand => spec.starts * (2 * spec.max_iterations + spec.variables.len() + 1),
         Objective::ClearBands => 4 * spec.starts + 1 + 2 * spec.max_iterations * (2 * spec.variables.len() + 1),
@@ -213,7 +214,7 @@ pub fn design_report(problem: &Problem, out: &Path, progress: &dyn Progress) -> 
         (serde_json::to_string_pretty(&report).expect("plain data serialises") + "\n").as_bytes(),
     )?;
     dir.write("report.md", markdown(&report).as_bytes())?;
-    charts(&dir, &before, &after, spec)?;
+    charts(dir, &before, &after, spec)?;
     let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
     let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
     let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, &|| {})?;

@@ -18,6 +18,10 @@ use std::time::Instant;
 /// class; beyond that a typo in a step (0.001 for 1) should fail at once, not run for days.
 pub const MAX_CHART_POINTS: usize = 2_000_000;
 
+/// The files `chart` writes (checked against its inputs before it computes).
+const CHART_FILES: [&str; 8] =
+    ["chart.json", "chart.csv", "compare.json", "compare.csv", "chart.svg", "chart.png", "growth.svg", "growth.png"];
+
 fn arg_error(argument: &str, message: String) -> Error {
     Error::Argument { argument: argument.into(), message }
 }
@@ -167,7 +171,12 @@ pub fn chart_cmd(
             format!("the grid has {points} points, more than the {MAX_CHART_POINTS} a chart may have (about 10 minutes here); use coarser steps"),
         ));
     }
-    let dir = OutDir::create(out, &problem.file)?;
+    let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
+    if let Compare::Problem(_, other) = &compare {
+        inputs.push((Path::new(&other.file), "the --compare file"));
+    }
+    let dir = OutDir::with_inputs(out, &inputs)?;
+    dir.check_outputs(&CHART_FILES)?;
     let start = Instant::now();
     let main = run_chart(problem, &phis, &betas, progress, "chart")?;
     let elapsed = start.elapsed().as_secs_f64();

@@ -1,6 +1,9 @@
-//! The output directory: created on demand, written atomically, and never allowed to
-//! overwrite the problem file that is being read.
+//! The output directory: created on demand, written atomically, never allowed to replace
+//! an input of the run (compared by canonical path, so a symbolic link to an input is
+//! refused too) and, in a folder a study owns, never allowed to replace a file the study
+//! did not write.
 
+use super::study::Ledger;
 use crate::report::write_atomic;
 use crate::Error;
 use std::path::{Path, PathBuf};
@@ -8,15 +11,43 @@ use std::path::{Path, PathBuf};
 /// A directory that receives a command's output files.
 pub struct OutDir {
     dir: PathBuf,
-    input: Option<PathBuf>,
+    /// Canonical paths of the run's inputs, with what each is ("the --compare file").
+    inputs: Vec<(PathBuf, String)>,
+    /// The record of a study-owned folder.
+    ledger: Option<Ledger>,
 }
 
 impl OutDir {
     /// Create `dir` (and parents) if needed; `input` is the problem file to protect.
     pub fn create(dir: &Path, input: &str) -> Result<OutDir, Error> {
+        OutDir::with_inputs(dir, &[(Path::new(input), "the input problem file")])
+    }
+
+    /// Create `dir` (and parents) if needed, protecting every input: `(path, what it is)`.
+    pub fn with_inputs(dir: &Path, inputs: &[(&Path, &str)]) -> Result<OutDir, Error> {
+        let out = OutDir::planned(dir, inputs);
         std::fs::create_dir_all(dir)
             .map_err(|e| Error::Output { path: dir.display().to_string(), message: e.to_string() })?;
-        Ok(OutDir { dir: dir.to_path_buf(), input: std::fs::canonicalize(input).ok() })
+        Ok(out)
+    }
+
+    /// The output folder `dir`, not created yet, protecting `inputs`.
+    pub(crate) fn planned(dir: &Path, inputs: &[(&Path, &str)]) -> OutDir {
+        let inputs = inputs
+            .iter()
+            .filter_map(|(p, what)| std::fs::canonicalize(p).ok().map(|c| (c, what.to_string())))
+            .collect();
+        OutDir { dir: dir.to_path_buf(), inputs, ledger: None }
+    }
+
+    /// This folder, recording its files in `ledger` (a study-owned folder).
+    pub(crate) fn with_ledger(self, ledger: Ledger) -> OutDir {
+        OutDir { ledger: Some(ledger), ..self }
+    }
+
+    /// The ledger of a study-owned folder.
+    pub(crate) fn ledger(&self) -> Option<&Ledger> {
+        self.ledger.as_ref()
     }
 
     /// The path of an output file.
@@ -29,14 +60,30 @@ impl OutDir {
         Error::Output { path: self.path(name).display().to_string(), message: e.to_string() }
     }
 
-    /// Write a file atomically, refusing to replace the input problem file.
-    pub fn write(&self, name: &str, bytes: &[u8]) -> Result<(), Error> {
+    /// Refuse, before any work, the output names that are an input of the run (or a link
+    /// to one): [`Error::OutputIsInput`].
+    pub fn check_outputs(&self, names: &[&str]) -> Result<(), Error> {
+        names.iter().try_for_each(|name| self.check_not_input(name))
+    }
+
+    fn check_not_input(&self, name: &str) -> Result<(), Error> {
         let path = self.path(name);
-        if let (Some(input), Ok(target)) = (&self.input, std::fs::canonicalize(&path)) {
-            if *input == target {
-                return Err(self.error(name, "this is the input problem file; choose another --out directory"));
+        if let Ok(target) = std::fs::canonicalize(&path) {
+            if let Some((_, what)) = self.inputs.iter().find(|(input, _)| *input == target) {
+                return Err(Error::OutputIsInput { path: path.display().to_string(), input: what.clone() });
             }
         }
-        write_atomic(&path, bytes).map_err(|e| self.error(name, e))
+        Ok(())
+    }
+
+    /// Write a file atomically. Refused: an input of the run ([`Error::OutputIsInput`]); in
+    /// a study-owned folder, an existing file the study did not write ([`Error::NotOwned`]);
+    /// a read-only file ([`Error::Output`]).
+    pub fn write(&self, name: &str, bytes: &[u8]) -> Result<(), Error> {
+        self.check_not_input(name)?;
+        if let Some(ledger) = &self.ledger {
+            ledger.claim(name, &self.path(name))?;
+        }
+        write_atomic(&self.path(name), bytes).map_err(|e| self.error(name, e))
     }
 }

@@ -7,43 +7,115 @@ pub mod design;
 pub mod plot;
 pub mod summary;
 
+use std::io;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Prefix of [`write_atomic`]'s temporaries, `.rotorshunt-tmp.NAME.PID.N` (NAME the file
+/// being written, PID the process, N a per-process counter). No user file is named like
+/// this, so the temporaries a killed run leaves can be told from anything else.
+pub const TEMPORARY_PREFIX: &str = ".rotorshunt-tmp.";
+
+/// Tries at a fresh temporary name before giving up (a name is only taken when a file
+/// of that exact name already exists, which no run of this tool leaves behind).
+const TEMPORARY_ATTEMPTS: usize = 64;
+
+/// Counter N of the temporaries' names: unique within the process, across threads.
+static TEMPORARIES: AtomicU64 = AtomicU64::new(0);
 
 /// Write `bytes` to `path` atomically: a temporary file in the same directory, then a
 /// rename, so a reader never sees a partial file and an interrupted run leaves the old
-/// file (or none), never a truncated one.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// file (or none), never a truncated one. A read-only file at `path` is an error and is
+/// left as it is (a rename would replace it whatever its mode); a writable file that is
+/// replaced keeps its permissions.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     use std::io::Write;
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let mut f = std::fs::File::create(&tmp)?;
-    f.write_all(bytes)?;
-    f.sync_all()?;
-    drop(f);
-    std::fs::rename(&tmp, path).inspect_err(|_| {
+    let existing = match std::fs::metadata(path) {
+        Ok(m) => Some(m),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+    };
+    if let Some(m) = existing.as_ref().filter(|m| m.permissions().readonly()) {
+        return Err(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            format!(
+                "the file is read-only{}, so it is not replaced: make it writable or choose another output folder",
+                mode_text(m)
+            ),
+        ));
+    }
+    let (tmp, mut f) = create_temporary(dir, &name)?;
+    let written = (|| {
+        f.write_all(bytes)?;
+        if let Some(m) = existing.as_ref().filter(|m| m.is_file()) {
+            f.set_permissions(m.permissions())?;
+        }
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    written.inspect_err(|_| {
         let _ = std::fs::remove_file(&tmp);
     })
 }
 
-/// Whether `name` is a temporary file of [`write_atomic`] (`.NAME.tmpPID`).
-fn is_temporary(name: &str) -> bool {
-    name.starts_with('.')
-        && name.rsplit_once(".tmp").is_some_and(|(_, pid)| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()))
+/// A new temporary for `name` in `dir`, created exclusively (an existing file of that
+/// name is never opened, let alone truncated).
+fn create_temporary(dir: &Path, name: &str) -> io::Result<(std::path::PathBuf, std::fs::File)> {
+    for _ in 0..TEMPORARY_ATTEMPTS {
+        let n = TEMPORARIES.fetch_add(1, Ordering::Relaxed);
+        let tmp = dir.join(format!("{TEMPORARY_PREFIX}{name}.{}.{n}", std::process::id()));
+        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(f) => return Ok((tmp, f)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(io::Error::new(
+        io::ErrorKind::AlreadyExists,
+        format!("{TEMPORARY_ATTEMPTS} temporary names for {name} are all taken in {}", dir.display()),
+    ))
 }
 
-/// Remove the temporaries [`write_atomic`] leaves behind when a run is killed between
-/// creating and renaming them, in `dir` and below; the number removed.
-pub fn remove_temporaries(dir: &Path) -> std::io::Result<usize> {
+#[cfg(unix)]
+fn mode_text(m: &std::fs::Metadata) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    format!(" (mode {:o})", m.permissions().mode() & 0o7777)
+}
+
+#[cfg(not(unix))]
+fn mode_text(_: &std::fs::Metadata) -> String {
+    String::new()
+}
+
+/// The file a temporary of [`write_atomic`] stands for: NAME of `.rotorshunt-tmp.NAME.PID.N`;
+/// `None` for any other name.
+pub fn temporary_target(name: &str) -> Option<&str> {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let (rest, n) = name.strip_prefix(TEMPORARY_PREFIX)?.rsplit_once('.')?;
+    let (target, pid) = rest.rsplit_once('.')?;
+    (digits(n) && digits(pid) && !target.is_empty()).then_some(target)
+}
+
+/// Remove the temporaries [`write_atomic`] leaves when a run is killed between creating
+/// and renaming them, for the files `owned` accepts, in `dir` itself only: never in a
+/// subfolder, never a file of any other name, never a directory or a link. The number
+/// removed.
+pub fn remove_temporaries(dir: &Path, owned: impl Fn(&str) -> bool) -> io::Result<usize> {
     let mut removed = 0;
-    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(0) };
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(0),
+        Err(e) => return Err(e),
+    };
     for e in entries {
         let e = e?;
-        let path = e.path();
-        if e.file_type()?.is_dir() {
-            removed += remove_temporaries(&path)?;
-        } else if is_temporary(&e.file_name().to_string_lossy()) {
-            std::fs::remove_file(&path)?;
+        let name = e.file_name();
+        let Some(name) = name.to_str() else { continue };
+        if temporary_target(name).is_some_and(&owned) && e.file_type()?.is_file() {
+            std::fs::remove_file(e.path())?;
             removed += 1;
         }
     }
@@ -52,11 +124,76 @@ pub fn remove_temporaries(dir: &Path) -> std::io::Result<usize> {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("rotorshunt-report-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[test]
     fn temporaries_are_recognised_by_name() {
-        assert!(super::is_temporary(".result.json.tmp1234"));
-        assert!(!super::is_temporary("result.json"));
-        assert!(!super::is_temporary(".result.json.tmp"));
-        assert!(!super::is_temporary(".config.tmpx"));
+        assert_eq!(temporary_target(".rotorshunt-tmp.result.json.1234.0"), Some("result.json"));
+        assert_eq!(temporary_target(".rotorshunt-tmp.a.b.c.7.12"), Some("a.b.c"));
+        for other in [
+            "result.json",
+            ".result.json.tmp1234",
+            ".notes.tmp2024",
+            ".rotorshunt-tmp.result.json.1234",
+            ".rotorshunt-tmp.result.json.12x.3",
+            ".rotorshunt-tmp..1.2",
+            "rotorshunt-tmp.result.json.1.2",
+        ] {
+            assert_eq!(temporary_target(other), None, "{other}");
+        }
+    }
+
+    #[test]
+    fn cleanup_removes_only_owned_temporaries_in_the_folder_itself() {
+        let dir = scratch("cleanup");
+        let keep = [".notes.tmp2024", ".rotorshunt-tmp.notes.txt.1.2", "summary.json", ".rotorshunt-tmp.x"];
+        for k in keep {
+            std::fs::write(dir.join(k), k).unwrap();
+        }
+        std::fs::create_dir(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("sub/.rotorshunt-tmp.summary.json.1.2"), "nested").unwrap();
+        std::fs::create_dir(dir.join(".rotorshunt-tmp.summary.json.5.6")).unwrap();
+        std::fs::write(dir.join(".rotorshunt-tmp.summary.json.3.4"), "ours").unwrap();
+        let removed = remove_temporaries(&dir, |t| t == "summary.json").unwrap();
+        assert_eq!(removed, 1);
+        assert!(!dir.join(".rotorshunt-tmp.summary.json.3.4").exists());
+        for k in keep {
+            assert_eq!(std::fs::read_to_string(dir.join(k)).unwrap(), k);
+        }
+        assert!(dir.join("sub/.rotorshunt-tmp.summary.json.1.2").exists(), "subfolders are not searched");
+        assert!(dir.join(".rotorshunt-tmp.summary.json.5.6").is_dir(), "directories are not removed");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn read_only_files_are_refused_and_modes_kept() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = scratch("modes");
+        let ro = dir.join("ro.txt");
+        std::fs::write(&ro, "keep").unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let e = write_atomic(&ro, b"new").unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::PermissionDenied);
+        assert!(e.to_string().contains("read-only (mode 444)"), "{e}");
+        assert_eq!(std::fs::read_to_string(&ro).unwrap(), "keep");
+        assert_eq!(std::fs::metadata(&ro).unwrap().permissions().mode() & 0o777, 0o444);
+        let private = dir.join("private.txt");
+        std::fs::write(&private, "old").unwrap();
+        std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_atomic(&private, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&private).unwrap(), "new");
+        assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left.len(), 2, "no temporary left: {left:?}");
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o644)).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,9 +1,16 @@
-//! `rotorshunt study STUDY.toml --out DIR [--force]`: a batch of analysis or design cases
-//! built from one base problem by `--set`-style overrides (a list and/or a cartesian
-//! sweep), run in parallel across cases. Each case writes its files under
-//! `DIR/cases/<name>/` and, last, `result.json` (atomically): a case whose `result.json`
-//! records the same input hash and success is skipped on a re-run unless `--force`.
-//! A failing case is recorded with its error and the others go on.
+//! `rotorshunt study STUDY.toml --out DIR [--force] [--allow-non-empty]`: a batch of
+//! analysis or design cases built from one base problem by `--set`-style overrides (a
+//! list and/or a cartesian sweep), run in parallel across cases. Each case writes its
+//! files under `DIR/cases/<folder>/` and, last, `result.json` (atomically): a case whose
+//! `result.json` records the same input hash and success is skipped on a re-run unless
+//! `--force`. A failing case is recorded with its error and the others go on.
+//!
+//! The study owns only what it writes ([`folder`]): a manifest records it, a lock keeps a
+//! second run out, and any other entry of `DIR` is left alone. The plan is iterated
+//! lazily and bounded ([`plan`]).
+
+mod folder;
+mod plan;
 
 use super::design::design_report;
 use super::{OutDir, Progress, Quiet, TOOL};
@@ -14,11 +21,16 @@ use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::Error;
+pub(crate) use folder::Ledger;
+use folder::{Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
+pub use folder::{Manifest, Role};
+pub use plan::{Case, MAX_STUDY_CASES};
+use plan::{Plan, StudyFile};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// What a case runs.
@@ -29,71 +41,6 @@ pub enum CaseKind {
     Regions,
     /// The `[design]` of the case's problem.
     Design,
-}
-
-/// The study file.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct StudyFile {
-    /// Base problem file, relative to the study file.
-    base: String,
-    /// Default kind of the cases.
-    #[serde(default = "default_kind")]
-    kind: CaseKind,
-    /// φ range of regions cases (rad/s).
-    #[serde(default = "default_phi")]
-    phi: [f64; 2],
-    /// β_max of regions cases.
-    #[serde(default = "default_beta_max")]
-    beta_max: f64,
-    /// Level β_op of regions cases (default β_max).
-    #[serde(default)]
-    level: Option<f64>,
-    /// Operating frequency of regions cases: also report its stable band (rad/s).
-    #[serde(default)]
-    phi_op: Option<f64>,
-    /// Overrides for every case.
-    #[serde(default)]
-    set: Vec<String>,
-    /// Listed cases.
-    #[serde(default)]
-    cases: Vec<CaseFile>,
-    /// Cartesian sweep: key path → list of values.
-    #[serde(default)]
-    sweep: BTreeMap<String, Vec<toml::Value>>,
-}
-
-fn default_kind() -> CaseKind {
-    CaseKind::Regions
-}
-fn default_phi() -> [f64; 2] {
-    [100.0, 8000.0]
-}
-fn default_beta_max() -> f64 {
-    1.0
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CaseFile {
-    name: String,
-    #[serde(default)]
-    kind: Option<CaseKind>,
-    #[serde(default)]
-    set: Vec<String>,
-}
-
-/// One case to run.
-#[derive(Debug, Clone, Serialize)]
-pub struct Case {
-    /// Name (listed) or the sweep's key=value pairs.
-    pub name: String,
-    /// Directory name under `cases/`.
-    pub slug: String,
-    /// Kind.
-    pub kind: CaseKind,
-    /// Overrides on the base problem.
-    pub overrides: Vec<String>,
 }
 
 /// The recorded result of one case (`cases/<slug>/result.json`).
@@ -121,73 +68,6 @@ pub struct CaseResult {
     pub tool: String,
 }
 
-fn slug(text: &str) -> String {
-    let s: String =
-        text.chars().map(|c| if c.is_ascii_alphanumeric() || c == '.' || c == '-' { c } else { '_' }).collect();
-    s.trim_matches('_').chars().take(120).collect()
-}
-
-fn study_error(file: &Path, message: impl Into<String>) -> Error {
-    Error::Study { file: file.display().to_string(), message: message.into() }
-}
-
-/// Read a study file: the base problem path and the cases.
-fn read(file: &Path) -> Result<(StudyFile, PathBuf, Vec<Case>), Error> {
-    let text = crate::problem::read_toml(file)?;
-    let de = toml::Deserializer::parse(&text).map_err(|e| study_error(file, e.to_string()))?;
-    let study: StudyFile = serde_path_to_error::deserialize(de)
-        .map_err(|e| study_error(file, format!("key `{}`: {}", e.path(), e.inner().message().trim())))?;
-    let base = file.parent().unwrap_or(Path::new(".")).join(&study.base);
-    let mut cases: Vec<Case> = study
-        .cases
-        .iter()
-        .map(|c| Case {
-            name: c.name.clone(),
-            slug: slug(&c.name),
-            kind: c.kind.unwrap_or(study.kind),
-            overrides: study.set.iter().chain(&c.set).cloned().collect(),
-        })
-        .collect();
-    // The sweep: every combination, keys in sorted order.
-    let mut combos: Vec<Vec<String>> = vec![Vec::new()];
-    for (key, values) in &study.sweep {
-        if values.is_empty() {
-            return Err(study_error(file, format!("key `sweep.{key}`: needs at least one value")));
-        }
-        combos = combos
-            .into_iter()
-            .flat_map(|c| {
-                values.iter().map(move |v| {
-                    let mut c = c.clone();
-                    c.push(format!("{key}={v}"));
-                    c
-                })
-            })
-            .collect();
-    }
-    if !study.sweep.is_empty() {
-        for c in combos {
-            let name = c.join(",");
-            cases.push(Case {
-                slug: slug(&name),
-                name,
-                kind: study.kind,
-                overrides: study.set.iter().chain(&c).cloned().collect(),
-            });
-        }
-    }
-    if cases.is_empty() {
-        return Err(study_error(file, "no cases: give [[cases]] and/or a [sweep] table"));
-    }
-    let mut seen = std::collections::BTreeSet::new();
-    for c in &cases {
-        if !seen.insert(c.slug.clone()) {
-            return Err(study_error(file, format!("two cases share the name `{}`", c.slug)));
-        }
-    }
-    Ok((study, base, cases))
-}
-
 fn input_hash(base_text: &[u8], case: &Case, study: &StudyFile) -> String {
     let mut h = Sha256::new();
     h.update(base_text);
@@ -203,12 +83,12 @@ fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
 }
 
-/// Run one case into `dir`; its metrics.
+/// Run one case into its folder; its metrics.
 fn run_case(
     base: &Path,
     case: &Case,
     study: &StudyFile,
-    dir: &Path,
+    dir: &OutDir,
 ) -> Result<BTreeMap<String, serde_json::Value>, Error> {
     let problem = Problem::from_path(base, &case.overrides)?;
     let mut m = BTreeMap::new();
@@ -251,8 +131,7 @@ fn run_case(
             let range = Interval::new(study.phi[0], study.phi[1]);
             let cat =
                 catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
-            let out = OutDir::create(dir, base.to_str().unwrap_or_default())?;
-            out.write(
+            dir.write(
                 "regions.json",
                 (serde_json::to_string_pretty(&cat).expect("plain data serialises") + "\n").as_bytes(),
             )?;
@@ -273,71 +152,141 @@ fn run_case(
     Ok(m)
 }
 
-/// A previous result of this case with the same input, if it succeeded.
-fn finished(dir: &Path, hash: &str) -> Option<CaseResult> {
-    let bytes = crate::problem::read_input(&dir.join("result.json")).ok()?;
+/// A previous result of this case with the same input, if it succeeded (and the study
+/// wrote it).
+fn finished(dir: &OutDir, hash: &str) -> Option<CaseResult> {
+    if !dir.ledger().is_some_and(|l| l.owns("result.json")) {
+        return None;
+    }
+    let bytes = crate::problem::read_input(&dir.path("result.json")).ok()?;
     let r: CaseResult = serde_json::from_slice(&bytes).ok()?;
     (r.input_hash == hash && r.status == "ok").then_some(r)
 }
 
-/// `rotorshunt study STUDY.toml --out DIR [--force]`.
-/// The summary text and the number of failed cases.
-pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) -> Result<(String, usize), Error> {
-    let (study, base, cases) = read(file)?;
-    let base_text = crate::problem::read_input(&base)?;
-    let root = OutDir::create(out, file.to_str().unwrap_or_default())?;
-    // A killed run can leave write_atomic's temporaries (never a partial result file).
-    crate::report::remove_temporaries(out).map_err(|e| root.error("(temporaries)", e))?;
+/// How `study` treats finished cases and the `--out` folder.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StudyOptions {
+    /// Recompute cases that are already finished (`--force`).
+    pub force: bool,
+    /// Write into a `--out` folder that holds entries the study did not create
+    /// (`--allow-non-empty`); they are never changed.
+    pub allow_non_empty: bool,
+}
+
+/// Everything a case needs from its study.
+struct Run<'a> {
+    plan: &'a Plan,
+    base_text: &'a [u8],
+    cases_dir: std::path::PathBuf,
+    study: &'a str,
+    inputs: &'a [(&'a Path, &'a str)],
+    force: bool,
+}
+
+impl Run<'_> {
+    /// Run case `index` (or take its finished result); its row and whether it was skipped.
+    fn case(&self, index: u64) -> (CaseResult, bool) {
+        let case = self.plan.case(index);
+        let hash = input_hash(self.base_text, &case, &self.plan.study);
+        let t = Instant::now();
+        let row = |status: &str, error: Option<String>, metrics| CaseResult {
+            name: case.name.clone(),
+            slug: case.slug.clone(),
+            kind: case.kind,
+            overrides: case.overrides.clone(),
+            input_hash: hash.clone(),
+            status: status.into(),
+            error,
+            metrics,
+            seconds: t.elapsed().as_secs_f64(),
+            tool: TOOL.into(),
+        };
+        let path = self.cases_dir.join(&case.slug);
+        let dir = match folder::open_case(&path, self.study, &case.name) {
+            Ok(ledger) => OutDir::planned(&path, self.inputs).with_ledger(ledger),
+            // Not this study's folder: nothing is written into it, not even the result.
+            Err(e) => return (row("failed", Some(e.to_string()), BTreeMap::new()), false),
+        };
+        if !self.force {
+            if let Some(r) = finished(&dir, &hash) {
+                return (r, true);
+            }
+        }
+        let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir) {
+            Ok(m) => row("ok", None, m),
+            Err(e) => row("failed", Some(e.to_string()), BTreeMap::new()),
+        };
+        // result.json last: its presence marks the case finished.
+        let text = serde_json::to_string_pretty(&r).expect("plain data serialises") + "\n";
+        match dir.write("result.json", text.as_bytes()) {
+            Ok(()) => (r, false),
+            Err(e) => (
+                CaseResult { status: "failed".into(), error: Some(format!("cannot write result.json: {e}")), ..r },
+                false,
+            ),
+        }
+    }
+}
+
+/// `rotorshunt study STUDY.toml --out DIR [--force] [--allow-non-empty]`: the summary
+/// text and the number of failed cases.
+pub fn study_cmd(
+    file: &Path,
+    out: &Path,
+    options: StudyOptions,
+    progress: &dyn Progress,
+) -> Result<(String, usize), Error> {
+    let plan = Plan::read(file)?;
+    let base_text = crate::problem::read_input(&plan.base)?;
+    let identity = Identity {
+        study: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()).display().to_string(),
+        plan: plan.survey(file, &base_text)?,
+        cases: plan.len(),
+    };
+    let inputs: [(&Path, &str); 2] = [(file, "the study file"), (&plan.base, "the study's base problem file")];
+    // The folder is checked before anything is created in it, and again under the lock.
+    let root = OutDir::planned(out, &inputs);
+    let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).collect();
+    root.check_outputs(&own_names)?;
+    folder::inspect(out, &identity, options.allow_non_empty)?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Error::Output { path: out.display().to_string(), message: e.to_string() })?;
+    let lock = StudyLock::acquire(out, &identity.study)?;
+    let found = folder::inspect(out, &identity, options.allow_non_empty)?;
+    let (ledger, mut notes) = folder::open_root(out, &identity, found)?;
+    notes.extend(lock.taken_over.clone());
+    ledger.claim(CASES, &out.join(CASES))?;
+    let root = root.with_ledger(ledger);
+    let cases_dir = out.join(CASES);
+    match std::fs::create_dir(&cases_dir) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && cases_dir.is_dir() => {}
+        Err(e) => return Err(root.error(CASES, e)),
+    }
     let started = Instant::now();
-    progress.start(cases.len() as u64, "study");
-    // Cases in parallel (the outermost loop); results in case order.
-    let results: Vec<(CaseResult, bool)> = cases
-        .par_iter()
-        .map(|case| {
-            let dir = out.join("cases").join(&case.slug);
-            let hash = input_hash(&base_text, case, &study);
-            if !force {
-                if let Some(r) = finished(&dir, &hash) {
-                    progress.tick();
-                    return (r, true);
-                }
-            }
-            let t = Instant::now();
-            let outcome = std::fs::create_dir_all(&dir)
-                .map_err(|e| Error::Output { path: dir.display().to_string(), message: e.to_string() })
-                .and_then(|_| run_case(&base, case, &study, &dir));
-            let (status, error, metrics) = match outcome {
-                Ok(m) => ("ok", None, m),
-                Err(e) => ("failed", Some(e.to_string()), BTreeMap::new()),
-            };
-            let r = CaseResult {
-                name: case.name.clone(),
-                slug: case.slug.clone(),
-                kind: case.kind,
-                overrides: case.overrides.clone(),
-                input_hash: hash,
-                status: status.into(),
-                error,
-                metrics,
-                seconds: t.elapsed().as_secs_f64(),
-                tool: TOOL.into(),
-            };
-            // result.json last: its presence marks the case finished.
-            let text = serde_json::to_string_pretty(&r).expect("plain data serialises") + "\n";
-            let written = crate::report::write_atomic(&dir.join("result.json"), text.as_bytes());
+    progress.start(plan.len(), "study");
+    let run = Run {
+        plan: &plan,
+        base_text: &base_text,
+        cases_dir,
+        study: &identity.study,
+        inputs: &inputs,
+        force: options.force,
+    };
+    // Cases in parallel (the outermost loop), each built from its index when it runs;
+    // results in case order.
+    let results: Vec<(CaseResult, bool)> = (0..plan.len() as usize)
+        .into_par_iter()
+        .map(|i| {
+            let r = run.case(i as u64);
             progress.tick();
-            match written {
-                Ok(()) => (r, false),
-                Err(e) => (
-                    CaseResult { status: "failed".into(), error: Some(format!("cannot write result.json: {e}")), ..r },
-                    false,
-                ),
-            }
+            r
         })
         .collect();
     progress.finish();
     let rows: Vec<&CaseResult> = results.iter().map(|(r, _)| r).collect();
     write_summary(&root, &rows)?;
+    drop(lock);
     let skipped = results.iter().filter(|(_, s)| *s).count();
     let failed = rows.iter().filter(|r| r.status != "ok").count();
     let mut text = format!(
@@ -351,6 +300,10 @@ pub fn study_cmd(file: &Path, out: &Path, force: bool, progress: &dyn Progress) 
     );
     for r in rows.iter().filter(|r| r.status != "ok") {
         text += &format!("failed: {}: {}\n", r.name, r.error.clone().unwrap_or_default());
+    }
+    for n in notes {
+        text += &n;
+        text.push('\n');
     }
     Ok((text, failed))
 }
