@@ -238,8 +238,12 @@ pub fn band_cmd(problem: &Problem, phi_op: f64, level: f64, window: Option<&str>
         }
     };
     for t in &b.ignored {
+        let why = match t.ignored {
+            Some(crate::analysis::regions::Ignored::SlowGrowth) => "growth below min_growth_rate",
+            _ => "narrower than min_tongue_width",
+        };
         text += &format!(
-            "  ignored by the criterion: {} at [{:.3}, {:.3}] rad/s ({:.3} rad/s wide)\n",
+            "  ignored by the criterion ({why}): {} at [{:.3}, {:.3}] rad/s ({:.3} rad/s wide)\n",
             t.label(),
             t.extent.lo,
             t.extent.hi,

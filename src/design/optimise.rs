@@ -377,6 +377,26 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     out.after_speeds = describe(&tuned, spec, &ctx.regions)?;
     count.add(out.before_speeds.iter().chain(&out.after_speeds).map(|d| d.catalogue.evaluations).sum());
     out.verified = verify(&tuned, spec, &out.after_bands, &mut out.after_speeds, &count);
+    // Intrusions named after the full model's whirls: the catalogue's region with the
+    // same edges (the lattice-refined edges are the same numbers).
+    for (ints, speeds) in [(&mut out.before_intrusions, &out.before_speeds), (&mut out.after_intrusions, &out.after_speeds)]
+    {
+        for it in ints.iter_mut() {
+            let Some(d) = speeds.iter().find(|d| d.speed == it.speed) else { continue };
+            let same = |r: &&crate::analysis::regions::Region| r.left == Some(it.left) && r.right == Some(it.right);
+            if let Some(r) = d.catalogue.regions.iter().filter(same).min_by_key(|r| r.order) {
+                it.label = format!("{}/{}", r.label, r.order);
+            }
+        }
+    }
+    // The bands with the full model's labels (the same numbers, checked by `verify`).
+    for (bands, speeds) in [(&mut out.before_bands, &out.before_speeds), (&mut out.after_bands, &out.after_speeds)] {
+        for (b, d) in bands.iter_mut().zip(speeds) {
+            if let Some(l) = d.band.as_ref().filter(|l| l.band == b.band.band) {
+                b.band = l.clone();
+            }
+        }
+    }
     if !out.verified && out.status != Status::Infeasible {
         out.status = Status::NotVerified;
     }

@@ -19,7 +19,9 @@ use super::spec::{DesignSpec, Objective};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
-use crate::analysis::regions::{catalogue, Catalogue, CatalogueRequest, Counter, RegionSettings};
+use crate::analysis::regions::{
+    band_around, catalogue, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, RegionSettings,
+};
 use crate::analysis::{Criterion, Interval};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -84,6 +86,9 @@ pub struct DesignAtSpeed {
     pub catalogue: Catalogue,
     /// The catalogue's stable band around φ_op (widest-stable-band).
     pub catalogue_band: Option<Interval>,
+    /// The band around φ_op with the seeds labelled after the full model's whirls (the
+    /// optimiser's are labelled by frequency only; the numbers are the same).
+    pub band: Option<Band>,
     /// Reference-path points at the centres of the catalogued tongues near the band(s).
     pub centres: Vec<CentreCheck>,
     /// Grid charts over the band or the widened operating bands.
@@ -115,11 +120,19 @@ pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<
                 );
             }
             let catalogue_band = spec.phi_op.and_then(|p| cat.band_containing(p));
+            let band = match spec.phi_op {
+                Some(p) => {
+                    let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
+                    Some(band_around(&Level::new(fs, s, c.criterion(), spec.level, spec.range()), &seeds, p))
+                }
+                None => None,
+            };
             Ok(DesignAtSpeed {
                 speed: *w,
                 whirls,
                 catalogue: cat,
                 catalogue_band,
+                band,
                 centres: Vec::new(),
                 grids: Vec::new(),
                 failures: Vec::new(),
@@ -172,6 +185,9 @@ pub fn verify(
         let windows: Vec<Interval> = match spec.objective {
             Objective::WidestStableBand => {
                 let b = bands.get(k).and_then(|b| b.band.band);
+                if d.band.as_ref().map(|x| x.band) != Some(b) {
+                    d.failures.push(format!("the band with labelled seeds ({:?}) differs from the optimiser's ({b:?})", d.band.as_ref().and_then(|x| x.band)));
+                }
                 if let (Some(b), Some(cb)) = (b, d.catalogue_band) {
                     if (b.lo - cb.lo).abs() > SAME_EDGE || (b.hi - cb.hi).abs() > SAME_EDGE {
                         d.failures.push(format!("the catalogue's stable band {cb:.3} differs from the band {b:.3}"));

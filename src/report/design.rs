@@ -146,7 +146,7 @@ pub fn markdown(r: &DesignReport) -> String {
     let criterion = r.provenance.settings.clone();
     let _ = writeln!(
         s,
-        "- criterion: unstable when max|μ| > {}{}{}; tongues searched up to order {}\n",
+        "\nCriterion: unstable when max|μ| > {}{}{}; tongues searched up to order {}.",
         criterion.instability_tolerance,
         if criterion.min_growth_rate > 0.0 {
             format!(", counted when the growth rate is at least {} 1/s", criterion.min_growth_rate)

@@ -116,10 +116,15 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
         Some(Bound::Tongue { edge, .. }) => *edge,
         _ => fallback,
     };
-    out.band = Some(Interval::new(edge(&left, limits.lo), edge(&right, limits.hi)));
+    let found = Interval::new(edge(&left, limits.lo), edge(&right, limits.hi));
+    out.band = Some(found);
     out.left = left;
     out.right = right;
     out.ignored = left_ignored.into_iter().chain(right_ignored).collect();
+    // Tongues inside the band that grow too slowly to count are listed too.
+    let slow = level.slow_tongues(seeds, found, &[]);
+    out.ignored.extend(slow.into_iter().filter(|t| t.extent.overlaps(&found)));
+    out.ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
     out.evaluations = level.evaluations() - start;
     out
 }
@@ -210,12 +215,14 @@ fn side(
         };
         // The nearest tongue lies beyond the window: the band ends at the window.
         let Some(extent) = extent else { return (None, ignored) };
+        let narrow = extent.width() < criterion.min_tongue_width;
         let tongue = Tongue {
             extent,
             inside: hit.phi,
             labels: labels(&extent),
             seeds: Vec::new(),
-            counted: extent.width() >= criterion.min_tongue_width,
+            counted: !narrow,
+            ignored: narrow.then_some(super::level::Ignored::Narrow),
         };
         if !tongue.counted {
             ignored.push(tongue);

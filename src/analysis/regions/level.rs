@@ -40,7 +40,8 @@ const SPLIT_TRIGGER: f64 = 1e-7;
 /// The lock test looks this far (a fraction of `phi_tolerance`) on either side of the
 /// converged point: inside the collided interval of even the thinnest tongue the search is
 /// for (0.1 rad/s), where a transversal zero of δ has moved δ by 2πk/φ times it (at least
-/// 8e-6 rad at φ ≤ 8000 rad/s).
+/// 8e-6 rad at φ ≤ 8000 rad/s). Locked on one side suffices: the search can converge on
+/// the edge of the collided interval.
 const LOCK_STEP: f64 = 0.05;
 /// |δ| (rad) below which a pair is phase-locked: round-off inside a collided interval.
 const LOCKED: f64 = 1e-7;
@@ -74,8 +75,21 @@ pub struct Tongue {
     /// (seed index, φ of its collision) of those seeds.
     #[serde(skip)]
     pub seeds: Vec<(usize, f64)>,
-    /// Whether it counts: at least the criterion's `min_tongue_width` wide.
+    /// Whether it counts by the criterion.
     pub counted: bool,
+    /// Why the criterion ignores it, when it does.
+    pub ignored: Option<Ignored>,
+}
+
+/// Why the declared criterion ignores a tongue (it is listed, never dropped).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Ignored {
+    /// Narrower at β_op than `min_tongue_width`.
+    Narrow,
+    /// Unstable (max|μ| above the tolerance) but nowhere growing as fast as
+    /// `min_growth_rate`.
+    SlowGrowth,
 }
 
 impl Tongue {
@@ -319,12 +333,13 @@ impl<'a> Level<'a> {
             if let Some(phi) = outcome.own {
                 out.push(GroupHit { phi, pair });
             } else if let Some((x, split)) = outcome.converged {
-                // Collided (phase-locked: δ stays 0 on both sides of x) rather than passing
-                // through 0; with damping every pair is split, locked or not.
+                // Collided (phase-locked: δ stays 0 on a side of x; the search may converge
+                // at the edge of the collided interval) rather than passing through 0;
+                // with damping every pair is split, locked or not.
                 let locked = || {
                     [x - LOCK_STEP * self.settings.phi_tolerance, x + LOCK_STEP * self.settings.phi_tolerance]
                         .iter()
-                        .all(|&phi| {
+                        .any(|&phi| {
                             self.add(1);
                             detuning(self.fs, basis, &group, phi, self.beta).is_some_and(|d| d.deltas[a].abs() < LOCKED)
                         })
@@ -421,12 +436,14 @@ impl<'a> Level<'a> {
                 if out.iter().any(|t| t.extent == e) {
                     continue;
                 }
+                let narrow = e.width() < self.criterion.min_tongue_width;
                 out.push(Tongue {
                     extent: e,
                     inside: p,
                     labels: Vec::new(),
                     seeds: Vec::new(),
-                    counted: e.width() >= self.criterion.min_tongue_width,
+                    counted: !narrow,
+                    ignored: narrow.then_some(Ignored::Narrow),
                 });
             }
             pending.retain(|h| !out.iter().any(|t| t.extent.contains(h.phi)) && !done.contains(&h.phi));
@@ -444,6 +461,28 @@ impl<'a> Level<'a> {
             }
         }
         out.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
+        out
+    }
+}
+
+impl Level<'_> {
+    /// The tongues in `window` that are unstable by the tolerance but contain no point
+    /// growing as fast as the criterion's `min_growth_rate` (none when it is 0): the scan
+    /// of the same window without that floor, less every tongue that overlaps one of
+    /// `counted`. Their evaluations are added to this probe's.
+    pub fn slow_tongues(&self, seeds: &[Seed], window: Interval, counted: &[Tongue]) -> Vec<Tongue> {
+        if self.criterion.min_growth_rate <= 0.0 {
+            return Vec::new();
+        }
+        let raw = Criterion { min_growth_rate: 0.0, min_tongue_width: 0.0, ..self.criterion };
+        let probe = Level::new(self.fs, self.settings, raw, self.beta, self.limits);
+        let out = probe
+            .scan(seeds, window)
+            .into_iter()
+            .filter(|t| !counted.iter().any(|c| c.counted && c.extent.overlaps(&t.extent)))
+            .map(|t| Tongue { counted: false, ignored: Some(Ignored::SlowGrowth), ..t })
+            .collect();
+        self.add(probe.evaluations());
         out
     }
 }

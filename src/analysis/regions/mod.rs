@@ -23,7 +23,7 @@ pub mod track;
 pub use band::{band_around, Band, Bound};
 pub use centre::{centre_search, ModeBasis, CENTRE_WINDOW};
 pub use critical::{critical_load, CriticalLoad, RegionSettings};
-pub use level::{Level, Tongue};
+pub use level::{Ignored, Level, Tongue};
 pub use seeds::{seeds, RegionKind, Seed};
 pub use start::{locate_start, locate_tip, Start, START_WINDOW};
 pub use track::{edges_at, track, unstable_at};
@@ -277,7 +277,9 @@ pub fn catalogue(
     }
     let unexplained: Vec<Interval> =
         tongues.iter().filter(|t| t.seeds.is_empty() && t.counted).map(|t| t.extent).collect();
-    let ignored: Vec<Tongue> = tongues.iter().filter(|t| !t.counted).cloned().collect();
+    let mut ignored: Vec<Tongue> = tongues.iter().filter(|t| !t.counted).cloned().collect();
+    ignored.extend(level.slow_tongues(&seeds, req.range, &tongues));
+    ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
     let counted: Vec<Interval> = tongues.iter().filter(|t| t.counted).map(|t| t.extent).collect();
     let tracking = tracking.into_inner();
     Ok(Catalogue {
