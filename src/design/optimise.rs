@@ -379,7 +379,8 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     out.verified = verify(&tuned, spec, &out.after_bands, &mut out.after_speeds, &count);
     // Intrusions named after the full model's whirls: the catalogue's region with the
     // same edges (the lattice-refined edges are the same numbers).
-    for (ints, speeds) in [(&mut out.before_intrusions, &out.before_speeds), (&mut out.after_intrusions, &out.after_speeds)]
+    for (ints, speeds) in
+        [(&mut out.before_intrusions, &out.before_speeds), (&mut out.after_intrusions, &out.after_speeds)]
     {
         for it in ints.iter_mut() {
             let Some(d) = speeds.iter().find(|d| d.speed == it.speed) else { continue };

@@ -186,7 +186,10 @@ pub fn verify(
             Objective::WidestStableBand => {
                 let b = bands.get(k).and_then(|b| b.band.band);
                 if d.band.as_ref().map(|x| x.band) != Some(b) {
-                    d.failures.push(format!("the band with labelled seeds ({:?}) differs from the optimiser's ({b:?})", d.band.as_ref().and_then(|x| x.band)));
+                    d.failures.push(format!(
+                        "the band with labelled seeds ({:?}) differs from the optimiser's ({b:?})",
+                        d.band.as_ref().and_then(|x| x.band)
+                    ));
                 }
                 if let (Some(b), Some(cb)) = (b, d.catalogue_band) {
                     if (b.lo - cb.lo).abs() > SAME_EDGE || (b.hi - cb.hi).abs() > SAME_EDGE {

@@ -121,9 +121,24 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     out.left = left;
     out.right = right;
     out.ignored = left_ignored.into_iter().chain(right_ignored).collect();
-    // Tongues inside the band that grow too slowly to count are listed too.
-    let slow = level.slow_tongues(seeds, found, &[]);
-    out.ignored.extend(slow.into_iter().filter(|t| t.extent.overlaps(&found)));
+    // Tongues inside the band that grow too slowly to count are listed too (not the
+    // bounding tongues, which count where they bound it).
+    let bounds: Vec<Tongue> = [&out.left, &out.right]
+        .into_iter()
+        .filter_map(|b| match b {
+            Some(Bound::Tongue { inside, .. }) => Some(Tongue {
+                extent: Interval::new(*inside, *inside),
+                inside: *inside,
+                labels: Vec::new(),
+                seeds: Vec::new(),
+                counted: true,
+                ignored: None,
+            }),
+            _ => None,
+        })
+        .collect();
+    let slow = level.slow_tongues(seeds, found, &bounds);
+    out.ignored.extend(slow.into_iter().filter(|t| t.extent.hi > found.lo && t.extent.lo < found.hi));
     out.ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
     out.evaluations = level.evaluations() - start;
     out
