@@ -39,6 +39,19 @@ pub struct PeriodicSystem {
     pub b1: Mat<c64>,
 }
 
+impl PeriodicSystem {
+    /// The diagonal scaling s of the state y = [q̇; q] into [q̇; w·q]: s_i = 1 for the
+    /// velocities and w_i = √|K̃eff_ii| (at least 1) for the displacements, from B0's
+    /// stiffness block. B0 holds ω² next to the identity block, so ‖hB0‖ ~ hω²_max and an
+    /// exponential of hB0 needs many squarings, each of which amplifies its round-off; in
+    /// the scaled coordinates every block is ~ω and ‖hB0‖ ~ hω_max. Exponentials are taken
+    /// of s·(hB)·s⁻¹ and scaled back, E_ij = E'_ij·s_j/s_i: the same matrix, to round-off.
+    pub fn frequency_scaling(&self) -> Vec<f64> {
+        let m = self.b0.nrows() / 2;
+        (0..2 * m).map(|i| if i < m { 1.0 } else { self.b0[(i - m, i)].norm().sqrt().max(1.0) }).collect()
+    }
+}
+
 /// Summary of a reduced model for outputs.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReductionInfo {

@@ -66,7 +66,7 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
         return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
     }
     let mut s = format!(
-        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\nmultipliers:\n",
+        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\n",
         fs.speed,
         fs.reduced.size(),
         point.summary.max_multiplier,
@@ -76,6 +76,10 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
         problem.settings.instability_tolerance,
         point.summary.status
     );
+    if let Some(reason) = point.summary.reason {
+        s += &format!("reason: {reason}\n");
+    }
+    s += "multipliers:\n";
     for m in &point.multipliers {
         s += &format!(
             "  {:+.8e} {:+.8e}i  |mu| = {:.8}\n",

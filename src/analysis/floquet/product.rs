@@ -1,5 +1,6 @@
-//! A running product of step matrices, kept finite by rescaling: the true value is
-//! e^{log_scale}·matrix, so strongly unstable points never overflow (issue: no inf/NaN).
+//! A running product of step matrices, kept finite and normal by rescaling: the true
+//! value is e^{log_scale}·matrix, so strongly unstable points never overflow and strongly
+//! damped ones never underflow to zero (whose logarithm would be −∞).
 
 use crate::linalg::SplitMatrix;
 use faer::linalg::matmul::matmul;
@@ -7,6 +8,9 @@ use faer::{c64, Accum, Mat, MatRef, Par};
 
 /// Rescale when an entry exceeds this (far from overflow, far above any O(1) value).
 const RESCALE_ABOVE: f64 = 1e100;
+/// Rescale when the largest entry falls below this (far from underflow, far below any
+/// O(1) value).
+const RESCALE_BELOW: f64 = 1e-100;
 
 /// Φ = e^{log_scale}·matrix.
 #[derive(Debug, Clone)]
@@ -30,6 +34,27 @@ impl ScaledProduct {
         ScaledProduct { matrix, log_scale, scratch: Mat::zeros(n, n) }
     }
 
+    /// stepⁿ by repeated squaring, rescaled like any product.
+    pub fn power(step: MatRef<'_, c64>, mut n: usize) -> ScaledProduct {
+        let mut result = ScaledProduct::identity(step.nrows());
+        let mut base = ScaledProduct::from_matrix(step.to_owned(), 0.0);
+        base.rescale();
+        while n > 0 {
+            if n & 1 == 1 {
+                result.left_multiply(base.matrix.as_ref());
+                result.log_scale += base.log_scale;
+            }
+            n >>= 1;
+            if n > 0 {
+                // (e^s·B)² = e^{2s}·B²; left_multiply adds the rescaling of B² to s.
+                let (square, s) = (base.matrix.clone(), base.log_scale);
+                base.left_multiply(square.as_ref());
+                base.log_scale += s;
+            }
+        }
+        result
+    }
+
     /// Φ ← step·Φ.
     pub fn left_multiply(&mut self, step: MatRef<'_, c64>) {
         matmul(self.scratch.as_mut(), Accum::Replace, step, self.matrix.as_ref(), c64::new(1.0, 0.0), Par::Seq);
@@ -51,9 +76,12 @@ impl ScaledProduct {
 }
 
 /// For a product whose largest entry is `m`: None, or the power of two 2^e ≤ m it is
-/// divided by (a power of two, so that the scaling itself is exact).
+/// divided by (a power of two, so that the scaling itself is exact; e < 0 for a tiny
+/// product, which is multiplied up).
 fn rescaling(m: f64) -> Option<i32> {
-    (m > RESCALE_ABOVE && m.is_finite()).then(|| m.log2().floor() as i32)
+    // Normal numbers only below: 2^1022 is the largest factor that stays finite.
+    let out_of_range = m > RESCALE_ABOVE || (f64::MIN_POSITIVE..RESCALE_BELOW).contains(&m);
+    (out_of_range && m.is_finite()).then(|| m.log2().floor() as i32)
 }
 
 /// The same running product with the matrix in split form ([`SplitMatrix`]): the fast
