@@ -46,6 +46,8 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::Linalg(_) => "Linalg",
         AnalysisError::ReducedModes { .. } => "ReducedModes",
         AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
+        AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
+        AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
     }
 }
 
@@ -96,6 +98,8 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::Linalg(LinalgError::NotPositiveDefinite { what: "stiffness" }),
         AnalysisError::ReducedModes { requested: 1, available: 0 },
         AnalysisError::StaticLoadBuckles { alpha: 1.0, critical_load: 1.0 },
+        AnalysisError::ResponseNotFinite { phi: 1.0, beta: 1.0, time: 1.0, periods: 1 },
+        AnalysisError::NoWhirlModes { speed: 0.0, eigenvalues: 0, tolerance: 0.5 },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },
@@ -206,7 +210,13 @@ fn documented_messages_are_what_the_binary_prints() {
                 ));
             }
             let code =
-                if ["Output", "ReducedModes", "StaticLoadBuckles", "Linalg"].contains(&kind.as_str()) { 1 } else { 2 };
+                if ["Output", "ReducedModes", "StaticLoadBuckles", "Linalg", "ResponseNotFinite", "NoWhirlModes"]
+                    .contains(&kind.as_str())
+                {
+                    1
+                } else {
+                    2
+                };
             if out.status.code() != Some(code) {
                 failures.push(format!("`{kind}`: exit status {:?}, expected {code}", out.status.code()));
             }

@@ -31,6 +31,29 @@ pub enum AnalysisError {
         /// Finite undamped modes of the model.
         available: usize,
     },
+    /// The time response outgrew f64: its state is not finite from `time` on.
+    #[error("the time response at phi = {} rad/s, beta = {} is not finite from t = {time:.6e} s on (it outgrows f64 within the {periods} periods asked): lower --beta or --periods", short(*phi), short(*beta))]
+    ResponseNotFinite {
+        /// φ (rad/s).
+        phi: f64,
+        /// β.
+        beta: f64,
+        /// Time of the first non-finite state (s).
+        time: f64,
+        /// Periods asked for.
+        periods: usize,
+    },
+    /// The model has no whirl mode at the speed: every eigenvalue is non-oscillatory
+    /// (|Im λ| ≤ oscillation_tolerance·|λ|) or not finite.
+    #[error("no whirl mode at speed {speed} rad/s: all {eigenvalues} eigenvalues are non-oscillatory or not finite (analysis.oscillation_tolerance = {tolerance})")]
+    NoWhirlModes {
+        /// Ω (rad/s).
+        speed: f64,
+        /// Eigenvalues found.
+        eigenvalues: usize,
+        /// The oscillation tolerance in force.
+        tolerance: f64,
+    },
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -39,4 +62,13 @@ pub enum AnalysisError {
         /// P_cr (N).
         critical_load: f64,
     },
+}
+
+/// A number as plain text, in exponent form outside 1e-4…1e15 (1e300, not 301 digits).
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
+    }
 }

@@ -3,6 +3,7 @@
 //! Classical RK4 with a step resolving the fastest mode, from rest.
 
 use super::floquet::FloquetSystem;
+use super::AnalysisError;
 use faer::c64;
 use serde::Serialize;
 
@@ -31,6 +32,11 @@ pub struct ResponseResult {
     pub last_period_peak: f64,
     /// RK4 step (s).
     pub step: f64,
+    /// Time (s) of the first step whose state is not finite (the response outgrew f64):
+    /// the integration stopped there and the samples end before it. Absent when the
+    /// whole interval was integrated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_at: Option<f64>,
 }
 
 impl ResponseResult {
@@ -38,9 +44,20 @@ impl ResponseResult {
     pub fn growth_ratio(&self) -> f64 {
         self.last_period_peak / self.first_period_peak.max(f64::MIN_POSITIVE)
     }
+
+    /// The response, or the analysis error of one whose state stopped being finite.
+    pub fn finite(self) -> Result<ResponseResult, AnalysisError> {
+        match self.stopped_at {
+            None => Ok(self),
+            Some(time) => {
+                Err(AnalysisError::ResponseNotFinite { phi: self.phi, beta: self.beta, time, periods: self.periods })
+            }
+        }
+    }
 }
 
-/// Integrate `periods` load periods at (φ, β) from rest.
+/// Integrate `periods` load periods at (φ, β) from rest, stopping at the first step whose
+/// state is not finite (`stopped_at`; [`ResponseResult::finite`] makes that an error).
 pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> ResponseResult {
     let sys = &fs.system;
     let n = sys.b0.nrows();
@@ -72,6 +89,7 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
     let mut time = vec![0.0];
     let mut q1 = vec![[0.0, 0.0]];
     let (mut first, mut last) = (0.0f64, 0.0f64);
+    let mut stopped_at = None;
     for s in 0..total {
         let t = s as f64 * h;
         rhs(t, &y, &mut k1);
@@ -91,6 +109,10 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
             y[i] += (k1[i] + (k2[i] + k3[i]) * 2.0 + k4[i]) * (h / 6.0);
         }
         let amp = y[m..].iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+        if !y.iter().all(|z| z.re.is_finite() && z.im.is_finite()) || !amp.is_finite() {
+            stopped_at = Some(t + h);
+            break;
+        }
         if s < steps_per_period {
             first = first.max(amp);
         }
@@ -102,5 +124,15 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
             q1.push([y[m].re, y[m].im]);
         }
     }
-    ResponseResult { phi, beta, periods, time, q1, first_period_peak: first, last_period_peak: last, step: h }
+    ResponseResult {
+        phi,
+        beta,
+        periods,
+        time,
+        q1,
+        first_period_peak: first,
+        last_period_peak: last,
+        step: h,
+        stopped_at,
+    }
 }

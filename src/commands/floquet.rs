@@ -227,7 +227,7 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
     }
     let fs = system(problem)?;
     let point = fs.point(phi, beta);
-    let r: ResponseResult = response(&fs, phi, beta, periods);
+    let r: ResponseResult = response(&fs, phi, beta, periods).finite()?;
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
     struct Json<'a> {

@@ -5,7 +5,8 @@
 //! branch with L = 0) only produces ν = 0 (λ = ∞), which is dropped.
 
 use super::LinalgError;
-use faer::{c64, linalg::solvers::Solve, Mat, MatRef};
+use faer::linalg::matmul::matmul;
+use faer::{c64, linalg::solvers::Solve, Accum, Mat, MatRef};
 
 /// Relative size below which ν = 1/(λ − σ) is an infinite eigenvalue of a singular M.
 /// Eigenvalues of |λ| > 1e12·|λ_min| are far beyond any modelled physics (the largest
@@ -73,6 +74,8 @@ pub fn solve_qep(
 }
 
 /// Relative residual `‖(λ²M + λD + K)x‖ / ((|λ|²‖M‖ + |λ|‖D‖ + ‖K‖)‖x‖)` in max norms.
+/// Numerator and denominator are both divided by s² = max(1, |λ|)² first, so that no
+/// finite λ overflows them (|λ|² does beyond 1e154); NaN only for non-finite input.
 pub fn qep_residual(
     m: MatRef<'_, f64>,
     d: MatRef<'_, c64>,
@@ -81,16 +84,157 @@ pub fn qep_residual(
     x: faer::ColRef<'_, c64>,
 ) -> f64 {
     let n = m.nrows();
-    let l2 = lambda * lambda;
+    let s = lambda.norm().max(1.0);
+    let mu = lambda / s;
+    let (a, b, c) = (mu * mu, mu / s, 1.0 / (s * s));
+    let x_max = (0..n).map(|i| x[i].norm()).fold(0.0, f64::max);
     let mut worst: f64 = 0.0;
     for i in 0..n {
         let mut acc = c64::new(0.0, 0.0);
         for j in 0..n {
-            acc += (l2 * m[(i, j)] + lambda * d[(i, j)] + c64::new(k[(i, j)], 0.0)) * x[j];
+            acc += (a * m[(i, j)] + b * d[(i, j)] + c64::new(c * k[(i, j)], 0.0)) * (x[j] / x_max);
         }
         worst = worst.max(acc.norm());
     }
-    let scale = (lambda.norm_sqr() * m.norm_max() + lambda.norm() * d.norm_max() + k.norm_max())
-        * (0..n).map(|i| x[i].norm()).fold(0.0, f64::max);
+    let scale = a.norm() * m.norm_max() + b.norm() * d.norm_max() + c * k.norm_max();
     worst / scale
+}
+
+/// Widest spread of eigenvalue moduli |λ|_max/|λ|_min for which [`solve_qep_definite`]
+/// answers: its eigenvalues are accurate to ~ε·|λ|_max absolute, so at this spread the
+/// lowest whirl keeps ~1e-8 relative accuracy; beyond it (e.g. a charge mass of 1e-290 kg
+/// next to kg-scale masses), shift-invert, whose error grows the other way, is the better
+/// solver.
+pub const DEFINITE_FORM_SPREAD: f64 = 1e8;
+
+/// Solve `(λ²M + λD + K) x = 0` for real symmetric M ⪰ 0, K ≻ 0 and D = C + j·G̃ with C,
+/// G̃ real symmetric (a gyroscopic system: C the damping, G̃ = −ΩG), in a first-order
+/// form that keeps the structure:
+///
+/// with M = L_M·L_Mᵀ, K = L_K·L_Kᵀ (Cholesky) and z = [L_Mᵀ·λx; L_Kᵀ·x],
+/// λz = A·z, A = [[−L_M⁻¹·D·L_M⁻ᵀ, −F], [Fᵀ, 0]], F = L_M⁻¹·L_K.
+///
+/// Every block of A is of the size of the whirl frequencies (its singular values are
+/// the ω's), so eigenvalues come out with an absolute error ~ε·ω_max and damping ratios
+/// with ~ε·ω_max/ω — where shift-invert on the physical pencil leaves ±1e-3 of spurious
+/// damping on the high modes of an undamped model (docs/decisions.md). Undamped (C = 0),
+/// A is skew-Hermitian: λ = −jμ with μ the real eigenvalues of the Hermitian j·A, so
+/// the damping is exactly zero, as it is for any conservative gyroscopic system.
+///
+/// Massless DOFs (rows of M that are zero, e.g. a shunt branch with L = 0) are condensed
+/// statically when D vanishes on them. Returns `None` where the form does not apply (a
+/// massless DOF with damping or gyroscopic terms, M or K not positive definite, spread
+/// of |λ| above [`DEFINITE_FORM_SPREAD`], non-finite results): the caller uses
+/// [`solve_qep`] there.
+pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, f64>) -> Option<QepSolution> {
+    use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+    use faer::{Par, Side};
+    let n = m.nrows();
+    let massless: Vec<bool> = (0..n).map(|i| (0..n).all(|j| m[(i, j)] == 0.0)).collect();
+    if (0..n).any(|i| massless[i] && (0..n).any(|j| d[(i, j)] != c64::new(0.0, 0.0))) {
+        return None;
+    }
+    let kept: Vec<usize> = (0..n).filter(|&i| !massless[i]).collect();
+    let gone: Vec<usize> = (0..n).filter(|&i| massless[i]).collect();
+    let r = kept.len();
+    if r == 0 {
+        return None;
+    }
+    let sub = |a: MatRef<'_, f64>, rows: &[usize], cols: &[usize]| {
+        Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+    };
+    // Static condensation K_c = K_rr − K_rm·K_mm⁻¹·K_mr, and X = K_mm⁻¹·K_mr for the
+    // massless part of the shapes, x_m = −X·x_r.
+    let (k_c, x_gone) = if gone.is_empty() {
+        (sub(k, &kept, &kept), None)
+    } else {
+        let k_mm = sub(k, &gone, &gone);
+        let llt = k_mm.llt(Side::Lower).ok()?;
+        let x = llt.solve(sub(k, &gone, &kept));
+        let k_rm = sub(k, &kept, &gone);
+        let k_rr = sub(k, &kept, &kept);
+        let k_c = &k_rr - &k_rm * &x;
+        (Mat::from_fn(r, r, |i, j| 0.5 * (k_c[(i, j)] + k_c[(j, i)])), Some(x))
+    };
+    let l_m = sub(m, &kept, &kept).llt(Side::Lower).ok()?.L().to_owned();
+    let l_k = k_c.llt(Side::Lower).ok()?.L().to_owned();
+    // F = L_M⁻¹·L_K.
+    let mut f = l_k.clone();
+    solve_lower_triangular_in_place(l_m.as_ref(), f.as_mut(), Par::Seq);
+    // L_M⁻¹·P·L_M⁻ᵀ of a real symmetric P, symmetrised.
+    let congruent = |p: Mat<f64>| {
+        let mut x = p;
+        solve_lower_triangular_in_place(l_m.as_ref(), x.as_mut(), Par::Seq);
+        let mut y = x.transpose().to_owned();
+        solve_lower_triangular_in_place(l_m.as_ref(), y.as_mut(), Par::Seq);
+        Mat::from_fn(r, r, |i, j| 0.5 * (y[(i, j)] + y[(j, i)]))
+    };
+    let c_rr = Mat::from_fn(r, r, |i, j| d[(kept[i], kept[j])].re);
+    let undamped = (0..r).all(|j| (0..r).all(|i| c_rr[(i, j)] == 0.0));
+    let c_hat = congruent(c_rr);
+    let g_hat = congruent(Mat::from_fn(r, r, |i, j| d[(kept[i], kept[j])].im));
+    let re = |x: f64| c64::new(x, 0.0);
+    let (values, z): (Vec<c64>, Mat<c64>) = if undamped {
+        // j·A = [[Ĝ, −jF], [jFᵀ, 0]], Hermitian.
+        let h = Mat::from_fn(2 * r, 2 * r, |i, j| match (i < r, j < r) {
+            (true, true) => re(g_hat[(i, j)]),
+            (true, false) => c64::new(0.0, -f[(i, j - r)]),
+            (false, true) => c64::new(0.0, f[(j, i - r)]),
+            (false, false) => re(0.0),
+        });
+        if !h.norm_max().is_finite() {
+            return None;
+        }
+        let evd = h.self_adjoint_eigen(Side::Lower).ok()?;
+        let u = evd.U().to_owned();
+        // μ as the Rayleigh quotients zᴴHz of the (orthonormal) eigenvectors: second-order
+        // accurate in their error. faer's eigenvalues from the decomposition with vectors
+        // were 1e-9 off on the Table 2 rotor (9953.677238 against 9953.677229 rad/s from
+        // its eigenvalues-only routine and from inverse iteration).
+        let mut hu = Mat::<c64>::zeros(2 * r, 2 * r);
+        matmul(hu.as_mut(), Accum::Replace, h.as_ref(), u.as_ref(), c64::new(1.0, 0.0), Par::Seq);
+        let mu = (0..2 * r).map(|c| (0..2 * r).map(|i| u[(i, c)].conj() * hu[(i, c)]).sum::<c64>().re);
+        (mu.map(|m| c64::new(0.0, -m)).collect(), u)
+    } else {
+        let a = Mat::from_fn(2 * r, 2 * r, |i, j| match (i < r, j < r) {
+            (true, true) => c64::new(-c_hat[(i, j)], -g_hat[(i, j)]),
+            (true, false) => re(-f[(i, j - r)]),
+            (false, true) => re(f[(j, i - r)]),
+            (false, false) => re(0.0),
+        });
+        if !a.norm_max().is_finite() {
+            return None;
+        }
+        let evd = a.eigen().ok()?;
+        let s = evd.S().column_vector();
+        ((0..2 * r).map(|i| s[i]).collect(), evd.U().to_owned())
+    };
+    let moduli = values.iter().map(|v| v.norm());
+    let (lo, hi) = moduli.fold((f64::INFINITY, 0.0f64), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    if !(hi.is_finite() && lo > 0.0 && hi <= DEFINITE_FORM_SPREAD * lo) {
+        return None;
+    }
+    // x_r = L_K⁻ᵀ·z₂, x_m = −X·x_r, unit 2-norm.
+    let l_kt = Mat::from_fn(r, r, |i, j| re(l_k[(j, i)]));
+    let mut x_r = Mat::from_fn(r, 2 * r, |i, j| z[(r + i, j)]);
+    solve_upper_triangular_in_place(l_kt.as_ref(), x_r.as_mut(), Par::Seq);
+    let mut vectors = Mat::<c64>::zeros(n, 2 * r);
+    for col in 0..2 * r {
+        for (a, &i) in kept.iter().enumerate() {
+            vectors[(i, col)] = x_r[(a, col)];
+        }
+        if let Some(x) = &x_gone {
+            for (b, &i) in gone.iter().enumerate() {
+                vectors[(i, col)] = -(0..r).map(|a| x_r[(a, col)] * x[(b, a)]).sum::<c64>();
+            }
+        }
+        let norm = (0..n).map(|i| vectors[(i, col)].norm_sqr()).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return None;
+        }
+        for i in 0..n {
+            vectors[(i, col)] /= norm;
+        }
+    }
+    Some(QepSolution { values, vectors })
 }

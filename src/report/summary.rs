@@ -113,5 +113,10 @@ pub fn modes_text(modes: &[WhirlMode], speed: f64, critical_load: f64) -> String
             m.damping_ratio
         );
     }
+    for m in modes {
+        if let Some(flag) = &m.flag {
+            let _ = writeln!(out, "note: mode {} is flagged: {flag}", m.tag());
+        }
+    }
     out
 }
