@@ -69,6 +69,7 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         None => left.clone(),
     };
     let circuit = circuit(&f.circuit, &left)?;
+    charges(&f.circuit, &circuit, [&left, &right])?;
     let load = Load {
         alpha: within(
             "load.alpha",
@@ -194,6 +195,43 @@ fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
         })
         .collect::<Result<_, Failure>>()?;
     Ok(Circuit { state: c.state, branches })
+}
+
+/// Every branch's charge DOF must have finite coefficients at both rings: mass γL,
+/// damping γR and stiffness γ/C_f (γ = 2cot²β·θ_p², Eq. A8). A valid L, R or C_f can
+/// still overflow them (L = inf from a tuning frequency of 1e-300 rad/s, L = 1e308 H
+/// with γ = 33), and the analyses cannot run on an infinite matrix entry. L = 0 (no
+/// mass) is fine: a massless charge, handled as such.
+fn charges(file: &CircuitFile, circuit: &Circuit, rings: [&Ring; 2]) -> Result<(), Failure> {
+    if circuit.state != CircuitState::Closed {
+        return Ok(());
+    }
+    for (i, (b, given)) in circuit.branches.iter().zip(&file.branches).enumerate() {
+        let key = format!("circuit.branches[{i}]");
+        for ring in rings {
+            let gamma = ring.gamma();
+            let (name, value) = match (given.inductance, given.tuning_frequency) {
+                (Some(l), _) => ("inductance", l),
+                (None, w) => ("tuning_frequency", w.unwrap_or(f64::NAN)),
+            };
+            if !(b.inductance.is_finite() && (gamma * b.inductance).is_finite()) {
+                let range = format!(
+                    "one that gives a finite L and charge mass gamma L (here L = {:e} H, gamma = {gamma:.4})",
+                    b.inductance
+                );
+                return Err((format!("{key}.{name}"), K::OutOfRange { value, range }));
+            }
+            if !(gamma * b.resistance).is_finite() {
+                let range = format!("one that gives a finite charge damping gamma R (gamma = {gamma:.4})");
+                return Err((format!("{key}.resistance"), K::OutOfRange { value: b.resistance, range }));
+            }
+            if !(gamma / b.c_f).is_finite() {
+                let range = format!("one that gives a finite charge stiffness gamma / C_f (gamma = {gamma:.4})");
+                return Err((format!("{key}.c_f"), K::OutOfRange { value: b.c_f, range }));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn settings(s: &Settings) -> Result<Settings, Failure> {
