@@ -31,6 +31,16 @@ pub enum AnalysisError {
         /// Finite undamped modes of the model.
         available: usize,
     },
+    /// The modal solve behind the reduced model (Eq. 22) did not resolve its basis: the
+    /// modes are far from M-orthonormal (masses or stiffnesses spanning too many orders of
+    /// magnitude, e.g. a shunt inductance of 1e8 H and more).
+    #[error("the {modes} modes of the reduced model are not resolved by the modal solve: their mass matrix deviates from the identity by {drift:.3e} (above 0.1); the masses and stiffnesses span too many orders of magnitude (check L, C_f and R of the shunt branches)")]
+    ReducedBasis {
+        /// M.
+        modes: usize,
+        /// max|ΦᵀMΦ − I| (−).
+        drift: f64,
+    },
     /// The time response outgrew f64: its state is not finite from `time` on.
     #[error("the time response at phi = {} rad/s, beta = {} is not finite from t = {time:.6e} s on (it outgrows f64 within the {periods} periods asked): lower --beta or --periods", short(*phi), short(*beta))]
     ResponseNotFinite {
