@@ -16,7 +16,7 @@ use std::process::Command;
 const DOC: &str = "docs/errors.md";
 
 /// Kinds whose examples exit with status 1 (analysis or output failures); the rest exit 2.
-const EXIT_1: [&str; 7] = [
+const EXIT_1: [&str; 8] = [
     "Output",
     "ReducedModes",
     "StaticLoadBuckles",
@@ -24,6 +24,7 @@ const EXIT_1: [&str; 7] = [
     "ResponseNotFinite",
     "NoWhirlModes",
     "ReducedBasis",
+    "StiffResponse",
 ];
 
 fn root() -> &'static Path {
@@ -60,6 +61,7 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
         AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
         AnalysisError::ReducedBasis { .. } => "ReducedBasis",
+        AnalysisError::StiffResponse { .. } => "StiffResponse",
     }
 }
 
@@ -113,6 +115,7 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::ResponseNotFinite { phi: 1.0, beta: 1.0, time: 1.0, periods: 1 },
         AnalysisError::NoWhirlModes { speed: 0.0, eigenvalues: 0, tolerance: 0.5 },
         AnalysisError::ReducedBasis { modes: 1, drift: 1.0 },
+        AnalysisError::StiffResponse { phi: 1.0, rate: 1.0, steps: 1.0, accuracy_steps: 1.0 },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },

@@ -41,6 +41,19 @@ pub enum AnalysisError {
         /// max|ΦᵀMΦ − I| (−).
         drift: f64,
     },
+    /// The time response is stiff: RK4's stability needs more than
+    /// [`response::STIFFNESS_LIMIT`] times the steps its accuracy needs.
+    #[error("the time response at phi = {} rad/s is stiff: B0 has an eigenvalue of modulus {rate:.3e} 1/s (strong damping: a large R or eta), and RK4 would need {steps:.3e} steps per period, more than {} times the {accuracy_steps} its accuracy needs: not integrated (`rotorshunt floquet` gives the stability without it)", short(*phi), response::STIFFNESS_LIMIT)]
+    StiffResponse {
+        /// φ (rad/s).
+        phi: f64,
+        /// Spectral radius of B0 (1/s).
+        rate: f64,
+        /// Steps per period RK4's stability needs.
+        steps: f64,
+        /// Steps per period its accuracy needs.
+        accuracy_steps: f64,
+    },
     /// The time response outgrew f64: its state is not finite from `time` on.
     #[error("the time response at phi = {} rad/s, beta = {} is not finite from t = {time:.6e} s on (it outgrows f64 within the {periods} periods asked): lower --beta or --periods", short(*phi), short(*beta))]
     ResponseNotFinite {

@@ -10,6 +10,12 @@ use serde::Serialize;
 /// RK4 steps per period of the fastest basis mode: h·ω_max ≤ 2π/64 ≈ 0.1 keeps the
 /// RK4 phase error per step ~1e-7.
 const STEPS_PER_FASTEST_PERIOD: f64 = 64.0;
+/// Largest |h·λ| over B0's eigenvalues λ: classical RK4 is stable (|R(hλ)| ≤ 0.873) on
+/// the whole left half-disc |hλ| ≤ 2.5, and no longer at 2.7. The phase rule above keeps
+/// every oscillatory λ far inside; this bounds the decay rates of stiff damping (a branch
+/// with R = 1e9 Ω has Re λ ≈ −R/L ≈ −1e9 1/s), which RK4 with the phase step turned into
+/// an overflow within 2e-4 s instead of a decaying response.
+const RK4_STABLE_STEP: f64 = 2.5;
 /// At most this many samples are stored, whatever the step count.
 const MAX_SAMPLES: usize = 4000;
 
@@ -56,18 +62,60 @@ impl ResponseResult {
     }
 }
 
+/// Most times the steps of the phase rule that RK4's stability may ask for: beyond it
+/// the response is stiff (a decay rate 100× the fastest oscillation: nearly all steps
+/// would be spent on a component that has long vanished) and is refused
+/// ([`AnalysisError::StiffResponse`]) rather than integrated for hours: R = 1e9 Ω on
+/// the Fig. 13 rotor needs 6 600× (4.7 s a period here), η = 1e12 N·s/m on Fig. 8
+/// 2.6·10⁶×.
+pub const STIFFNESS_LIMIT: f64 = 100.0;
+
+/// RK4 steps per load period at φ (rad/s) of [`response`]: 64 per period of the fastest
+/// of the basis frequencies, φ and Ω (at least 64), and more where B0 has a decay rate
+/// beyond RK4's stability region at that step ([`RK4_STABLE_STEP`]). The work of a
+/// response is this times the periods, each step four products of the 2M-state.
+pub fn rk4_steps_per_period(fs: &FloquetSystem, phi: f64) -> usize {
+    let (by_phase, by_stability, _) = step_rules(fs, phi);
+    // `as` saturates: a non-finite or huge count becomes usize::MAX, never wraps.
+    (by_phase.max(by_stability) as usize).max(64)
+}
+
+/// Steps per period by the phase rule, by RK4's stability, and B0's spectral radius.
+fn step_rules(fs: &FloquetSystem, phi: f64) -> (f64, f64, f64) {
+    let omega_max = fs.reduced.frequencies.iter().fold(phi, |a, b| a.max(*b)).max(fs.speed);
+    let period = 2.0 * std::f64::consts::PI / phi;
+    let by_phase = (period * omega_max / (2.0 * std::f64::consts::PI) * STEPS_PER_FASTEST_PERIOD).ceil();
+    // The spectral radius of B0 (0 if its eigenvalues fail: the phase rule alone).
+    let radius = fs.eigenvalues().map(|ev| ev.iter().map(|z| z.norm()).fold(0.0, f64::max)).unwrap_or(0.0);
+    (by_phase, (period * radius / RK4_STABLE_STEP).ceil(), radius)
+}
+
+/// [`response`] for callers that report it: refused before work when it is stiff
+/// (beyond [`STIFFNESS_LIMIT`]), and an error when its state stops being finite.
+pub fn checked_response(
+    fs: &FloquetSystem,
+    phi: f64,
+    beta: f64,
+    periods: usize,
+) -> Result<ResponseResult, AnalysisError> {
+    let (by_phase, by_stability, radius) = step_rules(fs, phi);
+    let by_phase = by_phase.max(64.0);
+    if by_stability.is_nan() || by_stability > STIFFNESS_LIMIT * by_phase {
+        return Err(AnalysisError::StiffResponse { phi, rate: radius, steps: by_stability, accuracy_steps: by_phase });
+    }
+    response(fs, phi, beta, periods).finite()
+}
+
 /// Integrate `periods` load periods at (φ, β) from rest, stopping at the first step whose
 /// state is not finite (`stopped_at`; [`ResponseResult::finite`] makes that an error).
 pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> ResponseResult {
     let sys = &fs.system;
     let n = sys.b0.nrows();
     let m = n / 2;
-    let omega_max = fs.reduced.frequencies.iter().fold(phi, |a, b| a.max(*b)).max(fs.speed);
     let period = 2.0 * std::f64::consts::PI / phi;
-    let steps_per_period =
-        ((period * omega_max / (2.0 * std::f64::consts::PI) * STEPS_PER_FASTEST_PERIOD).ceil() as usize).max(64);
+    let steps_per_period = rk4_steps_per_period(fs, phi);
     let h = period / steps_per_period as f64;
-    let total = steps_per_period * periods;
+    let total = steps_per_period.saturating_mul(periods);
     let stride = total.div_ceil(MAX_SAMPLES).max(1);
     let force: Vec<c64> = fs.reduced.unbalance.iter().map(|u| u * (fs.speed * fs.speed)).collect();
     let rhs = |t: f64, y: &[c64], out: &mut [c64]| {

@@ -4,7 +4,7 @@
 use super::{parse_range, title, OutDir, Progress, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
-use crate::analysis::response::{response, ResponseResult};
+use crate::analysis::response::{checked_response, ResponseResult};
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
@@ -227,7 +227,7 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
     }
     let fs = system(problem)?;
     let point = fs.point(phi, beta);
-    let r: ResponseResult = response(&fs, phi, beta, periods).finite()?;
+    let r: ResponseResult = checked_response(&fs, phi, beta, periods)?;
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
     struct Json<'a> {
