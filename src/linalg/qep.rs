@@ -238,3 +238,93 @@ pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, 
     }
     Some(QepSolution { values, vectors })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn random(n: usize, seed: u64) -> Mat<f64> {
+        let mut state = seed;
+        Mat::from_fn(n, n, |_, _| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+    }
+
+    /// A·Aᵀ + shift·I, symmetric positive definite.
+    fn spd(n: usize, seed: u64, shift: f64) -> Mat<f64> {
+        let a = random(n, seed);
+        let p = &a * a.transpose();
+        Mat::from_fn(n, n, |i, j| p[(i, j)] + if i == j { shift } else { 0.0 })
+    }
+
+    fn sorted(mut v: Vec<c64>) -> Vec<c64> {
+        v.sort_by(|a, b| a.im.total_cmp(&b.im).then(a.re.total_cmp(&b.re)));
+        v
+    }
+
+    #[test]
+    fn definite_form_agrees_with_shift_invert_and_keeps_zero_damping() {
+        let n = 6;
+        let (m, k) = (spd(n, 1, 0.5), spd(n, 2, 3.0));
+        let g = random(n, 3);
+        let g = Mat::from_fn(n, n, |i, j| g[(i, j)] + g[(j, i)]);
+        let c = spd(n, 4, 0.0);
+        for damped in [false, true] {
+            let d = Mat::from_fn(n, n, |i, j| c64::new(if damped { 0.1 * c[(i, j)] } else { 0.0 }, -5.0 * g[(i, j)]));
+            let a = solve_qep_definite(m.as_ref(), d.as_ref(), k.as_ref()).expect("applies");
+            let b = solve_qep(m.as_ref(), d.as_ref(), k.as_ref(), 0.01).unwrap();
+            assert_eq!(a.values.len(), 2 * n);
+            for (x, y) in sorted(a.values.clone()).iter().zip(sorted(b.values)) {
+                assert!((x - y).norm() < 1e-10 * y.norm(), "{x} vs {y}");
+            }
+            for (col, lambda) in a.values.iter().enumerate() {
+                assert!(qep_residual(m.as_ref(), d.as_ref(), k.as_ref(), *lambda, a.vectors.col(col)) < 1e-13);
+                if !damped {
+                    assert_eq!(lambda.re, 0.0, "undamped: exactly imaginary");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn massless_undamped_dofs_are_condensed_and_damped_ones_refused() {
+        // DOF 0 without mass: two infinite eigenvalues; the finite ones are those of the
+        // pencil condensed on the others, as shift-invert finds them.
+        let n = 5;
+        let k = spd(n, 7, 2.0);
+        let mut m = spd(n, 8, 0.5);
+        for j in 0..n {
+            m[(0, j)] = 0.0;
+            m[(j, 0)] = 0.0;
+        }
+        let mut d = Mat::from_fn(n, n, |_, _| c64::new(0.0, 0.0));
+        d[(1, 2)] = c64::new(0.0, 0.7);
+        d[(2, 1)] = c64::new(0.0, 0.7);
+        let a = solve_qep_definite(m.as_ref(), d.as_ref(), k.as_ref()).expect("applies");
+        let b = solve_qep(m.as_ref(), d.as_ref(), k.as_ref(), 0.01).unwrap();
+        assert_eq!((a.values.len(), b.values.len()), (2 * (n - 1), 2 * (n - 1)));
+        for (x, y) in sorted(a.values.clone()).iter().zip(sorted(b.values)) {
+            assert!((x - y).norm() < 1e-9 * y.norm(), "{x} vs {y}");
+        }
+        for (col, lambda) in a.values.iter().enumerate() {
+            assert!(qep_residual(m.as_ref(), d.as_ref(), k.as_ref(), *lambda, a.vectors.col(col)) < 1e-12);
+        }
+        // A massless DOF with damping has first-order dynamics: not this form.
+        d[(0, 0)] = c64::new(1.0, 0.0);
+        assert!(solve_qep_definite(m.as_ref(), d.as_ref(), k.as_ref()).is_none());
+    }
+
+    #[test]
+    fn residual_is_finite_for_huge_eigenvalues() {
+        let (m, k) = (spd(3, 11, 1.0), spd(3, 12, 1.0));
+        let d = Mat::from_fn(3, 3, |_, _| c64::new(0.0, 0.0));
+        let x = faer::Col::from_fn(3, |i| c64::new(1.0 + i as f64, 0.0));
+        // |λ|² = 1e400 overflows unscaled (inf/inf = NaN); scaled, the λ²M term dominates
+        // and the residual is ‖Mx‖∞/(‖M‖max·‖x‖∞).
+        let r = qep_residual(m.as_ref(), d.as_ref(), k.as_ref(), c64::new(0.0, 1e200), x.as_ref());
+        let mx = (0..3).map(|i| (0..3).map(|j| m[(i, j)] * x[j].re).sum::<f64>().abs()).fold(0.0, f64::max);
+        let expected = mx / (m.norm_max() * 3.0);
+        assert!(r.is_finite() && (r - expected).abs() < 1e-12, "{r} vs {expected}");
+    }
+}

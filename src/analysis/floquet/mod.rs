@@ -445,3 +445,64 @@ fn eigenvalues_of(system: &PeriodicSystem) -> Result<Vec<faer::c64>, AnalysisErr
     ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
     Ok(ev)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::{c64, Mat};
+
+    /// A β = 0 point whose monodromy is diag(μ) at φ = 1 rad/s.
+    fn point(mu: &[c64]) -> FloquetPoint {
+        let n = mu.len();
+        let m = Mat::from_fn(n, n, |i, j| if i == j { mu[i] } else { c64::new(0.0, 0.0) });
+        FloquetPoint::from_monodromy_with(1.0, 0.0, &ScaledProduct::from_matrix(m, 0.0), 1.0001, None)
+    }
+
+    #[test]
+    fn zero_load_check_compares_sorted_moduli_with_exp_lambda_t() {
+        let t = 2.0 * std::f64::consts::PI;
+        // Undamped pair, a lightly damped one and one damped to e^{-60}: exact multipliers.
+        let lambdas = [c64::new(0.0, 3.0), c64::new(0.0, -2.0), c64::new(-0.01, 5.0), c64::new(-60.0 / t, 1.0)];
+        let mut rates: Vec<f64> = lambdas.iter().map(|l| l.re).collect();
+        rates.sort_by(|a, b| b.total_cmp(a));
+        let reference = ZeroLoadReference { rates: Some(rates) };
+        let exact: Vec<c64> = lambdas.iter().map(|l| (l * t).exp()).collect();
+        assert_eq!(reference.issue(&point(&exact)), None);
+        // One modulus 2e-8 off: flagged, with that deviation (order of the list irrelevant).
+        let mut off = exact.clone();
+        off.reverse();
+        off[2] *= 1.0 + 2e-8;
+        match reference.issue(&point(&off)) {
+            Some(PointIssue::ZeroLoad { deviation }) => assert!((deviation - 2e-8).abs() < 1e-12, "{deviation}"),
+            other => panic!("{other:?}"),
+        }
+        // 5e-9 off: inside the tolerance.
+        let mut close = exact.clone();
+        close[0] *= 1.0 - 5e-9;
+        assert_eq!(reference.issue(&point(&close)), None);
+        // A failed β = 0 point, or no reference: flagged too.
+        let nan = vec![c64::new(f64::NAN, 0.0); 4];
+        assert!(
+            matches!(reference.issue(&point(&nan)), Some(PointIssue::ZeroLoad { deviation }) if deviation.is_infinite())
+        );
+        assert_eq!(ZeroLoadReference { rates: None }.issue(&point(&exact)), Some(PointIssue::NoZeroLoadReference));
+    }
+
+    #[test]
+    fn a_flag_keeps_the_first_reason_and_never_touches_failed_points() {
+        let mut p = point(&[c64::new(1.0, 0.0)]).summary;
+        p.flag(None);
+        assert_eq!((p.status, p.reason), (PointStatus::Ok, None));
+        p.flag(Some(PointIssue::ZeroLoad { deviation: 1.0 }));
+        p.flag(Some(PointIssue::Interpolant { terms: 64 }));
+        assert_eq!((p.status, p.reason), (PointStatus::Inaccurate, Some(PointIssue::ZeroLoad { deviation: 1.0 })));
+        // A NaN monodromy: the eigenvalue iteration refuses it (or its values are not
+        // finite); either way a failed point with its reason, which a flag leaves alone.
+        let mut f = point(&[c64::new(f64::NAN, 0.0)]).summary;
+        let reason = f.reason;
+        assert_eq!(f.status, PointStatus::Failed);
+        assert!(matches!(reason, Some(PointIssue::Eigenvalues | PointIssue::NotFinite)), "{reason:?}");
+        f.flag(Some(PointIssue::ZeroLoad { deviation: 1.0 }));
+        assert_eq!((f.status, f.reason), (PointStatus::Failed, reason));
+    }
+}

@@ -120,3 +120,41 @@ impl ScaledSplit {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_equals_the_running_product_with_rescaling() {
+        // A step of norm ~30: its 40th power (~1e59 per step squared…) is rescaled on the
+        // way; powering by squaring and the plain running product must give the same
+        // e^{s}·Φ̂ to round-off, for every n including 0 and 1.
+        let step = Mat::from_fn(3, 3, |i, j| c64::new(10.0 + i as f64 - 2.0 * j as f64, 0.5 * (i * j) as f64));
+        for n in [0usize, 1, 2, 3, 7, 16, 40] {
+            let p = ScaledProduct::power(step.as_ref(), n);
+            let mut r = ScaledProduct::identity(3);
+            for _ in 0..n {
+                r.left_multiply(step.as_ref());
+            }
+            let scale = (p.log_scale - r.log_scale).exp();
+            let err = (0..3)
+                .flat_map(|i| (0..3).map(move |j| (i, j)))
+                .map(|(i, j)| (p.matrix[(i, j)] * scale - r.matrix[(i, j)]).norm())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-12 * r.matrix.norm_max(), "n = {n}: {err}");
+        }
+    }
+
+    #[test]
+    fn tiny_products_are_rescaled_up() {
+        let mut p = ScaledProduct::identity(2);
+        let step = Mat::from_fn(2, 2, |i, j| c64::new(if i == j { 1e-60 } else { 0.0 }, 0.0));
+        for _ in 0..20 {
+            p.left_multiply(step.as_ref());
+        }
+        // (1e-60)^20 = 1e-1200 underflows; the scaled product keeps it exactly.
+        let ln = p.matrix[(0, 0)].norm().ln() + p.log_scale;
+        assert!((ln - 20.0 * (1e-60f64).ln()).abs() < 1e-9 * ln.abs(), "{ln}");
+    }
+}
