@@ -13,7 +13,8 @@
 //!
 //! with real symmetric M, C, K, S, G assembled from Rayleigh beam elements, disks
 //! (Eq. 6), rings (Eq. 7–11) and N-branch shunts (Eq. A8). Whirl frequencies come from
-//! the quadratic eigenproblem of Eq. (16), solved by shift-invert (Eq. 18–21).
+//! the quadratic eigenproblem of Eq. (16), solved in a structure-keeping first-order
+//! form (shift-invert, Eq. 18–21, where that form does not apply).
 //!
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
 //! (matrices) → [`analysis`] → [`design`] → [`report`]. SI units and rad/s throughout.

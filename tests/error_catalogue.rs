@@ -15,6 +15,18 @@ use std::process::Command;
 
 const DOC: &str = "docs/errors.md";
 
+/// Kinds whose examples exit with status 1 (analysis or output failures); the rest exit 2.
+const EXIT_1: [&str; 8] = [
+    "Output",
+    "ReducedModes",
+    "StaticLoadBuckles",
+    "Linalg",
+    "ResponseNotFinite",
+    "NoWhirlModes",
+    "ReducedBasis",
+    "StiffResponse",
+];
+
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
@@ -52,6 +64,10 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::ReducedModes { .. } => "ReducedModes",
         AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
         AnalysisError::OutsideWindow { .. } => "OutsideWindow",
+        AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
+        AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
+        AnalysisError::ReducedBasis { .. } => "ReducedBasis",
+        AnalysisError::StiffResponse { .. } => "StiffResponse",
     }
 }
 
@@ -115,6 +131,10 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::ReducedModes { requested: 1, available: 0 },
         AnalysisError::StaticLoadBuckles { alpha: 1.0, critical_load: 1.0 },
         AnalysisError::OutsideWindow { phi: 1.0, window: rotorshunt::analysis::Interval::new(2.0, 3.0) },
+        AnalysisError::ResponseNotFinite { phi: 1.0, beta: 1.0, time: 1.0, periods: 1 },
+        AnalysisError::NoWhirlModes { speed: 0.0, eigenvalues: 0, tolerance: 0.5 },
+        AnalysisError::ReducedBasis { modes: 1, drift: 1.0 },
+        AnalysisError::StiffResponse { phi: 1.0, rate: 1.0, steps: 1.0, accuracy_steps: 1.0 },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },
@@ -234,8 +254,7 @@ fn documented_messages_are_what_the_binary_prints() {
                     args.join(" ")
                 ));
             }
-            let code =
-                if ["Output", "ReducedModes", "StaticLoadBuckles", "Linalg"].contains(&kind.as_str()) { 1 } else { 2 };
+            let code = if EXIT_1.contains(&kind.as_str()) { 1 } else { 2 };
             if out.status.code() != Some(code) {
                 failures.push(format!("`{kind}`: exit status {:?}, expected {code}", out.status.code()));
             }

@@ -25,9 +25,9 @@ pub struct ChartResult {
     pub instability_tolerance: f64,
     /// Reduced model used.
     pub reduction: ReductionInfo,
-    /// Points whose monodromy failed (no verdict).
+    /// Points whose monodromy failed (no verdict; counted apart from unstable ones).
     pub failed: usize,
-    /// Points computed with a non-converged interpolant.
+    /// Points flagged less accurate than the path states (each with its `reason`).
     pub inaccurate: usize,
 }
 
@@ -36,9 +36,9 @@ impl ChartResult {
     pub fn at(&self, i_phi: usize, i_beta: usize) -> &ChartPoint {
         &self.points[i_phi * self.betas.len() + i_beta]
     }
-    /// Number of unstable points.
+    /// Number of unstable points (with a verdict: failed points are counted apart).
     pub fn unstable(&self) -> usize {
-        self.points.iter().filter(|p| !p.stable).count()
+        self.points.iter().filter(|p| !p.stable && p.status != PointStatus::Failed).count()
     }
 }
 

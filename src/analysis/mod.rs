@@ -43,6 +43,52 @@ pub enum AnalysisError {
         /// The window (rad/s).
         window: Interval,
     },
+    /// The modal solve behind the reduced model (Eq. 22) did not resolve its basis: the
+    /// modes are far from M-orthonormal (masses or stiffnesses spanning too many orders of
+    /// magnitude, e.g. a shunt inductance of 1e8 H and more).
+    #[error("the {modes} modes of the reduced model are not resolved by the modal solve: their mass matrix deviates from the identity by {drift:.3e} (above 0.1); the masses and stiffnesses span too many orders of magnitude (check L, C_f and R of the shunt branches)")]
+    ReducedBasis {
+        /// M.
+        modes: usize,
+        /// max|ΦᵀMΦ − I| (−).
+        drift: f64,
+    },
+    /// The time response is stiff: RK4's stability needs more than
+    /// [`response::STIFFNESS_LIMIT`] times the steps its accuracy needs.
+    #[error("the time response at phi = {} rad/s is stiff: B0 has an eigenvalue of modulus {rate:.3e} 1/s (strong damping: a large R or eta), and RK4 would need {steps:.3e} steps per period, more than {} times the {accuracy_steps} its accuracy needs: not integrated (`rotorshunt floquet` gives the stability without it)", short(*phi), response::STIFFNESS_LIMIT)]
+    StiffResponse {
+        /// φ (rad/s).
+        phi: f64,
+        /// Spectral radius of B0 (1/s).
+        rate: f64,
+        /// Steps per period RK4's stability needs.
+        steps: f64,
+        /// Steps per period its accuracy needs.
+        accuracy_steps: f64,
+    },
+    /// The time response outgrew f64: its state is not finite from `time` on.
+    #[error("the time response at phi = {} rad/s, beta = {} is not finite from t = {time:.6e} s on (it outgrows f64 within the {periods} periods asked): lower --beta or --periods", short(*phi), short(*beta))]
+    ResponseNotFinite {
+        /// φ (rad/s).
+        phi: f64,
+        /// β.
+        beta: f64,
+        /// Time of the first non-finite state (s).
+        time: f64,
+        /// Periods asked for.
+        periods: usize,
+    },
+    /// The model has no whirl mode at the speed: every eigenvalue is non-oscillatory
+    /// (|Im λ| ≤ oscillation_tolerance·|λ|) or not finite.
+    #[error("no whirl mode at speed {speed} rad/s: all {eigenvalues} eigenvalues are non-oscillatory or not finite (analysis.oscillation_tolerance = {tolerance})")]
+    NoWhirlModes {
+        /// Ω (rad/s).
+        speed: f64,
+        /// Eigenvalues found.
+        eigenvalues: usize,
+        /// The oscillation tolerance in force.
+        tolerance: f64,
+    },
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -51,4 +97,13 @@ pub enum AnalysisError {
         /// P_cr (N).
         critical_load: f64,
     },
+}
+
+/// A number as plain text, in exponent form outside 1e-4…1e15 (1e300, not 301 digits).
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-4..1e15).contains(&v.abs()) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
+    }
 }

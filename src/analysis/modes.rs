@@ -1,19 +1,69 @@
 //! Whirl frequencies from the quadratic eigenproblem of Eq. (16),
-//! `(λ²M + λ(C − jΩG) + K − αP_cr·S) φ = 0`, solved by shift-invert (Eq. 18–21).
+//! `(λ²M + λ(C − jΩG) + K − αP_cr·S) φ = 0`, solved in the structure-keeping first-order
+//! form of [`solve_qep_definite`] (exactly zero damping when C = 0), or by shift-invert
+//! (Eq. 18–21) where that form does not apply (a massless DOF with damping, a spread of
+//! frequencies beyond [`crate::linalg::DEFINITE_FORM_SPREAD`]).
 //!
 //! λ = −ζ|λ| + jω: ω > 0 is a forward whirl, ω < 0 a backward whirl (MODEL.md).
 
 use super::{AnalysisError, Rotor, Settings};
 use crate::assembly::{DofKind, End};
-use crate::linalg::{qep_residual, solve_qep};
+use crate::linalg::{qep_residual, solve_qep, solve_qep_definite};
 use crate::model::Model;
-use faer::{c64, Mat};
+use faer::{c64, Mat, MatRef};
 use serde::Serialize;
 
 /// Shift σ of Eq. (18) in 1/s. A passive system has no eigenvalue with Re λ > 0, so a
 /// positive real shift never hits one; 1 s⁻¹ is far below every whirl frequency yet
 /// keeps (A − σB) regular even when K − αP_cr·S is nearly singular.
 pub const QEP_SHIFT: f64 = 1.0;
+
+/// Relative QEP residual above which a mode is flagged: the solvers leave ≤ 1.5e-7 even
+/// on the highest FE modes (~3.5e6 rad/s; measured on the Fig. 11 rotor) and ~1e-12 on
+/// the whirls of interest, so 1e-6 and above mean the pair is not an eigenpair of the
+/// model to working accuracy (e.g. Ω = 1e300 rad/s, where residuals reach 1).
+pub const MODE_RESIDUAL_LIMIT: f64 = 1e-6;
+
+/// Damping ratio below −this is flagged: the model is passive (η, R ≥ 0, so C ⪰ 0) and
+/// has no negatively damped mode; a computed ζ < −1e-9 is the eigensolver's round-off
+/// (shift-invert on a model it cannot hold in the first-order form).
+pub const NEGATIVE_DAMPING_LIMIT: f64 = 1e-9;
+
+/// Why a mode's numbers are not to be trusted (JSON `flag`, a note under the table).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModeFlag {
+    /// The relative QEP residual is above [`MODE_RESIDUAL_LIMIT`].
+    Residual {
+        /// The residual (−).
+        residual: f64,
+    },
+    /// ζ below −[`NEGATIVE_DAMPING_LIMIT`] in a passive model.
+    NegativeDamping {
+        /// ζ (−).
+        damping_ratio: f64,
+    },
+}
+
+impl std::fmt::Display for ModeFlag {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ModeFlag::Residual { residual } => write!(
+                f,
+                "QEP residual {residual:.3e} is above {MODE_RESIDUAL_LIMIT:e}: not an eigenpair of the model to working accuracy"
+            ),
+            ModeFlag::NegativeDamping { damping_ratio } => write!(
+                f,
+                "damping ratio {damping_ratio:.3e} is negative in a passive model: eigensolver round-off, not physics"
+            ),
+        }
+    }
+}
+
+impl Serialize for ModeFlag {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
+}
 
 /// Direction of a whirl relative to the spin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -65,6 +115,9 @@ pub struct WhirlMode {
     pub eigenvalue: [f64; 2],
     /// Relative QEP residual (see [`crate::linalg::qep_residual`]).
     pub residual: f64,
+    /// Why the numbers are not to be trusted (absent, and not serialised, when they are).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flag: Option<ModeFlag>,
 }
 
 impl WhirlMode {
@@ -117,7 +170,19 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     let sys = &rotor.system;
     let d = sys.damping_at(speed);
     let k = sys.stiffness_at(rotor.static_load());
-    let sol = solve_qep(sys.m.as_ref(), d.as_ref(), k.as_ref(), QEP_SHIFT)?;
+    let undamped = (0..sys.size()).all(|j| (0..sys.size()).all(|i| sys.c[(i, j)] == 0.0));
+    let sol = match solve_qep_definite(sys.m.as_ref(), d.as_ref(), k.as_ref()) {
+        Some(sol) => sol,
+        None => {
+            let mut sol = solve_qep(sys.m.as_ref(), d.as_ref(), k.as_ref(), QEP_SHIFT)?;
+            if undamped {
+                for (c, lambda) in sol.values.iter_mut().enumerate() {
+                    *lambda = undamped_rayleigh(sys.m.as_ref(), d.as_ref(), k.as_ref(), *lambda, sol.vectors.col(c));
+                }
+            }
+            sol
+        }
+    };
     let kinds = sys.dofs.kinds();
     let n = sys.size();
 
@@ -128,10 +193,14 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     }
     let mut raw = Vec::new();
     for (col, &lambda) in sol.values.iter().enumerate() {
+        let x = sol.vectors.col(col);
+        let residual = qep_residual(sys.m.as_ref(), d.as_ref(), k.as_ref(), lambda, x);
+        if !(lambda.re.is_finite() && lambda.im.is_finite() && residual.is_finite()) {
+            continue; // not an eigenpair that can be reported
+        }
         if lambda.im.abs() <= settings.oscillation_tolerance * lambda.norm() {
             continue; // non-oscillatory: not a whirl
         }
-        let x = sol.vectors.col(col);
         let mut total = 0.0;
         let mut charge = 0.0;
         let mut per_branch = vec![0.0; sys.dofs.branches];
@@ -157,19 +226,36 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         let branch = (kind == ModeKind::Electrical)
             .then(|| (0..per_branch.len()).max_by(|&a, &b| per_branch[a].total_cmp(&per_branch[b])).unwrap_or(0));
         let whirl = if lambda.im > 0.0 { Whirl::Forward } else { Whirl::Backward };
+        // (an exactly imaginary λ has ζ = 0, not −0)
+        let damping_ratio = if lambda.re == 0.0 { 0.0 } else { -lambda.re / lambda.norm() };
+        let flag = if residual > MODE_RESIDUAL_LIMIT {
+            Some(ModeFlag::Residual { residual })
+        } else if damping_ratio < -NEGATIVE_DAMPING_LIMIT {
+            Some(ModeFlag::NegativeDamping { damping_ratio })
+        } else {
+            None
+        };
         raw.push(Raw {
             col,
             branch,
             mode: WhirlMode {
                 frequency: lambda.im.abs(),
                 whirl,
-                damping_ratio: -lambda.re / lambda.norm(),
+                damping_ratio,
                 label: String::new(),
                 kind,
                 electrical_fraction: fraction,
                 eigenvalue: [lambda.re, lambda.im],
-                residual: qep_residual(sys.m.as_ref(), d.as_ref(), k.as_ref(), lambda, x),
+                residual,
+                flag,
             },
+        });
+    }
+    if raw.is_empty() {
+        return Err(AnalysisError::NoWhirlModes {
+            speed,
+            eigenvalues: sol.values.len(),
+            tolerance: settings.oscillation_tolerance,
         });
     }
     raw.sort_by(|a, b| a.mode.frequency.total_cmp(&b.mode.frequency));
@@ -198,6 +284,52 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         modes: raw.into_iter().map(|r| r.mode).collect(),
         shapes,
     })
+}
+
+/// λ = jω refined by the Rayleigh functional of an undamped (C = 0) gyroscopic model:
+/// with a = xᴴMx > 0, b = xᴴG̃x (G̃ = Im D = −ΩG), c = xᴴKx > 0 (all real: M, G̃, K real
+/// symmetric), xᴴ(λ²M + λ·jG̃ + K)x = 0 at λ = jω reads a·ω² + b·ω − c = 0, whose roots
+/// are real and of opposite signs: ω is the one of the whirl direction of λ, and the
+/// damping is exactly zero, as it is for any conservative system. The Rayleigh functional
+/// of a Hermitian problem is second-order accurate in the error of x. Shift-invert's
+/// eigenvalues of the same model carry spurious damping of up to ±1e-3 on its high modes,
+/// which this removes. λ is returned unchanged where a, c or the roots are not finite and
+/// positive.
+fn undamped_rayleigh(
+    m: MatRef<'_, f64>,
+    d: MatRef<'_, c64>,
+    k: MatRef<'_, f64>,
+    lambda: c64,
+    x: faer::ColRef<'_, c64>,
+) -> c64 {
+    let n = m.nrows();
+    let form = |entry: &dyn Fn(usize, usize) -> f64| {
+        let mut acc = c64::new(0.0, 0.0);
+        for j in 0..n {
+            let mut col = c64::new(0.0, 0.0);
+            for i in 0..n {
+                col += x[i].conj() * entry(i, j);
+            }
+            acc += col * x[j];
+        }
+        acc.re
+    };
+    let a = form(&|i, j| m[(i, j)]);
+    let b = form(&|i, j| d[(i, j)].im);
+    let c = form(&|i, j| k[(i, j)]);
+    if !(a > 0.0 && c > 0.0 && a.is_finite() && b.is_finite() && c.is_finite()) {
+        return lambda;
+    }
+    // a·ω² + b·ω − c = 0 without cancellation: q = −(b + sign(b)·√(b² + 4ac))/2, roots q/a
+    // and −c/q.
+    let q = -0.5 * (b + b.signum() * (b * b + 4.0 * a * c).sqrt());
+    let (w1, w2) = (q / a, -c / q);
+    let omega = if (w1 > 0.0) == (lambda.im > 0.0) { w1 } else { w2 };
+    if omega.is_finite() {
+        c64::new(0.0, omega)
+    } else {
+        lambda
+    }
 }
 
 /// The paper names the electrical modes of branch 1 `r` and of branch 2 `s`; further

@@ -3,12 +3,19 @@
 //! Classical RK4 with a step resolving the fastest mode, from rest.
 
 use super::floquet::FloquetSystem;
+use super::AnalysisError;
 use faer::c64;
 use serde::Serialize;
 
 /// RK4 steps per period of the fastest basis mode: h·ω_max ≤ 2π/64 ≈ 0.1 keeps the
 /// RK4 phase error per step ~1e-7.
 const STEPS_PER_FASTEST_PERIOD: f64 = 64.0;
+/// Largest |h·λ| over B0's eigenvalues λ: classical RK4 is stable (|R(hλ)| ≤ 0.873) on
+/// the whole left half-disc |hλ| ≤ 2.5, and no longer at 2.7. The phase rule above keeps
+/// every oscillatory λ far inside; this bounds the decay rates of stiff damping (a branch
+/// with R = 1e9 Ω has Re λ ≈ −R/L ≈ −1e9 1/s), which RK4 with the phase step turned into
+/// an overflow within 2e-4 s instead of a decaying response.
+const RK4_STABLE_STEP: f64 = 2.5;
 /// At most this many samples are stored, whatever the step count.
 const MAX_SAMPLES: usize = 4000;
 
@@ -31,6 +38,11 @@ pub struct ResponseResult {
     pub last_period_peak: f64,
     /// RK4 step (s).
     pub step: f64,
+    /// Time (s) of the first step whose state is not finite (the response outgrew f64):
+    /// the integration stopped there and the samples end before it. Absent when the
+    /// whole interval was integrated.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_at: Option<f64>,
 }
 
 impl ResponseResult {
@@ -38,19 +50,72 @@ impl ResponseResult {
     pub fn growth_ratio(&self) -> f64 {
         self.last_period_peak / self.first_period_peak.max(f64::MIN_POSITIVE)
     }
+
+    /// The response, or the analysis error of one whose state stopped being finite.
+    pub fn finite(self) -> Result<ResponseResult, AnalysisError> {
+        match self.stopped_at {
+            None => Ok(self),
+            Some(time) => {
+                Err(AnalysisError::ResponseNotFinite { phi: self.phi, beta: self.beta, time, periods: self.periods })
+            }
+        }
+    }
 }
 
-/// Integrate `periods` load periods at (φ, β) from rest.
+/// Most times the steps of the phase rule that RK4's stability may ask for: beyond it
+/// the response is stiff (a decay rate 100× the fastest oscillation: nearly all steps
+/// would be spent on a component that has long vanished) and is refused
+/// ([`AnalysisError::StiffResponse`]) rather than integrated for hours: R = 1e9 Ω on
+/// the Fig. 13 rotor needs 6 600× (4.7 s a period here), η = 1e12 N·s/m on Fig. 8
+/// 2.6·10⁶×.
+pub const STIFFNESS_LIMIT: f64 = 100.0;
+
+/// RK4 steps per load period at φ (rad/s) of [`response`]: 64 per period of the fastest
+/// of the basis frequencies, φ and Ω (at least 64), and more where B0 has a decay rate
+/// beyond RK4's stability region at that step ([`RK4_STABLE_STEP`]). The work of a
+/// response is this times the periods, each step four products of the 2M-state.
+pub fn rk4_steps_per_period(fs: &FloquetSystem, phi: f64) -> usize {
+    let (by_phase, by_stability, _) = step_rules(fs, phi);
+    // `as` saturates: a non-finite or huge count becomes usize::MAX, never wraps.
+    (by_phase.max(by_stability) as usize).max(64)
+}
+
+/// Steps per period by the phase rule, by RK4's stability, and B0's spectral radius.
+fn step_rules(fs: &FloquetSystem, phi: f64) -> (f64, f64, f64) {
+    let omega_max = fs.reduced.frequencies.iter().fold(phi, |a, b| a.max(*b)).max(fs.speed);
+    let period = 2.0 * std::f64::consts::PI / phi;
+    let by_phase = (period * omega_max / (2.0 * std::f64::consts::PI) * STEPS_PER_FASTEST_PERIOD).ceil();
+    // The spectral radius of B0 (0 if its eigenvalues fail: the phase rule alone).
+    let radius = fs.eigenvalues().map(|ev| ev.iter().map(|z| z.norm()).fold(0.0, f64::max)).unwrap_or(0.0);
+    (by_phase, (period * radius / RK4_STABLE_STEP).ceil(), radius)
+}
+
+/// [`response`] for callers that report it: refused before work when it is stiff
+/// (beyond [`STIFFNESS_LIMIT`]), and an error when its state stops being finite.
+pub fn checked_response(
+    fs: &FloquetSystem,
+    phi: f64,
+    beta: f64,
+    periods: usize,
+) -> Result<ResponseResult, AnalysisError> {
+    let (by_phase, by_stability, radius) = step_rules(fs, phi);
+    let by_phase = by_phase.max(64.0);
+    if by_stability.is_nan() || by_stability > STIFFNESS_LIMIT * by_phase {
+        return Err(AnalysisError::StiffResponse { phi, rate: radius, steps: by_stability, accuracy_steps: by_phase });
+    }
+    response(fs, phi, beta, periods).finite()
+}
+
+/// Integrate `periods` load periods at (φ, β) from rest, stopping at the first step whose
+/// state is not finite (`stopped_at`; [`ResponseResult::finite`] makes that an error).
 pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> ResponseResult {
     let sys = &fs.system;
     let n = sys.b0.nrows();
     let m = n / 2;
-    let omega_max = fs.reduced.frequencies.iter().fold(phi, |a, b| a.max(*b)).max(fs.speed);
     let period = 2.0 * std::f64::consts::PI / phi;
-    let steps_per_period =
-        ((period * omega_max / (2.0 * std::f64::consts::PI) * STEPS_PER_FASTEST_PERIOD).ceil() as usize).max(64);
+    let steps_per_period = rk4_steps_per_period(fs, phi);
     let h = period / steps_per_period as f64;
-    let total = steps_per_period * periods;
+    let total = steps_per_period.saturating_mul(periods);
     let stride = total.div_ceil(MAX_SAMPLES).max(1);
     let force: Vec<c64> = fs.reduced.unbalance.iter().map(|u| u * (fs.speed * fs.speed)).collect();
     let rhs = |t: f64, y: &[c64], out: &mut [c64]| {
@@ -72,6 +137,7 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
     let mut time = vec![0.0];
     let mut q1 = vec![[0.0, 0.0]];
     let (mut first, mut last) = (0.0f64, 0.0f64);
+    let mut stopped_at = None;
     for s in 0..total {
         let t = s as f64 * h;
         rhs(t, &y, &mut k1);
@@ -91,6 +157,10 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
             y[i] += (k1[i] + (k2[i] + k3[i]) * 2.0 + k4[i]) * (h / 6.0);
         }
         let amp = y[m..].iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt();
+        if !y.iter().all(|z| z.re.is_finite() && z.im.is_finite()) || !amp.is_finite() {
+            stopped_at = Some(t + h);
+            break;
+        }
         if s < steps_per_period {
             first = first.max(amp);
         }
@@ -102,5 +172,15 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
             q1.push([y[m].re, y[m].im]);
         }
     }
-    ResponseResult { phi, beta, periods, time, q1, first_period_peak: first, last_period_peak: last, step: h }
+    ResponseResult {
+        phi,
+        beta,
+        periods,
+        time,
+        q1,
+        first_period_peak: first,
+        last_period_peak: last,
+        step: h,
+        stopped_at,
+    }
 }

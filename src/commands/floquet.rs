@@ -4,7 +4,7 @@
 use super::{parse_range, title, OutDir, Progress, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
-use crate::analysis::response::{response, ResponseResult};
+use crate::analysis::response::{checked_response, ResponseResult};
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
@@ -70,7 +70,7 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
         return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
     }
     let mut s = format!(
-        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\nmultipliers:\n",
+        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\n",
         fs.speed,
         fs.reduced.size(),
         point.summary.max_multiplier,
@@ -80,6 +80,10 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result
         problem.settings.instability_tolerance,
         point.summary.status
     );
+    if let Some(reason) = point.summary.reason {
+        s += &format!("reason: {reason}\n");
+    }
+    s += "multipliers:\n";
     for m in &point.multipliers {
         s += &format!(
             "  {:+.8e} {:+.8e}i  |mu| = {:.8}\n",
@@ -232,7 +236,7 @@ pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out:
     }
     let fs = system(problem)?;
     let point = fs.point(phi, beta);
-    let r: ResponseResult = response(&fs, phi, beta, periods);
+    let r: ResponseResult = checked_response(&fs, phi, beta, periods)?;
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
     struct Json<'a> {

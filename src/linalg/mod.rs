@@ -1,4 +1,5 @@
-//! Thin wrappers over faer: the quadratic eigenproblem by shift-invert (Eq. 18–21), the
+//! Thin wrappers over faer: the quadratic eigenproblem in a structure-keeping first-order
+//! form, and by shift-invert (Eq. 18–21) where that form does not apply, the
 //! symmetric-definite generalised eigenproblem (buckling, undamped modes), the matrix
 //! exponential and complex products as real ones.
 
@@ -10,7 +11,7 @@ mod symmetric;
 
 pub use balance::balance;
 pub use expm::{expm, norm1, with_modulus};
-pub use qep::{qep_residual, solve_qep, QepSolution};
+pub use qep::{qep_residual, solve_qep, solve_qep_definite, QepSolution, DEFINITE_FORM_SPREAD};
 pub use split::{ExpWorkspace, SplitMatrix};
 pub use symmetric::{definite_eigen, DefiniteEigen};
 

@@ -93,6 +93,8 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         None => left.clone(),
     };
     let circuit = circuit(&f.circuit, &left)?;
+    let right_key = if f.ring.right.is_some() { "ring.right" } else { "ring" };
+    charges(&f.circuit, &circuit, [(&left, "ring"), (&right, right_key)])?;
     let load = Load {
         alpha: within(
             "load.alpha",
@@ -235,6 +237,80 @@ fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
         })
         .collect::<Result<_, Failure>>()?;
     Ok(Circuit { state: c.state, branches })
+}
+
+/// Every branch's charge DOF must have finite coefficients at both rings: mass γL,
+/// damping γR and stiffness γ/C_f (γ = 2cot²β·θ_p², Eq. A8), and L itself when it comes
+/// from a tuning frequency, L = (1/C_f + 1/C_p^T)/ω² (Eq. 4). Valid inputs can still
+/// overflow them (L = inf from ω = 1e-300 rad/s or a subnormal C_f; γL = inf from
+/// L = 1e308 H), and the analyses cannot run on an infinite matrix entry. The error is
+/// reported at the input that overflows: for a product, the factor furthest from 1 (in
+/// orders of magnitude). A ring whose γ itself overflows is left to the analyses, as
+/// before. L = 0 (no mass) is fine: a massless charge.
+fn charges(file: &CircuitFile, circuit: &Circuit, rings: [(&Ring, &str); 2]) -> Result<(), Failure> {
+    if circuit.state != CircuitState::Closed {
+        return Ok(());
+    }
+    let orders = |x: f64| x.abs().ln().abs();
+    for (i, (b, given)) in circuit.branches.iter().zip(&file.branches).enumerate() {
+        let key = |name: &str| format!("circuit.branches[{i}].{name}");
+        let out = |name: &str, value: f64, what: &str| {
+            Err((key(name), K::OutOfRange { value, range: format!("one that gives a finite {what}") }))
+        };
+        for (ring, prefix) in rings {
+            let ring_key = |name: &str| format!("{prefix}.{name}");
+            if let (None, Some(w)) = (given.inductance, given.tuning_frequency) {
+                if !(1.0 / b.c_f).is_finite() {
+                    return out("c_f", b.c_f, "1/C_f (Eq. 4)");
+                }
+                if !(1.0 / ring.cp_t).is_finite() {
+                    let range = "one that gives a finite 1/C_p^T (Eq. 4)".to_string();
+                    return Err((ring_key("cp_t"), K::OutOfRange { value: ring.cp_t, range }));
+                }
+                if !b.inductance.is_finite() {
+                    return out("tuning_frequency", w, &format!("L (here L = {:e} H)", b.inductance));
+                }
+            }
+            let gamma = ring.gamma();
+            if !gamma.is_finite() {
+                continue;
+            }
+            // γ = 2cot²β·θ_p²: the ring key behind it is θ_p unless cot²β is the larger.
+            let cot2 = gamma / (2.0 * ring.theta_p * ring.theta_p);
+            let (gamma_key, gamma_value) = if orders(cot2) > orders(ring.theta_p * ring.theta_p) {
+                (ring_key("angle_deg"), ring.angle.to_degrees())
+            } else {
+                (ring_key("theta_p"), ring.theta_p)
+            };
+            let blame = |name: &str, value: f64, what: &str| -> Failure {
+                let what = format!("{what} (gamma = {gamma:.4})");
+                let range = format!("one that gives a finite {what}");
+                if orders(value) >= orders(gamma) {
+                    (key(name), K::OutOfRange { value, range })
+                } else {
+                    (gamma_key.clone(), K::OutOfRange { value: gamma_value, range })
+                }
+            };
+            let l_name = if given.inductance.is_some() { "inductance" } else { "tuning_frequency" };
+            if !(gamma * b.inductance).is_finite() {
+                let mut e = blame("inductance", b.inductance, "charge mass gamma L");
+                if e.0 == key("inductance") {
+                    e.0 = key(l_name);
+                    if let (K::OutOfRange { value, .. }, Some(w)) = (&mut e.1, given.tuning_frequency) {
+                        *value = w;
+                    }
+                }
+                return Err(e);
+            }
+            if !(gamma * b.resistance).is_finite() {
+                return Err(blame("resistance", b.resistance, "charge damping gamma R"));
+            }
+            if !(gamma / b.c_f).is_finite() {
+                return Err(blame("c_f", b.c_f, "charge stiffness gamma / C_f"));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn settings(s: &Settings) -> Result<Settings, Failure> {

@@ -616,6 +616,7 @@ mod tests {
                     growth_rate: ln * phi / (2.0 * std::f64::consts::PI),
                     stable: !unstable,
                     status: PointStatus::Ok,
+                    reason: None,
                 };
                 if phi == 600.0 && beta == 0.75 {
                     p = ChartPoint {

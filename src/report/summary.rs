@@ -70,14 +70,27 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
         if m.circuit.state == CircuitState::Closed { "" } else { " (not connected in this state)" }
     );
     for (i, b) in m.circuit.branches.iter().enumerate() {
+        // Fixed decimals in the usual range, exponent form outside it (L = 1e300 H is not
+        // 301 digits, and L = 1e-9 H not "0.0000").
+        let fixed = |v: f64, decimals: usize| {
+            if v == 0.0 || (1e-3..1e7).contains(&v.abs()) {
+                format!("{v:.decimals$}")
+            } else {
+                format!("{v:.4e}")
+            }
+        };
+        let tuning = if b.inductance == 0.0 {
+            "not tuned (L = 0: a massless charge)".to_string()
+        } else {
+            format!("tuned to {} rad/s (Eq. 4)", fixed(b.tuning_frequency(m.left.cp_t), 1))
+        };
         let _ = writeln!(
             out,
-            "    branch {}: C_f = {:.4e} F, L = {:.4} H, R = {} ohm, tuned to {:.1} rad/s (Eq. 4)",
+            "    branch {}: C_f = {:.4e} F, L = {} H, R = {} ohm, {tuning}",
             i + 1,
             b.c_f,
-            b.inductance,
+            fixed(b.inductance, 4),
             b.resistance,
-            b.tuning_frequency(m.left.cp_t)
         );
     }
     let _ = writeln!(
@@ -112,6 +125,11 @@ pub fn modes_text(modes: &[WhirlMode], speed: f64, critical_load: f64) -> String
             m.frequency,
             m.damping_ratio
         );
+    }
+    for m in modes {
+        if let Some(flag) = &m.flag {
+            let _ = writeln!(out, "note: mode {} is flagged: {flag}", m.tag());
+        }
     }
     out
 }

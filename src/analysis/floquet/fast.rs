@@ -21,6 +21,7 @@
 //!    and complex products: the test of the fast path against it checks these too.
 
 use super::product::{ScaledProduct, ScaledSplit};
+use super::PointIssue;
 use crate::analysis::reduction::PeriodicSystem;
 use crate::linalg::{expm, with_modulus, ExpWorkspace, SplitMatrix};
 use faer::linalg::matmul::matmul;
@@ -36,9 +37,9 @@ const CHEBYSHEV_DEGREES: [usize; 15] = [4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 20, 24
 /// count is doubled. The interpolant converges at any a (its degree grows like a), but the
 /// CFM4 error does not: at β = 400, φ = 100 rad/s (a ≈ 35 at the default steps) ln max|μ|
 /// was 3.6e-5 off an RK4 reference. On the paper's charts (β ≤ 1) a stays below 0.5.
-const MAX_COUPLING: f64 = 2.0;
+pub const MAX_COUPLING: f64 = 2.0;
 /// Most CFM4 steps per period the automatic doubling goes to.
-const MAX_STEPS: usize = 4096;
+pub const MAX_STEPS: usize = 4096;
 /// Relative size of the trailing Chebyshev coefficients accepted as converged. Summed
 /// over the steps of a period (32 by default) the interpolation error is of order
 /// 3e-10 of Φ: far below the CFM4 error (1e-6 of a converged reference) and the
@@ -131,13 +132,9 @@ impl PhiTable {
             xi.push(2.0 * (w2 * f1 + w1 * f2));
         }
         let x_max = beta_max * xi.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        // B0 holds ω² (stiffness) next to 1 (the identity block), so ‖τB‖ ~ τω²_max and
-        // the exponential would need ~10 squarings. In the coordinates [q̇; w·q], w_i the
-        // modal frequency, every block is ~ω and ‖τB‖ ~ τω_max ≲ 1: exp is computed there
-        // (no squaring) and scaled back, E_ij = E'_ij·s_j/s_i — the same matrix to round-off.
-        let m = n / 2;
-        let scale: Vec<f64> =
-            (0..n).map(|i| if i < m { 1.0 } else { sys.b0[(i - m, i)].norm().sqrt().max(1.0) }).collect();
+        // In the coordinates [q̇; w·q] every block of τB is ~τω ≲ 1 instead of τω²: exp is
+        // computed there (no squaring) and scaled back (PeriodicSystem::frequency_scaling).
+        let scale = sys.frequency_scaling();
         // τB0 and τB1 in the scaled coordinates, formed once per table.
         let scaled = |b: &Mat<c64>| {
             SplitMatrix::from_complex(Mat::from_fn(n, n, |i, j| b[(i, j)] * (tau * scale[i] / scale[j])).as_ref())
@@ -197,7 +194,10 @@ impl PhiTable {
             };
             let scale = size(0).max(1e-300);
             let tail = (points - 2..points).map(size).fold(0.0, f64::max);
-            let converged = tail <= CHEBYSHEV_TOLERANCE * scale;
+            // Non-finite samples (an exponential that overflowed) are never converged:
+            // `inf <= tol·inf` would say they are.
+            let finite = (0..points).all(|k| size(k).is_finite());
+            let converged = finite && tail <= CHEBYSHEV_TOLERANCE * scale;
             if converged || points >= MAX_CHEBYSHEV_POINTS {
                 return PhiTable { phi, steps, xi, x_max, cheb, n, converged, coupling: a };
             }
@@ -208,6 +208,25 @@ impl PhiTable {
     /// Number of Chebyshev terms of the interpolant.
     pub fn terms(&self) -> usize {
         self.cheb.ncols()
+    }
+
+    /// a = x_max·‖τB1‖, the parametric coupling over one exponential (frequency-scaled).
+    pub fn coupling(&self) -> f64 {
+        self.coupling
+    }
+
+    /// Why points from this table are less accurate than the path states, if they are:
+    /// the interpolant did not converge, or the coupling per exponential is still above
+    /// [`MAX_COUPLING`] at the most steps the doubling takes (the CFM4 error is then not
+    /// controlled: huge β·P_cr against a long period).
+    pub fn issue(&self) -> Option<PointIssue> {
+        if !self.converged {
+            Some(PointIssue::Interpolant { terms: self.terms() })
+        } else if self.coupling.is_nan() || self.coupling > MAX_COUPLING {
+            Some(PointIssue::Coupling { coupling: self.coupling, steps: self.steps })
+        } else {
+            None
+        }
     }
 
     /// Monodromy Φ(T) at load β (≤ the table's β_max), with the symmetry X. The step

@@ -5,6 +5,13 @@
 //! e^{s}·Φ̂ so that strongly unstable points never overflow. Multipliers μ are the
 //! eigenvalues of Φ(T); the point is unstable when max|μ| exceeds the tolerance
 //! (1.0001 in the paper).
+//!
+//! β = 0 sanity check: at β = 0 the system is constant and its multipliers are exactly
+//! exp(λ_k T), λ_k the eigenvalues of B0 (on the unit circle when undamped). Every
+//! reported point is checked against that at its φ, with the path and steps that
+//! computed it; a path that misses it by more than [`ZERO_LOAD_TOLERANCE`] is not as
+//! accurate as it claims there, and its points are `inaccurate` with the deviation as
+//! reason ([`PointIssue::ZeroLoad`]).
 
 pub mod dstm;
 pub mod fast;
@@ -29,17 +36,100 @@ pub const ALIAS_MARGIN: f64 = 1.1;
 /// saturated to f64::MAX and only the logarithm is exact.
 const LN_F64_MAX: f64 = 709.0;
 
+/// Largest deviation of the β = 0 multipliers from exp(λ_k T) (moduli, relative to the
+/// largest) before the points of that φ are flagged `inaccurate`. Both paths meet it by
+/// orders of magnitude where they are sound: at every φ = 100:14000:25 rad/s of the nine
+/// paper problems the fast path deviates by ≤ 4.4e-13 (from tables built for β ≤ 1) and
+/// the DSTM(4096) by ≤ 2.0e-12 (measured), ≤ 1.2e-10 with a 3·10⁶ rad/s basis mode.
+/// 1e-8 is 1e-4 of the paper's instability margin (max|μ| − 1 = 1e-4), so a point that
+/// passes has its verdict decided by the physics, not by the path's error floor.
+pub const ZERO_LOAD_TOLERANCE: f64 = 1e-8;
+
 /// Outcome of one (φ, β) point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PointStatus {
     /// Multipliers computed.
     Ok,
-    /// The per-φ interpolant did not converge to its tolerance (result still computed,
-    /// but less accurate than stated).
+    /// Multipliers computed, but less accurate than the path states; the point's
+    /// `reason` says why (a [`PointIssue`]).
     Inaccurate,
     /// The eigenvalue iteration failed or the monodromy was not finite: no verdict.
     Failed,
+}
+
+/// Why a point is `inaccurate` or `failed`: serialised as the text of its `Display`
+/// (JSON `reason`), printed by the CLI next to the status.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PointIssue {
+    /// The fast path's per-φ Chebyshev interpolant did not reach its tolerance with
+    /// `terms` terms (or its samples were not finite).
+    Interpolant {
+        /// Chebyshev terms of the last attempt.
+        terms: usize,
+    },
+    /// The fast path's parametric coupling per exponential a = x_max·‖τB1‖ is above
+    /// [`fast::MAX_COUPLING`] even at the most CFM4 steps (`steps` per period): the CFM4
+    /// error is not controlled (β·P_cr huge against the period).
+    Coupling {
+        /// a (−).
+        coupling: f64,
+        /// CFM4 steps per period.
+        steps: usize,
+    },
+    /// The β = 0 monodromy of the same path and steps misses exp(λ_k T) by `deviation`
+    /// (> [`ZERO_LOAD_TOLERANCE`]; infinite when it has no finite multipliers).
+    ZeroLoad {
+        /// max_k | |μ_k| − |exp(λ_k T)| | / max_k |exp(λ_k T)|, moduli sorted (−).
+        deviation: f64,
+    },
+    /// B0's eigenvalues, the reference of the β = 0 check, could not be computed.
+    NoZeroLoadReference,
+    /// The eigenvalue iteration on the monodromy did not converge.
+    Eigenvalues,
+    /// The monodromy, its multipliers or ln max|μ| are not finite.
+    NotFinite,
+}
+
+impl PointIssue {
+    /// The status a point with this issue has.
+    pub fn status(&self) -> PointStatus {
+        match self {
+            PointIssue::Eigenvalues | PointIssue::NotFinite => PointStatus::Failed,
+            _ => PointStatus::Inaccurate,
+        }
+    }
+}
+
+impl std::fmt::Display for PointIssue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PointIssue::Interpolant { terms } => {
+                write!(f, "the per-phi Chebyshev interpolant did not converge ({terms} terms)")
+            }
+            PointIssue::Coupling { coupling, steps } => write!(
+                f,
+                "the parametric coupling per CFM4 exponential is {coupling:.3e} (above {}) even at {steps} steps per period: beta is too large for this period",
+                fast::MAX_COUPLING
+            ),
+            PointIssue::ZeroLoad { deviation } if deviation.is_finite() => write!(
+                f,
+                "beta = 0 check: the multipliers at beta = 0 deviate from exp(lambda T) by {deviation:.3e} (tolerance {ZERO_LOAD_TOLERANCE:e})"
+            ),
+            PointIssue::ZeroLoad { .. } => write!(f, "beta = 0 check: the monodromy at beta = 0 has no finite multipliers"),
+            PointIssue::NoZeroLoadReference => {
+                write!(f, "beta = 0 check: the eigenvalues of B0 (its reference) could not be computed")
+            }
+            PointIssue::Eigenvalues => write!(f, "the eigenvalue iteration on the monodromy did not converge"),
+            PointIssue::NotFinite => write!(f, "the monodromy or its multipliers are not finite"),
+        }
+    }
+}
+
+impl Serialize for PointIssue {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_str(self)
+    }
 }
 
 /// The scalar outcome of one (φ, β) point: what a chart stores.
@@ -59,6 +149,19 @@ pub struct PointSummary {
     pub stable: bool,
     /// Whether the point was computed normally.
     pub status: PointStatus,
+    /// Why it was not (absent, and not serialised, when `status` is `ok`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<PointIssue>,
+}
+
+impl PointSummary {
+    /// Mark an `ok` point with `issue` (a point already flagged keeps its first reason).
+    pub fn flag(&mut self, issue: Option<PointIssue>) {
+        if let (Some(issue), PointStatus::Ok) = (issue, self.status) {
+            self.status = issue.status();
+            self.reason = Some(issue);
+        }
+    }
 }
 
 /// Floquet result at one point: the summary and all multipliers.
@@ -74,7 +177,8 @@ pub struct FloquetPoint {
 }
 
 impl FloquetPoint {
-    fn failed(phi: f64, beta: f64) -> FloquetPoint {
+    /// A point without a verdict: placeholders (f64::MAX) for its numbers, the reason.
+    fn failed(phi: f64, beta: f64, issue: PointIssue) -> FloquetPoint {
         FloquetPoint {
             summary: PointSummary {
                 phi,
@@ -84,13 +188,15 @@ impl FloquetPoint {
                 growth_rate: f64::MAX,
                 stable: false,
                 status: PointStatus::Failed,
+                reason: Some(issue),
             },
             multipliers: Vec::new(),
             multiplier_log_scale: 0.0,
         }
     }
 
-    /// Multipliers and verdict from a monodromy.
+    /// Multipliers and verdict from a monodromy, with the status given when they are
+    /// computed (`failed`, with its reason, when they cannot be).
     pub fn from_monodromy(
         phi: f64,
         beta: f64,
@@ -98,16 +204,35 @@ impl FloquetPoint {
         tolerance: f64,
         status: PointStatus,
     ) -> FloquetPoint {
+        let mut p = FloquetPoint::from_monodromy_with(phi, beta, mono, tolerance, None);
+        if p.summary.status == PointStatus::Ok {
+            p.summary.status = status;
+        }
+        p
+    }
+
+    /// Multipliers and verdict from a monodromy, flagged with `issue` (if any).
+    pub fn from_monodromy_with(
+        phi: f64,
+        beta: f64,
+        mono: &ScaledProduct,
+        tolerance: f64,
+        issue: Option<PointIssue>,
+    ) -> FloquetPoint {
         let mut balanced = mono.matrix.clone();
         crate::linalg::balance(&mut balanced);
         let Ok(ev) = balanced.eigenvalues() else {
-            return FloquetPoint::failed(phi, beta);
+            return FloquetPoint::failed(phi, beta, PointIssue::Eigenvalues);
         };
         if ev.iter().any(|z| !z.re.is_finite() || !z.im.is_finite()) || !mono.log_scale.is_finite() {
-            return FloquetPoint::failed(phi, beta);
+            return FloquetPoint::failed(phi, beta, PointIssue::NotFinite);
         }
         let max_scaled = ev.iter().map(|z| z.norm()).fold(0.0, f64::max);
         let ln_max = max_scaled.ln() + mono.log_scale;
+        if !ln_max.is_finite() {
+            // All multipliers zero (or a modulus overflowing): no finite ln max|μ|.
+            return FloquetPoint::failed(phi, beta, PointIssue::NotFinite);
+        }
         let period = 2.0 * std::f64::consts::PI / phi;
         let (multipliers, multiplier_log_scale) = if mono.log_scale.abs() < LN_F64_MAX / 2.0 {
             let f = mono.log_scale.exp();
@@ -123,10 +248,52 @@ impl FloquetPoint {
                 ln_max_multiplier: ln_max,
                 growth_rate: ln_max / period,
                 stable: ln_max <= tolerance.ln(),
-                status,
+                status: issue.map_or(PointStatus::Ok, |i| i.status()),
+                reason: issue,
             },
             multipliers,
             multiplier_log_scale,
+        }
+    }
+}
+
+/// The β = 0 reference of a system: the exact multiplier moduli are exp(Re λ_k·T).
+#[derive(Debug, Clone)]
+struct ZeroLoadReference {
+    /// Re λ_k of B0's eigenvalues (1/s), descending; None if they could not be computed.
+    rates: Option<Vec<f64>>,
+}
+
+impl ZeroLoadReference {
+    /// `deviation` of the β = 0 point of some path at its φ from exp(λ_k T): the largest
+    /// difference of the moduli, both sorted (sorting moves no modulus further than the
+    /// pairing does, so this is a lower bound of the pairwise error), relative to the
+    /// largest exact modulus; infinite if the point has no finite multipliers.
+    fn deviation(rates: &[f64], point: &FloquetPoint) -> f64 {
+        let s = &point.summary;
+        if s.status == PointStatus::Failed || point.multipliers.len() != rates.len() || rates.is_empty() {
+            return f64::INFINITY;
+        }
+        let period = 2.0 * std::f64::consts::PI / s.phi;
+        let mut got: Vec<f64> =
+            point.multipliers.iter().map(|m| m[0].hypot(m[1]).ln() + point.multiplier_log_scale).collect();
+        if got.iter().any(|x| x.is_nan()) {
+            return f64::INFINITY;
+        }
+        got.sort_by(|a, b| b.total_cmp(a));
+        // Exact moduli relative to the largest, in logarithms: no overflow for any rate.
+        let top = rates[0] * period;
+        got.iter().zip(rates).map(|(g, r)| ((g - top).exp() - (r * period - top).exp()).abs()).fold(0.0, f64::max)
+    }
+
+    /// The issue of the points computed with the path whose β = 0 point is `zero`.
+    fn issue(&self, zero: &FloquetPoint) -> Option<PointIssue> {
+        match &self.rates {
+            None => Some(PointIssue::NoZeroLoadReference),
+            Some(rates) => {
+                let deviation = ZeroLoadReference::deviation(rates, zero);
+                (deviation.is_nan() || deviation > ZERO_LOAD_TOLERANCE).then_some(PointIssue::ZeroLoad { deviation })
+            }
         }
     }
 }
@@ -144,6 +311,8 @@ pub struct FloquetSystem {
     pub speed: f64,
     /// Settings in force.
     pub settings: Settings,
+    /// The β = 0 check's reference.
+    zero_load: ZeroLoadReference,
 }
 
 impl FloquetSystem {
@@ -152,20 +321,19 @@ impl FloquetSystem {
         let reduced = ReducedModel::new(rotor, settings.reduced_modes)?;
         let system = reduced.periodic_system(speed);
         let symmetry = Symmetry::new(&system);
-        Ok(FloquetSystem { reduced, system, symmetry, speed, settings: settings.clone() })
+        let rates = eigenvalues_of(&system).ok().map(|ev| {
+            let mut rates: Vec<f64> = ev.iter().map(|z| z.re).collect();
+            rates.sort_by(|a, b| b.total_cmp(a));
+            rates
+        });
+        let zero_load = ZeroLoadReference { rates: rates.filter(|r| r.iter().all(|x| x.is_finite())) };
+        Ok(FloquetSystem { reduced, system, symmetry, speed, settings: settings.clone(), zero_load })
     }
 
     /// Eigenvalues λ of B0 (the reduced model at the static load), sorted by |Im λ|:
     /// the whirls whose sums (ω_i + ω_j)/k are where instability regions start.
     pub fn eigenvalues(&self) -> Result<Vec<faer::c64>, AnalysisError> {
-        // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
-        let mut b0 = self.system.b0.clone();
-        crate::linalg::balance(&mut b0);
-        let mut ev = b0.eigenvalues().map_err(|_| {
-            AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
-        })?;
-        ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
-        Ok(ev)
+        eigenvalues_of(&self.system)
     }
 
     /// Forward (Im λ > 0) and backward whirl frequencies of the reduced model (rad/s),
@@ -208,43 +376,154 @@ impl FloquetSystem {
         self.settings.steps_per_period.max(if needed.is_finite() { needed.min(1e6) as usize } else { 0 })
     }
 
-    /// One point with the configured method.
+    /// One point with the configured method, with the β = 0 check.
     pub fn point(&self, phi: f64, beta: f64) -> FloquetPoint {
         match self.settings.method {
-            MonodromyMethod::Fast => self.point_fast(&self.table(phi, beta), beta),
+            MonodromyMethod::Fast => {
+                let table = self.table(phi, beta);
+                let mut point = self.point_fast(&table, beta);
+                let issue = if beta == 0.0 {
+                    self.zero_load.issue(&point)
+                } else {
+                    self.zero_load.issue(&self.point_fast(&table, 0.0))
+                };
+                point.summary.flag(issue);
+                point
+            }
             MonodromyMethod::Dstm => self.point_dstm(phi, beta, self.settings.reference_steps),
         }
     }
 
-    /// One point from a prepared per-φ table (β ≤ the table's β_max).
+    /// One point from a prepared per-φ table (β ≤ the table's β_max). Flagged when the
+    /// table is (see [`PhiTable::issue`]), but without the β = 0 check, which costs about
+    /// one more point per table: searches that need only verdicts (regions) call this;
+    /// [`FloquetSystem::point`] and [`FloquetSystem::row`] add the check.
     pub fn point_fast(&self, table: &PhiTable, beta: f64) -> FloquetPoint {
         self.point_of(table, &table.monodromy(&self.symmetry, beta), beta)
     }
 
     /// The point of a monodromy computed from `table` at β (for callers that also need
-    /// the monodromy itself).
+    /// the monodromy itself); as [`FloquetSystem::point_fast`].
     pub fn point_of(&self, table: &PhiTable, mono: &ScaledProduct, beta: f64) -> FloquetPoint {
-        let status = if table.converged { PointStatus::Ok } else { PointStatus::Inaccurate };
-        FloquetPoint::from_monodromy(table.phi, beta, mono, self.settings.instability_tolerance, status)
+        FloquetPoint::from_monodromy_with(table.phi, beta, mono, self.settings.instability_tolerance, table.issue())
     }
 
-    /// One point by the reference DSTM with `steps` steps.
+    /// One point by the reference DSTM with `steps` steps, with the β = 0 check (the
+    /// unloaded monodromy of the same steps, [`dstm::monodromy_dstm_unloaded`]: one
+    /// exponential and log₂N products, against the N exponentials of the point).
     pub fn point_dstm(&self, phi: f64, beta: f64, steps: usize) -> FloquetPoint {
-        let mono = dstm::monodromy_dstm(&self.system, phi, beta, steps);
-        FloquetPoint::from_monodromy(phi, beta, &mono, self.settings.instability_tolerance, PointStatus::Ok)
+        let mut point = self.point_dstm_unchecked(phi, beta, steps);
+        point.summary.flag(self.dstm_zero_load_issue(phi, steps));
+        point
     }
 
-    /// A row of points at one φ for several β, sharing the per-φ work.
+    fn point_dstm_unchecked(&self, phi: f64, beta: f64, steps: usize) -> FloquetPoint {
+        let mono = dstm::monodromy_dstm(&self.system, phi, beta, steps);
+        FloquetPoint::from_monodromy_with(phi, beta, &mono, self.settings.instability_tolerance, None)
+    }
+
+    fn dstm_zero_load_issue(&self, phi: f64, steps: usize) -> Option<PointIssue> {
+        let mono = dstm::monodromy_dstm_unloaded(&self.system, phi, steps);
+        let zero = FloquetPoint::from_monodromy_with(phi, 0.0, &mono, self.settings.instability_tolerance, None);
+        self.zero_load.issue(&zero)
+    }
+
+    /// A row of points at one φ for several β, sharing the per-φ work, with the β = 0
+    /// check (free when the row has β = 0: its point is the check).
     pub fn row(&self, phi: f64, betas: &[f64]) -> Vec<FloquetPoint> {
-        match self.settings.method {
+        let (mut points, issue) = match self.settings.method {
             MonodromyMethod::Fast => {
                 let beta_max = betas.iter().fold(0.0f64, |m, b| m.max(b.abs()));
                 let table = self.table(phi, beta_max);
-                betas.iter().map(|&b| self.point_fast(&table, b)).collect()
+                let points: Vec<FloquetPoint> = betas.iter().map(|&b| self.point_fast(&table, b)).collect();
+                let issue = match betas.iter().position(|&b| b == 0.0) {
+                    Some(i) => self.zero_load.issue(&points[i]),
+                    None => self.zero_load.issue(&self.point_fast(&table, 0.0)),
+                };
+                (points, issue)
             }
             MonodromyMethod::Dstm => {
-                betas.iter().map(|&b| self.point_dstm(phi, b, self.settings.reference_steps)).collect()
+                let steps = self.settings.reference_steps;
+                let points = betas.iter().map(|&b| self.point_dstm_unchecked(phi, b, steps)).collect();
+                (points, self.dstm_zero_load_issue(phi, steps))
             }
+        };
+        for p in &mut points {
+            p.summary.flag(issue);
         }
+        points
+    }
+}
+
+/// Balanced eigenvalues of B0, sorted by |Im λ|.
+fn eigenvalues_of(system: &PeriodicSystem) -> Result<Vec<faer::c64>, AnalysisError> {
+    // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
+    let mut b0 = system.b0.clone();
+    crate::linalg::balance(&mut b0);
+    let mut ev = b0.eigenvalues().map_err(|_| {
+        AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
+    })?;
+    ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
+    Ok(ev)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::{c64, Mat};
+
+    /// A β = 0 point whose monodromy is diag(μ) at φ = 1 rad/s.
+    fn point(mu: &[c64]) -> FloquetPoint {
+        let n = mu.len();
+        let m = Mat::from_fn(n, n, |i, j| if i == j { mu[i] } else { c64::new(0.0, 0.0) });
+        FloquetPoint::from_monodromy_with(1.0, 0.0, &ScaledProduct::from_matrix(m, 0.0), 1.0001, None)
+    }
+
+    #[test]
+    fn zero_load_check_compares_sorted_moduli_with_exp_lambda_t() {
+        let t = 2.0 * std::f64::consts::PI;
+        // Undamped pair, a lightly damped one and one damped to e^{-60}: exact multipliers.
+        let lambdas = [c64::new(0.0, 3.0), c64::new(0.0, -2.0), c64::new(-0.01, 5.0), c64::new(-60.0 / t, 1.0)];
+        let mut rates: Vec<f64> = lambdas.iter().map(|l| l.re).collect();
+        rates.sort_by(|a, b| b.total_cmp(a));
+        let reference = ZeroLoadReference { rates: Some(rates) };
+        let exact: Vec<c64> = lambdas.iter().map(|l| (l * t).exp()).collect();
+        assert_eq!(reference.issue(&point(&exact)), None);
+        // One modulus 2e-8 off: flagged, with that deviation (order of the list irrelevant).
+        let mut off = exact.clone();
+        off.reverse();
+        off[2] *= 1.0 + 2e-8;
+        match reference.issue(&point(&off)) {
+            Some(PointIssue::ZeroLoad { deviation }) => assert!((deviation - 2e-8).abs() < 1e-12, "{deviation}"),
+            other => panic!("{other:?}"),
+        }
+        // 5e-9 off: inside the tolerance.
+        let mut close = exact.clone();
+        close[0] *= 1.0 - 5e-9;
+        assert_eq!(reference.issue(&point(&close)), None);
+        // A failed β = 0 point, or no reference: flagged too.
+        let nan = vec![c64::new(f64::NAN, 0.0); 4];
+        assert!(
+            matches!(reference.issue(&point(&nan)), Some(PointIssue::ZeroLoad { deviation }) if deviation.is_infinite())
+        );
+        assert_eq!(ZeroLoadReference { rates: None }.issue(&point(&exact)), Some(PointIssue::NoZeroLoadReference));
+    }
+
+    #[test]
+    fn a_flag_keeps_the_first_reason_and_never_touches_failed_points() {
+        let mut p = point(&[c64::new(1.0, 0.0)]).summary;
+        p.flag(None);
+        assert_eq!((p.status, p.reason), (PointStatus::Ok, None));
+        p.flag(Some(PointIssue::ZeroLoad { deviation: 1.0 }));
+        p.flag(Some(PointIssue::Interpolant { terms: 64 }));
+        assert_eq!((p.status, p.reason), (PointStatus::Inaccurate, Some(PointIssue::ZeroLoad { deviation: 1.0 })));
+        // A NaN monodromy: the eigenvalue iteration refuses it (or its values are not
+        // finite); either way a failed point with its reason, which a flag leaves alone.
+        let mut f = point(&[c64::new(f64::NAN, 0.0)]).summary;
+        let reason = f.reason;
+        assert_eq!(f.status, PointStatus::Failed);
+        assert!(matches!(reason, Some(PointIssue::Eigenvalues | PointIssue::NotFinite)), "{reason:?}");
+        f.flag(Some(PointIssue::ZeroLoad { deviation: 1.0 }));
+        assert_eq!((f.status, f.reason), (PointStatus::Failed, reason));
     }
 }
