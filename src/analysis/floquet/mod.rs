@@ -24,9 +24,10 @@ use super::{AnalysisError, MonodromyMethod, Rotor, Settings};
 use fast::{PhiTable, Symmetry};
 use serde::Serialize;
 
-/// Aliased orders kept clear of the step rate: a combination of two whirls may lie at
-/// most at (N − 1 − ALIAS_ORDERS)·φ, so the aliased tongues nearest to it are at least of
-/// order 4, as thin as the physical tongues the criterion's search reaches at β ≤ 1.
+/// Aliased orders kept clear of the step rate: with N ≥ ALIAS_MARGIN·2ω_max/φ +
+/// ALIAS_ORDERS steps a combination of two whirls lies below (N − ALIAS_ORDERS)·φ, so the
+/// aliased tongues nearest to it are of order above 4, as thin as the physical tongues the
+/// criterion's search reaches at β ≤ 1.
 pub const ALIAS_ORDERS: usize = 4;
 /// Relative margin of 2ω_max/φ below the step rate: the whirls drift under the static and
 /// parametric load, and the margin keeps them away from the aliased resonance.
