@@ -2,8 +2,10 @@
 //!
 //! Parametric stability of a rotor (Rayleigh-beam shaft, rigid disks, gyroscopic
 //! effects) on bearings mounted in piezoelectric vibration rings whose stacks are
-//! shunted by multi-branch current-flowing circuits, after the paper in
-//! `shared/seeds` (equation numbers below refer to it).
+//! shunted by multi-branch current-flowing circuits, after the paper
+//! "Stability analysis of a rotor system with electromechanically coupled boundary
+//! conditions under periodic axial load" (equation numbers below refer to it; the
+//! modelling choices it leaves implicit are in docs/model.md).
 //!
 //! In the complex coordinates of Eq. (13) the system is (Eq. 14)
 //!

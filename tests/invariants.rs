@@ -131,7 +131,7 @@ fn buckling_load_closed_forms() {
     let sway = k_s * p.model.shaft.length / 2.0;
     let pcr = buckling_load(&SystemMatrices::assemble(&p.model)).unwrap();
     assert!(rel(pcr, sway) < 1e-5, "{pcr} vs {sway}");
-    // The paper's problem: ≈ 1.650e5 N (MODEL.md).
+    // The paper's problem: ≈ 1.650e5 N (docs/model.md).
     let paper = Rotor::new(&load("paper-open.toml", &[]).model).unwrap();
     assert!(rel(paper.critical_load, 1.650e5) < 1e-3, "{}", paper.critical_load);
 }

@@ -19,7 +19,7 @@ pub fn buckling_load(system: &SystemMatrices) -> Result<f64, LinalgError> {
 }
 
 /// The reference load P_cr used for α and β: the value given in the file, or else the
-/// buckling load with the rings on open circuit (MODEL.md). Using one reference for every
+/// buckling load with the rings on open circuit (docs/model.md). Using one reference for every
 /// circuit state keeps P(t) = P_cr(α + β cos φt) the same physical load when open and
 /// closed circuits are compared (Fig. 11).
 pub fn reference_load(model: &Model) -> Result<f64, LinalgError> {

@@ -4,7 +4,7 @@
 //! (Eq. 18–21) where that form does not apply (a massless DOF with damping, a spread of
 //! frequencies beyond [`crate::linalg::DEFINITE_FORM_SPREAD`]).
 //!
-//! λ = −ζ|λ| + jω: ω > 0 is a forward whirl, ω < 0 a backward whirl (MODEL.md).
+//! λ = −ζ|λ| + jω: ω > 0 is a forward whirl, ω < 0 a backward whirl (docs/model.md).
 
 use super::{AnalysisError, Rotor, Settings};
 use crate::assembly::{DofKind, End};

@@ -172,7 +172,7 @@ impl SystemMatrices {
         self.dofs.len()
     }
 
-    /// Velocity matrix D(Ω) = C − jΩG (Eq. 14, MODEL.md).
+    /// Velocity matrix D(Ω) = C − jΩG (Eq. 14, docs/model.md).
     pub fn damping_at(&self, speed: f64) -> Mat<c64> {
         let n = self.size();
         Mat::from_fn(n, n, |i, j| c64::new(self.c[(i, j)], -speed * self.g[(i, j)]))
@@ -185,7 +185,7 @@ impl SystemMatrices {
     }
 }
 
-/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and MODEL.md for open/short).
+/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and docs/model.md for open/short).
 #[allow(clippy::too_many_arguments)]
 fn add_ring(
     m: &mut Mat<f64>,

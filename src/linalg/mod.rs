@@ -54,7 +54,7 @@ pub(crate) mod testing {
 
     /// The largest entry error of `ours` against nalgebra's Padé exp of `a`, relative to
     /// the largest entry of e^A (nalgebra is accurate to 1e-14 relative at ‖A‖ = 10,
-    /// STACK.md).
+    /// checked when the dependency was chosen).
     pub fn exp_error_against_nalgebra(a: &Mat<c64>, ours: &Mat<c64>) -> f64 {
         use nalgebra::DMatrix;
         use num_complex::Complex;

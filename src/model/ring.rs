@@ -60,7 +60,7 @@ impl Ring {
     }
 }
 
-/// The state of the shunt circuits (section 3.1, MODEL.md).
+/// The state of the shunt circuits (section 3.1, docs/model.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CircuitState {
@@ -130,7 +130,7 @@ impl Circuit {
 mod tests {
     use super::*;
 
-    /// Table 1 of the paper, with C_p^S from the printed k_eq2 (MODEL.md).
+    /// Table 1 of the paper, with C_p^S from the printed k_eq2 (docs/model.md).
     fn table1() -> Ring {
         let angle = 60f64.to_radians();
         Ring {

@@ -1,7 +1,7 @@
 //! Predicted region starts: at zero damping every region of y′ = (B0 + β cos φt B1)y
 //! starts at β = 0 on φ = |ω_i − ω_j|/k for two eigenvalues λ = jω of B0 whose combination
 //! is of sum type — a forward and a backward whirl, ω_fi + ω_bj — with k = 1, 2, …
-//! (MODEL.md, section 5). At rest forward and backward coincide: 2ω_p and ω_p + ω_q.
+//! (docs/model.md, section 5). At rest forward and backward coincide: 2ω_p and ω_p + ω_q.
 
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{ModesResult, Whirl};
