@@ -12,12 +12,13 @@
 # Exit status: 0 identical, 1 outputs differ, 2 usage error (unknown option, missing or
 # unknown revision), 3 a build failed (nothing was compared).
 #
-# Cost: about 5 minutes per binary on this 2-core machine with other builds running
-# (about 2 minutes with nothing else running), plus the builds: a revision is built in a
-# temporary `git worktree` with its own target dir, seeded by copying the working tree's
-# target/release (~1.5 GB) so that only rotorshunt itself recompiles (a few minutes
-# under load). Set COMPARE_TARGET_DIR=DIR to build revisions in DIR instead (kept between
-# runs, so a second comparison against the same BASE rebuilds nothing); set
+# Cost: 2.5-3.5 minutes per binary (291 commands: 137-208 s measured on this 2-core
+# machine while other engineers' builds ran, load average 6-8), plus the builds: a
+# revision is built in a temporary `git worktree` with its own target dir, seeded by
+# copying the working tree's target/release (~1.5 GB) so that only rotorshunt itself
+# recompiles (1-3 minutes under that load). Set COMPARE_TARGET_DIR=DIR to build
+# revisions in DIR instead (kept between runs, so a second comparison against the same
+# BASE rebuilds nothing; seed it yourself with `cp -a target/release DIR/` first); set
 # COMPARE_NO_SEED=1 to skip the copy (a full build from scratch). Builds run with
 # `nice -n 10`.
 #
