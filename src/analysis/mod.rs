@@ -3,9 +3,11 @@
 pub mod buckling;
 pub mod campbell;
 pub mod chart;
+pub mod cost;
 pub mod criterion;
 pub mod floquet;
 pub mod interval;
+pub mod limits;
 pub mod modes;
 pub mod reduction;
 pub mod regions;
@@ -89,6 +91,10 @@ pub enum AnalysisError {
         /// The oscillation tolerance in force.
         tolerance: f64,
     },
+    /// A request built in code (a catalogue, a band) breaks a parameter rule
+    /// ([`limits`]); the command line checks its flags by the same rules first.
+    #[error("the {} of the request {}", quantity_name(.0.quantity), .0)]
+    Request(#[from] limits::ParamError),
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -105,5 +111,22 @@ fn short(v: f64) -> String {
         v.to_string()
     } else {
         format!("{v:e}")
+    }
+}
+
+/// The name of a quantity in a library request's messages.
+fn quantity_name(q: limits::Quantity) -> &'static str {
+    use limits::Quantity as Q;
+    match q {
+        Q::Frequency => "frequency",
+        Q::RangeLow => "range's low end",
+        Q::RangeHigh => "range's high end",
+        Q::Load => "load coefficient",
+        Q::BetaMax => "beta_max",
+        Q::Level => "level",
+        Q::OperatingFrequency => "operating frequency",
+        Q::Speed => "speed",
+        Q::Count => "count",
+        Q::CostFactor => "cost factor",
     }
 }

@@ -317,11 +317,13 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
     Ok(Some(u))
 }
 
-/// Run the design of `base.design`; `progress` receives the number of candidates so far.
-/// The result is verified independently ([`crate::design::verify`]); the catalogues of
+/// Run the design of `base.design`, first checked by the `[design]` rules
+/// ([`DesignSpec::check`]: a spec built in code is not trusted); `progress` receives the
+/// number of candidates so far. The result is verified independently ([`crate::design::verify`]); the catalogues of
 /// the reference and the tuned design (for the report) come with it.
 pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOutcome, DesignError> {
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
+    spec.check(base.model.circuit.branches.len()).map_err(|(field, error)| DesignError::Spec { field, error })?;
     let started = Instant::now();
     let ctx = Context {
         base,

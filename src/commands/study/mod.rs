@@ -12,11 +12,15 @@
 mod folder;
 mod plan;
 
-use super::design::design_report;
+use super::bounds::{self, Names};
+use super::design::{design_estimate, design_report, DESIGN};
 use super::{OutDir, Progress, Quiet, TOOL};
+use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::seeds_for;
 use crate::analysis::regions::{band, catalogue, CatalogueRequest, RegionSettings};
+use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
@@ -34,7 +38,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// What a case runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CaseKind {
     /// The region catalogue (and the band around `phi_op` if given).
@@ -83,17 +87,65 @@ fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
 }
 
-/// Run one case into its folder; its metrics.
+/// The names of a study's inputs in a refusal.
+const STUDY: Names<'static> = Names {
+    phi: "the study's `phi`",
+    grid: "the study's `phi` (its range)",
+    load: "the study's `beta_max` or `level`",
+    periods: "the study",
+};
+
+/// A case's budget: the cases run in parallel, so each may hold a share of the memory.
+fn case_budget(budget: &Budget) -> Budget {
+    budget.share(rayon::current_num_threads() as f64)
+}
+
+/// The rotor and reduced system of a regions case, its work admitted within `budget`
+/// before the whirls and the search: the catalogue of the study's range and, with
+/// `phi_op`, the band.
+fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+    bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
+    let rotor = Rotor::new(&problem.model)?;
+    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
+    let level = study.level.unwrap_or(study.beta_max);
+    let range = Interval::new(study.phi[0], study.phi[1]);
+    let (s, criterion, pc) = (RegionSettings::default(), Criterion::of(&fs.settings), PointCost::of(&fs));
+    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
+    let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
+    let mut estimate = cost::catalogue(&pc, &s, &criterion, &seeds, &work);
+    if study.phi_op.is_some() {
+        estimate = estimate.then(cost::band(&pc, &s, &criterion, &seeds, range, level));
+    }
+    bounds::admit(budget, "a regions case", &estimate, &STUDY)?;
+    Ok((rotor, fs))
+}
+
+/// Admit a case of `kind` on `problem` (the study's per-case estimate).
+fn admit_case(problem: &Problem, kind: CaseKind, study: &StudyFile, budget: &Budget) -> Result<(), Error> {
+    match kind {
+        CaseKind::Regions => regions_case_system(problem, study, budget).map(|_| ()),
+        CaseKind::Design => match problem.design.as_ref() {
+            Some(spec) => bounds::admit(budget, "a design case", &design_estimate(problem, spec, budget)?, &DESIGN),
+            // Reported by the case itself (NoDesign).
+            None => Ok(()),
+        },
+    }
+}
+
+/// Run one case into its folder; its metrics. Its estimated work is admitted within
+/// `budget` first (a case beyond it fails with the cost error).
 fn run_case(
     base: &Path,
     case: &Case,
     study: &StudyFile,
     dir: &OutDir,
+    budget: &Budget,
 ) -> Result<BTreeMap<String, serde_json::Value>, Error> {
     let problem = Problem::from_path(base, &case.overrides)?;
     let mut m = BTreeMap::new();
     match case.kind {
         CaseKind::Design => {
+            admit_case(&problem, CaseKind::Design, study, budget)?;
             let o = design_report(&problem, dir, &Quiet)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified));
@@ -123,9 +175,8 @@ fn run_case(
         }
         CaseKind::Regions => {
             let level = study.level.unwrap_or(study.beta_max);
-            let rotor = Rotor::new(&problem.model)?;
+            let (rotor, fs) = regions_case_system(&problem, study, budget)?;
             let speed = problem.model.speed;
-            let fs = FloquetSystem::new(&rotor, &problem.settings, speed)?;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = RegionSettings::default();
             let range = Interval::new(study.phi[0], study.phi[1]);
@@ -171,6 +222,9 @@ pub struct StudyOptions {
     /// Write into a `--out` folder that holds entries the study did not create
     /// (`--allow-non-empty`); they are never changed.
     pub allow_non_empty: bool,
+    /// The limits of each case's estimated cost (`--max-cost`); the number of cases is
+    /// bounded by [`MAX_STUDY_CASES`] instead.
+    pub budget: Budget,
 }
 
 /// Everything a case needs from its study.
@@ -181,6 +235,7 @@ struct Run<'a> {
     study: &'a str,
     inputs: &'a [(&'a Path, &'a str)],
     force: bool,
+    budget: Budget,
 }
 
 impl Run<'_> {
@@ -212,7 +267,7 @@ impl Run<'_> {
                 return (r, true);
             }
         }
-        let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir) {
+        let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir, &self.budget) {
             Ok(m) => row("ok", None, m),
             Err(e) => row("failed", Some(e.to_string()), BTreeMap::new()),
         };
@@ -238,6 +293,16 @@ pub fn study_cmd(
 ) -> Result<(String, usize), Error> {
     let plan = Plan::read(file)?;
     let base_text = crate::problem::read_input(&plan.base)?;
+    // Before the folder is touched: the base with the study's overrides, each sweep value
+    // on its own, and the per-case estimate of the base's cases.
+    let base_name = plan.base.display().to_string();
+    let base = Problem::from_bytes(&base_text, &base_name, &plan.study.set)?;
+    plan.check_sweep(file, crate::problem::input::text_of(&base_text, &base_name)?, &base_name)?;
+    let budget = case_budget(&options.budget);
+    let kinds: std::collections::BTreeSet<CaseKind> = plan.kinds();
+    for kind in kinds {
+        admit_case(&base, kind, &plan.study, &budget)?;
+    }
     let identity = Identity {
         study: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()).display().to_string(),
         plan: plan.survey(file, &base_text)?,
@@ -272,6 +337,7 @@ pub fn study_cmd(
         study: &identity.study,
         inputs: &inputs,
         force: options.force,
+        budget,
     };
     // Cases in parallel (the outermost loop), each built from its index when it runs;
     // results in case order.
