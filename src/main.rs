@@ -289,6 +289,13 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
         Command::Study { file, out, force, allow_non_empty } => {
             let options = commands::StudyOptions { force, allow_non_empty, budget };
             let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
+            if failed > 0 {
+                // Scripts read the status; a person reads why on stderr, after the summary.
+                eprintln!(
+                    "error: {failed} case(s) of the study failed: their errors are in {}",
+                    out.join("summary.md").display()
+                );
+            }
             Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
         }
         Command::Response { input, point, periods, out } => {

@@ -17,7 +17,7 @@ use std::process::Command;
 const DOC: &str = "docs/errors.md";
 
 /// Kinds whose examples exit with status 1 (analysis or output failures); the rest exit 2.
-const EXIT_1: [&str; 8] = [
+const EXIT_1: [&str; 9] = [
     "Output",
     "ReducedModes",
     "StaticLoadBuckles",
@@ -26,6 +26,7 @@ const EXIT_1: [&str; 8] = [
     "NoWhirlModes",
     "ReducedBasis",
     "StiffResponse",
+    "Unreliable",
 ];
 
 fn root() -> &'static Path {
@@ -69,6 +70,7 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
         AnalysisError::ReducedBasis { .. } => "ReducedBasis",
         AnalysisError::StiffResponse { .. } => "StiffResponse",
+        AnalysisError::Unreliable { .. } => "Unreliable",
         // A library request's broken rule is the file layer's kind for that value.
         AnalysisError::Request(e) => problem_kind(&ProblemErrorKind::from(e)),
     }

@@ -55,6 +55,17 @@ pub enum AnalysisError {
         /// max|ΦᵀMΦ − I| (−).
         drift: f64,
     },
+    /// The Floquet points of a region search fail the β = 0 check
+    /// ([`floquet::PointIssue::ZeroLoad`]): the unloaded monodromy misses exp(λT), so every
+    /// verdict of the search would be noise (e.g. a shunt resistance of 1e18 Ω: decay
+    /// rates 10¹⁵ times the whirl frequencies, beyond what f64 exponentials resolve).
+    #[error("the Floquet points at phi = {} rad/s are not reliable ({issue}): a region search on them would report noise; check the model's parameters for orders of magnitude (R, L, C_f, eta)", short(*phi))]
+    Unreliable {
+        /// φ of the failed check (rad/s).
+        phi: f64,
+        /// What the check found.
+        issue: floquet::PointIssue,
+    },
     /// The time response is stiff: RK4's stability needs more than
     /// [`response::STIFFNESS_LIMIT`] times the steps its accuracy needs.
     #[error("the time response at phi = {} rad/s is stiff: B0 has an eigenvalue of modulus {rate:.3e} 1/s (strong damping: a large R or eta), and RK4 would need {steps:.3e} steps per period, more than {} times the {accuracy_steps} its accuracy needs: not integrated (`rotorshunt floquet` gives the stability without it)", short(*phi), response::STIFFNESS_LIMIT)]

@@ -6,7 +6,7 @@ use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
 use super::verify::{describe, verify, DesignAtSpeed};
 use super::DesignError;
-use crate::analysis::regions::{Counter, RegionSettings};
+use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
 use crate::problem::Problem;
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
@@ -337,6 +337,11 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
         progress,
     };
     let before = values_of(base, spec);
+    // The reference design's Floquet points must pass the β = 0 check over the design's
+    // range at every speed before any candidate is searched.
+    for (_, fs) in &Candidate::new(base, spec, &before)?.systems {
+        check_reliable(fs, spec.range())?;
+    }
     let mut out = DesignOutcome {
         spec: spec.clone(),
         status: Status::Unchanged,

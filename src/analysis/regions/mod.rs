@@ -170,6 +170,20 @@ pub fn seeds_for(
     seeds(fs, full, reach, max_order)
 }
 
+/// Refuse a search whose Floquet points fail the β = 0 check at either end of `range`
+/// ([`AnalysisError::Unreliable`]): two tables, against the thousands of points a search
+/// evaluates, and not counted among its evaluations. The shortest period (the range's
+/// high end) has the fewest steps and the longest period the largest exponents, so the
+/// ends are where a model beyond f64's reach fails first.
+pub fn check_reliable(fs: &FloquetSystem, range: Interval) -> Result<(), AnalysisError> {
+    for phi in [range.lo, range.hi] {
+        if let Some(issue) = fs.zero_load_issue(phi) {
+            return Err(AnalysisError::Unreliable { phi, issue });
+        }
+    }
+    Ok(())
+}
+
 /// The stable band around `phi_op` at `level` in `range` (rad/s), by the criterion of
 /// `fs`'s settings: [`band::band_around`] with the seeds of the range. The arguments obey
 /// the parameter rules ([`crate::analysis::limits`]: a φ range, a level up to the largest
@@ -188,6 +202,7 @@ pub fn band(
     if !range.contains(phi_op) {
         return Err(AnalysisError::OutsideWindow { phi: phi_op, window: range });
     }
+    check_reliable(fs, range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), range, criterion.max_order)?;
     let probe = Level::new(fs, s, criterion, level, range);
@@ -208,6 +223,7 @@ pub fn catalogue(
     req: &CatalogueRequest,
 ) -> Result<Catalogue, AnalysisError> {
     req.check()?;
+    check_reliable(fs, req.range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), req.range, criterion.max_order)?;
     let level = Level::new(fs, s, criterion, req.level, req.range);
