@@ -11,7 +11,7 @@ pub const START_WINDOW: f64 = 0.003;
 
 /// A growth maximum within this fraction of the window's edge is the neighbour's tip, not
 /// this seed's: the seed's own tip is then not located in its window.
-const EDGE_FRACTION: f64 = 0.05;
+pub const EDGE_FRACTION: f64 = 0.05;
 
 /// Bisection tolerance of β_c at a seed before its tip is searched: 1/512, four halvings
 /// of the 1/32 bracket. The onset is bisected to `beta_tolerance` where it is reported.
