@@ -64,9 +64,8 @@ impl ModeBasis {
         let b0 = &fs.system.b0;
         let n = b0.nrows();
         let half = n / 2;
-        let e = b0.eigen().ok()?;
-        let s = e.S().column_vector();
-        let u = e.U();
+        let e = crate::linalg::seq::eigen(b0.as_ref()).ok()?;
+        let (s, u) = (&e.values, &e.vectors);
         let modes: Vec<(f64, Vec<c64>)> = (0..n)
             .map(|k| {
                 let q: Vec<c64> = (half..n).map(|r| u[(r, k)]).collect();
@@ -163,10 +162,9 @@ fn detuning(fs: &FloquetSystem, basis: &ModeBasis, group: &PairGroup, phi: f64, 
     let mono = table.monodromy(&fs.symmetry, beta);
     // The verdict exactly as `point_fast` gives it, from the same monodromy.
     let point = fs.point_of(&table, &mono, beta).summary;
-    let e = mono.matrix.eigen().ok()?;
-    let mu = e.S().column_vector();
-    let w = e.U();
-    let (n, h) = (mu.nrows(), basis.half);
+    let e = crate::linalg::seq::eigen(mono.matrix.as_ref()).ok()?;
+    let (mu, w) = (&e.values, &e.vectors);
+    let (n, h) = (mu.len(), basis.half);
     let period = 2.0 * PI / phi;
     let scores = |im: f64| -> Vec<f64> {
         let (lam, q) = basis.nearest(im);
