@@ -685,7 +685,7 @@ pub struct CatalogueWork {
 /// A region catalogue (`regions`, a study's regions case, a design's verification): the
 /// starts of the seeds of order ≤ `s.max_order` in the range (β_c bracketed up to β_max at
 /// the bracket step, the tip climb, the onset below it), the unstable set at the level
-/// ([`level_search`]), the onsets of regions found only at the level, and the tracking.
+/// (`level_search`), the onsets of regions found only at the level, and the tracking.
 /// `seeds` are the range's ([`super::regions::seeds_for`]).
 pub fn catalogue(
     pc: &PointCost,
@@ -748,7 +748,7 @@ pub fn catalogue(
 }
 
 /// The stable band around φ_op at `level` in `window` (`band`, a study's band): the
-/// search of the whole window ([`level_search`]), an upper bound of the outward search
+/// search of the whole window (`level_search`), an upper bound of the outward search
 /// that stops at the nearest tongue on each side.
 pub fn band(
     pc: &PointCost,

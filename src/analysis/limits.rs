@@ -3,7 +3,7 @@
 //! calls them: the problem file's `[design]` and `speed` (and so `--set` and a study's
 //! sweep values), the command-line flags, a study's fields, and the library's request
 //! constructors ([`crate::analysis::regions::CatalogueRequest::new`],
-//! [`crate::analysis::regions::band`], [`crate::design::DesignSpec::check`]). Each entry
+//! [`crate::analysis::regions::band()`], [`crate::design::DesignSpec::check`]). Each entry
 //! point names the value by its own key or flag; the rule and its wording are the same.
 //!
 //! Units: frequencies and speeds in rad/s, load coefficients relative to P_cr.

@@ -25,7 +25,7 @@ const MASS_ORTHONORMALITY_TOLERANCE: f64 = 1e-10;
 const UNRESOLVED_BASIS: f64 = 0.1;
 
 /// The reduced model: mass-normalised modes, so M̃ = I and K̃ = diag(ω²) (to round-off;
-/// re-orthonormalised bases have K̃ nearly diagonal, see [`MASS_ORTHONORMALITY_TOLERANCE`]).
+/// re-orthonormalised bases have K̃ nearly diagonal, see `MASS_ORTHONORMALITY_TOLERANCE`).
 #[derive(Debug, Clone)]
 pub struct ReducedModel {
     /// Undamped natural frequencies of the basis modes at Ω = 0, no load (rad/s).

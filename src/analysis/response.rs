@@ -72,7 +72,7 @@ pub const STIFFNESS_LIMIT: f64 = 100.0;
 
 /// RK4 steps per load period at φ (rad/s) of [`response`]: 64 per period of the fastest
 /// of the basis frequencies, φ and Ω (at least 64), and more where B0 has a decay rate
-/// beyond RK4's stability region at that step ([`RK4_STABLE_STEP`]). The work of a
+/// beyond RK4's stability region at that step (`RK4_STABLE_STEP`). The work of a
 /// response is this times the periods, each step four products of the 2M-state.
 pub fn rk4_steps_per_period(fs: &FloquetSystem, phi: f64) -> usize {
     let (by_phase, by_stability, _) = step_rules(fs, phi);

@@ -120,7 +120,7 @@ impl SplitMatrix {
     }
 
     /// e^A by its Taylor polynomial, evaluated by Paterson–Stockmeyer, with scaling and
-    /// squaring above [`TAYLOR_DEGREES`]' last degree. Every product is a real one; there
+    /// squaring above `TAYLOR_DEGREES`' last degree. Every product is a real one; there
     /// is no linear solve (a Padé approximant needs one, which for 16×16 costs as much as
     /// three products). Input with an infinite or NaN entry, or a 1-norm beyond f64::MAX,
     /// gives a matrix of NaN at once.

@@ -74,7 +74,7 @@ pub struct PhiTable {
     /// State dimension n = 2M.
     n: usize,
     /// False if the interpolant did not reach its tolerance (trailing Chebyshev
-    /// coefficients below [`CHEBYSHEV_TOLERANCE`] of the leading one).
+    /// coefficients below `CHEBYSHEV_TOLERANCE` of the leading one).
     pub converged: bool,
     /// a = x_max·‖τB1‖ in frequency-scaled coordinates: the parametric coupling over
     /// one exponential, which drives both the interpolant's degree and the CFM4 error.
