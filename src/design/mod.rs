@@ -4,8 +4,8 @@
 //! Two objectives (see [`spec::Objective`]):
 //! - **widest stable band**: an outer Nelder–Mead (argmin) over the variables scaled to
 //!   [0, 1] (log for C_f, L, ω), maximising the smallest width over the speeds of the
-//!   stable band at β_op containing φ_op, found by marching and bisection
-//!   ([`crate::analysis::regions::band_around`]), never a chart. The landscape is multimodal
+//!   stable band at β_op containing φ_op, by the same function as `rotorshunt band`
+//!   ([`crate::analysis::regions::band_around`]: the catalogue's seeds, never a chart). The landscape is multimodal
 //!   (each region crossing φ_op is a valley), so several starts run in parallel: the
 //!   reference design, a physics seed (the tuning that puts the electrical region starts
 //!   ω_whirl + ω_e farthest from φ_op) and a Halton spread.
