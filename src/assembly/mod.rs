@@ -162,7 +162,8 @@ impl SystemMatrices {
         }
 
         for (end, ring, node) in [(End::Left, &model.left, 0), (End::Right, &model.right, shaft.elements)] {
-            add_ring(&mut m, &mut c, &mut k, &dofs, model, end, ring, dofs.deflection(node));
+            let mount = Mount { end, ring, shaft_dof: dofs.deflection(node) };
+            add_ring(&mut m, &mut c, &mut k, &dofs, model, &mount);
         }
         SystemMatrices { dofs, m, c, k, s, g, unbalance }
     }
@@ -185,18 +186,16 @@ impl SystemMatrices {
     }
 }
 
-/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and docs/model.md for open/short).
-#[allow(clippy::too_many_arguments)]
-fn add_ring(
-    m: &mut Mat<f64>,
-    c: &mut Mat<f64>,
-    k: &mut Mat<f64>,
-    dofs: &DofMap,
-    model: &Model,
+/// Where a ring sits: the shaft end, its ring, and the shaft's deflection DOF there.
+struct Mount<'a> {
     end: End,
-    ring: &Ring,
+    ring: &'a Ring,
     shaft_dof: usize,
-) {
+}
+
+/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and docs/model.md for open/short).
+fn add_ring(m: &mut Mat<f64>, c: &mut Mat<f64>, k: &mut Mat<f64>, dofs: &DofMap, model: &Model, mount: &Mount<'_>) {
+    let Mount { end, ring, shaft_dof } = *mount;
     let a = dofs.ring(end);
     m[(a, a)] += ring.m_b;
     add_spring(c, shaft_dof, a, ring.eta);
