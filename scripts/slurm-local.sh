@@ -24,8 +24,8 @@
 #
 # Environment (all optional):
 #   SLURM_LOCAL_TIMEOUT      seconds `up` waits for the node to become idle (default 90)
-#   SLURM_LOCAL_CTLD_PORT    slurmctld's TCP port on 127.0.0.1 (default 6817)
-#   SLURM_LOCAL_SLURMD_PORT  slurmd's TCP port on 127.0.0.1 (default 6818)
+#   SLURM_LOCAL_CTLD_PORT    slurmctld's TCP port, reached on 127.0.0.1 (default 6817)
+#   SLURM_LOCAL_SLURMD_PORT  slurmd's TCP port, reached on 127.0.0.1 (default 6818)
 #
 # Exit status: 0 done; 1 the cluster could not be brought up or stopped (the message says
 # why, with the daemon logs' tails); 2 bad usage, not root, or DIR holds files that are not
