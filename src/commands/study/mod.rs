@@ -38,7 +38,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 pub use shard::{array_expression, Shard, TaskRecord, MAX_SHARDS};
 pub use slurm::{slurm_cmd, SlurmOptions};
-pub use state::{merge_cmd, plan_cmd, status_cmd, CaseState, StatusReport};
+pub use state::{merge_cmd, plan_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;

@@ -86,11 +86,12 @@ fn sbatch_lines(o: &SlurmOptions) -> String {
     s
 }
 
-/// Run `sbatch --parsable [extra] script`: the job id.
-fn submit(sbatch: &Path, extra: &[String], script: &Path) -> Result<String, Error> {
+/// Run `sbatch --parsable [extra] script` (`shown`: the script's path as the user gave
+/// the folder): the job id.
+fn submit(sbatch: &Path, extra: &[String], script: &Path, shown: &Path) -> Result<String, Error> {
     let failed = |status: String, stderr: String| Error::SlurmFailed {
         program: sbatch.display().to_string(),
-        script: script.display().to_string(),
+        script: shown.display().to_string(),
         status,
         stderr,
     };
@@ -237,8 +238,10 @@ echo \"array job $array ({n} tasks), merge job ${{merge%%;*}}\"
         dir.join(SUBMIT_SCRIPT).display()
     );
     if let Some(sbatch) = sbatch {
-        let job = submit(&sbatch, &[], &dir.join(ARRAY_SCRIPT))?;
-        let merge_job = submit(&sbatch, &[format!("--dependency=afterany:{job}")], &dir.join(MERGE_SCRIPT))?;
+        let shown = out.join(SLURM_DIR);
+        let job = submit(&sbatch, &[], &dir.join(ARRAY_SCRIPT), &shown.join(ARRAY_SCRIPT))?;
+        let after = [format!("--dependency=afterany:{job}")];
+        let merge_job = submit(&sbatch, &after, &dir.join(MERGE_SCRIPT), &shown.join(MERGE_SCRIPT))?;
         text += &format!("submitted: array job {job} ({n} tasks), merge job {merge_job} (afterany:{job})\n");
     } else {
         text += &format!("submit with: sh {}\n", dir.join(SUBMIT_SCRIPT).display());

@@ -498,3 +498,17 @@ pub fn merge_cmd(dir: &Path) -> Result<(String, StatusReport), Error> {
     );
     Ok((text, r))
 }
+
+/// Every case of a study file's plan, in plan order, with the input hash that its
+/// finished `result.json` records (for tools that prepare or check study folders).
+pub fn planned_inputs(file: &Path) -> Result<Vec<(super::Case, String)>, Error> {
+    let Loaded { plan, base_text, .. } = load_study(file)?;
+    let hasher = InputHasher::new(&base_text);
+    Ok((0..plan.len())
+        .map(|i| {
+            let c = plan.case(i);
+            let h = hasher.of(&c, &plan.study);
+            (c, h)
+        })
+        .collect())
+}
