@@ -277,7 +277,7 @@ enum StudyAction {
 /// The shard count of `--shards`/`--tasks`.
 fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Error> {
     text.map(|t| match t.trim().parse::<u32>() {
-        Ok(n) if n >= 1 && n <= commands::MAX_SHARDS => Ok(n),
+        Ok(n) if (1..=commands::MAX_SHARDS).contains(&n) => Ok(n),
         _ => Err(rotorshunt::Error::Shard {
             source_name: source.into(),
             value: t.into(),

@@ -344,7 +344,7 @@ pub(crate) fn root_ledger(out: &Path, manifest: Manifest) -> Ledger {
 /// A case folder opened by a run.
 pub(crate) enum CaseFolder {
     /// This run holds the case: the folder's ledger and the case lock.
-    Held(Ledger, CaseLock),
+    Held(Box<Ledger>, CaseLock),
     /// Another run holds the case lock: its holder, as `pid P on host H`, if recorded.
     Busy(Option<String>),
 }
@@ -377,7 +377,7 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolde
         ledger.flush()?;
     }
     remove_temporaries(dir, |t| t == CASE_MANIFEST || ledger.owns(t)).map_err(|e| output_error(dir, e))?;
-    Ok(CaseFolder::Held(ledger, lock))
+    Ok(CaseFolder::Held(Box::new(ledger), lock))
 }
 
 /// Whether an existing case folder is the study's (see [`open_case`]).

@@ -322,7 +322,7 @@ impl Run<'_> {
         let path = self.cases_dir.join(&case.slug);
         // The case lock is held until this function returns: through the commit.
         let (dir, _lock) = match folder::open_case(&path, self.study, &case.name) {
-            Ok(CaseFolder::Held(ledger, lock)) => (OutDir::planned(&path, self.inputs).with_ledger(ledger), lock),
+            Ok(CaseFolder::Held(ledger, lock)) => (OutDir::planned(&path, self.inputs).with_ledger(*ledger), lock),
             Ok(CaseFolder::Busy(holder)) => return Outcome::Busy(case.name.clone(), holder),
             // Not this study's folder: nothing is written into it, not even the result.
             Err(e) => return Outcome::Ran(row("failed", Some(e.to_string()), BTreeMap::new())),

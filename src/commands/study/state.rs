@@ -419,9 +419,11 @@ fn details(r: &StatusReport, dir: &Path) -> String {
         let of: Vec<&StatusCase> = r
             .not_done
             .iter()
-            .filter(|c| match (&c.state, pick) {
-                (CaseState::Failed(_), 0) | (CaseState::Missing, 1) | (CaseState::Running(_), 2) => true,
-                _ => false,
+            .filter(|c| {
+                matches!(
+                    (&c.state, pick),
+                    (CaseState::Failed(_), 0) | (CaseState::Missing, 1) | (CaseState::Running(_), 2)
+                )
             })
             .collect();
         for c in of.iter().take(LISTED_CASES) {
