@@ -22,7 +22,7 @@ pub enum Error {
         /// What is wrong (with the key path).
         message: String,
     },
-    /// Bad command-line argument (range syntax, counts).
+    /// Bad command-line argument: its form (range syntax), or a grid of too many points.
     #[error("argument `{argument}`: {message}")]
     Argument {
         /// The argument's name.
@@ -30,6 +30,21 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// A command-line value that breaks its parameter's rule
+    /// ([`crate::analysis::limits`]): the same rule, and the same kind, as a problem or
+    /// study file's key gives for that value.
+    #[error("argument `{argument}`: {kind}")]
+    Parameter {
+        /// The argument's name, e.g. `--beta-max`.
+        argument: String,
+        /// The rule broken, as the file layer's kind (`NotFinite`, `NotPositive`,
+        /// `Negative`, `OutOfRange`).
+        kind: crate::problem::ProblemErrorKind,
+    },
+    /// A run refused before it started: its estimated time or memory is beyond the limit
+    /// ([`crate::analysis::cost`]).
+    #[error(transparent)]
+    Cost(#[from] crate::analysis::cost::CostError),
     /// Writing an output failed (including a read-only file, which is not replaced).
     #[error("cannot write {path}: {message}")]
     Output {
@@ -164,6 +179,13 @@ pub enum Error {
         /// The limit.
         limit: u64,
     },
+}
+
+impl Error {
+    /// The error of command-line argument `argument` whose value breaks a parameter rule.
+    pub fn parameter(argument: &str, e: &crate::analysis::limits::ParamError) -> Error {
+        Error::Parameter { argument: argument.to_string(), kind: e.into() }
+    }
 }
 
 fn entries_count(count: usize) -> String {

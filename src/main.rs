@@ -2,6 +2,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use rotorshunt::analysis::cost::Budget;
 use rotorshunt::commands::{self, Progress};
 use rotorshunt::problem::Problem;
 use std::path::PathBuf;
@@ -14,6 +15,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Allow FACTOR times the documented limits of computing time (3600 s of one core)
+    /// and memory (400 MiB of dense matrices) that every command checks its estimated
+    /// cost against before it starts (docs/errors.md, `Cost`).
+    #[arg(long = "max-cost", value_name = "FACTOR", global = true, default_value_t = 1.0)]
+    max_cost: f64,
 }
 
 /// The problem file and its overrides, shared by every command.
@@ -287,7 +293,7 @@ fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Er
     .transpose()
 }
 
-fn study(args: StudyArgs) -> Result<(String, u8), rotorshunt::Error> {
+fn study(args: StudyArgs, budget: Budget) -> Result<(String, u8), rotorshunt::Error> {
     let done = |r: &commands::StatusReport| if r.done == r.cases { 0 } else { exit::STUDY_FAILED_CASES };
     match args.action {
         Some(StudyAction::Plan { file, shards, json }) => {
@@ -348,8 +354,18 @@ fn study(args: StudyArgs) -> Result<(String, u8), rotorshunt::Error> {
                 shard,
                 array_task_id: std::env::var_os("SLURM_ARRAY_TASK_ID").map(|v| v.to_string_lossy().into_owned()),
                 dry_run: args.dry_run,
+                budget,
             };
             let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
+            if failed > 0 {
+                // Scripts read the status; a person reads why on stderr, after the summary.
+                let place = if text.starts_with("study: shard ") {
+                    format!("{} (and in `rotorshunt study status {}`)", out.join("cases").display(), out.display())
+                } else {
+                    out.join("summary.md").display().to_string()
+                };
+                eprintln!("error: {failed} case(s) of the study failed: their errors are in {place}");
+            }
             Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
         }
     }
@@ -410,14 +426,17 @@ mod exit {
 /// The text for standard output and the exit code of a run that produced output.
 fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
     let plain = |r: Result<String, rotorshunt::Error>| r.map(|t| (t, 0));
+    let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::Error::parameter("--max-cost", &e))?;
     match cli.command {
-        Command::Check { input } => plain(commands::check(&load(&input)?)),
-        Command::Modes { input, speed, count, json } => plain(commands::modes(&load(&input)?, speed, count, json)),
+        Command::Check { input } => plain(commands::check(&load(&input)?, budget)),
+        Command::Modes { input, speed, count, json } => {
+            plain(commands::modes(&load(&input)?, speed, count, json, budget))
+        }
         Command::Campbell { input, speeds, count, out } => {
-            plain(commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar()))
+            plain(commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar(), budget))
         }
         Command::Floquet { input, point, json } => {
-            plain(commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json))
+            plain(commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json, budget))
         }
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
@@ -443,16 +462,16 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,
             };
-            plain(commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar()))
+            plain(commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar(), budget))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
-            plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref()))
+            plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref(), budget))
         }
         Command::Band { input, phi_op, level, phi, json } => {
-            plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json))
+            plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, budget))
         }
         Command::Design { input, out } => {
-            let (text, outcome) = commands::design_cmd(&load(&input)?, &out, &bar())?;
+            let (text, outcome) = commands::design_cmd(&load(&input)?, &out, &bar(), budget)?;
             let code = match outcome.status {
                 rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,
                 rotorshunt::design::Status::NotVerified => exit::NOT_VERIFIED,
@@ -460,9 +479,9 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
             };
             Ok((text, code))
         }
-        Command::Study(args) => study(args),
+        Command::Study(args) => study(args, budget),
         Command::Response { input, point, periods, out } => {
-            plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out))
+            plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out, budget))
         }
     }
 }
@@ -483,6 +502,9 @@ fn main() -> ExitCode {
             ExitCode::from(match e {
                 rotorshunt::Error::Problem(_)
                 | rotorshunt::Error::Argument { .. }
+                | rotorshunt::Error::Parameter { .. }
+                | rotorshunt::Error::Cost(_)
+                | rotorshunt::Error::Analysis(rotorshunt::analysis::AnalysisError::Request(_))
                 | rotorshunt::Error::Study { .. }
                 | rotorshunt::Error::StudyTooLarge { .. }
                 | rotorshunt::Error::FolderNotEmpty { .. }
@@ -495,7 +517,9 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::SlurmMissing { .. }
                 | rotorshunt::Error::OutputIsInput { .. }
                 | rotorshunt::Error::Design(
-                    rotorshunt::design::DesignError::NoDesign | rotorshunt::design::DesignError::Candidate(_),
+                    rotorshunt::design::DesignError::NoDesign
+                    | rotorshunt::design::DesignError::Candidate(_)
+                    | rotorshunt::design::DesignError::Spec { .. },
                 ) => 2,
                 _ => 1,
             })

@@ -38,7 +38,7 @@ fn parallel_equals_sequential() {
 fn command_writes_csv_json_svg_png() {
     let p = load("paper-open.toml", &[]);
     let dir = std::env::temp_dir().join(format!("rotorshunt-campbell-{}", std::process::id()));
-    let text = campbell_cmd(&p, "0:2000:1000", 4, &dir, &Quiet).unwrap();
+    let text = campbell_cmd(&p, "0:2000:1000", 4, &dir, &Quiet, Default::default()).unwrap();
     assert!(text.contains("3 speeds"), "{text}");
     let csv = std::fs::read_to_string(dir.join("campbell.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8 * 3);

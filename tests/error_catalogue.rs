@@ -4,6 +4,7 @@
 //! `tests/fixtures/bad` has its kind documented.
 
 mod common;
+use rotorshunt::analysis::cost::{CostError, Resource};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::design::DesignError;
 use rotorshunt::linalg::LinalgError;
@@ -26,6 +27,7 @@ const EXIT_1: [&str; 9] = [
     "NoWhirlModes",
     "ReducedBasis",
     "StiffResponse",
+    "Unreliable",
 ];
 
 fn root() -> &'static Path {
@@ -69,6 +71,9 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
         AnalysisError::ReducedBasis { .. } => "ReducedBasis",
         AnalysisError::StiffResponse { .. } => "StiffResponse",
+        AnalysisError::Unreliable { .. } => "Unreliable",
+        // A library request's broken rule is the file layer's kind for that value.
+        AnalysisError::Request(e) => problem_kind(&ProblemErrorKind::from(e)),
     }
 }
 
@@ -81,6 +86,7 @@ fn design_kind(e: &DesignError) -> &'static str {
         DesignError::Analysis(a) => analysis_kind(a),
         DesignError::Optimiser(_) => "Optimiser",
         DesignError::Qp(_) => "Qp",
+        DesignError::Spec { error, .. } => problem_kind(&ProblemErrorKind::from(error)),
     }
 }
 
@@ -91,6 +97,9 @@ fn error_kind(e: &Error) -> &'static str {
         Error::Design(d) => design_kind(d),
         Error::Study { .. } => "Study",
         Error::Argument { .. } => "Argument",
+        // A flag's broken rule is the file layer's kind for that value.
+        Error::Parameter { kind, .. } => problem_kind(kind),
+        Error::Cost(_) => "Cost",
         Error::Output { .. } => "Output",
         Error::OutputIsInput { .. } => "OutputIsInput",
         Error::FolderNotEmpty { .. } => "FolderNotEmpty",
@@ -144,6 +153,15 @@ fn every_kind() -> Vec<&'static str> {
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },
+        Error::Cost(CostError {
+            what: s(),
+            resource: Resource::Time,
+            estimate: 1.0,
+            limit: 1.0,
+            factor: 1.0,
+            parameter: s(),
+            detail: s(),
+        }),
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
         Error::OutputIsInput { path: s(), input: s() },

@@ -99,7 +99,7 @@ fn ten_thousand_disks_check_fast() {
     std::fs::write(&file, common::many_disks_text(10_000)).expect("write disks");
     let started = Instant::now();
     let problem = Problem::from_path(&file, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let text = rotorshunt::commands::check(&problem).unwrap_or_else(|e| panic!("{e}"));
+    let text = rotorshunt::commands::check(&problem, Default::default()).unwrap_or_else(|e| panic!("{e}"));
     let took = started.elapsed();
     println!("check on 10^4 disks (library: load, assemble, P_cr, summary): {:.3} s", took.as_secs_f64());
     assert_eq!(problem.model.disks.len(), 10_000);

@@ -93,7 +93,7 @@ fn closed_circuit_labels_electrical_modes() {
 fn the_modes_command_prints_the_tables_as_json() {
     // The same values through the CLI path: `rotorshunt modes FILE --count 8 --json`.
     let p = load("paper-closed.toml", &[]);
-    let text = commands::modes(&p, Some(2000.0), 8, true).unwrap();
+    let text = commands::modes(&p, Some(2000.0), 8, true, Default::default()).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["speed"], 2000.0);
     assert!(rel(v["critical_load"].as_f64().unwrap(), 1.650e5) < 1e-3);

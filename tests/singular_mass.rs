@@ -43,6 +43,6 @@ fn inductance_zero_is_accepted_from_the_file() {
     );
     let p = rotorshunt::problem::Problem::from_text(&text, "zero-l.toml", &[]).unwrap();
     assert_eq!(p.model.circuit.branches[0].inductance, 0.0);
-    let out = rotorshunt::commands::modes(&p, None, 4, true).unwrap();
+    let out = rotorshunt::commands::modes(&p, None, 4, true, Default::default()).unwrap();
     assert!(!out.contains("NaN") && !out.contains("inf"));
 }

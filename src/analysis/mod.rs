@@ -3,9 +3,11 @@
 pub mod buckling;
 pub mod campbell;
 pub mod chart;
+pub mod cost;
 pub mod criterion;
 pub mod floquet;
 pub mod interval;
+pub mod limits;
 pub mod modes;
 pub mod reduction;
 pub mod regions;
@@ -53,6 +55,17 @@ pub enum AnalysisError {
         /// max|ΦᵀMΦ − I| (−).
         drift: f64,
     },
+    /// The Floquet points of a region search fail the β = 0 check
+    /// ([`floquet::PointIssue::ZeroLoad`]): the unloaded monodromy misses exp(λT), so every
+    /// verdict of the search would be noise (e.g. a shunt resistance of 1e18 Ω: decay
+    /// rates 10¹⁵ times the whirl frequencies, beyond what f64 exponentials resolve).
+    #[error("the Floquet points at phi = {} rad/s are not reliable ({issue}): a region search on them would report noise; check the model's parameters for orders of magnitude (R, L, C_f, eta)", short(*phi))]
+    Unreliable {
+        /// φ of the failed check (rad/s).
+        phi: f64,
+        /// What the check found.
+        issue: floquet::PointIssue,
+    },
     /// The time response is stiff: RK4's stability needs more than
     /// [`response::STIFFNESS_LIMIT`] times the steps its accuracy needs.
     #[error("the time response at phi = {} rad/s is stiff: B0 has an eigenvalue of modulus {rate:.3e} 1/s (strong damping: a large R or eta), and RK4 would need {steps:.3e} steps per period, more than {} times the {accuracy_steps} its accuracy needs: not integrated (`rotorshunt floquet` gives the stability without it)", short(*phi), response::STIFFNESS_LIMIT)]
@@ -89,6 +102,10 @@ pub enum AnalysisError {
         /// The oscillation tolerance in force.
         tolerance: f64,
     },
+    /// A request built in code (a catalogue, a band) breaks a parameter rule
+    /// ([`limits`]); the command line checks its flags by the same rules first.
+    #[error("the {} of the request {}", quantity_name(.0.quantity), .0)]
+    Request(#[from] limits::ParamError),
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -105,5 +122,22 @@ fn short(v: f64) -> String {
         v.to_string()
     } else {
         format!("{v:e}")
+    }
+}
+
+/// The name of a quantity in a library request's messages.
+fn quantity_name(q: limits::Quantity) -> &'static str {
+    use limits::Quantity as Q;
+    match q {
+        Q::Frequency => "frequency",
+        Q::RangeLow => "range's low end",
+        Q::RangeHigh => "range's high end",
+        Q::Load => "load coefficient",
+        Q::BetaMax => "beta_max",
+        Q::Level => "level",
+        Q::OperatingFrequency => "operating frequency",
+        Q::Speed => "speed",
+        Q::Count => "count",
+        Q::CostFactor => "cost factor",
     }
 }

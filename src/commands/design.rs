@@ -2,11 +2,17 @@
 //! tuned-parameter report (report.md, report.json), the tuned problem (tuned.toml) and
 //! plots (charts before/after with the operating bands, Campbell diagram, history).
 
+use super::bounds::{self, Names};
 use super::{title, OutDir, Progress, TOOL};
 use crate::analysis::campbell::campbell;
 use crate::analysis::chart::chart;
+use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
+use crate::analysis::regions::RegionSettings;
+use crate::analysis::Interval;
 use crate::design::evaluate::Candidate;
+use crate::design::evaluate::{neighbourhood, values_of};
 use crate::design::spec::{DesignSpec, Objective};
+use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
 use crate::report::campbell::campbell_plot;
@@ -168,11 +174,109 @@ pub fn status_word(status: Status) -> String {
     serde_json::to_value(status).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
 }
 
+/// The names of a design's inputs in a refusal.
+pub(crate) const DESIGN: Names<'static> = Names {
+    phi: "`design.phi_range`",
+    grid: "`design.phi_range` or `design.bands`",
+    load: "`design.level` or `design.beta_max`",
+    periods: "the design",
+};
+
+/// Candidates a design may build: the progress count of its optimiser (Nelder–Mead:
+/// 2 per iteration and the simplex, per start; clear-bands: the global pass and
+/// 2·(2·variables + 1) per convex step), and the finals and the reference.
+fn candidates(spec: &DesignSpec) -> f64 {
+    let (starts, iterations, variables) = (spec.starts as f64, spec.max_iterations as f64, spec.variables.len() as f64);
+    match spec.objective {
+        Objective::WidestStableBand => starts * (2.0 * iterations + variables + 1.0) + starts + 1.0,
+        Objective::ClearBands => 4.0 * starts + 1.0 + 2.0 * iterations * (2.0 * variables + 1.0) + 1.0,
+    }
+}
+
+/// The estimated cost of `problem`'s design, from its reference candidate (its rotor and
+/// reduced systems are built: bounded by the dense estimate, checked first): every
+/// candidate's dense stages and band (or operating-band) search at every speed, and the
+/// verification with the report (two catalogues per speed, the grids, the DSTM points at
+/// tongue centres, the before/after charts and the Campbell diagram).
+pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Budget) -> Result<Estimate, Error> {
+    let threads = rayon::current_num_threads();
+    let speeds = spec.speeds.len() as f64;
+    let model = &problem.model;
+    let dense = cost::dense(model, Dense::Reduced, 1);
+    let verify_dense = cost::dense(model, Dense::ReducedAndWhirls, 1);
+    let mut memory = dense.memory.clone();
+    memory.amount = (memory.amount * threads as f64).max(verify_dense.memory.amount);
+    let admitted = Estimate { time: dense.time.clone(), memory: memory.clone() };
+    bounds::admit(budget, "the design", &admitted, &DESIGN)?;
+    let reference = Candidate::new(problem, spec, &values_of(problem, spec))?;
+    let s = RegionSettings::default();
+    let criterion = reference.criterion();
+    let mut per_candidate = Estimate::time(dense.time.amount * speeds, Driver::Dofs, dense.time.detail.clone());
+    let mut verification = Estimate::zero();
+    for (k, (_, fs)) in reference.systems.iter().enumerate() {
+        let pc = PointCost::of(fs);
+        let seeds = reference.seeds(k, spec)?;
+        let range = spec.range();
+        let work = match spec.objective {
+            Objective::WidestStableBand => {
+                let phi_op = spec.phi_op.unwrap_or(range.lo);
+                cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
+            }
+            Objective::ClearBands => {
+                let windows: Vec<Interval> = spec.bands.iter().map(|b| neighbourhood(b).clipped(&range)).collect();
+                cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level)
+            }
+        };
+        per_candidate = per_candidate.then(work);
+        let catalogue = CatalogueWork { range, beta_max: spec.beta_max, level: spec.level, track: false };
+        let cat = cost::catalogue(&pc, &s, &criterion, &seeds, &catalogue);
+        // The windows checked: the band, taken as the charts' window around φ_op (half to
+        // 1.5 times it), or each widened operating band.
+        let windows: Vec<Interval> = match spec.objective {
+            Objective::WidestStableBand => {
+                let (lo, hi) = chart_window(spec);
+                vec![Interval::new(lo, hi)]
+            }
+            Objective::ClearBands => spec.bands.iter().map(|b| b.guarded().clipped(&range)).collect(),
+        };
+        let mut grids = Estimate::zero();
+        for w in &windows {
+            let n = (w.width() / GRID_STEP).min(MAX_GRID_POINTS as f64);
+            grids = grids.then(cost::points(&pc, n, w.lo, spec.level));
+            let near = Interval::new(w.lo * (1.0 - NEAR), w.hi * (1.0 + NEAR));
+            let centres = seeds.iter().filter(|x| near.contains(x.phi)).count() as f64;
+            grids = grids.then(Estimate::time(
+                centres * pc.dstm(),
+                Driver::Settings,
+                "DSTM points at tongue centres".into(),
+            ));
+        }
+        let (lo, hi) = chart_window(spec);
+        let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
+        let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
+        let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
+        let charts = cost::chart(&pc, &phis, &betas).times(2.0, Driver::Grid, "charts");
+        verification = verification.then(cat.times(2.0, Driver::Grid, "catalogues")).then(grids).then(charts);
+    }
+    // The whirls: the physics seed's and the catalogues' at each speed, and the Campbell
+    // diagram's speeds.
+    let whirls = cost::dense(model, Dense::Whirls(CAMPBELL_SPEEDS + 3 * spec.speeds.len()), threads);
+    let total = per_candidate.times(candidates(spec), Driver::Candidates, "candidates").then(verification).then(whirls);
+    Ok(Estimate { memory: if memory.amount > total.memory.amount { memory } else { total.memory.clone() }, ..total })
+}
+
 /// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
-/// decides the exit code).
-pub fn design_cmd(problem: &Problem, out: &Path, progress: &dyn Progress) -> Result<(String, DesignOutcome), Error> {
+/// decides the exit code). Refused before any folder is made when its estimate is beyond
+/// `budget`.
+pub fn design_cmd(
+    problem: &Problem,
+    out: &Path,
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<(String, DesignOutcome), Error> {
     // No folder is created for a file without a [design] table.
-    problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
     let outcome = design_report(problem, &OutDir::create(out, &problem.file)?, progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }

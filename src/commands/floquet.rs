@@ -1,10 +1,13 @@
 //! The Floquet commands: `floquet` (one point), `chart` (a grid, optionally compared with
 //! a second configuration) and `response` (time response at one point).
 
+use super::bounds::{self, Names};
 use super::{parse_range, title, OutDir, Progress, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
+use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
-use crate::analysis::response::{checked_response, ResponseResult};
+use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
+use crate::analysis::response::{checked_response, rk4_steps_per_period, ResponseResult, STIFFNESS_LIMIT};
 use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
@@ -27,22 +30,17 @@ fn arg_error(argument: &str, message: String) -> Error {
 }
 
 fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
-    if !(phi.is_finite() && phi > 0.0) {
-        return Err(Error::Argument {
-            argument: "--phi".into(),
-            message: format!("must be a positive frequency in rad/s, found {phi}"),
-        });
-    }
-    if !(beta.is_finite() && beta >= 0.0) {
-        return Err(Error::Argument {
-            argument: "--beta".into(),
-            message: format!("must be a finite load coefficient >= 0, found {beta}"),
-        });
-    }
+    bounds::flag("--phi", limits::frequency(Quantity::Frequency, phi))?;
+    bounds::flag("--beta", limits::load(beta))?;
     Ok(())
 }
 
-fn system(problem: &Problem) -> Result<FloquetSystem, Error> {
+/// The names of a point command's inputs in a refusal.
+const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`--beta`", periods: "`--periods`" };
+
+/// The reduced system of `problem`, its dense stages admitted within `budget` first.
+fn system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
+    bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
     let rotor = Rotor::new(&problem.model)?;
     Ok(FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?)
 }
@@ -61,9 +59,10 @@ pub struct FloquetOutput {
 }
 
 /// `rotorshunt floquet FILE --phi P --beta B [--json]`.
-pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool) -> Result<String, Error> {
+pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: Budget) -> Result<String, Error> {
     check_point(phi, beta)?;
-    let fs = system(problem)?;
+    let fs = system(problem, &budget)?;
+    bounds::admit(&budget, "the Floquet point", &cost::floquet_point(&PointCost::of(&fs), phi, beta), &POINT)?;
     let point = fs.point(phi, beta);
     if json {
         let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
@@ -122,18 +121,11 @@ pub enum Compare<'a> {
     Problem(&'a str, &'a Problem),
 }
 
-fn run_chart(
-    problem: &Problem,
-    phis: &[f64],
-    betas: &[f64],
-    progress: &dyn Progress,
-    what: &str,
-) -> Result<ChartResult, Error> {
-    let fs = system(problem)?;
+fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress, what: &str) -> ChartResult {
     progress.start(phis.len() as u64, what);
-    let c = chart(&fs, phis, betas, &|| progress.tick());
+    let c = chart(fs, phis, betas, &|| progress.tick());
     progress.finish();
-    Ok(c)
+    c
 }
 
 fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
@@ -153,20 +145,15 @@ pub fn chart_cmd(
     compare: Compare<'_>,
     timing: bool,
     progress: &dyn Progress,
+    budget: Budget,
 ) -> Result<String, Error> {
     let phis = parse_range(phi, "--phi")?;
     let betas = parse_range(beta, "--beta")?;
-    if let Some(bad) = phis.iter().find(|p| **p <= 0.0) {
-        return Err(Error::Argument {
-            argument: "--phi".into(),
-            message: format!("frequencies must be > 0 rad/s, found {bad}"),
-        });
+    for &p in &phis {
+        bounds::flag("--phi", limits::frequency(Quantity::Frequency, p))?;
     }
-    if let Some(bad) = betas.iter().find(|b| **b < 0.0) {
-        return Err(Error::Argument {
-            argument: "--beta".into(),
-            message: format!("load coefficients must be >= 0, found {bad}"),
-        });
+    for &b in &betas {
+        bounds::flag("--beta", limits::load(b))?;
     }
     let points = phis.len() * betas.len();
     if points > MAX_CHART_POINTS {
@@ -175,6 +162,19 @@ pub fn chart_cmd(
             format!("the grid has {points} points, more than the {MAX_CHART_POINTS} a chart may have (about 10 minutes here); use coarser steps"),
         ));
     }
+    // Both systems built and the charts' work admitted before any file is touched.
+    let names = Names { phi: "`--phi`", grid: "`--phi` and `--beta`", load: "`--beta`", periods: "`--phi`" };
+    let main_fs = system(problem, &budget)?;
+    let mut estimate = cost::chart(&PointCost::of(&main_fs), &phis, &betas);
+    let other_fs = match &compare {
+        Compare::Problem(_, other) => {
+            let fs = system(other, &budget)?;
+            estimate = estimate.then(cost::chart(&PointCost::of(&fs), &phis, &betas));
+            Some(fs)
+        }
+        Compare::None => None,
+    };
+    bounds::admit(&budget, "the chart", &estimate, &names)?;
     let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
     if let Compare::Problem(_, other) = &compare {
         inputs.push((Path::new(&other.file), "the --compare file"));
@@ -182,15 +182,15 @@ pub fn chart_cmd(
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&CHART_FILES)?;
     let start = Instant::now();
-    let main = run_chart(problem, &phis, &betas, progress, "chart")?;
+    let main = run_chart(&main_fs, &phis, &betas, progress, "chart");
     let elapsed = start.elapsed().as_secs_f64();
     write_chart(&dir, "chart", problem, &main)?;
     let label = title(problem);
     let name = layer_name(problem);
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
-    if let Compare::Problem(name, other) = compare {
-        let c = run_chart(other, &phis, &betas, progress, "compare")?;
+    if let (Compare::Problem(name, other), Some(fs)) = (compare, &other_fs) {
+        let c = run_chart(fs, &phis, &betas, progress, "compare");
         write_chart(&dir, "compare", other, &c)?;
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
         layers.push(Layer { name: name.to_string(), color: (214, 39, 40), chart: c });
@@ -226,15 +226,25 @@ pub fn chart_cmd(
 }
 
 /// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`.
-pub fn response_cmd(problem: &Problem, phi: f64, beta: f64, periods: usize, out: &Path) -> Result<String, Error> {
+pub fn response_cmd(
+    problem: &Problem,
+    phi: f64,
+    beta: f64,
+    periods: usize,
+    out: &Path,
+    budget: Budget,
+) -> Result<String, Error> {
     check_point(phi, beta)?;
-    if periods == 0 || periods > 100_000 {
-        return Err(Error::Argument {
-            argument: "--periods".into(),
-            message: format!("must be between 1 and 100000, found {periods}"),
-        });
-    }
-    let fs = system(problem)?;
+    bounds::flag("--periods", limits::count(periods as u64, 1, MAX_PERIODS as u64))?;
+    let fs = system(problem, &budget)?;
+    let pc = PointCost::of(&fs);
+    // The steps the response takes; a stiff one (beyond STIFFNESS_LIMIT times the phase
+    // rule's steps) is refused by `checked_response` before any step, so only the phase
+    // rule's steps are counted for it.
+    let phase = cost::response_steps(&pc, phi);
+    let steps = rk4_steps_per_period(&fs, phi) as f64;
+    let steps = if steps > STIFFNESS_LIMIT * phase { phase } else { steps };
+    bounds::admit(&budget, "the response", &cost::response(&pc, phi, beta, periods, steps), &POINT)?;
     let point = fs.point(phi, beta);
     let r: ResponseResult = checked_response(&fs, phi, beta, periods)?;
     let dir = OutDir::create(out, &problem.file)?;

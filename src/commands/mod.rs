@@ -2,6 +2,7 @@
 //! renders reports and writes files. Commands return the text for standard output.
 
 mod args;
+mod bounds;
 mod design;
 mod floquet;
 mod out;
@@ -20,6 +21,8 @@ pub use study::{
 };
 
 use crate::analysis::campbell::campbell;
+use crate::analysis::cost::{Budget, Dense};
+use crate::analysis::limits::{self, MAX_COUNT};
 use crate::analysis::modes::{whirl_modes_of, WhirlMode};
 use crate::analysis::Rotor;
 use crate::problem::Problem;
@@ -78,8 +81,10 @@ pub(crate) fn title(p: &Problem) -> String {
     p.data.title.clone().unwrap_or_else(|| p.file.clone())
 }
 
-/// `rotorshunt check FILE`: the model summary.
-pub fn check(problem: &Problem) -> Result<String, Error> {
+/// `rotorshunt check FILE`: the model summary. Refused before assembly when the model's
+/// dense matrices are beyond `budget`.
+pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
+    bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
     let rotor = Rotor::new(&problem.model)?;
     Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
 }
@@ -101,17 +106,13 @@ pub struct ModesOutput {
 }
 
 /// `rotorshunt modes FILE [--speed W] [--count N] [--json]`.
-pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool) -> Result<String, Error> {
-    if count == 0 {
-        return Err(Error::Argument { argument: "--count".into(), message: "must be at least 1".into() });
-    }
-    let speed = speed.unwrap_or(problem.model.speed);
-    if !speed.is_finite() || speed < 0.0 {
-        return Err(Error::Argument {
-            argument: "--speed".into(),
-            message: format!("must be a finite speed >= 0 rad/s, found {speed}"),
-        });
-    }
+pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, budget: Budget) -> Result<String, Error> {
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+    let speed = match speed {
+        Some(w) => bounds::flag("--speed", limits::speed(w))?,
+        None => problem.model.speed,
+    };
+    bounds::admit_dense(&budget, "`modes`", problem, Dense::Whirls(1))?;
     let rotor = Rotor::new(&problem.model)?;
     let r = whirl_modes_of(&rotor, &problem.settings, speed)?;
     let out = ModesOutput {
@@ -135,17 +136,16 @@ pub fn campbell_cmd(
     count: usize,
     out: &Path,
     progress: &dyn Progress,
+    budget: Budget,
 ) -> Result<String, Error> {
-    if count == 0 {
-        return Err(Error::Argument { argument: "--count".into(), message: "must be at least 1".into() });
-    }
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
     let speeds = parse_range(speeds, "--speeds")?;
-    if let Some(bad) = speeds.iter().find(|w| **w < 0.0) {
-        return Err(Error::Argument {
-            argument: "--speeds".into(),
-            message: format!("speeds must be >= 0 rad/s, found {bad}"),
-        });
+    for &w in &speeds {
+        bounds::flag("--speeds", limits::speed(w))?;
     }
+    let threads = rayon::current_num_threads();
+    let estimate = crate::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
+    bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
     let dir = OutDir::create(out, &problem.file)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.start(speeds.len() as u64, "campbell");

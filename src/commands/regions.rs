@@ -1,11 +1,16 @@
 //! The region commands: `regions` (catalogue, stable bands, optional tracked boundaries)
 //! and `band` (the stable band around an operating frequency).
 
-use super::{parse_range, OutDir, Provenance};
+use super::bounds::{self, Names};
+use super::{OutDir, Provenance};
 use crate::analysis::chart::chart;
+use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::limits::{self, Quantity};
 use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::seeds_for;
 use crate::analysis::regions::{band, catalogue, Band, Bound, Catalogue, CatalogueRequest, Edges, RegionSettings};
+use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
@@ -20,29 +25,34 @@ fn arg(argument: &str, message: String) -> Error {
     Error::Argument { argument: argument.into(), message }
 }
 
+/// `A:B` as a φ range (rad/s), by the range rule ([`limits::phi_range`]).
 fn range_of(text: &str) -> Result<Interval, Error> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let v =
-        if parts.len() == 2 { parse_range(&format!("{}:{}:{}", parts[0], parts[1], 1e9), "--phi")? } else { vec![] };
-    let lo = v.first().copied();
-    let hi = parts.get(1).and_then(|p| p.trim().parse::<f64>().ok());
-    match (lo, hi) {
-        (Some(lo), Some(hi)) if lo > 0.0 && hi > lo && hi.is_finite() => Ok(Interval::new(lo, hi)),
-        _ => Err(arg("--phi", format!("`{text}` must be A:B with 0 < A < B (rad/s)"))),
-    }
+    let bad = || arg("--phi", format!("`{text}` is not of the form A:B (two numbers, rad/s)"));
+    let (a, b) = text.split_once(':').ok_or_else(bad)?;
+    let number = |p: &str| p.trim().parse::<f64>().map_err(|_| bad());
+    bounds::flag("--phi", limits::phi_range(number(a)?, number(b)?))
 }
 
-fn prepare(problem: &Problem) -> Result<(Rotor, FloquetSystem), Error> {
+/// The rotor and its reduced system, their dense stages (with the whirls at the speed)
+/// admitted within `budget` first.
+fn prepare(problem: &Problem, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+    bounds::admit_dense(budget, "the region search", problem, Dense::ReducedAndWhirls)?;
     let rotor = Rotor::new(&problem.model)?;
     let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
     Ok((rotor, fs))
 }
 
+/// The grid of the boundary plot over a catalogue (600 φ × 41 β).
+fn plot_grid(range: Interval, beta_max: f64) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = (range.lo, range.hi);
+    let phis: Vec<f64> = (0..600).map(|i| lo + (hi - lo) * i as f64 / 599.0).collect();
+    let betas: Vec<f64> = (0..41).map(|i| beta_max * i as f64 / 40.0).collect();
+    (phis, betas)
+}
+
 /// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid).
 fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Catalogue) -> Result<(), Error> {
-    let (lo, hi) = (cat.range.lo, cat.range.hi);
-    let phis: Vec<f64> = (0..600).map(|i| lo + (hi - lo) * i as f64 / 599.0).collect();
-    let betas: Vec<f64> = (0..41).map(|i| cat.beta_max * i as f64 / 40.0).collect();
+    let (phis, betas) = plot_grid(cat.range, cat.beta_max);
     let c = chart(fs, &phis, &betas, &|| {});
     let mut lines = Vec::new();
     for r in cat.regions.iter().filter(|r| r.resolved) {
@@ -80,20 +90,28 @@ pub fn regions_cmd(
     level: Option<f64>,
     json: bool,
     out: Option<&Path>,
+    budget: Budget,
 ) -> Result<String, Error> {
     let range = range_of(phi)?;
-    if !(beta_max.is_finite() && beta_max > 0.0) {
-        return Err(arg("--beta-max", format!("must be a positive load coefficient, found {beta_max}")));
-    }
-    let level = level.unwrap_or(beta_max);
-    if !(level.is_finite() && level > 0.0 && level <= beta_max) {
-        return Err(arg("--level", format!("must be in (0, beta-max = {beta_max}], found {level}")));
-    }
-    let (rotor, fs) = prepare(problem)?;
-    let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
+    let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
+    let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
+    let (rotor, fs) = prepare(problem, &budget)?;
     let settings = RegionSettings::default();
+    let req =
+        CatalogueRequest::new(range, beta_max, level, out.is_some()).map_err(crate::analysis::AnalysisError::from)?;
+    // The search's work, from the seeds of the range, before the whirls and the search.
+    let criterion = Criterion::of(&fs.settings);
+    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
+    let pc = PointCost::of(&fs);
+    let work = CatalogueWork { range, beta_max, level, track: out.is_some() };
+    let mut estimate = cost::catalogue(&pc, &settings, &criterion, &seeds, &work);
+    if out.is_some() {
+        estimate = estimate.then(cost::chart(&pc, &plot_grid(range, beta_max).0, &plot_grid(range, beta_max).1));
+    }
+    let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
+    bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
+    let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
-    let req = CatalogueRequest { range, beta_max, level, track: out.is_some() };
     let cat = catalogue(&fs, &full, &settings, &req)?;
     let seconds = start.elapsed().as_secs_f64();
     let doc = RegionsJson {
@@ -172,9 +190,10 @@ pub struct BandOutput {
     pub seconds: f64,
 }
 
-/// The default φ window of `band` around φ_op (rad/s): a twentieth to twenty times φ_op.
+/// The default φ window of `band` around φ_op (rad/s): a twentieth to twenty times φ_op
+/// (at most the largest frequency, [`limits::MAX_PHI`]).
 pub fn default_window(phi_op: f64) -> Interval {
-    Interval::new(phi_op / 20.0, phi_op * 20.0)
+    Interval::new(phi_op / 20.0, (phi_op * 20.0).min(limits::MAX_PHI))
 }
 
 fn bound_text(b: &Option<Bound>) -> String {
@@ -187,24 +206,32 @@ fn bound_text(b: &Option<Bound>) -> String {
 }
 
 /// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`.
-pub fn band_cmd(problem: &Problem, phi_op: f64, level: f64, window: Option<&str>, json: bool) -> Result<String, Error> {
-    if !(phi_op.is_finite() && phi_op > 0.0) {
-        return Err(arg("--phi-op", format!("must be a positive frequency in rad/s, found {phi_op}")));
-    }
-    if !(level.is_finite() && level > 0.0) {
-        return Err(arg("--level", format!("must be a positive load coefficient, found {level}")));
-    }
+pub fn band_cmd(
+    problem: &Problem,
+    phi_op: f64,
+    level: f64,
+    window: Option<&str>,
+    json: bool,
+    budget: Budget,
+) -> Result<String, Error> {
+    let phi_op = bounds::flag("--phi-op", limits::frequency(Quantity::OperatingFrequency, phi_op))?;
+    let level = bounds::flag("--level", limits::level(level, limits::MAX_BETA))?;
     let window = match window {
         Some(text) => range_of(text)?,
         None => default_window(phi_op),
     };
-    if !window.contains(phi_op) {
-        return Err(arg("--phi", format!("the window {window} rad/s must contain phi-op = {phi_op}")));
-    }
-    let (rotor, fs) = prepare(problem)?;
+    bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
+    let (rotor, fs) = prepare(problem, &budget)?;
+    let settings = RegionSettings::default();
+    let criterion = Criterion::of(&fs.settings);
+    let seeds = seeds_for(&fs, None, window, criterion.max_order)?;
+    let estimate = cost::band(&PointCost::of(&fs), &settings, &criterion, &seeds, window, level);
+    let names =
+        Names { phi: "`--phi` (the window)", grid: "`--phi` (the window)", load: "`--level`", periods: "`--phi`" };
+    bounds::admit(&budget, "the band search", &estimate, &names)?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
-    let b = band(&fs, &full, &RegionSettings::default(), window, phi_op, level)?;
+    let b = band(&fs, &full, &settings, window, phi_op, level)?;
     let out = BandOutput {
         provenance: Provenance::of(problem),
         speed: problem.model.speed,

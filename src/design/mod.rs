@@ -39,6 +39,15 @@ pub enum DesignError {
     /// through the library without `phi_op`).
     #[error("the widest-stable-band objective needs design.phi_op (rad/s)")]
     NoOperatingFrequency,
+    /// A spec built in code breaks a rule of the `[design]` table
+    /// ([`spec::DesignSpec::check`]); the file layer refuses such a table first.
+    #[error("design.{field}: {error}")]
+    Spec {
+        /// The field, as in `[design]` (e.g. `level`, `phi_range[1]`).
+        field: String,
+        /// The rule broken.
+        error: crate::analysis::limits::ParamError,
+    },
     /// A candidate's values do not make a valid problem.
     #[error(transparent)]
     Candidate(#[from] Box<crate::problem::ProblemError>),

@@ -6,7 +6,7 @@ use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
 use super::verify::{describe, verify, DesignAtSpeed};
 use super::DesignError;
-use crate::analysis::regions::{Counter, RegionSettings};
+use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
 use crate::problem::Problem;
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
@@ -317,11 +317,13 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
     Ok(Some(u))
 }
 
-/// Run the design of `base.design`; `progress` receives the number of candidates so far.
-/// The result is verified independently ([`crate::design::verify`]); the catalogues of
+/// Run the design of `base.design`, first checked by the `[design]` rules
+/// ([`DesignSpec::check`]: a spec built in code is not trusted); `progress` receives the
+/// number of candidates so far. The result is verified independently ([`crate::design::verify`]); the catalogues of
 /// the reference and the tuned design (for the report) come with it.
 pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOutcome, DesignError> {
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
+    spec.check(base.model.circuit.branches.len()).map_err(|(field, error)| DesignError::Spec { field, error })?;
     let started = Instant::now();
     let ctx = Context {
         base,
@@ -335,6 +337,11 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
         progress,
     };
     let before = values_of(base, spec);
+    // The reference design's Floquet points must pass the β = 0 check over the design's
+    // range at every speed before any candidate is searched.
+    for (_, fs) in &Candidate::new(base, spec, &before)?.systems {
+        check_reliable(fs, spec.range())?;
+    }
     let mut out = DesignOutcome {
         spec: spec.clone(),
         status: Status::Unchanged,

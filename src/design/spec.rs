@@ -1,6 +1,7 @@
 //! The design problem of a problem file's `[design]` table, validated: objective, load
 //! level, operating speeds and bands, and the circuit variables with their bounds.
 
+use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use serde::{Deserialize, Serialize};
 
@@ -139,9 +140,66 @@ pub struct DesignSpec {
     pub max_iterations: usize,
 }
 
+/// Most Nelder–Mead starts and iterations (or convex steps) of a design, as the file
+/// layer admits them.
+pub const MAX_STARTS: u64 = 64;
+/// See [`MAX_STARTS`].
+pub const MAX_ITERATIONS: u64 = 10_000;
+
 impl DesignSpec {
     /// The φ range of the catalogues and band searches (rad/s).
     pub fn range(&self) -> Interval {
         Interval::new(self.phi_range.0, self.phi_range.1)
+    }
+
+    /// Check a spec built in code (its fields are public) by the rules the `[design]`
+    /// table obeys ([`crate::analysis::limits`]) for a problem with `branches` branches;
+    /// the first broken rule with the field's name (as in `[design]`).
+    pub fn check(&self, branches: usize) -> Result<(), (String, ParamError)> {
+        let at = |field: &str| {
+            let field = field.to_string();
+            move |e: ParamError| (field, e)
+        };
+        let (lo, hi) = self.phi_range;
+        limits::phi_range(lo, hi).map_err(|e| {
+            let end = if e.quantity == Quantity::RangeLow { 0 } else { 1 };
+            (format!("phi_range[{end}]"), e)
+        })?;
+        let beta_max = limits::beta_max(self.beta_max).map_err(at("beta_max"))?;
+        limits::level(self.level, beta_max).map_err(at("level"))?;
+        if let Some(p) = self.phi_op {
+            limits::phi_op(p, self.range()).map_err(at("phi_op"))?;
+        }
+        for (i, &w) in self.speeds.iter().enumerate() {
+            limits::speed(w).map_err(at(&format!("speeds[{i}]")))?;
+        }
+        limits::count(self.speeds.len() as u64, 1, u64::MAX).map_err(at("speeds"))?;
+        for (i, b) in self.bands.iter().enumerate() {
+            limits::band(b.lo, b.hi).map_err(at(&format!("bands[{i}]")))?;
+            limits::span(b.clearance).map_err(at(&format!("bands[{i}].clearance")))?;
+        }
+        limits::count(self.starts as u64, 1, MAX_STARTS).map_err(at("starts"))?;
+        limits::count(self.max_iterations as u64, 1, MAX_ITERATIONS).map_err(at("max_iterations"))?;
+        limits::count(self.variables.len() as u64, 1, u64::MAX).map_err(at("variables"))?;
+        for (i, v) in self.variables.iter().enumerate() {
+            let key = format!("variables[{i}]");
+            limits::count(v.branch as u64 + 1, 1, branches as u64).map_err(at(&format!("{key}.branch")))?;
+            let min = if v.parameter.logarithmic() {
+                limits::positive(Quantity::RangeLow, v.min)
+            } else {
+                limits::non_negative(Quantity::RangeLow, v.min)
+            }
+            .map_err(at(&format!("{key}.min")))?;
+            let max = limits::finite(Quantity::RangeHigh, v.max).map_err(at(&format!("{key}.max")))?;
+            if max <= min {
+                let e = ParamError {
+                    quantity: Quantity::RangeHigh,
+                    value: max,
+                    rule: limits::Rule::NotAboveLow { low: min },
+                };
+                return Err((format!("{key}.max"), e));
+            }
+        }
+        Ok(())
     }
 }

@@ -2,6 +2,7 @@
 //! the key path, and carries the offending value.
 
 use super::source::Location;
+use crate::analysis::limits::{number, ParamError, Rule};
 use thiserror::Error;
 
 /// What is wrong with a problem file.
@@ -70,16 +71,16 @@ pub enum ProblemErrorKind {
         supported: i64,
     },
     /// NaN or infinite.
-    #[error("must be a finite number, found {0}")]
+    #[error("must be a finite number, found {}", number(*.0))]
     NotFinite(f64),
     /// ≤ 0 where a positive value is needed.
-    #[error("must be positive, found {0}")]
+    #[error("must be positive, found {}", number(*.0))]
     NotPositive(f64),
     /// < 0 where a non-negative value is needed.
-    #[error("must not be negative, found {0}")]
+    #[error("must not be negative, found {}", number(*.0))]
     Negative(f64),
     /// Outside an allowed range.
-    #[error("must be {range}, found {value}")]
+    #[error("must be {range}, found {}", number(*value))]
     OutOfRange {
         /// The value.
         value: f64,
@@ -177,6 +178,44 @@ impl ProblemError {
         match self.location {
             Location::Line(n) => Some(n),
             _ => None,
+        }
+    }
+}
+
+/// A parameter rule broken ([`crate::analysis::limits`]) as the file layer's kind: the
+/// sign and finiteness rules keep their own kinds, the others are [`ProblemErrorKind::OutOfRange`]
+/// with the rule's range. The message is the same text the rule gives.
+impl From<&ParamError> for ProblemErrorKind {
+    fn from(e: &ParamError) -> ProblemErrorKind {
+        match e.rule {
+            Rule::NotFinite => ProblemErrorKind::NotFinite(e.value),
+            Rule::NotPositive => ProblemErrorKind::NotPositive(e.value),
+            Rule::Negative => ProblemErrorKind::Negative(e.value),
+            ref other => ProblemErrorKind::OutOfRange { value: e.value, range: other.range() },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::{limits, Interval};
+
+    #[test]
+    fn a_broken_rule_reads_the_same_as_its_file_kind() {
+        let errors = [
+            limits::speed(f64::NAN).unwrap_err(),
+            limits::beta_max(0.0).unwrap_err(),
+            limits::speed(-1.0).unwrap_err(),
+            limits::beta_max(1e300).unwrap_err(),
+            limits::phi_range(1000.0, 500.0).unwrap_err(),
+            limits::phi_range(1e-3, 1e3).unwrap_err(),
+            limits::level(0.7, 0.5).unwrap_err(),
+            limits::phi_op(1e9 / 1e3, Interval::new(1.0, 10.0)).unwrap_err(),
+            limits::count(0, 1, 5).unwrap_err(),
+        ];
+        for e in errors {
+            assert_eq!(ProblemErrorKind::from(&e).to_string(), e.to_string());
         }
     }
 }

@@ -2,9 +2,10 @@
 
 use super::file::*;
 use super::ProblemErrorKind as K;
-use crate::analysis::Settings;
+use crate::analysis::limits::{self, ParamError, Quantity};
+use crate::analysis::{Interval, Settings};
 use crate::assembly::DofMap;
-use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable};
+use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS};
 use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
 
 /// A key path and what is wrong there.
@@ -64,6 +65,20 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failu
     }
 }
 
+/// A parameter rule's result at `key` ([`crate::analysis::limits`]: the rules every route
+/// shares).
+fn rule<T>(key: &str, r: Result<T, ParamError>) -> Result<T, Failure> {
+    r.map_err(|e| (key.into(), K::from(&e)))
+}
+
+/// A φ range's rule at `key[0]`/`key[1]`, whichever end breaks it.
+fn range_rule(key: &str, lo: f64, hi: f64) -> Result<Interval, Failure> {
+    limits::phi_range(lo, hi).map_err(|e| {
+        let end = if e.quantity == Quantity::RangeLow { 0 } else { 1 };
+        (format!("{key}[{end}]"), K::from(&e))
+    })
+}
+
 fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
     match (a.1, b.1) {
         (Some(_), Some(_)) => Err((format!("{key}.{}", b.0), K::BothGiven(a.0.into(), b.0.into()))),
@@ -82,7 +97,7 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
     if f.version != FORMAT_VERSION {
         return Err(("version".into(), K::Version { found: f.version, supported: FORMAT_VERSION }));
     }
-    let speed = non_negative("speed", f.speed)?;
+    let speed = rule("speed", limits::speed(f.speed))?;
     let shaft = shaft(&f.shaft)?;
     sizes(f, &shaft)?;
     let disks =
@@ -347,35 +362,22 @@ const DEFAULT_ITERATIONS: i64 = 40;
 /// Check `[design]` against the rest of the file.
 pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
     let Some(d) = &f.design else { return Ok(None) };
-    let level = positive("design.level", d.level)?;
     let range = d.phi_range.unwrap_or(DEFAULT_PHI_RANGE);
-    positive("design.phi_range[0]", range[0])?;
-    if finite("design.phi_range[1]", range[1])? <= range[0] {
-        return Err((
-            "design.phi_range[1]".into(),
-            K::OutOfRange { value: range[1], range: format!("above phi_range[0] = {} rad/s", range[0]) },
-        ));
-    }
-    let beta_max = positive("design.beta_max", d.beta_max.unwrap_or(1.0_f64.max(level)))?;
-    if beta_max < level {
-        return Err((
-            "design.beta_max".into(),
-            K::OutOfRange { value: beta_max, range: format!("at least design.level = {level}") },
-        ));
-    }
+    let range = range_rule("design.phi_range", range[0], range[1])?;
+    // The level is a load coefficient up to β_max, whose default follows it.
+    let level = rule("design.level", limits::level(d.level, limits::MAX_BETA))?;
+    let beta_max = rule("design.beta_max", limits::beta_max(d.beta_max.unwrap_or(1.0_f64.max(level))))?;
+    rule("design.level", limits::level(level, beta_max))?;
     let speeds = match &d.speeds {
         Some(v) if v.is_empty() => return Err(("design.speeds".into(), K::Schema("needs at least one speed".into()))),
         Some(v) => v
             .iter()
             .enumerate()
-            .map(|(i, &w)| non_negative(&format!("design.speeds[{i}]"), w))
+            .map(|(i, &w)| rule(&format!("design.speeds[{i}]"), limits::speed(w)))
             .collect::<Result<Vec<_>, _>>()?,
         None => vec![f.speed],
     };
-    let phi_op = d
-        .phi_op
-        .map(|p| within("design.phi_op", p, range[0], range[1], &format!("inside phi_range {range:?} rad/s")))
-        .transpose()?;
+    let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
     if d.objective == Objective::WidestStableBand && phi_op.is_none() {
         return Err((
             "design.phi_op".into(),
@@ -388,15 +390,11 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
         .enumerate()
         .map(|(i, b)| {
             let key = format!("design.bands[{i}]");
-            let lo = positive(&format!("{key}.lo"), b.lo)?;
-            let hi = finite(&format!("{key}.hi"), b.hi)?;
-            if hi <= lo {
-                return Err((
-                    format!("{key}.hi"),
-                    K::OutOfRange { value: hi, range: format!("above lo = {lo} rad/s") },
-                ));
-            }
-            let clearance = non_negative(&format!("{key}.clearance"), b.clearance)?;
+            let Interval { lo, hi } = limits::band(b.lo, b.hi).map_err(|e| {
+                let end = if e.quantity == Quantity::RangeLow { "lo" } else { "hi" };
+                (format!("{key}.{end}"), K::from(&e))
+            })?;
+            let clearance = rule(&format!("{key}.clearance"), limits::span(b.clearance))?;
             Ok(Band { lo, hi, clearance })
         })
         .collect::<Result<Vec<_>, Failure>>()?;
@@ -447,26 +445,21 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
         }
         variables.push(var);
     }
-    let count = |key: &str, v: Option<i64>, default: i64, hi: i64| -> Result<usize, Failure> {
+    let count = |key: &str, v: Option<i64>, default: i64, hi: u64| -> Result<usize, Failure> {
         let v = v.unwrap_or(default);
-        if v < 1 || v > hi {
-            return Err((
-                key.into(),
-                K::OutOfRange { value: v as f64, range: format!("a whole number from 1 to {hi}") },
-            ));
-        }
-        Ok(v as usize)
+        let n = u64::try_from(v).unwrap_or(0);
+        rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
     };
     Ok(Some(DesignSpec {
         objective: d.objective,
         level,
         phi_op,
-        phi_range: (range[0], range[1]),
+        phi_range: (range.lo, range.hi),
         beta_max,
         speeds,
         bands,
         variables,
-        starts: count("design.starts", d.starts, DEFAULT_STARTS, 64)?,
-        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, 10_000)?,
+        starts: count("design.starts", d.starts, DEFAULT_STARTS, MAX_STARTS)?,
+        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,
     }))
 }

@@ -77,3 +77,84 @@ pub fn many_disks_text(n: usize) -> String {
     }
     text + tail
 }
+
+/// A child process run to its end (or killed at its timeout), measured.
+#[derive(Debug)]
+pub struct Measured {
+    /// Exit status (None when killed by a signal, e.g. at the timeout).
+    pub code: Option<i32>,
+    /// The signal that ended it (SIGABRT = 6 for an abort, SIGKILL = 9 at the timeout).
+    pub signal: Option<i32>,
+    /// Killed at the timeout.
+    pub timed_out: bool,
+    /// Wall time (s).
+    pub seconds: f64,
+    /// Peak resident memory of the child (kB), from `wait4`'s rusage (`ru_maxrss`).
+    pub peak_kb: i64,
+    /// Standard output.
+    pub stdout: String,
+    /// Standard error.
+    pub stderr: String,
+}
+
+/// Run the binary with `args` in `dir`, killed after `timeout`; its exit, time and peak
+/// RSS. The child is reaped by `wait4`, whose rusage is that child's own (not shared with
+/// other children running at once).
+#[allow(clippy::zombie_processes)] // reaped by wait4 below, not by Child::wait
+pub fn run_measured(args: &[String], dir: &std::path::Path, timeout: std::time::Duration) -> Measured {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    let start = std::time::Instant::now();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+        .args(args)
+        .current_dir(dir)
+        .env_remove("RUST_BACKTRACE")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn rotorshunt");
+    let pid = child.id() as libc::pid_t;
+    let mut out = child.stdout.take().expect("stdout");
+    let mut err = child.stderr.take().expect("stderr");
+    let reader_out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = out.read_to_end(&mut v);
+        v
+    });
+    let reader_err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        let _ = err.read_to_end(&mut v);
+        v
+    });
+    let mut status: libc::c_int = 0;
+    // SAFETY: rusage is plain data, zero is a valid value.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let mut timed_out = false;
+    loop {
+        // SAFETY: pid is our own child; status and usage are valid for writes.
+        let r = unsafe { libc::wait4(pid, &mut status, libc::WNOHANG, &mut usage) };
+        if r == pid {
+            break;
+        }
+        assert!(r == 0, "wait4 failed: {}", std::io::Error::last_os_error());
+        if start.elapsed() > timeout && !timed_out {
+            timed_out = true;
+            // SAFETY: signalling our own, not yet reaped child.
+            unsafe { libc::kill(pid, libc::SIGKILL) };
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let exit = std::process::ExitStatus::from_raw(status);
+    let text = |v: Vec<u8>| String::from_utf8_lossy(&v).into_owned();
+    Measured {
+        code: exit.code(),
+        signal: exit.signal(),
+        timed_out,
+        seconds,
+        peak_kb: usage.ru_maxrss,
+        stdout: text(reader_out.join().expect("stdout reader")),
+        stderr: text(reader_err.join().expect("stderr reader")),
+    }
+}

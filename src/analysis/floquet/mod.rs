@@ -377,6 +377,14 @@ impl FloquetSystem {
         self.settings.steps_per_period.max(if needed.is_finite() { needed.min(1e6) as usize } else { 0 })
     }
 
+    /// The β = 0 check alone at φ (one fast-path table and its unloaded monodromy):
+    /// `Some` when the unloaded monodromy misses exp(λT) or has no reference. The region
+    /// search runs it at the ends of its range before any work.
+    pub fn zero_load_issue(&self, phi: f64) -> Option<PointIssue> {
+        let table = self.table(phi, 0.0);
+        self.zero_load.issue(&self.point_fast(&table, 0.0))
+    }
+
     /// One point with the configured method, with the β = 0 check.
     pub fn point(&self, phi: f64, beta: f64) -> FloquetPoint {
         match self.settings.method {

@@ -29,6 +29,7 @@ pub use start::{locate_start, locate_tip, Start, START_WINDOW};
 pub use track::{edges_at, track, unstable_at};
 
 use super::floquet::FloquetSystem;
+use super::limits::{self, ParamError};
 use super::modes::ModesResult;
 use super::{AnalysisError, Criterion, Interval};
 use rayon::prelude::*;
@@ -107,6 +108,24 @@ pub struct CatalogueRequest {
     pub track: bool,
 }
 
+impl CatalogueRequest {
+    /// A request checked by the parameter rules ([`crate::analysis::limits`]): the range
+    /// finite, 0 < lo < hi within the ratio and frequency bounds, 0 < β_max ≤ the largest
+    /// load, 0 < level ≤ β_max.
+    pub fn new(range: Interval, beta_max: f64, level: f64, track: bool) -> Result<CatalogueRequest, ParamError> {
+        let req = CatalogueRequest { range, beta_max, level, track };
+        req.check()?;
+        Ok(req)
+    }
+
+    /// Check a request built field by field (the fields are public).
+    pub fn check(&self) -> Result<(), ParamError> {
+        limits::phi_range(self.range.lo, self.range.hi)?;
+        limits::level(self.level, limits::beta_max(self.beta_max)?)?;
+        Ok(())
+    }
+}
+
 /// The catalogue of a φ range.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Catalogue {
@@ -151,8 +170,24 @@ pub fn seeds_for(
     seeds(fs, full, reach, max_order)
 }
 
+/// Refuse a search whose Floquet points fail the β = 0 check at either end of `range`
+/// ([`AnalysisError::Unreliable`]): two tables, against the thousands of points a search
+/// evaluates, and not counted among its evaluations. The shortest period (the range's
+/// high end) has the fewest steps and the longest period the largest exponents, so the
+/// ends are where a model beyond f64's reach fails first.
+pub fn check_reliable(fs: &FloquetSystem, range: Interval) -> Result<(), AnalysisError> {
+    for phi in [range.lo, range.hi] {
+        if let Some(issue) = fs.zero_load_issue(phi) {
+            return Err(AnalysisError::Unreliable { phi, issue });
+        }
+    }
+    Ok(())
+}
+
 /// The stable band around `phi_op` at `level` in `range` (rad/s), by the criterion of
-/// `fs`'s settings: [`band::band_around`] with the seeds of the range.
+/// `fs`'s settings: [`band::band_around`] with the seeds of the range. The arguments obey
+/// the parameter rules ([`crate::analysis::limits`]: a φ range, a level up to the largest
+/// load, φ_op a frequency), and φ_op must lie in the range ([`AnalysisError::OutsideWindow`]).
 pub fn band(
     fs: &FloquetSystem,
     full: &ModesResult,
@@ -161,9 +196,13 @@ pub fn band(
     phi_op: f64,
     level: f64,
 ) -> Result<Band, AnalysisError> {
+    limits::phi_range(range.lo, range.hi)?;
+    limits::level(level, limits::MAX_BETA)?;
+    limits::frequency(limits::Quantity::OperatingFrequency, phi_op)?;
     if !range.contains(phi_op) {
         return Err(AnalysisError::OutsideWindow { phi: phi_op, window: range });
     }
+    check_reliable(fs, range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), range, criterion.max_order)?;
     let probe = Level::new(fs, s, criterion, level, range);
@@ -171,7 +210,7 @@ pub fn band(
 }
 
 /// Catalogue every region with onset below β_max in the range, and the unstable set at
-/// the level: starts and onsets of the seeds of order ≤ `max_order` located from their
+/// the level (the request is checked first, [`CatalogueRequest::check`]): starts and onsets of the seeds of order ≤ `max_order` located from their
 /// start ([`locate_start`]), beside the tongues at the level ([`Level::scan`], every order
 /// up to the criterion's), in parallel. A seed's region takes the edges of the tongue its
 /// pair collides in; a seed of higher order found only at the level has that collision
@@ -183,6 +222,8 @@ pub fn catalogue(
     s: &RegionSettings,
     req: &CatalogueRequest,
 ) -> Result<Catalogue, AnalysisError> {
+    req.check()?;
+    check_reliable(fs, req.range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), req.range, criterion.max_order)?;
     let level = Level::new(fs, s, criterion, req.level, req.range);

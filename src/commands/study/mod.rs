@@ -19,11 +19,15 @@ mod shard;
 mod slurm;
 mod state;
 
-use super::design::design_report;
+use super::bounds::{self, Names};
+use super::design::{design_estimate, design_report, DESIGN};
 use super::{OutDir, Progress, Quiet, TOOL};
+use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::seeds_for;
 use crate::analysis::regions::{band, catalogue, CatalogueRequest, RegionSettings};
+use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::problem::Problem;
@@ -44,7 +48,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// What a case runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CaseKind {
     /// The region catalogue (and the band around `phi_op` if given).
@@ -130,17 +134,65 @@ fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
 }
 
-/// Run one case into its folder; its metrics.
+/// The names of a study's inputs in a refusal.
+const STUDY: Names<'static> = Names {
+    phi: "the study's `phi`",
+    grid: "the study's `phi` (its range)",
+    load: "the study's `beta_max` or `level`",
+    periods: "the study",
+};
+
+/// A case's budget: the cases run in parallel, so each may hold a share of the memory.
+fn case_budget(budget: &Budget) -> Budget {
+    budget.share(rayon::current_num_threads() as f64)
+}
+
+/// The rotor and reduced system of a regions case, its work admitted within `budget`
+/// before the whirls and the search: the catalogue of the study's range and, with
+/// `phi_op`, the band.
+fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+    bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
+    let rotor = Rotor::new(&problem.model)?;
+    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
+    let level = study.level.unwrap_or(study.beta_max);
+    let range = Interval::new(study.phi[0], study.phi[1]);
+    let (s, criterion, pc) = (RegionSettings::default(), Criterion::of(&fs.settings), PointCost::of(&fs));
+    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
+    let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
+    let mut estimate = cost::catalogue(&pc, &s, &criterion, &seeds, &work);
+    if study.phi_op.is_some() {
+        estimate = estimate.then(cost::band(&pc, &s, &criterion, &seeds, range, level));
+    }
+    bounds::admit(budget, "a regions case", &estimate, &STUDY)?;
+    Ok((rotor, fs))
+}
+
+/// Admit a case of `kind` on `problem` (the study's per-case estimate).
+fn admit_case(problem: &Problem, kind: CaseKind, study: &StudyFile, budget: &Budget) -> Result<(), Error> {
+    match kind {
+        CaseKind::Regions => regions_case_system(problem, study, budget).map(|_| ()),
+        CaseKind::Design => match problem.design.as_ref() {
+            Some(spec) => bounds::admit(budget, "a design case", &design_estimate(problem, spec, budget)?, &DESIGN),
+            // Reported by the case itself (NoDesign).
+            None => Ok(()),
+        },
+    }
+}
+
+/// Run one case into its folder; its metrics. Its estimated work is admitted within
+/// `budget` first (a case beyond it fails with the cost error).
 fn run_case(
     base: &Path,
     case: &Case,
     study: &StudyFile,
     dir: &OutDir,
+    budget: &Budget,
 ) -> Result<BTreeMap<String, serde_json::Value>, Error> {
     let problem = Problem::from_path(base, &case.overrides)?;
     let mut m = BTreeMap::new();
     match case.kind {
         CaseKind::Design => {
+            admit_case(&problem, CaseKind::Design, study, budget)?;
             let o = design_report(&problem, dir, &Quiet)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified));
@@ -170,9 +222,8 @@ fn run_case(
         }
         CaseKind::Regions => {
             let level = study.level.unwrap_or(study.beta_max);
-            let rotor = Rotor::new(&problem.model)?;
+            let (rotor, fs) = regions_case_system(&problem, study, budget)?;
             let speed = problem.model.speed;
-            let fs = FloquetSystem::new(&rotor, &problem.settings, speed)?;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = RegionSettings::default();
             let range = Interval::new(study.phi[0], study.phi[1]);
@@ -237,6 +288,9 @@ pub struct StudyOptions {
     pub array_task_id: Option<String>,
     /// Print the cases the run would do and touch nothing (`--dry-run`).
     pub dry_run: bool,
+    /// The limits of each case's estimated cost (`--max-cost`); the number of cases is
+    /// bounded by [`MAX_STUDY_CASES`] instead.
+    pub budget: Budget,
 }
 
 /// The shard a run does (`None`: the whole plan), from its request, the task id of the
@@ -297,6 +351,7 @@ struct Run<'a> {
     inputs: &'a [(&'a Path, &'a str)],
     force: bool,
     task: TaskRecord,
+    budget: Budget,
 }
 
 impl Run<'_> {
@@ -332,7 +387,7 @@ impl Run<'_> {
                 return Outcome::Skipped(r);
             }
         }
-        let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir) {
+        let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir, &self.budget) {
             Ok(m) => row("ok", None, m),
             Err(e) => row("failed", Some(e.to_string()), BTreeMap::new()),
         };
@@ -361,17 +416,27 @@ pub(crate) struct Loaded {
     pub(crate) plan: Plan,
     pub(crate) base_text: Vec<u8>,
     pub(crate) identity: Identity,
+    /// The base problem with the study's `set`.
+    pub(crate) base: Problem,
 }
+
+/// Read and check a study file: its plan, the base with the study's overrides and each
+/// sweep value on its own (before any folder is touched), and its identity.
 
 pub(crate) fn load_study(file: &Path) -> Result<Loaded, Error> {
     let plan = Plan::read(file)?;
     let base_text = crate::problem::read_input(&plan.base)?;
+    // Before the folder is touched: the base with the study's overrides, each sweep value
+    // on its own, and the per-case estimate of the base's cases.
+    let base_name = plan.base.display().to_string();
+    let base = Problem::from_bytes(&base_text, &base_name, &plan.study.set)?;
+    plan.check_sweep(file, crate::problem::input::text_of(&base_text, &base_name)?, &base_name)?;
     let identity = Identity {
         study: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()).display().to_string(),
         plan: plan.survey(file, &base_text)?,
         cases: plan.len(),
     };
-    Ok(Loaded { plan, base_text, identity })
+    Ok(Loaded { plan, base_text, identity, base })
 }
 
 /// `rotorshunt study STUDY.toml --out DIR [--force] [--allow-non-empty] [--shard K/N |
@@ -384,7 +449,12 @@ pub fn study_cmd(
     options: StudyOptions,
     progress: &dyn Progress,
 ) -> Result<(String, usize), Error> {
-    let Loaded { plan, base_text, identity } = load_study(file)?;
+    let Loaded { plan, base_text, identity, base } = load_study(file)?;
+    // Before the folder is touched: the per-case estimate of the base's cases.
+    let budget = case_budget(&options.budget);
+    for kind in plan.kinds() {
+        admit_case(&base, kind, &plan.study, &budget)?;
+    }
     let found = folder::read_manifest(out).ok().flatten();
     let recorded = found.as_ref().filter(|m| m.plan_sha256.as_deref() == Some(&identity.plan)).and_then(|m| m.shards);
     if options.array_task_id.is_some() && options.shard == ShardRequest::Auto && found.is_some() && recorded.is_none() {
@@ -451,6 +521,7 @@ pub fn study_cmd(
         inputs: &inputs,
         force: options.force,
         task: TaskRecord::current(shard),
+        budget,
     };
     // Cases in parallel (the outermost loop), each built from its index when it runs;
     // results in case order.

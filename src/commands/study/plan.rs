@@ -4,7 +4,11 @@
 //! last key fastest) when it is needed. Case folder names are sanitised and unique.
 
 use super::CaseKind;
+use crate::analysis::limits::{self, ParamError, Quantity};
+use crate::problem::source::LineIndex;
+use crate::problem::{Problem, ProblemError, ProblemErrorKind};
 use crate::Error;
+use rayon::prelude::*;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -115,6 +119,10 @@ pub(crate) struct Plan {
     pub(crate) study: StudyFile,
     /// The base problem file (resolved against the study file's folder).
     pub(crate) base: PathBuf,
+    /// The study file's text (to locate its keys in messages).
+    text: String,
+    /// The sweep's keys (sorted).
+    sweep_keys: Vec<String>,
     /// The sweep: per key (sorted), its overrides `key=value`.
     sweep: Vec<Vec<String>>,
     /// Cases of the sweep: the product of its value counts (0 without a sweep).
@@ -135,11 +143,13 @@ impl Plan {
             .map_err(|e| study_error(file, format!("key `{}`: {}", e.path(), e.inner().message().trim())))?;
         let base = file.parent().unwrap_or(Path::new(".")).join(&study.base);
         let mut sweep = Vec::new();
+        let mut sweep_keys = Vec::new();
         for (key, values) in std::mem::take(&mut study.sweep) {
             if values.is_empty() {
                 return Err(study_error(file, format!("key `sweep.{key}`: needs at least one value")));
             }
             sweep.push(values.iter().map(|v| format!("{key}={v}")).collect::<Vec<_>>());
+            sweep_keys.push(key);
         }
         let swept = if sweep.is_empty() {
             Some(0)
@@ -152,7 +162,68 @@ impl Plan {
             Some(n) if n <= MAX_STUDY_CASES => {}
             _ => return Err(Error::StudyTooLarge { file: file.display().to_string(), cases, limit: MAX_STUDY_CASES }),
         }
-        Ok(Plan { study, base, sweep, swept: swept.unwrap_or(0) })
+        let plan = Plan { study, base, text: text.to_string(), sweep_keys, sweep, swept: swept.unwrap_or(0) };
+        plan.check_fields(file)?;
+        Ok(plan)
+    }
+
+    /// A value error at `key` of the study file, with its line.
+    fn located(&self, file: &Path, key: &str, kind: ProblemErrorKind) -> Error {
+        let location = LineIndex::new(&self.text).locate(key);
+        Error::Problem(ProblemError { file: file.display().to_string(), location, key: key.into(), kind })
+    }
+
+    /// The parameters of the regions cases by their rules ([`crate::analysis::limits`]): the
+    /// same as `rotorshunt regions` and `band` apply to their flags.
+    fn check_fields(&self, file: &Path) -> Result<(), Error> {
+        let s = &self.study;
+        let at = |key: &'static str| move |e: ParamError| self.located(file, key, (&e).into());
+        let range = limits::phi_range(s.phi[0], s.phi[1]).map_err(|e| {
+            self.located(file, if e.quantity == Quantity::RangeLow { "phi[0]" } else { "phi[1]" }, (&e).into())
+        })?;
+        let beta_max = limits::beta_max(s.beta_max).map_err(at("beta_max"))?;
+        if let Some(level) = s.level {
+            limits::level(level, beta_max).map_err(at("level"))?;
+        }
+        if let Some(p) = s.phi_op {
+            limits::phi_op(p, range).map_err(at("phi_op"))?;
+        }
+        Ok(())
+    }
+
+    /// The kinds of the plan's cases: the study's default (its sweep's) and the listed
+    /// cases' own.
+    pub(crate) fn kinds(&self) -> std::collections::BTreeSet<CaseKind> {
+        let mut k: std::collections::BTreeSet<CaseKind> =
+            self.study.cases.iter().map(|c| c.kind.unwrap_or(self.study.kind)).collect();
+        if self.swept > 0 || self.study.cases.is_empty() {
+            k.insert(self.study.kind);
+        }
+        k
+    }
+
+    /// Every sweep value on its own, applied to the base (text `base_text`, named
+    /// `base_name`) after the study's `set`: a value that makes an invalid problem alone
+    /// would fail every case it is in, so the study is refused, at the value's line in the
+    /// study file, before anything runs. (A listed case's own `set` stays that case's: an
+    /// invalid one fails the case, recorded in the summary.) In parallel; a value costs one
+    /// load of the base (~40 µs for the bundled problems).
+    pub(crate) fn check_sweep(&self, file: &Path, base_text: &str, base_name: &str) -> Result<(), Error> {
+        let values: Vec<(usize, usize)> =
+            self.sweep.iter().enumerate().flat_map(|(k, v)| (0..v.len()).map(move |i| (k, i))).collect();
+        let first_bad = values.par_iter().find_map_first(|&(k, i)| {
+            let overrides: Vec<String> =
+                self.study.set.iter().cloned().chain(std::iter::once(self.sweep[k][i].clone())).collect();
+            Problem::from_text(base_text, base_name, &overrides).err().map(|e| (k, i, e))
+        });
+        match first_bad {
+            None => Ok(()),
+            Some((k, i, e)) => {
+                let key = format!("sweep.{}[{i}]", self.sweep_keys[k]);
+                let location = LineIndex::new(&self.text).locate(&key);
+                Err(Error::Problem(ProblemError { file: file.display().to_string(), location, key, kind: e.kind }))
+            }
+        }
     }
 
     /// Number of cases (listed, then swept).
