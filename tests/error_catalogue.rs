@@ -17,7 +17,7 @@ use std::process::Command;
 const DOC: &str = "docs/errors.md";
 
 /// Kinds whose examples exit with status 1 (analysis or output failures); the rest exit 2.
-const EXIT_1: [&str; 9] = [
+const EXIT_1: [&str; 10] = [
     "Output",
     "SlurmFailed",
     "ReducedModes",

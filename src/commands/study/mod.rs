@@ -422,7 +422,6 @@ pub(crate) struct Loaded {
 
 /// Read and check a study file: its plan, the base with the study's overrides and each
 /// sweep value on its own (before any folder is touched), and its identity.
-
 pub(crate) fn load_study(file: &Path) -> Result<Loaded, Error> {
     let plan = Plan::read(file)?;
     let base_text = crate::problem::read_input(&plan.base)?;
