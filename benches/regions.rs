@@ -6,7 +6,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{band_around, catalogue, seeds_for, CatalogueRequest, Level, RegionSettings};
+use rotorshunt::analysis::regions::{
+    band_around, catalogue, seeds_for, CatalogueRequest, Level, Probe, RegionSettings,
+};
 use rotorshunt::analysis::{Criterion as Rule, Interval, Rotor};
 use rotorshunt::problem::Problem;
 
@@ -22,8 +24,8 @@ fn bench(c: &mut Criterion) {
     let seeds = seeds_for(&fs, Some(&full), RANGE, rule.max_order).unwrap();
     let req = CatalogueRequest { range: RANGE, beta_max: 1.0, level: 0.3, track: false };
     let band = |phi_op: f64| {
-        let level = Level::new(&fs, &s, rule, 0.3, RANGE);
-        band_around(&level, &seeds, phi_op)
+        let probe = Probe::new(&fs, &s);
+        band_around(&Level::new(&probe, rule, 0.3, RANGE), &seeds, phi_op)
     };
     let mut g = c.benchmark_group("regions");
     g.sample_size(10);

@@ -487,9 +487,6 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
 }
 
 fn main() -> ExitCode {
-    // The CLI parallelises its outermost loops with rayon; faer's own kernels run
-    // sequentially, so results do not depend on the thread count.
-    faer::set_global_parallelism(faer::Par::Seq);
     threads_from_slurm();
     let cli = Cli::parse();
     match run(cli) {

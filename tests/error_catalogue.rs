@@ -150,6 +150,10 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::NoWhirlModes { speed: 0.0, eigenvalues: 0, tolerance: 0.5 },
         AnalysisError::ReducedBasis { modes: 1, drift: 1.0 },
         AnalysisError::StiffResponse { phi: 1.0, rate: 1.0, steps: 1.0, accuracy_steps: 1.0 },
+        AnalysisError::Unreliable {
+            phi: 1.0,
+            issue: rotorshunt::analysis::floquet::PointIssue::ZeroLoad { deviation: 1.0 },
+        },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },

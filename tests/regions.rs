@@ -6,8 +6,7 @@ use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::{
-    catalogue, critical_load, edges_at, locate_start, seeds, track, Catalogue, CatalogueRequest, RegionSettings,
-    CENTRE_WINDOW,
+    catalogue, seeds, Catalogue, CatalogueRequest, Probe, RegionSettings, CENTRE_WINDOW,
 };
 use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
@@ -126,15 +125,14 @@ fn catalogue_covers_a_fine_chart_at_the_operating_level() {
             if !unstable(&fs, phi, 0.3) || spans.iter().any(|(l, r)| phi >= l - 1.0 && phi <= r + 1.0) {
                 continue;
             }
-            let mut n = 0;
-            let e = edges_at(&fs, &precise, phi, 0.3, &mut n);
+            let e = Probe::new(&fs, &precise).edges(phi, 0.3);
             assert!(
-                e.right - e.left < s.phi_tolerance,
+                e.hi - e.lo < s.phi_tolerance,
                 "{name} {overrides:?}: unstable [{}, {}] outside every region",
-                e.left,
-                e.right
+                e.lo,
+                e.hi
             );
-            below_resolution.push((phi, e.right - e.left));
+            below_resolution.push((phi, e.hi - e.lo));
         }
         let (f, b) = fs.whirls().unwrap();
         for r in &c.regions {
@@ -199,22 +197,22 @@ fn tracked_edges_agree_with_the_grid_within_one_step() {
     // step (1 rad/s) outside each edge are stable and one step inside are unstable.
     let (fs, full) = prepared("fig9-open-2000.toml", &[]);
     let s = RegionSettings::default();
-    let seeds = seeds(&fs, Some(&full), (100.0, 8000.0), 1).unwrap();
+    let seeds = seeds(&fs, Some(&full), Interval::new(100.0, 8000.0), 1).unwrap();
     let mut checked = 0;
     for label in ["f1+b2", "f2+b1", "f2+b2"] {
         let seed = seeds.iter().find(|x| x.label == label).unwrap();
-        let mut n = 0;
-        let st = locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, (1.0, 1.0), &mut n).unwrap();
+        let probe = Probe::new(&fs, &s);
+        let st = probe.locate_start(seed.phi, 0.003 * seed.phi, 1.0, 1.0).unwrap();
         assert!(st.resolved);
-        let boundary = track(&fs, &s, st.phi, st.onset, 0.6, &mut n);
+        let boundary = probe.track(st.phi, st.onset, 0.6);
         assert!(boundary.len() >= 4, "{label}: {} levels", boundary.len());
         for e in &boundary {
             let u = |phi: f64| !fs.point_fast(&fs.table(phi, e.beta), e.beta).summary.stable;
-            assert!(!u(e.left - 1.0) && u(e.left + 1.0), "{label} left edge {} at β = {}", e.left, e.beta);
-            assert!(u(e.right - 1.0) && !u(e.right + 1.0), "{label} right edge {} at β = {}", e.right, e.beta);
+            assert!(!u(e.phi.lo - 1.0) && u(e.phi.lo + 1.0), "{label} left edge {} at β = {}", e.phi.lo, e.beta);
+            assert!(u(e.phi.hi - 1.0) && !u(e.phi.hi + 1.0), "{label} right edge {} at β = {}", e.phi.hi, e.beta);
             checked += 1;
         }
-        eprintln!("{label}: {} levels tracked with {n} monodromy evaluations", boundary.len());
+        eprintln!("{label}: {} levels tracked with {} monodromy evaluations", boundary.len(), probe.evaluations());
     }
     assert!(checked >= 12);
 }
@@ -226,7 +224,7 @@ fn critical_load_by_bisection_matches_a_dense_scan() {
     let (fs, _) = prepared("fig11-closed-2000.toml", &[]);
     let s = RegionSettings::default();
     for phi in [600.0, 703.0, 1185.0, 2060.0, 2500.0, 3550.0, 5241.79] {
-        let c = critical_load(&fs, &s, phi, 1.0);
+        let c = Probe::new(&fs, &s).critical_load(phi, 1.0);
         let table = fs.table(phi, 1.0);
         let dense = (0..=1000).map(|i| i as f64 * 0.001).find(|&b| !fs.point_fast(&table, b).summary.stable);
         match (c.beta, dense) {
@@ -246,9 +244,12 @@ fn damping_and_resistance_lift_the_onsets() {
     let s = RegionSettings::default();
     let onset = |name: &str, label: &str| {
         let (fs, full) = prepared(name, &[]);
-        let seed = seeds(&fs, Some(&full), (100.0, 8000.0), 1).unwrap().into_iter().find(|x| x.label == label).unwrap();
-        let mut n = 0;
-        locate_start(&fs, &s, seed.phi, 0.003 * seed.phi, (1.0, 1.0), &mut n).unwrap().onset
+        let seed = seeds(&fs, Some(&full), Interval::new(100.0, 8000.0), 1)
+            .unwrap()
+            .into_iter()
+            .find(|x| x.label == label)
+            .unwrap();
+        Probe::new(&fs, &s).locate_start(seed.phi, 0.003 * seed.phi, 1.0, 1.0).unwrap().onset
     };
     let eta: Vec<f64> =
         ["fig8-eta0.toml", "fig8-eta200.toml", "fig8-eta4000.toml"].iter().map(|n| onset(n, "n1+n2")).collect();

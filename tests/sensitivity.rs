@@ -8,7 +8,7 @@ use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::sensitivity::{region_quantities, sensitivity, Quantities};
 use rotorshunt::analysis::regions::{seeds, RegionSettings};
-use rotorshunt::analysis::Rotor;
+use rotorshunt::analysis::{Interval, Rotor};
 
 const AGREEMENT: f64 = 1e-3;
 
@@ -36,7 +36,12 @@ fn electrical_region_start_follows_the_tuning_frequency() {
     // Independent path: the predicted start ω_f1 + ω_r1 from the eigenvalues alone.
     let seed = |v: f64| {
         let (fs, full) = prepared(name, key, v);
-        seeds(&fs, Some(&full), (1.0, 1e5), 1).unwrap().into_iter().find(|x| x.label == "f1+r1").unwrap().phi
+        seeds(&fs, Some(&full), Interval::new(1.0, 1e5), 1)
+            .unwrap()
+            .into_iter()
+            .find(|x| x.label == "f1+r1")
+            .unwrap()
+            .phi
     };
     let d_seed = (seed(900.0 + s.step) - seed(900.0 - s.step)) / (2.0 * s.step);
     assert!(d_seed > 0.5, "ω_r follows the tuning: {d_seed}");

@@ -77,7 +77,6 @@ pub fn campbell(
     let solved: Vec<ModesResult> = speeds
         .par_iter()
         .map(|&w| {
-            faer::set_global_parallelism(faer::Par::Seq);
             let r = whirl_modes_of(rotor, settings, w);
             tick();
             r

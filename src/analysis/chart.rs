@@ -47,7 +47,6 @@ pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], tick: &(dyn Fn() +
     let rows: Vec<Vec<ChartPoint>> = phis
         .par_iter()
         .map(|&phi| {
-            faer::set_global_parallelism(faer::Par::Seq);
             let row = fs.row(phi, betas).into_iter().map(|p| p.summary).collect();
             tick();
             row

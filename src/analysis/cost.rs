@@ -632,7 +632,7 @@ fn lattice(g: f64, window: Interval) -> impl Iterator<Item = f64> {
 /// window is marched over.
 fn march(s: &RegionSettings, window: Interval) -> impl Iterator<Item = f64> + '_ {
     std::iter::successors(Some(window.lo), move |&p| {
-        let next = p + s.max_edge_step(p);
+        let next = p + s.edge_step.at(p);
         (next < window.hi && next > p).then_some(next)
     })
 }
@@ -695,7 +695,7 @@ pub fn catalogue(
     work: &CatalogueWork,
 ) -> Estimate {
     let (range, beta_max, level) = (work.range, work.beta_max, work.level);
-    let screen = SCREENING_TOLERANCE.min(s.tip_margin.1).max(s.beta_tolerance);
+    let screen = SCREENING_TOLERANCE.min(s.tip_margin.absolute).max(s.beta_tolerance);
     let climb = CLIMB_BRACKET + s.tip_iterations as f64;
     let mut starts = 0.0;
     let mut brackets = 0.0;

@@ -130,9 +130,10 @@ impl ReducedModel {
             // Φ ← Φ·R⁻ᵀ with ΦᵀMΦ = R·Rᵀ (Cholesky; ≈ I, so well conditioned): exactly
             // M-orthonormal, the same span. K̃ is then no longer exactly diagonal; B0 takes
             // it whole, and the basis frequencies become its Rayleigh quotients √K̃_jj.
-            let llt = mass.llt(faer::Side::Lower).map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
+            let l = crate::linalg::seq::cholesky(mass.as_ref())
+                .map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
             let mut rt = basis.transpose().to_owned();
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(llt.L(), rt.as_mut(), faer::Par::Seq);
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
             basis = rt.transpose().to_owned();
             let k = project(&basis, &sys.k);
             frequencies = (0..count).map(|j| k[(j, j)].sqrt()).collect();

@@ -61,8 +61,8 @@ fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Cata
             points.extend(r.boundary.iter().map(|e| (f(e), e.beta)));
             Series { name: String::new(), color: (0, 0, 0), dashed: false, points }
         };
-        lines.push(side(&|e| e.left));
-        lines.push(side(&|e| e.right));
+        lines.push(side(&|e| e.phi.lo));
+        lines.push(side(&|e| e.phi.hi));
     }
     let layer = Layer { name: format!("{} circuit", problem.model.circuit.state), color: (31, 119, 180), chart: c };
     let plot = StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer])

@@ -7,7 +7,7 @@
 use super::spec::{Band as OperatingRange, DesignSpec, Parameter};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
-use crate::analysis::regions::{band_around, critical, seeds_for, Band, Counter, Level, RegionSettings, Seed, Tongue};
+use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
 use crate::problem::{Problem, ProblemFile};
 use serde::Serialize;
@@ -117,9 +117,9 @@ pub fn operating_bands(
         .enumerate()
         .map(|(k, (speed, fs))| {
             let seeds = c.seeds(k, spec)?;
-            let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
-            let band = band_around(&level, &seeds, phi_op);
-            count.add(level.evaluations());
+            let probe = Probe::new(fs, s);
+            let band = band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, phi_op);
+            count.add(probe.evaluations());
             Ok(OperatingBand { speed: *speed, band })
         })
         .collect()
@@ -221,17 +221,17 @@ pub fn intrusions(
     let mut out = Vec::new();
     for (k, (speed, fs)) in c.systems.iter().enumerate() {
         let seeds = c.seeds(k, spec)?;
-        let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
+        let probe = Probe::new(fs, s);
+        let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
         for (i, band) in spec.bands.iter().enumerate() {
             let near = neighbourhood(band).clipped(&spec.range());
             for t in level.scan(&seeds, near) {
                 let point = t.seeds.first().map_or(t.inside, |(_, p)| *p);
-                let onset = critical::critical_load_below(fs, s, point, spec.level);
-                count.add(onset.evaluations);
+                let onset = probe.critical_load_below(point, spec.level);
                 out.extend(intrusion_of(&t, &seeds, *speed, i, band, onset.beta.unwrap_or(spec.level)));
             }
         }
-        count.add(level.evaluations());
+        count.add(probe.evaluations());
     }
     Ok(out)
 }
@@ -250,7 +250,8 @@ pub fn follow(
     let Some(k) = spec.speeds.iter().position(|&w| w == it.speed) else { return Ok(None) };
     let fs = &c.systems[k].1;
     let seeds = c.seeds(k, spec)?;
-    let level = Level::new(fs, s, c.criterion(), spec.level, spec.range());
+    let probe = Probe::new(fs, s);
+    let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
     let point = match it.identity {
         Some((pair, order)) => seeds
             .iter()
@@ -267,10 +268,9 @@ pub fn follow(
     };
     let out = point.and_then(|p| {
         let e = level.extent(p)?;
-        let onset = critical::critical_load_below(fs, s, p, spec.level);
-        count.add(onset.evaluations);
+        let onset = probe.critical_load_below(p, spec.level);
         Some((onset.beta.unwrap_or(spec.level), e.lo, e.hi))
     });
-    count.add(level.evaluations());
+    count.add(probe.evaluations());
     Ok(out)
 }

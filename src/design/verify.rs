@@ -20,7 +20,7 @@ use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
 use crate::analysis::regions::{
-    band_around, catalogue, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, RegionSettings,
+    band_around, catalogue, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, Probe, RegionSettings,
 };
 use crate::analysis::{Criterion, Interval};
 use rayon::prelude::*;
@@ -123,7 +123,8 @@ pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<
             let band = match spec.phi_op {
                 Some(p) => {
                     let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
-                    Some(band_around(&Level::new(fs, s, c.criterion(), spec.level, spec.range()), &seeds, p))
+                    let probe = Probe::new(fs, s);
+                    Some(band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, p))
                 }
                 None => None,
             };

@@ -66,7 +66,7 @@ mod tests {
         let mut b = a.clone();
         balance(&mut b);
         let sorted = |m: &Mat<c64>| {
-            let mut v: Vec<c64> = m.eigenvalues().unwrap();
+            let mut v: Vec<c64> = crate::linalg::seq::eigenvalues(m.as_ref()).unwrap();
             v.sort_by(|x, y| x.re.total_cmp(&y.re));
             v
         };

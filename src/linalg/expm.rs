@@ -2,9 +2,8 @@
 //! (Higham 2005, "The scaling and squaring method for the matrix exponential revisited").
 //! faer has none; nalgebra's `exp()` is the accurate but slower reference used in tests.
 
-use faer::linalg::matmul::matmul;
-use faer::linalg::solvers::Solve;
-use faer::{c64, Accum, Mat, MatRef, Par};
+use super::seq::{lu_solve, product as mul};
+use faer::{c64, Mat, MatRef};
 
 /// Most squarings of the scaling and squaring step.
 const MAX_SQUARINGS: f64 = 1100.0;
@@ -75,7 +74,7 @@ fn pade_low(a: MatRef<'_, c64>, b: &[f64]) -> Mat<c64> {
             *qu = vv - uu;
         }
     }
-    q.partial_piv_lu().solve(&p)
+    lu_solve(q.as_ref(), p.as_ref())
 }
 
 /// `measure` computed with the modulus |z| = √(re² + im²) of (re, im), and again with the
@@ -97,12 +96,6 @@ pub fn norm1(a: MatRef<'_, c64>) -> f64 {
             .map(|j| (0..a.nrows()).map(|i| modulus(a[(i, j)].re, a[(i, j)].im)).sum::<f64>())
             .fold(0.0, f64::max)
     })
-}
-
-fn mul(a: MatRef<'_, c64>, b: MatRef<'_, c64>) -> Mat<c64> {
-    let mut out = Mat::<c64>::zeros(a.nrows(), b.ncols());
-    matmul(out.as_mut(), Accum::Replace, a, b, c64::new(1.0, 0.0), Par::Seq);
-    out
 }
 
 /// e^A for a square complex matrix (sequential; safe inside rayon loops).
@@ -142,7 +135,7 @@ pub fn expm(a: MatRef<'_, c64>) -> Mat<c64> {
     // (V − U) X = V + U
     let p = Mat::from_fn(n, n, |i, j| v[(i, j)] + u[(i, j)]);
     let q = Mat::from_fn(n, n, |i, j| v[(i, j)] - u[(i, j)]);
-    let mut x = q.partial_piv_lu().solve(&p);
+    let mut x = lu_solve(q.as_ref(), p.as_ref());
     for _ in 0..s {
         x = mul(x.as_ref(), x.as_ref());
     }

@@ -1,11 +1,14 @@
 //! Thin wrappers over faer: the quadratic eigenproblem in a structure-keeping first-order
 //! form, and by shift-invert (Eq. 18–21) where that form does not apply, the
 //! symmetric-definite generalised eigenproblem (buckling, undamped modes), the matrix
-//! exponential and complex products as real ones.
+//! exponential and complex products as real ones. Every faer kernel is called with its
+//! parallelism passed explicitly ([`seq`]): the library never reads or sets faer's global
+//! parallelism.
 
 mod balance;
 mod expm;
 mod qep;
+pub mod seq;
 mod split;
 mod symmetric;
 

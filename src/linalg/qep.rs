@@ -4,9 +4,8 @@
 //! `(A − σB)⁻¹ B` give `λ = σ + 1/ν`. M is never inverted, so a singular M (a shunt
 //! branch with L = 0) only produces ν = 0 (λ = ∞), which is dropped.
 
-use super::LinalgError;
-use faer::linalg::matmul::matmul;
-use faer::{c64, linalg::solvers::Solve, Accum, Mat, MatRef};
+use super::{seq, LinalgError};
+use faer::{c64, Mat, MatRef};
 
 /// Relative size below which ν = 1/(λ − σ) is an infinite eigenvalue of a singular M.
 /// Eigenvalues of |λ| > 1e12·|λ_min| are far beyond any modelled physics (the largest
@@ -47,22 +46,22 @@ pub fn solve_qep(
         (false, false) => re(if i == j { 1.0 } else { 0.0 }),
         _ => re(0.0),
     });
-    let t = shifted.partial_piv_lu().solve(&b);
+    let t = seq::lu_solve(shifted.as_ref(), b.as_ref());
     if !t.norm_max().is_finite() {
         return Err(LinalgError::SingularShift { shift });
     }
-    let evd = t.eigen().map_err(|_| LinalgError::NoConvergence { what: "QEP" })?;
-    let nu = evd.S().column_vector();
+    let evd = seq::eigen(t.as_ref()).map_err(|_| LinalgError::NoConvergence { what: "QEP" })?;
+    let nu = &evd.values;
     let nu_max = (0..2 * n).map(|i| nu[i].norm()).fold(0.0, f64::max);
     let mut values = Vec::new();
     let mut columns = Vec::new();
-    for i in 0..2 * n {
-        if nu[i].norm() > INFINITE_NU_RELATIVE * nu_max {
-            values.push(re(shift) + nu[i].inv());
+    for (i, v) in nu.iter().enumerate() {
+        if v.norm() > INFINITE_NU_RELATIVE * nu_max {
+            values.push(re(shift) + v.inv());
             columns.push(i);
         }
     }
-    let u = evd.U();
+    let u = &evd.vectors;
     let mut vectors = Mat::<c64>::zeros(n, columns.len());
     for (c, &col) in columns.iter().enumerate() {
         let norm = (0..n).map(|r| u[(n + r, col)].norm_sqr()).sum::<f64>().sqrt();
@@ -128,7 +127,7 @@ pub const DEFINITE_FORM_SPREAD: f64 = 1e8;
 /// [`solve_qep`] there.
 pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, f64>) -> Option<QepSolution> {
     use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
-    use faer::{Par, Side};
+    use faer::Par;
     let n = m.nrows();
     let massless: Vec<bool> = (0..n).map(|i| (0..n).all(|j| m[(i, j)] == 0.0)).collect();
     if (0..n).any(|i| massless[i] && (0..n).any(|j| d[(i, j)] != c64::new(0.0, 0.0))) {
@@ -149,15 +148,15 @@ pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, 
         (sub(k, &kept, &kept), None)
     } else {
         let k_mm = sub(k, &gone, &gone);
-        let llt = k_mm.llt(Side::Lower).ok()?;
-        let x = llt.solve(sub(k, &gone, &kept));
+        let l_mm = seq::cholesky(k_mm.as_ref()).ok()?;
+        let x = seq::cholesky_solve(l_mm.as_ref(), sub(k, &gone, &kept).as_ref());
         let k_rm = sub(k, &kept, &gone);
         let k_rr = sub(k, &kept, &kept);
-        let k_c = &k_rr - &k_rm * &x;
+        let k_c = &k_rr - seq::product(k_rm.as_ref(), x.as_ref());
         (Mat::from_fn(r, r, |i, j| 0.5 * (k_c[(i, j)] + k_c[(j, i)])), Some(x))
     };
-    let l_m = sub(m, &kept, &kept).llt(Side::Lower).ok()?.L().to_owned();
-    let l_k = k_c.llt(Side::Lower).ok()?.L().to_owned();
+    let l_m = seq::cholesky(sub(m, &kept, &kept).as_ref()).ok()?;
+    let l_k = seq::cholesky(k_c.as_ref()).ok()?;
     // F = L_M⁻¹·L_K.
     let mut f = l_k.clone();
     solve_lower_triangular_in_place(l_m.as_ref(), f.as_mut(), Par::Seq);
@@ -185,14 +184,12 @@ pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, 
         if !h.norm_max().is_finite() {
             return None;
         }
-        let evd = h.self_adjoint_eigen(Side::Lower).ok()?;
-        let u = evd.U().to_owned();
+        let u = seq::self_adjoint_eigen(h.as_ref()).ok()?.vectors;
         // μ as the Rayleigh quotients zᴴHz of the (orthonormal) eigenvectors: second-order
         // accurate in their error. faer's eigenvalues from the decomposition with vectors
         // were 1e-9 off on the Table 2 rotor (9953.677238 against 9953.677229 rad/s from
         // its eigenvalues-only routine and from inverse iteration).
-        let mut hu = Mat::<c64>::zeros(2 * r, 2 * r);
-        matmul(hu.as_mut(), Accum::Replace, h.as_ref(), u.as_ref(), c64::new(1.0, 0.0), Par::Seq);
+        let hu = seq::product(h.as_ref(), u.as_ref());
         let mu = (0..2 * r).map(|c| (0..2 * r).map(|i| u[(i, c)].conj() * hu[(i, c)]).sum::<c64>().re);
         (mu.map(|m| c64::new(0.0, -m)).collect(), u)
     } else {
@@ -205,9 +202,8 @@ pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, 
         if !a.norm_max().is_finite() {
             return None;
         }
-        let evd = a.eigen().ok()?;
-        let s = evd.S().column_vector();
-        ((0..2 * r).map(|i| s[i]).collect(), evd.U().to_owned())
+        let evd = seq::eigen(a.as_ref()).ok()?;
+        (evd.values, evd.vectors)
     };
     let moduli = values.iter().map(|v| v.norm());
     let (lo, hi) = moduli.fold((f64::INFINITY, 0.0f64), |(lo, hi), x| (lo.min(x), hi.max(x)));
@@ -254,7 +250,7 @@ mod tests {
     /// A·Aᵀ + shift·I, symmetric positive definite.
     fn spd(n: usize, seed: u64, shift: f64) -> Mat<f64> {
         let a = random(n, seed);
-        let p = &a * a.transpose();
+        let p = seq::product(a.as_ref(), a.transpose());
         Mat::from_fn(n, n, |i, j| p[(i, j)] + if i == j { shift } else { 0.0 })
     }
 

@@ -1,7 +1,8 @@
 //! `B x = θ A x` for real symmetric A (positive definite) and B (semi-definite).
 
-use super::LinalgError;
-use faer::{linalg::solvers::Solve, Mat, MatRef, Side};
+use super::{seq, LinalgError};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Mat, MatRef, Par};
 
 /// Eigenpairs of `B x = θ A x`, sorted by θ descending; `vectors` are A-orthonormal.
 #[derive(Debug, Clone)]
@@ -20,22 +21,21 @@ pub fn definite_eigen(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Result<Definite
     if !finite(a) || !finite(b) {
         return Err(LinalgError::NonFinite { what: "stiffness or mass" });
     }
-    let llt = a.llt(Side::Lower).map_err(|_| LinalgError::NotPositiveDefinite { what: "stiffness" })?;
-    let l = llt.L();
+    let l = seq::cholesky(a).map_err(|_| LinalgError::NotPositiveDefinite { what: "stiffness" })?;
     // W = L⁻¹ B L⁻ᵀ = L⁻¹ (L⁻¹ B)ᵀ since B is symmetric.
     let mut x = b.to_owned();
-    l.solve_lower_triangular_in_place(x.as_mut());
+    solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
     let mut w = x.transpose().to_owned();
-    l.solve_lower_triangular_in_place(w.as_mut());
+    solve_lower_triangular_in_place(l.as_ref(), w.as_mut(), Par::Seq);
     let w = Mat::from_fn(n, n, |i, j| 0.5 * (w[(i, j)] + w[(j, i)]));
-    let evd = w.self_adjoint_eigen(Side::Lower).map_err(|_| LinalgError::NoConvergence { what: "symmetric" })?;
-    let s = evd.S().column_vector();
+    let evd = seq::self_adjoint_eigen(w.as_ref()).map_err(|_| LinalgError::NoConvergence { what: "symmetric" })?;
+    let s = &evd.values;
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| s[j].total_cmp(&s[i]));
     let values = order.iter().map(|&i| s[i]).collect();
-    let y = Mat::from_fn(n, n, |i, k| evd.U()[(i, order[k])]);
+    let y = Mat::from_fn(n, n, |i, k| evd.vectors[(i, order[k])]);
     // x = L⁻ᵀ y.
-    let vectors = llt.L().transpose().to_owned().partial_piv_lu().solve(&y);
+    let vectors = seq::lu_solve(l.transpose().to_owned().as_ref(), y.as_ref());
     Ok(DefiniteEigen { values, vectors })
 }
 

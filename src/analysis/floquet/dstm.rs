@@ -15,6 +15,7 @@
 use super::product::ScaledProduct;
 use crate::analysis::reduction::PeriodicSystem;
 use crate::linalg::expm;
+use crate::linalg::seq::product;
 use faer::{c64, Mat};
 
 /// exp(h·(B0 + x·B1)), computed in the coordinates scaled by `scale` and scaled back.
@@ -67,9 +68,9 @@ pub fn monodromy_rk4(sys: &PeriodicSystem, phi: f64, beta: f64, steps: usize) ->
         let (b1, b2, b3) = (b(t), b(t + h / 2.0), b(t + h));
         let id: Mat<c64> = Mat::identity(n, n);
         let k1 = b1.clone();
-        let k2 = &b2 * (&id + &k1 * faer::Scale(c64::new(h / 2.0, 0.0)));
-        let k3 = &b2 * (&id + &k2 * faer::Scale(c64::new(h / 2.0, 0.0)));
-        let k4 = &b3 * (&id + &k3 * faer::Scale(c64::new(h, 0.0)));
+        let k2 = product(b2.as_ref(), (&id + &k1 * faer::Scale(c64::new(h / 2.0, 0.0))).as_ref());
+        let k3 = product(b2.as_ref(), (&id + &k2 * faer::Scale(c64::new(h / 2.0, 0.0))).as_ref());
+        let k4 = product(b3.as_ref(), (&id + &k3 * faer::Scale(c64::new(h, 0.0))).as_ref());
         let step = &id
             + (&k1 + &k2 * faer::Scale(c64::new(2.0, 0.0)) + &k3 * faer::Scale(c64::new(2.0, 0.0)) + &k4)
                 * faer::Scale(c64::new(h / 6.0, 0.0));

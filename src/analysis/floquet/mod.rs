@@ -222,7 +222,7 @@ impl FloquetPoint {
     ) -> FloquetPoint {
         let mut balanced = mono.matrix.clone();
         crate::linalg::balance(&mut balanced);
-        let Ok(ev) = balanced.eigenvalues() else {
+        let Ok(ev) = crate::linalg::seq::eigenvalues(balanced.as_ref()) else {
             return FloquetPoint::failed(phi, beta, PointIssue::Eigenvalues);
         };
         if ev.iter().any(|z| !z.re.is_finite() || !z.im.is_finite()) || !mono.log_scale.is_finite() {
@@ -469,7 +469,7 @@ fn eigenvalues_of(system: &PeriodicSystem) -> Result<Vec<faer::c64>, AnalysisErr
     // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
     let mut b0 = system.b0.clone();
     crate::linalg::balance(&mut b0);
-    let mut ev = b0.eigenvalues().map_err(|_| {
+    let mut ev = crate::linalg::seq::eigenvalues(b0.as_ref()).map_err(|_| {
         AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
     })?;
     ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));

@@ -8,8 +8,9 @@
 //! nearest counted tongue found so far. The band's edge is that tongue's lattice-refined
 //! edge ([`super::level`]), the same number the catalogue of a range reports for it.
 
-use super::level::{Hit, Level, Tongue};
 use super::seeds::Seed;
+use super::tongues::{Hit, Ignored, Tongue};
+use super::Level;
 use super::CENTRE_WINDOW;
 use crate::analysis::Interval;
 use rayon::prelude::*;
@@ -82,7 +83,7 @@ enum Search {
 /// The stable band around `phi_op` at the level of `level`, inside its window. `seeds`
 /// are the seeds of the window (as the catalogue of that window takes them).
 pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
-    let start = level.evaluations();
+    let start = level.probe().evaluations();
     let criterion = *level.criterion();
     let mut out = Band {
         phi_op,
@@ -97,7 +98,7 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     };
     if level.counts(phi_op) {
         out.containing = level.extent(phi_op);
-        out.evaluations = level.evaluations() - start;
+        out.evaluations = level.probe().evaluations() - start;
         return out;
     }
     let reach = |s: &Seed| Interval::new(s.phi * (1.0 - CENTRE_WINDOW), s.phi * (1.0 + CENTRE_WINDOW));
@@ -140,7 +141,7 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     let slow = level.slow_tongues(seeds, found, &bounds);
     out.ignored.extend(slow.into_iter().filter(|t| t.extent.hi > found.lo && t.extent.lo < found.hi));
     out.ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
-    out.evaluations = level.evaluations() - start;
+    out.evaluations = level.probe().evaluations() - start;
     out
 }
 
@@ -237,7 +238,7 @@ fn side(
             labels: labels(&extent),
             seeds: Vec::new(),
             counted: !narrow,
-            ignored: narrow.then_some(super::level::Ignored::Narrow),
+            ignored: narrow.then_some(Ignored::Narrow),
         };
         if !tongue.counted {
             ignored.push(tongue);

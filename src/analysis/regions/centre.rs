@@ -26,7 +26,7 @@
 //! pair searches every assignment of the groups' ranks, so each twin tongue is found by
 //! its own secant instead of both landing in the same one.
 
-use super::critical::RegionSettings;
+use super::Probe;
 use crate::analysis::floquet::{FloquetSystem, PointSummary};
 use faer::c64;
 use std::f64::consts::PI;
@@ -64,9 +64,8 @@ impl ModeBasis {
         let b0 = &fs.system.b0;
         let n = b0.nrows();
         let half = n / 2;
-        let e = b0.eigen().ok()?;
-        let s = e.S().column_vector();
-        let u = e.U();
+        let e = crate::linalg::seq::eigen(b0.as_ref()).ok()?;
+        let (s, u) = (&e.values, &e.vectors);
         let modes: Vec<(f64, Vec<c64>)> = (0..n)
             .map(|k| {
                 let q: Vec<c64> = (half..n).map(|r| u[(r, k)]).collect();
@@ -148,17 +147,24 @@ pub struct Detuning {
     pub point: PointSummary,
 }
 
-/// The detunings and the point at (φ, β); one monodromy evaluation (plus an eigenvector
-/// solve). None if the eigensolver fails.
-pub fn detuning(fs: &FloquetSystem, basis: &ModeBasis, group: &PairGroup, phi: f64, beta: f64) -> Option<Detuning> {
+impl Probe<'_> {
+    /// The detunings of a pair group and the point at (φ, β); one evaluation (plus an
+    /// eigenvector solve). None if the eigensolver fails.
+    pub fn detuning(&self, basis: &ModeBasis, group: &PairGroup, phi: f64, beta: f64) -> Option<Detuning> {
+        self.count();
+        detuning(self.system(), basis, group, phi, beta)
+    }
+}
+
+/// The detunings and the point at (φ, β) (see [`Probe::detuning`]).
+fn detuning(fs: &FloquetSystem, basis: &ModeBasis, group: &PairGroup, phi: f64, beta: f64) -> Option<Detuning> {
     let table = fs.table(phi, beta);
     let mono = table.monodromy(&fs.symmetry, beta);
     // The verdict exactly as `point_fast` gives it, from the same monodromy.
     let point = fs.point_of(&table, &mono, beta).summary;
-    let e = mono.matrix.eigen().ok()?;
-    let mu = e.S().column_vector();
-    let w = e.U();
-    let (n, h) = (mu.nrows(), basis.half);
+    let e = crate::linalg::seq::eigen(mono.matrix.as_ref()).ok()?;
+    let (mu, w) = (&e.values, &e.vectors);
+    let (n, h) = (mu.len(), basis.half);
     let period = 2.0 * PI / phi;
     let scores = |im: f64| -> Vec<f64> {
         let (lam, q) = basis.nearest(im);
@@ -226,80 +232,89 @@ pub struct CentreOutcome {
     /// group assignment whose pair has collided there, if any (a twin's tongue), else None
     /// (another pair's).
     pub others: Vec<(f64, Option<usize>)>,
-    /// Where the secant converged on δ ≈ 0 without a counted point: φ (rad/s) and the
-    /// pair's split ln|μ_i| − ln|μ_j| there. A split well above round-off means the pair
-    /// has collided and left the circle, but less than the criterion asks, or been held
-    /// inside it by damping: its tongue's crest may lie beside this point.
-    pub converged: Option<(f64, f64)>,
+    /// Where the secant converged on δ ≈ 0 without a counted point.
+    pub converged: Option<Converged>,
 }
 
-/// Points of assignment `a`'s tongue at level β, by a secant iteration on its δ(φ) from
-/// its predicted start within ±[`CENTRE_WINDOW`]. `counts` is the declared criterion on a
-/// point. The search stops at the first counted point where the pair has collided, when
-/// the iteration converges (`converged`), or after `centre_iterations` steps (or an
-/// eigensolver failure) with nothing found.
-#[allow(clippy::too_many_arguments)]
-pub fn centre_search(
-    fs: &FloquetSystem,
-    basis: &ModeBasis,
-    s: &RegionSettings,
-    group: &PairGroup,
-    a: usize,
-    level: f64,
-    counts: &dyn Fn(&PointSummary) -> bool,
-    count: &mut usize,
-) -> CentreOutcome {
-    let mut out = CentreOutcome::default();
-    let start = group.start(a);
-    let (lo, hi) = (start * (1.0 - CENTRE_WINDOW), start * (1.0 + CENTRE_WINDOW));
-    // dδ/dφ at β = 0: −(ω_i + ω_j)·2π/φ² = −2πk/φ.
-    let slope0 = -2.0 * PI * group.order as f64 / start;
-    let mut eval = |phi: f64, out: &mut CentreOutcome| {
-        *count += 1;
-        let d = detuning(fs, basis, group, phi, level)?;
-        // Inside the pair's own tongue it has collided: δ ≈ 0. A counted point with a
-        // large δ belongs to another pair's region (the seed can lie inside a neighbour).
-        // Twins' tongues lie closer in δ than COLLIDED: the collided pair is the
-        // assignment whose δ is the smallest of the group's there.
-        if counts(&d.point) {
-            let nearest = (0..d.deltas.len())
-                .min_by(|&x, &y| d.deltas[x].abs().total_cmp(&d.deltas[y].abs()))
-                .filter(|&x| d.deltas[x].abs() < COLLIDED);
-            if nearest == Some(a) {
-                out.own = Some(phi);
-            } else {
-                out.others.push((phi, nearest));
+/// Where a centre search converged on δ ≈ 0 without a counted point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Converged {
+    /// φ (rad/s).
+    pub phi: f64,
+    /// The pair's split ln|μ_i| − ln|μ_j| there: well above round-off, the pair has
+    /// collided and left the circle, but less than the criterion asks, or been held inside
+    /// it by damping; its tongue's crest may lie beside this point.
+    pub split: f64,
+}
+
+impl Probe<'_> {
+    /// Points of assignment `a`'s tongue at level β, by a secant iteration on its δ(φ)
+    /// from its predicted start within ±[`CENTRE_WINDOW`]. `counts` is the declared
+    /// criterion on a point. The search stops at the first counted point where the pair
+    /// has collided, when the iteration converges (`converged`), or after
+    /// `centre_iterations` steps (or an eigensolver failure) with nothing found.
+    pub fn centre_search(
+        &self,
+        basis: &ModeBasis,
+        group: &PairGroup,
+        a: usize,
+        level: f64,
+        counts: &dyn Fn(&PointSummary) -> bool,
+    ) -> CentreOutcome {
+        let s = self.settings();
+        let mut out = CentreOutcome::default();
+        let start = group.start(a);
+        let (lo, hi) = (start * (1.0 - CENTRE_WINDOW), start * (1.0 + CENTRE_WINDOW));
+        // dδ/dφ at β = 0: −(ω_i + ω_j)·2π/φ² = −2πk/φ.
+        let slope0 = -2.0 * PI * group.order as f64 / start;
+        let eval = |phi: f64, out: &mut CentreOutcome| {
+            let d = self.detuning(basis, group, phi, level)?;
+            // Inside the pair's own tongue it has collided: δ ≈ 0. A counted point with a
+            // large δ belongs to another pair's region (the seed can lie inside a
+            // neighbour). Twins' tongues lie closer in δ than COLLIDED: the collided pair is
+            // the assignment whose δ is the smallest of the group's there.
+            if counts(&d.point) {
+                let nearest = (0..d.deltas.len())
+                    .min_by(|&x, &y| d.deltas[x].abs().total_cmp(&d.deltas[y].abs()))
+                    .filter(|&x| d.deltas[x].abs() < COLLIDED);
+                if nearest == Some(a) {
+                    out.own = Some(phi);
+                } else {
+                    out.others.push((phi, nearest));
+                }
             }
-        }
-        Some((d.deltas[a], d.splits[a]))
-    };
-    let Some(d) = eval(start, &mut out) else { return out };
-    if out.own.is_some() {
-        return out;
-    }
-    let (mut x0, mut d0) = (start, d);
-    let mut x1 = (x0 - d0.0 / slope0).clamp(lo, hi);
-    for _ in 0..s.centre_iterations {
-        if (x1 - x0).abs() < 1e-3 * s.phi_tolerance {
-            out.converged = Some((x0, d0.1));
-            return out;
-        }
-        let Some(d) = eval(x1, &mut out) else { return out };
+            Some((d.deltas[a], d.splits[a]))
+        };
+        let Some(d) = eval(start, &mut out) else { return out };
         if out.own.is_some() {
             return out;
         }
-        // The secant slope when it is plausible (same sign, within 4× of the β = 0 value;
-        // a misidentified pair or a wrap of δ gives neither), else the β = 0 slope.
-        let secant = (d.0 - d0.0) / (x1 - x0);
-        let slope = if secant.is_finite() && secant / slope0 > 0.25 && secant / slope0 < 4.0 { secant } else { slope0 };
-        x0 = x1;
-        d0 = d;
-        x1 = (x1 - d0.0 / slope).clamp(lo, hi);
+        let (mut x0, mut d0) = (start, d);
+        let mut x1 = (x0 - d0.0 / slope0).clamp(lo, hi);
+        for _ in 0..s.centre_iterations {
+            if (x1 - x0).abs() < 1e-3 * s.phi_tolerance {
+                out.converged = Some(Converged { phi: x0, split: d0.1 });
+                return out;
+            }
+            let Some(d) = eval(x1, &mut out) else { return out };
+            if out.own.is_some() {
+                return out;
+            }
+            // The secant slope when it is plausible (same sign, within 4× of the β = 0
+            // value; a misidentified pair or a wrap of δ gives neither), else the β = 0
+            // slope.
+            let secant = (d.0 - d0.0) / (x1 - x0);
+            let slope =
+                if secant.is_finite() && secant / slope0 > 0.25 && secant / slope0 < 4.0 { secant } else { slope0 };
+            x0 = x1;
+            d0 = d;
+            x1 = (x1 - d0.0 / slope).clamp(lo, hi);
+        }
+        if (x1 - x0).abs() < 1e-3 * s.phi_tolerance {
+            out.converged = Some(Converged { phi: x0, split: d0.1 });
+        }
+        out
     }
-    if (x1 - x0).abs() < 1e-3 * s.phi_tolerance {
-        out.converged = Some((x0, d0.1));
-    }
-    out
 }
 
 #[cfg(test)]

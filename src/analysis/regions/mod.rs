@@ -3,30 +3,40 @@
 //! and edges), the catalogue of a φ range, the stable bands, and boundaries by
 //! continuation.
 //!
-//! One declared [`Criterion`] decides what counts as unstable at β_op, everywhere: the
-//! catalogue's stable bands, [`band::band_around`], the design and the study all take the
-//! unstable set at β_op from [`level::Level`], which finds every tongue of order up to
-//! the criterion's from its seed and the rest on a fixed guard lattice, with edges that do
-//! not depend on where a search began. Onsets and starts (the β direction) use the
-//! paper's tolerance on max|μ|.
+//! Every search asks its questions of one [`Probe`] of the Floquet system, which holds the
+//! settings and counts the monodromy evaluations ([`probe`]). One declared [`Criterion`]
+//! decides what counts as unstable at β_op, everywhere: the catalogue's stable bands,
+//! [`band::band_around`], the design and the study all take the unstable set at β_op from
+//! a [`Level`] of that probe, which finds every tongue of order up to the criterion's from
+//! its seed and the rest on a fixed guard lattice ([`tongues`]), with edges that do not
+//! depend on where a search began. Onsets and starts (the β direction, [`critical`],
+//! [`start`]) and tracked boundaries ([`track`]) use the paper's tolerance on max|μ|.
+//! Every crossing is narrowed by the one bisection of [`bisect`].
 
 pub mod band;
+pub mod bisect;
 pub mod centre;
 pub mod critical;
 pub mod level;
 pub mod maximise;
+pub mod probe;
 pub mod seeds;
 pub mod sensitivity;
+pub mod settings;
 pub mod start;
+pub mod tongues;
 pub mod track;
 
 pub use band::{band_around, Band, Bound};
-pub use centre::{centre_search, ModeBasis, CENTRE_WINDOW};
-pub use critical::{critical_load, CriticalLoad, RegionSettings};
-pub use level::{Ignored, Level, Tongue};
+pub use centre::{ModeBasis, CENTRE_WINDOW};
+pub use critical::CriticalLoad;
+pub use level::Level;
+pub use probe::{Counter, Probe};
 pub use seeds::{seeds, RegionKind, Seed};
-pub use start::{locate_start, locate_tip, Start, START_WINDOW};
-pub use track::{edges_at, track, unstable_at};
+pub use settings::{EdgeStep, RegionSettings, TipMargin};
+pub use start::{Start, Tip, START_WINDOW};
+pub use tongues::{Ignored, Tongue};
+pub use track::Edges;
 
 use super::floquet::FloquetSystem;
 use super::limits::{self, ParamError};
@@ -34,33 +44,6 @@ use super::modes::ModesResult;
 use super::{AnalysisError, Criterion, Interval};
 use rayon::prelude::*;
 use serde::Serialize;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Counts monodromy evaluations (shared across threads).
-#[derive(Debug, Default)]
-pub struct Counter(AtomicUsize);
-
-impl Counter {
-    /// Add `n` evaluations.
-    pub fn add(&self, n: usize) {
-        self.0.fetch_add(n, Ordering::Relaxed);
-    }
-    /// Evaluations so far.
-    pub fn get(&self) -> usize {
-        self.0.load(Ordering::Relaxed)
-    }
-}
-
-/// One edge pair of a region at a load level.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Edges {
-    /// β (−).
-    pub beta: f64,
-    /// Left edge φ_l (rad/s).
-    pub left: f64,
-    /// Right edge φ_r (rad/s).
-    pub right: f64,
-}
 
 /// An instability region.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -166,7 +149,7 @@ pub fn seeds_for(
     range: Interval,
     max_order: usize,
 ) -> Result<Vec<Seed>, AnalysisError> {
-    let reach = (range.lo / (1.0 + CENTRE_WINDOW), range.hi / (1.0 - CENTRE_WINDOW));
+    let reach = Interval::new(range.lo / (1.0 + CENTRE_WINDOW), range.hi / (1.0 - CENTRE_WINDOW));
     seeds(fs, full, reach, max_order)
 }
 
@@ -205,14 +188,15 @@ pub fn band(
     check_reliable(fs, range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), range, criterion.max_order)?;
-    let probe = Level::new(fs, s, criterion, level, range);
-    Ok(band_around(&probe, &seeds, phi_op))
+    let probe = Probe::new(fs, s);
+    Ok(band_around(&Level::new(&probe, criterion, level, range), &seeds, phi_op))
 }
 
 /// Catalogue every region with onset below β_max in the range, and the unstable set at
-/// the level (the request is checked first, [`CatalogueRequest::check`]): starts and onsets of the seeds of order ≤ `max_order` located from their
-/// start ([`locate_start`]), beside the tongues at the level ([`Level::scan`], every order
-/// up to the criterion's), in parallel. A seed's region takes the edges of the tongue its
+/// the level (the request is checked first, [`CatalogueRequest::check`]): starts and
+/// onsets of the seeds of order ≤ `max_order` located from their start
+/// ([`Probe::locate_start`]), beside the tongues at the level ([`Level::scan`], every
+/// order up to the criterion's), in parallel. A seed's region takes the edges of the tongue its
 /// pair collides in; a seed of higher order found only at the level has that collision
 /// as its start and β_c there as its onset (unresolved). Boundaries are tracked after,
 /// and only add to the regions.
@@ -226,8 +210,8 @@ pub fn catalogue(
     check_reliable(fs, req.range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), req.range, criterion.max_order)?;
-    let level = Level::new(fs, s, criterion, req.level, req.range);
-    let located_count = AtomicUsize::new(0);
+    let probe = Probe::new(fs, s);
+    let level = Level::new(&probe, criterion, req.level, req.range);
     // Each seed searches its own window for its start: ±0.3 %, but less than half-way to
     // the nearest seed of another start (seeds within `phi_tolerance`, degenerate whirls,
     // share one start).
@@ -248,10 +232,7 @@ pub fn catalogue(
                     if seed.order > s.max_order || !req.range.contains(seed.phi) {
                         return None;
                     }
-                    let mut n = 0;
-                    let st = locate_start(fs, s, seed.phi, half_width(i), (req.level, req.beta_max), &mut n);
-                    located_count.fetch_add(n, Ordering::Relaxed);
-                    st
+                    probe.locate_start(seed.phi, half_width(i), req.level, req.beta_max)
                 })
                 .collect::<Vec<Option<Start>>>()
         },
@@ -261,7 +242,6 @@ pub fn catalogue(
     let own = |i: usize| {
         tongues.iter().enumerate().find_map(|(t, x)| x.seeds.iter().find(|(j, _)| *j == i).map(|(_, p)| (t, *p)))
     };
-    let onsets = AtomicUsize::new(0);
     let found: Vec<Option<Region>> = (0..seeds.len())
         .into_par_iter()
         .map(|i| {
@@ -275,9 +255,7 @@ pub fn catalogue(
                 (Some(st), None) => (st.phi, st.onset, st.resolved),
                 (Some(st), Some(_)) if st.onset <= req.level => (st.phi, st.onset, st.resolved),
                 (_, Some((_, phi))) => {
-                    let c = critical::critical_load_below(fs, s, phi, req.level);
-                    onsets.fetch_add(c.evaluations, Ordering::Relaxed);
-                    (phi, c.beta.unwrap_or(req.level), false)
+                    (phi, probe.critical_load_below(phi, req.level).beta.unwrap_or(req.level), false)
                 }
                 (None, None) => return None,
             };
@@ -308,21 +286,19 @@ pub fn catalogue(
         }
     }
     regions.sort_by(|a, b| a.start.total_cmp(&b.start));
-    let tracking = AtomicUsize::new(0);
+    let before_tracking = probe.evaluations();
     if req.track {
         regions.par_iter_mut().filter(|r| r.resolved).for_each(|r| {
-            let mut n = 0;
-            r.boundary = track(fs, s, r.start, r.onset_beta, req.beta_max, &mut n);
-            tracking.fetch_add(n, Ordering::Relaxed);
+            r.boundary = probe.track(r.start, r.onset_beta, req.beta_max);
         });
     }
+    let tracking = probe.evaluations() - before_tracking;
     let unexplained: Vec<Interval> =
         tongues.iter().filter(|t| t.seeds.is_empty() && t.counted).map(|t| t.extent).collect();
     let mut ignored: Vec<Tongue> = tongues.iter().filter(|t| !t.counted).cloned().collect();
     ignored.extend(level.slow_tongues(&seeds, req.range, &tongues));
     ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
     let counted: Vec<Interval> = tongues.iter().filter(|t| t.counted).map(|t| t.extent).collect();
-    let tracking = tracking.into_inner();
     Ok(Catalogue {
         regions,
         stable_bands: complement(&counted, req.range),
@@ -333,7 +309,7 @@ pub fn catalogue(
         ignored,
         criterion,
         guarantee: criterion.guarantee(req.level),
-        evaluations: level.evaluations() + located_count.into_inner() + onsets.into_inner() + tracking,
+        evaluations: probe.evaluations(),
         tracking_evaluations: tracking,
     })
 }

@@ -5,7 +5,7 @@
 
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{ModesResult, Whirl};
-use crate::analysis::AnalysisError;
+use crate::analysis::{AnalysisError, Interval};
 use serde::Serialize;
 
 /// Simple (one mode with itself, at rest) or combination.
@@ -59,12 +59,12 @@ fn name(full: Option<&ModesResult>, w: f64, whirl: Whirl) -> String {
     .unwrap_or_else(|| format!("{}{w:.0}", whirl.letter()))
 }
 
-/// All predicted starts in [φ_lo, φ_hi] up to order `max_order`, sorted by φ; labelled
+/// All predicted starts in `range` (rad/s) up to order `max_order`, sorted by φ; labelled
 /// after the full model's whirls when `full` is given.
 pub fn seeds(
     fs: &FloquetSystem,
     full: Option<&ModesResult>,
-    range: (f64, f64),
+    range: Interval,
     max_order: usize,
 ) -> Result<Vec<Seed>, AnalysisError> {
     let (f, b) = fs.whirls()?;
@@ -93,7 +93,7 @@ pub fn seeds(
             };
             for k in 1..=max_order {
                 let phi = (wf + wb) / k as f64;
-                if phi >= range.0 && phi <= range.1 {
+                if range.contains(phi) {
                     out.push(Seed {
                         label: label.clone(),
                         kind,

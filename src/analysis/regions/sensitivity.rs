@@ -8,7 +8,8 @@
 //! is repeated with h/2 and the relative disagreement of the two is reported as the check
 //! (relative above the catalogue's resolution, see [`sensitivity`]).
 
-use super::{edges_at, locate_start, seeds, RegionSettings, START_WINDOW};
+use super::{seeds, Probe, RegionSettings, START_WINDOW};
+use crate::analysis::Interval;
 
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::ModesResult;
@@ -68,7 +69,7 @@ pub fn region_quantities(
     beta_max: f64,
     level: f64,
 ) -> Option<Quantities> {
-    let all = seeds(fs, Some(full), (1.0, f64::MAX), order).ok()?;
+    let all = seeds(fs, Some(full), Interval::new(1.0, f64::MAX), order).ok()?;
     let i = all.iter().position(|x| x.label == label && x.order == order)?;
     let seed = all[i].phi;
     let nearest = all
@@ -77,10 +78,10 @@ pub fn region_quantities(
         .filter(|(j, _)| *j != i)
         .map(|(_, x)| (x.phi - seed).abs())
         .fold(f64::INFINITY, f64::min);
-    let mut n = 0;
-    let st = locate_start(fs, s, seed, (START_WINDOW * seed).min(0.45 * nearest), (level, beta_max), &mut n)?;
-    let edges = (st.onset < level).then(|| edges_at(fs, s, st.phi, level, &mut n));
-    Some(Quantities { start: st.phi, onset: st.onset, left: edges.map(|e| e.left), right: edges.map(|e| e.right) })
+    let probe = Probe::new(fs, s);
+    let st = probe.locate_start(seed, (START_WINDOW * seed).min(0.45 * nearest), level, beta_max)?;
+    let edges = (st.onset < level).then(|| probe.edges(st.phi, level));
+    Some(Quantities { start: st.phi, onset: st.onset, left: edges.map(|e| e.lo), right: edges.map(|e| e.hi) })
 }
 
 fn diff(plus: &Quantities, minus: &Quantities, h: f64) -> Derivatives {

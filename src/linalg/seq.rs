@@ -1,0 +1,143 @@
+//! faer's dense kernels with their parallelism passed explicitly, always `Par::Seq`.
+//!
+//! faer's operators on matrices (`&a * &b`) and its decomposition methods
+//! (`.partial_piv_lu()`, `.llt()`, `.eigen()`, `.self_adjoint_eigen()`, `.eigenvalues()`,
+//! `Solve::solve`, …) read the process-wide `faer::get_global_parallelism()`. The library
+//! calls faer only through entry points that take a `Par` argument, these wrappers among
+//! them, so that it neither depends on nor changes a caller's global setting. The
+//! parallelism of the library is rayon over its outermost loops; faer's kernels, inside
+//! those loops, run sequentially, so results do not depend on the thread count.
+//!
+//! Each wrapper makes the same calls, with the same default parameters, as the faer method
+//! it replaces does with `Par::Seq`: the results are the same to the bit.
+
+use faer::diag::Diag;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt;
+use faer::linalg::evd::{self, ComputeEigenvectors, EvdError};
+use faer::linalg::lu::partial_pivoting;
+use faer::linalg::matmul::matmul;
+use faer::linalg::solvers::LltError;
+use faer::traits::math_utils::{one, real, zero};
+use faer::traits::ComplexField;
+use faer::{c64, Accum, Conj, Mat, MatRef, Par};
+
+/// The parallelism passed to every faer kernel the library calls.
+const PAR: Par = Par::Seq;
+
+/// Eigenvalues and eigenvectors (columns, in the same order) of a decomposition.
+#[derive(Debug, Clone)]
+pub struct Eigenpairs<V, T> {
+    /// The eigenvalues, in faer's order.
+    pub values: Vec<V>,
+    /// The eigenvectors as columns; column k belongs to `values[k]`.
+    pub vectors: Mat<T>,
+}
+
+/// The product A·B.
+pub fn product<T: ComplexField>(a: MatRef<'_, T>, b: MatRef<'_, T>) -> Mat<T> {
+    let mut out = Mat::<T>::zeros(a.nrows(), b.ncols());
+    matmul(out.as_mut(), Accum::Replace, a, b, one::<T>(), PAR);
+    out
+}
+
+/// X = A⁻¹·B for a square A, by LU with partial (row) pivoting. A singular A gives
+/// non-finite entries, as faer's `partial_piv_lu().solve()` does.
+pub fn lu_solve<T: ComplexField>(a: MatRef<'_, T>, b: MatRef<'_, T>) -> Mat<T> {
+    let n = a.nrows();
+    let mut lu = a.to_owned();
+    let mut perm = vec![0usize; n];
+    let mut perm_inv = vec![0usize; n];
+    let mut factor_mem =
+        MemBuffer::new(partial_pivoting::factor::lu_in_place_scratch::<usize, T>(n, n, PAR, Default::default()));
+    let (_, p) = partial_pivoting::factor::lu_in_place(
+        lu.as_mut(),
+        &mut perm,
+        &mut perm_inv,
+        PAR,
+        MemStack::new(&mut factor_mem),
+        Default::default(),
+    );
+    let mut x = b.to_owned();
+    let mut solve_mem = MemBuffer::new(partial_pivoting::solve::solve_in_place_scratch::<usize, T>(n, x.ncols(), PAR));
+    // The unit lower solve reads only the strict lower triangle of `lu` and the upper
+    // solve only its upper triangle: the packed factors serve as both L and U.
+    partial_pivoting::solve::solve_in_place_with_conj(
+        lu.as_ref(),
+        lu.as_ref(),
+        p,
+        Conj::No,
+        x.as_mut(),
+        PAR,
+        MemStack::new(&mut solve_mem),
+    );
+    x
+}
+
+/// The lower Cholesky factor L of A = L·Lᴴ (from A's lower triangle; the strict upper
+/// triangle of L is zero). Fails when A is not positive definite.
+pub fn cholesky<T: ComplexField>(a: MatRef<'_, T>) -> Result<Mat<T>, LltError> {
+    let n = a.nrows();
+    let mut l = Mat::<T>::zeros(n, n);
+    l.copy_from_triangular_lower(a);
+    let mut mem = MemBuffer::new(llt::factor::cholesky_in_place_scratch::<T>(n, PAR, Default::default()));
+    llt::factor::cholesky_in_place(l.as_mut(), Default::default(), PAR, MemStack::new(&mut mem), Default::default())?;
+    for j in 1..n {
+        for i in 0..j {
+            l[(i, j)] = zero::<T>();
+        }
+    }
+    Ok(l)
+}
+
+/// X = A⁻¹·B from the lower Cholesky factor L of A ([`cholesky`]).
+pub fn cholesky_solve<T: ComplexField>(l: MatRef<'_, T>, b: MatRef<'_, T>) -> Mat<T> {
+    let mut x = b.to_owned();
+    let mut mem = MemBuffer::new(llt::solve::solve_in_place_scratch::<T>(l.nrows(), x.ncols(), PAR));
+    llt::solve::solve_in_place_with_conj(l, Conj::No, x.as_mut(), PAR, MemStack::new(&mut mem));
+    x
+}
+
+/// Eigenpairs of a self-adjoint A from its lower triangle: real eigenvalues ascending,
+/// orthonormal eigenvectors.
+pub fn self_adjoint_eigen<T: ComplexField>(a: MatRef<'_, T>) -> Result<Eigenpairs<T::Real, T>, EvdError> {
+    let n = a.nrows();
+    let mut u = Mat::<T>::zeros(n, n);
+    let mut s = Diag::<T>::zeros(n);
+    let mut mem =
+        MemBuffer::new(evd::self_adjoint_evd_scratch::<T>(n, ComputeEigenvectors::Yes, PAR, Default::default()));
+    evd::self_adjoint_evd(a, s.as_mut(), Some(u.as_mut()), PAR, MemStack::new(&mut mem), Default::default())?;
+    let values = s.column_vector().iter().map(real).collect();
+    Ok(Eigenpairs { values, vectors: u })
+}
+
+/// Eigenpairs of a general complex A (right eigenvectors).
+pub fn eigen(a: MatRef<'_, c64>) -> Result<Eigenpairs<c64, c64>, EvdError> {
+    let n = a.nrows();
+    let mut u = Mat::<c64>::zeros(n, n);
+    let mut s = Diag::<c64>::zeros(n);
+    let mut mem = MemBuffer::new(evd::evd_scratch::<c64>(
+        n,
+        ComputeEigenvectors::No,
+        ComputeEigenvectors::Yes,
+        PAR,
+        Default::default(),
+    ));
+    evd::evd_cplx(a, s.as_mut(), None, Some(u.as_mut()), PAR, MemStack::new(&mut mem), Default::default())?;
+    Ok(Eigenpairs { values: s.column_vector().iter().copied().collect(), vectors: u })
+}
+
+/// Eigenvalues of a general complex A (no eigenvectors computed).
+pub fn eigenvalues(a: MatRef<'_, c64>) -> Result<Vec<c64>, EvdError> {
+    let n = a.nrows();
+    let mut s = Diag::<c64>::zeros(n);
+    let mut mem = MemBuffer::new(evd::evd_scratch::<c64>(
+        n,
+        ComputeEigenvectors::No,
+        ComputeEigenvectors::No,
+        PAR,
+        Default::default(),
+    ));
+    evd::evd_cplx(a, s.as_mut(), None, None, PAR, MemStack::new(&mut mem), Default::default())?;
+    Ok(s.column_vector().iter().copied().collect())
+}
