@@ -106,6 +106,66 @@ pub enum Error {
         /// Host of the holder, if its lock records one.
         host: Option<String>,
     },
+    /// A shard of a study is not valid: `--shard K/N` out of range or malformed, a
+    /// `SLURM_ARRAY_TASK_ID` that is not a shard number, more shards than cases, or a
+    /// shard count other than the one the `--out` folder's study was split into.
+    #[error("{source_name} {value}: {message}")]
+    Shard {
+        /// Where the shard came from: `--shard`, `--shards`, `--tasks` or
+        /// `SLURM_ARRAY_TASK_ID`.
+        source_name: String,
+        /// The value given.
+        value: String,
+        /// What is wrong, and the valid range.
+        message: String,
+    },
+    /// A sharded run, `study slurm`, `merge` or `status` met an `--out` folder whose
+    /// manifest records another plan than the study file's: shards of two plans would
+    /// split the cases differently.
+    #[error(
+        "--out folder {dir} holds results of another plan (plan {} of the study {study}): {advice}",
+        short_hash(found)
+    )]
+    PlanMismatch {
+        /// The folder.
+        dir: String,
+        /// The study file its manifest names.
+        study: String,
+        /// The plan hash its manifest records (SHA-256, hex).
+        found: String,
+        /// What to do.
+        advice: String,
+    },
+    /// `study status` or `study merge` on a folder that is not a study's `--out` folder.
+    #[error("{dir} is not a study folder: it has no readable {manifest} ({reason}); give the --out folder of a study")]
+    NotAStudyFolder {
+        /// The folder.
+        dir: String,
+        /// The manifest file name.
+        manifest: String,
+        /// Why it cannot be read.
+        reason: String,
+    },
+    /// `study slurm --submit` cannot find the `sbatch` program; nothing was written.
+    #[error("cannot submit: the program `{program}` {reason}; nothing was written (without --submit the scripts are written for submitting by hand)")]
+    SlurmMissing {
+        /// The program (`--sbatch`, default `sbatch`).
+        program: String,
+        /// Why it cannot be run.
+        reason: String,
+    },
+    /// `sbatch` refused a job script of `study slurm --submit`.
+    #[error("{program} {script} failed ({status}): {stderr}")]
+    SlurmFailed {
+        /// The program.
+        program: String,
+        /// The script it was given.
+        script: String,
+        /// Its exit status.
+        status: String,
+        /// The first line of its standard error.
+        stderr: String,
+    },
     /// A study's plan has more cases than a study may run.
     #[error(
         "study file {file}: the plan has {} cases, more than the limit of {limit}: split the study or sweep fewer values",
@@ -149,4 +209,9 @@ fn holder_text(pid: Option<u32>, host: &Option<String>) -> String {
         (Some(pid), Some(host)) => format!("pid {pid} on host {host}"),
         _ => "a run that is starting: its lock records no holder yet".into(),
     }
+}
+
+/// The first 12 hex digits of a hash, for messages.
+fn short_hash(h: &str) -> &str {
+    h.get(..12).unwrap_or(h)
 }

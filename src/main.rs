@@ -163,20 +163,9 @@ enum Command {
     },
     /// Run a batch study (STUDY.toml: a base problem and a list or sweep of cases), in
     /// parallel, with per-case reports and a summary; finished cases are skipped on re-runs.
-    Study {
-        /// The study file.
-        file: PathBuf,
-        /// Output directory (created if missing).
-        #[arg(long)]
-        out: PathBuf,
-        /// Recompute cases that are already finished.
-        #[arg(long)]
-        force: bool,
-        /// Use an --out folder that holds other files: the study writes beside them and
-        /// never changes, replaces or deletes any of them.
-        #[arg(long = "allow-non-empty")]
-        allow_non_empty: bool,
-    },
+    /// `study plan|status|merge|slurm` list, inspect, summarise and submit a study split
+    /// into shards (README, "Running a study on a cluster").
+    Study(StudyArgs),
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
         #[command(flatten)]
@@ -190,6 +179,210 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+}
+
+/// `rotorshunt study STUDY.toml --out DIR …`, or one of its subcommands.
+#[derive(Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+struct StudyArgs {
+    #[command(subcommand)]
+    action: Option<StudyAction>,
+    /// The study file.
+    #[arg(required = true)]
+    file: Option<PathBuf>,
+    /// Output directory (created if missing).
+    #[arg(long, required = true)]
+    out: Option<PathBuf>,
+    /// Recompute cases that are already finished.
+    #[arg(long)]
+    force: bool,
+    /// Use an --out folder that holds other files: the study writes beside them and
+    /// never changes, replaces or deletes any of them.
+    #[arg(long = "allow-non-empty")]
+    allow_non_empty: bool,
+    /// Run only shard K of N, 0-based (0/N to N-1/N; `study plan --shards N` lists them),
+    /// and write no summary (`study merge DIR` does). Shards of one plan may run at once
+    /// into one --out folder, on any machines that share it.
+    #[arg(long, value_name = "K/N", conflicts_with = "shards")]
+    shard: Option<String>,
+    /// Run shard SLURM_ARRAY_TASK_ID of N (what `study slurm`'s job script passes). Inside
+    /// a Slurm array task without --shard or --shards, N is the count the --out folder
+    /// records.
+    #[arg(long, value_name = "N")]
+    shards: Option<String>,
+    /// Print the cases this run would do (with a shard: that shard's) and write nothing.
+    #[arg(long = "dry-run")]
+    dry_run: bool,
+}
+
+#[derive(Subcommand)]
+enum StudyAction {
+    /// List the plan: every case's index, id (folder name and a hash of its overrides),
+    /// kind and, with --shards, its shard.
+    Plan {
+        /// The study file.
+        file: PathBuf,
+        /// Also assign the cases to N shards.
+        #[arg(long, value_name = "N")]
+        shards: Option<String>,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Count the cases of a study folder that are done, failed, missing and running, and
+    /// print the shards to rerun as a Slurm --array list and as --shard values. Writes
+    /// nothing. Exit 0 when every case is done, 5 otherwise.
+    Status {
+        /// The study's --out folder.
+        dir: PathBuf,
+        /// Count shards of N (default: the count the folder records, else 1).
+        #[arg(long, value_name = "N")]
+        shards: Option<String>,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write summary.{csv,json,md} from every finished case of a study folder; can run at
+    /// any time, even while shards run. Exit 0 when every case is done, 5 otherwise.
+    Merge {
+        /// The study's --out folder.
+        dir: PathBuf,
+    },
+    /// Write a Slurm array job of N tasks (one shard each) and a merge job that runs after
+    /// it (--dependency=afterany) into DIR/slurm/, and with --submit submit them.
+    Slurm {
+        /// The study file.
+        file: PathBuf,
+        /// The study's output directory (created if missing), on a filesystem every node sees.
+        #[arg(long)]
+        out: PathBuf,
+        /// Array tasks, one shard each (at most the number of cases).
+        #[arg(long, value_name = "N")]
+        tasks: String,
+        /// Slurm partition of both jobs (#SBATCH --partition).
+        #[arg(long)]
+        partition: Option<String>,
+        /// Time limit of each job in Slurm's forms, e.g. 2:00:00 (#SBATCH --time).
+        #[arg(long)]
+        time: Option<String>,
+        /// CPUs of each array task, and so its threads (#SBATCH --cpus-per-task).
+        #[arg(long = "cpus-per-task", default_value_t = 2)]
+        cpus_per_task: u32,
+        /// Submit the two jobs with sbatch.
+        #[arg(long)]
+        submit: bool,
+        /// The sbatch program.
+        #[arg(long, default_value = "sbatch")]
+        sbatch: String,
+        /// Use an --out folder that holds other files (never changed).
+        #[arg(long = "allow-non-empty")]
+        allow_non_empty: bool,
+    },
+}
+
+/// The shard count of `--shards`/`--tasks`.
+fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Error> {
+    text.map(|t| match t.trim().parse::<u32>() {
+        Ok(n) if (1..=commands::MAX_SHARDS).contains(&n) => Ok(n),
+        _ => Err(rotorshunt::Error::Shard {
+            source_name: source.into(),
+            value: t.into(),
+            message: format!("the number of shards must be a whole number from 1 to {}", commands::MAX_SHARDS),
+        }),
+    })
+    .transpose()
+}
+
+fn study(args: StudyArgs, budget: Budget) -> Result<(String, u8), rotorshunt::Error> {
+    let done = |r: &commands::StatusReport| if r.done == r.cases { 0 } else { exit::STUDY_FAILED_CASES };
+    match args.action {
+        Some(StudyAction::Plan { file, shards, json }) => {
+            Ok((commands::plan_cmd(&file, count("--shards", shards.as_deref())?, json)?, 0))
+        }
+        Some(StudyAction::Status { dir, shards, json }) => {
+            let (text, r) = commands::status_cmd(&dir, count("--shards", shards.as_deref())?, json)?;
+            Ok((text, done(&r)))
+        }
+        Some(StudyAction::Merge { dir }) => {
+            let (text, r) = commands::merge_cmd(&dir)?;
+            Ok((text, done(&r)))
+        }
+        Some(StudyAction::Slurm {
+            file,
+            out,
+            tasks,
+            partition,
+            time,
+            cpus_per_task,
+            submit,
+            sbatch,
+            allow_non_empty,
+        }) => {
+            let tasks = count("--tasks", Some(&tasks))?.unwrap_or(1);
+            let binary = std::env::current_exe().map_err(|e| rotorshunt::Error::Argument {
+                argument: "study slurm".into(),
+                message: format!("cannot find this program's own path for the job scripts: {e}"),
+            })?;
+            let options = commands::SlurmOptions {
+                tasks,
+                partition,
+                time,
+                cpus_per_task,
+                submit,
+                sbatch,
+                allow_non_empty,
+                binary,
+            };
+            Ok((commands::slurm_cmd(&file, &out, &options)?, 0))
+        }
+        None => {
+            // clap requires both without a subcommand.
+            let (Some(file), Some(out)) = (args.file, args.out) else {
+                return Err(rotorshunt::Error::Argument {
+                    argument: "study".into(),
+                    message: "give a study file and --out DIR".into(),
+                });
+            };
+            let shard = match (args.shard, count("--shards", args.shards.as_deref())?) {
+                (Some(s), _) => commands::ShardRequest::Shard(commands::Shard::parse(&s)?),
+                (None, Some(n)) => commands::ShardRequest::Count(n),
+                (None, None) => commands::ShardRequest::Auto,
+            };
+            let options = commands::StudyOptions {
+                force: args.force,
+                allow_non_empty: args.allow_non_empty,
+                shard,
+                array_task_id: std::env::var_os("SLURM_ARRAY_TASK_ID").map(|v| v.to_string_lossy().into_owned()),
+                dry_run: args.dry_run,
+                budget,
+            };
+            let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
+            if failed > 0 {
+                // Scripts read the status; a person reads why on stderr, after the summary.
+                let place = if text.starts_with("study: shard ") {
+                    format!("{} (and in `rotorshunt study status {}`)", out.join("cases").display(), out.display())
+                } else {
+                    out.join("summary.md").display().to_string()
+                };
+                eprintln!("error: {failed} case(s) of the study failed: their errors are in {place}");
+            }
+            Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
+        }
+    }
+}
+
+/// Inside a Slurm job that asked for `--cpus-per-task`, rayon's threads follow
+/// `SLURM_CPUS_PER_TASK` (Slurm sets it; rayon alone would use every CPU of the node).
+/// `RAYON_NUM_THREADS`, if set, wins; a value that is not a positive count is ignored.
+fn threads_from_slurm() {
+    if std::env::var_os("RAYON_NUM_THREADS").is_some_and(|v| !v.is_empty()) {
+        return;
+    }
+    if let Some(n) = std::env::var("SLURM_CPUS_PER_TASK").ok().and_then(|v| v.trim().parse::<usize>().ok()) {
+        if n >= 1 {
+            let _ = rayon::ThreadPoolBuilder::new().num_threads(n).build_global();
+        }
+    }
 }
 
 /// An indicatif bar on standard error (hidden when it is not a terminal).
@@ -223,7 +416,7 @@ fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
 
 /// Exit codes (docs/errors.md): 0 a result, 1 an analysis failure, 2 bad input, 3 an
 /// infeasible design, 4 a design that failed its verification, 5 a study with failed
-/// cases.
+/// cases (`study status` and `study merge`: a case not done).
 mod exit {
     pub const INFEASIBLE: u8 = 3;
     pub const NOT_VERIFIED: u8 = 4;
@@ -286,18 +479,7 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
             };
             Ok((text, code))
         }
-        Command::Study { file, out, force, allow_non_empty } => {
-            let options = commands::StudyOptions { force, allow_non_empty, budget };
-            let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
-            if failed > 0 {
-                // Scripts read the status; a person reads why on stderr, after the summary.
-                eprintln!(
-                    "error: {failed} case(s) of the study failed: their errors are in {}",
-                    out.join("summary.md").display()
-                );
-            }
-            Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
-        }
+        Command::Study(args) => study(args, budget),
         Command::Response { input, point, periods, out } => {
             plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out, budget))
         }
@@ -305,6 +487,7 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
 }
 
 fn main() -> ExitCode {
+    threads_from_slurm();
     let cli = Cli::parse();
     match run(cli) {
         Ok((text, code)) => {
@@ -325,6 +508,10 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::NotOwned { .. }
                 | rotorshunt::Error::OtherStudy { .. }
                 | rotorshunt::Error::StudyLocked { .. }
+                | rotorshunt::Error::Shard { .. }
+                | rotorshunt::Error::PlanMismatch { .. }
+                | rotorshunt::Error::NotAStudyFolder { .. }
+                | rotorshunt::Error::SlurmMissing { .. }
                 | rotorshunt::Error::OutputIsInput { .. }
                 | rotorshunt::Error::Design(
                     rotorshunt::design::DesignError::NoDesign

@@ -17,8 +17,9 @@ use std::process::Command;
 const DOC: &str = "docs/errors.md";
 
 /// Kinds whose examples exit with status 1 (analysis or output failures); the rest exit 2.
-const EXIT_1: [&str; 9] = [
+const EXIT_1: [&str; 10] = [
     "Output",
+    "SlurmFailed",
     "ReducedModes",
     "StaticLoadBuckles",
     "Linalg",
@@ -106,6 +107,11 @@ fn error_kind(e: &Error) -> &'static str {
         Error::OtherStudy { .. } => "OtherStudy",
         Error::StudyLocked { .. } => "StudyLocked",
         Error::StudyTooLarge { .. } => "StudyTooLarge",
+        Error::Shard { .. } => "Shard",
+        Error::PlanMismatch { .. } => "PlanMismatch",
+        Error::NotAStudyFolder { .. } => "NotAStudyFolder",
+        Error::SlurmMissing { .. } => "SlurmMissing",
+        Error::SlurmFailed { .. } => "SlurmFailed",
     }
 }
 
@@ -168,6 +174,11 @@ fn every_kind() -> Vec<&'static str> {
         Error::OtherStudy { dir: s(), owner: s() },
         Error::StudyLocked { dir: s(), lock: s(), pid: None, host: None },
         Error::StudyTooLarge { file: s(), cases: None, limit: 0 },
+        Error::Shard { source_name: s(), value: s(), message: s() },
+        Error::PlanMismatch { dir: s(), study: s(), found: s(), advice: s() },
+        Error::NotAStudyFolder { dir: s(), manifest: s(), reason: s() },
+        Error::SlurmMissing { program: s(), reason: s() },
+        Error::SlurmFailed { program: s(), script: s(), status: s(), stderr: s() },
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::NoOperatingFrequency),
         Error::Design(DesignError::Optimiser(s())),

@@ -747,7 +747,7 @@ fn run_flag_case(c: &FlagCase, problem: &Problem, dir: &Path) -> Result<(), Stri
             let file = dir.join("study.toml");
             std::fs::write(&file, text)
                 .map_err(|e| rotorshunt::Error::Output { path: "study.toml".into(), message: e.to_string() })?;
-            let options = StudyOptions { force: false, allow_non_empty: false, budget };
+            let options = StudyOptions { force: false, allow_non_empty: false, budget, ..Default::default() };
             commands::study_cmd(&file, &out, options, &Quiet).map(|(t, _)| t)
         }
     }));

@@ -98,12 +98,14 @@ fn is_temporary(p: &Path) -> bool {
         .is_some_and(|(target, pid, n)| !target.is_empty() && digits(pid) && digits(n))
 }
 
-/// The value without its wall-time fields (`seconds`, at any depth).
+/// The value without what differs between runs: wall times (`seconds`, at any depth) and
+/// the task that ran a case (`task`: host, pid, shard, Slurm ids).
 fn without_seconds(mut v: Value) -> Value {
     fn strip(v: &mut Value) {
         match v {
             Value::Object(m) => {
                 m.remove("seconds");
+                m.remove("task");
                 m.values_mut().for_each(strip);
             }
             Value::Array(a) => a.iter_mut().for_each(strip),

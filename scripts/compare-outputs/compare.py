@@ -20,6 +20,10 @@ around the value, so it cannot reach a result:
                  `regions` and `band` (--json and regions.json), the design report's
                  optimiser and verification costs, study case results and summary.json.
                  Every field named `seconds` in the outputs is a wall time.
+  task-pid       a JSON line `"pid": <digits>` inside a study case's `task` record
+                 (result.json, summary.json) -> `"pid": <PID>`: the process that ran the
+                 case. The host is the same machine on both sides; a Slurm job id appears
+                 only under Slurm.
   regions-wall   `monodromy evaluations in 0.28 s` (regions text) -> `in <WALL> s`.
   band-wall      `(184 evaluations, 0.072 s)` (band text) -> `(184 evaluations, <WALL> s)`;
                  the evaluation count is kept.
@@ -54,6 +58,7 @@ NUM = r"[0-9][0-9.eE+-]*"
 RULES = [
     ("tool-version", re.compile(r"\brotorshunt \d+\.\d+\.\d+[0-9A-Za-z.+-]*"), "rotorshunt <VERSION>"),
     ("json-seconds", re.compile(r'^(\s*"seconds": )' + NUM + r"(,?)$", re.M), r"\g<1>" + WALL + r"\g<2>"),
+    ("task-pid", re.compile(r'^(\s*"pid": )\d+(,?)$', re.M), r"\g<1><PID>\g<2>"),
     ("regions-wall", re.compile(r"( monodromy evaluations in )" + NUM + r"( s)$", re.M), r"\g<1>" + WALL + r"\g<2>"),
     ("band-wall", re.compile(r"(\(\d+ evaluations, )" + NUM + r"( s\))"), r"\g<1>" + WALL + r"\g<2>"),
     (

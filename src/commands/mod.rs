@@ -14,7 +14,11 @@ pub use design::{design_cmd, design_file_name, design_report, status_word, summa
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, Compare};
 pub use out::OutDir;
 pub use regions::{band_cmd, regions_cmd};
-pub use study::{study_cmd, Case, CaseKind, CaseResult, Manifest, Role, StudyOptions, MAX_STUDY_CASES};
+pub use study::{
+    array_expression, case_id, merge_cmd, plan_cmd, planned_inputs, slurm_cmd, status_cmd, study_cmd, Case, CaseKind,
+    CaseResult, CaseState, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions, TaskRecord,
+    MAX_SHARDS, MAX_STUDY_CASES,
+};
 
 use crate::analysis::campbell::campbell;
 use crate::analysis::cost::{Budget, Dense};

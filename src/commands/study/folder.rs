@@ -11,7 +11,11 @@
 //! - The temporaries a killed run leaves (`.rotorshunt-tmp.NAME.PID.N`) are removed only
 //!   for recorded entries, and only in the `--out` folder itself and in the study's own
 //!   case folders: the user's tree is never walked.
-//! - [`StudyLock`] keeps a second run out of the folder while one runs.
+//! - [`StudyLock`] keeps a second run out of the folder while one runs, or, for the
+//!   shards of one study, while one sets the folder up; [`CaseLock`] keeps two tasks out
+//!   of one case folder. The commit point of a case is the atomic rename of its
+//!   `result.json`: the locks save duplicate work, correctness does not rest on them
+//!   (docs/decisions.md, "Shards in one folder").
 
 use super::TOOL;
 use crate::report::{remove_temporaries, temporary_target, write_atomic};
@@ -30,10 +34,14 @@ pub(crate) const MANIFEST: &str = ".rotorshunt-study.json";
 pub(crate) const CASE_MANIFEST: &str = ".rotorshunt-case.json";
 /// The lock file of a study's `--out` folder.
 pub(crate) const LOCK: &str = ".rotorshunt-study.lock";
+/// The lock file of a case folder, held while a task runs the case.
+pub(crate) const CASE_LOCK: &str = ".rotorshunt-case.lock";
 /// The folder of the case folders.
 pub(crate) const CASES: &str = "cases";
+/// The folder of `study slurm`'s job scripts and Slurm's logs.
+pub(crate) const SLURM_DIR: &str = "slurm";
 /// The entries a study writes in its `--out` folder besides its manifest and lock.
-pub(crate) const ROOT_OUTPUTS: [&str; 4] = [CASES, "summary.csv", "summary.json", "summary.md"];
+pub(crate) const ROOT_OUTPUTS: [&str; 5] = [CASES, "summary.csv", "summary.json", "summary.md", SLURM_DIR];
 
 /// Format of the manifests.
 const MANIFEST_FORMAT: u32 = 1;
@@ -44,6 +52,17 @@ const LISTED_ENTRIES: usize = 5;
 /// Tries at the lock when its file is removed between opening and locking it (its holder
 /// ending), each of which is a fresh start.
 const LOCK_ATTEMPTS: usize = 8;
+/// How long a shard or `merge` waits for another task's setup of the `--out` folder: a
+/// setup holds the lock for a manifest write (milliseconds), so a minute means a run
+/// that holds the folder for its whole length (an unsharded study) or a hung filesystem.
+const SETUP_LOCK_WAIT: std::time::Duration = std::time::Duration::from_secs(60);
+/// Poll interval while waiting for the setup lock.
+const SETUP_LOCK_POLL: std::time::Duration = std::time::Duration::from_millis(25);
+/// Tries at a case lock before the case is left to the task that holds it: `study status`
+/// holds a case lock for microseconds to see whether a case is running.
+const CASE_LOCK_TRIES: usize = 5;
+/// Pause between those tries.
+const CASE_LOCK_PAUSE: std::time::Duration = std::time::Duration::from_millis(20);
 
 /// What a manifest describes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,6 +93,10 @@ pub struct Manifest {
     /// Number of cases in the plan (study folder).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cases: Option<u64>,
+    /// The number of shards the study is split into (study folder; set by `study slurm`
+    /// or the first sharded run). Sharded runs with another count are refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shards: Option<u32>,
     /// The case's name (case folder).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub case: Option<String>,
@@ -103,6 +126,7 @@ impl Manifest {
             study: id.study.clone(),
             plan_sha256: Some(id.plan.clone()),
             cases: Some(id.cases),
+            shards: None,
             case: None,
             created: BTreeSet::new(),
             temporaries: TEMPORARIES.into(),
@@ -117,13 +141,14 @@ impl Manifest {
             study: study.into(),
             plan_sha256: None,
             cases: None,
+            shards: None,
             case: Some(name.into()),
             created: BTreeSet::new(),
             temporaries: TEMPORARIES.into(),
         }
     }
 
-    fn parse(text: &str, role: Role) -> Result<Manifest, String> {
+    pub(crate) fn parse(text: &str, role: Role) -> Result<Manifest, String> {
         let m: Manifest = serde_json::from_str(text).map_err(|e| e.to_string())?;
         if m.format != MANIFEST_FORMAT {
             return Err(format!("format {} (this build reads {MANIFEST_FORMAT})", m.format));
@@ -198,8 +223,15 @@ impl Ledger {
 /// or the same plan from a study file that moved). Refused: another study's or an
 /// unreadable manifest ([`Error::OtherStudy`]); entries the manifest does not record
 /// ([`Error::FolderNotEmpty`]) unless `allow_non_empty`; and, even then, such an entry
-/// where the study writes ([`Error::NotOwned`]).
-pub(crate) fn inspect(out: &Path, id: &Identity, allow_non_empty: bool) -> Result<Option<Manifest>, Error> {
+/// where the study writes ([`Error::NotOwned`]). With `same_plan` (a sharded run,
+/// `study slurm`) a manifest of any other
+/// plan is refused ([`Error::PlanMismatch`]), even from the same study file.
+pub(crate) fn inspect_as(
+    out: &Path,
+    id: &Identity,
+    allow_non_empty: bool,
+    same_plan: bool,
+) -> Result<Option<Manifest>, Error> {
     let entries = match std::fs::read_dir(out) {
         Ok(entries) => entries,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
@@ -210,6 +242,14 @@ pub(crate) fn inspect(out: &Path, id: &Identity, allow_non_empty: bool) -> Resul
         Ok(text) => {
             let m = Manifest::parse(&text, Role::Study)
                 .map_err(|e| other(format!("a study manifest {MANIFEST} that cannot be read ({e})")))?;
+            if same_plan && m.plan_sha256.as_deref() != Some(&id.plan) {
+                return Err(Error::PlanMismatch {
+                    dir: out.display().to_string(),
+                    study: m.study.clone(),
+                    found: m.plan_sha256.clone().unwrap_or_default(),
+                    advice: "shards split one plan's cases, so a sharded run or `study slurm` needs a folder of its own plan: give a new --out folder, or finish that plan there (an unsharded run of the same study file resumes into it)".into(),
+                });
+            }
             if m.study != id.study && m.plan_sha256.as_deref() != Some(&id.plan) {
                 return Err(other(format!("the study {}", m.study)));
             }
@@ -244,12 +284,19 @@ pub(crate) fn inspect(out: &Path, id: &Identity, allow_non_empty: bool) -> Resul
     Ok(manifest)
 }
 
-/// The ledger of the `--out` folder, under the lock: the manifest found by [`inspect`]
+/// The ledger of the `--out` folder, under the lock: the manifest found by [`inspect_as`]
 /// brought up to date with this run's identity (or a new one), written, and the
 /// temporaries of its entries removed. Also says what changed since the last run.
-pub(crate) fn open_root(out: &Path, id: &Identity, found: Option<Manifest>) -> Result<(Ledger, Vec<String>), Error> {
+/// `adjust` is applied to the manifest before it is written (the shard
+/// count of a sharded run); an error of `adjust` leaves the folder as it was.
+pub(crate) fn open_root_with(
+    out: &Path,
+    id: &Identity,
+    found: Option<Manifest>,
+    adjust: impl FnOnce(&mut Manifest) -> Result<(), Error>,
+) -> Result<(Ledger, Vec<String>), Error> {
     let mut notes = Vec::new();
-    let manifest = match found {
+    let mut manifest = match found {
         None => Manifest::study(id),
         Some(mut m) => {
             if m.study != id.study {
@@ -271,40 +318,58 @@ pub(crate) fn open_root(out: &Path, id: &Identity, found: Option<Manifest>) -> R
             m
         }
     };
+    adjust(&mut manifest)?;
     let ledger = Ledger::new(out.join(MANIFEST), manifest);
     ledger.flush()?;
     remove_temporaries(out, |t| t == MANIFEST || ledger.owns(t)).map_err(|e| output_error(out, e))?;
     Ok((ledger, notes))
 }
 
-/// The ledger of a case folder, creating the folder if it is new. An existing folder is
-/// the study's if it has its case manifest, or holds nothing but that manifest's
-/// temporaries (a run killed just after creating it); anything else is refused
-/// ([`Error::NotOwned`]). The temporaries of recorded files are removed.
-pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<Ledger, Error> {
+/// The manifest of a study's `--out` folder as it is, for reading (`status`, `merge`, the
+/// shard count of a Slurm task): `None` without one.
+pub(crate) fn read_manifest(out: &Path) -> Result<Option<Manifest>, String> {
+    match std::fs::read_to_string(out.join(MANIFEST)) {
+        Ok(text) => Manifest::parse(&text, Role::Study).map(Some),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// The ledger of a study's `--out` folder with its manifest as found (under the lock), for
+/// `merge`: nothing in it changes but the entries claimed.
+pub(crate) fn root_ledger(out: &Path, manifest: Manifest) -> Ledger {
+    Ledger::new(out.join(MANIFEST), manifest)
+}
+
+/// A case folder opened by a run.
+pub(crate) enum CaseFolder {
+    /// This run holds the case: the folder's ledger and the case lock.
+    Held(Box<Ledger>, CaseLock),
+    /// Another run holds the case lock: its holder, as `pid P on host H`, if recorded.
+    Busy(Option<String>),
+}
+
+/// Open a case folder for a run, creating it if it is new. An existing folder is the
+/// study's if it has its case manifest, or holds nothing but that manifest's temporaries
+/// and the case lock (a run killed just after creating it); anything else is refused
+/// ([`Error::NotOwned`]) before anything is written into it. Then the case lock is taken
+/// ([`CaseFolder::Busy`] if another run holds it) and, under it, the manifest read or
+/// written and the temporaries of recorded files removed.
+pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolder, Error> {
     let path = dir.join(CASE_MANIFEST);
-    let found = match std::fs::create_dir(dir) {
-        Ok(()) => None,
-        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
-            let not_owned = || Error::NotOwned { path: dir.display().to_string() };
-            if !std::fs::symlink_metadata(dir).map_err(|e| output_error(dir, e))?.is_dir() {
-                return Err(not_owned());
-            }
-            match std::fs::read_to_string(&path) {
-                Ok(text) => Some(Manifest::parse(&text, Role::Case).map_err(|e| output_error(&path, e))?),
-                Err(e) if e.kind() == io::ErrorKind::NotFound => {
-                    for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
-                        let entry = e.map_err(|e| output_error(dir, e))?.file_name();
-                        if entry.to_str().and_then(temporary_target) != Some(CASE_MANIFEST) {
-                            return Err(not_owned());
-                        }
-                    }
-                    None
-                }
-                Err(e) => return Err(output_error(&path, e)),
-            }
-        }
+    match std::fs::create_dir(dir) {
+        Ok(()) => {}
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => check_case_folder(dir)?,
         Err(e) => return Err(output_error(dir, e)),
+    }
+    let lock = match CaseLock::acquire(dir, study)? {
+        Ok(lock) => lock,
+        Err(holder) => return Ok(CaseFolder::Busy(holder.map(|h| format!("pid {} on host {}", h.pid, h.host)))),
+    };
+    let found = match std::fs::read_to_string(&path) {
+        Ok(text) => Some(Manifest::parse(&text, Role::Case).map_err(|e| output_error(&path, e))?),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => return Err(output_error(&path, e)),
     };
     let fresh = found.is_none();
     let ledger = Ledger::new(path, found.unwrap_or_else(|| Manifest::case(study, name)));
@@ -312,14 +377,37 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<Ledger, E
         ledger.flush()?;
     }
     remove_temporaries(dir, |t| t == CASE_MANIFEST || ledger.owns(t)).map_err(|e| output_error(dir, e))?;
-    Ok(ledger)
+    Ok(CaseFolder::Held(Box::new(ledger), lock))
+}
+
+/// Whether an existing case folder is the study's (see [`open_case`]).
+fn check_case_folder(dir: &Path) -> Result<(), Error> {
+    let not_owned = || Error::NotOwned { path: dir.display().to_string() };
+    if !std::fs::symlink_metadata(dir).map_err(|e| output_error(dir, e))?.is_dir() {
+        return Err(not_owned());
+    }
+    let path = dir.join(CASE_MANIFEST);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e)),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
+                let entry = e.map_err(|e| output_error(dir, e))?.file_name();
+                let ours = entry == CASE_LOCK || entry.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);
+                if !ours {
+                    return Err(not_owned());
+                }
+            }
+            Ok(())
+        }
+        Err(e) => Err(output_error(&path, e)),
+    }
 }
 
 /// What a lock file records of its holder.
 #[derive(Debug, Clone, Serialize, Deserialize)]
-struct Holder {
-    pid: u32,
-    host: String,
+pub(crate) struct Holder {
+    pub(crate) pid: u32,
+    pub(crate) host: String,
     study: String,
     started_unix_s: u64,
 }
@@ -328,92 +416,189 @@ fn host() -> String {
     gethostname::gethostname().to_string_lossy().into_owned()
 }
 
-/// The lock of a study's `--out` folder: the file [`LOCK`], locked exclusively with the
-/// operating system's advisory lock (flock) and holding the holder's pid, host, study
-/// and start time. The kernel releases the lock when its holder dies, even by SIGKILL:
-/// a lock file that can be locked is stale and is taken over, unless it records another
-/// host, whose runs this host's kernel cannot see (network filesystems): that one is
-/// refused like a live lock. The file is removed when the lock is dropped, on every
-/// return path.
-pub(crate) struct StudyLock {
+/// A lock file that this process holds (flock): removed when dropped if it is still the
+/// file at its path.
+struct LockFile {
     file: File,
     path: PathBuf,
-    /// The note on a stale lock taken over.
-    pub(crate) taken_over: Option<String>,
 }
 
-impl StudyLock {
-    /// Take the lock of `out` for `study`, or refuse with [`Error::StudyLocked`].
-    pub(crate) fn acquire(out: &Path, study: &str) -> Result<StudyLock, Error> {
-        let path = out.join(LOCK);
-        let locked = |h: Option<Holder>| Error::StudyLocked {
-            dir: out.display().to_string(),
-            lock: path.display().to_string(),
-            pid: h.as_ref().map(|h| h.pid),
-            host: h.map(|h| h.host),
-        };
-        let me = host();
-        for _ in 0..LOCK_ATTEMPTS {
-            let mut options = std::fs::OpenOptions::new();
-            options.read(true).write(true);
-            let (mut file, fresh) = match options.clone().create_new(true).open(&path) {
-                Ok(f) => (f, true),
-                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => match options.open(&path) {
-                    Ok(f) => (f, false),
-                    Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
-                    Err(e) => return Err(output_error(&path, e)),
-                },
-                Err(e) => return Err(output_error(&path, e)),
-            };
-            match FileExt::try_lock(&file) {
-                Ok(()) => {}
-                Err(TryLockError::WouldBlock) => return Err(locked(read_holder(&mut file))),
-                Err(TryLockError::Error(e)) => return Err(output_error(&path, format!("cannot lock: {e}"))),
-            }
-            // Its holder may have removed the file between the open and the lock: this
-            // file is then no one's lock, so start again.
-            if !same_file(&file, &path) {
-                continue;
-            }
-            let previous = if fresh { None } else { read_holder(&mut file) };
-            if let Some(h) = previous.as_ref().filter(|h| h.host != me) {
-                return Err(locked(Some(h.clone())));
-            }
-            let taken_over = (!fresh).then(|| match &previous {
-                Some(h) => format!(
-                    "note: took over the lock of an earlier run (pid {} on host {}) that is no longer running",
-                    h.pid, h.host
-                ),
-                None => "note: took over a lock left by an earlier run that is no longer running".to_string(),
-            });
-            let holder = Holder {
-                pid: std::process::id(),
-                host: me.clone(),
-                study: study.to_string(),
-                started_unix_s: std::time::SystemTime::now()
-                    .duration_since(std::time::UNIX_EPOCH)
-                    .map_or(0, |d| d.as_secs()),
-            };
-            let text = serde_json::to_string(&holder).expect("plain data serialises") + "\n";
-            (|| {
-                file.set_len(0)?;
-                file.rewind()?;
-                file.write_all(text.as_bytes())?;
-                file.sync_all()
-            })()
-            .map_err(|e| output_error(&path, e))?;
-            return Ok(StudyLock { file, path, taken_over });
-        }
-        Err(output_error(&path, format!("the lock file kept disappearing ({LOCK_ATTEMPTS} attempts)")))
-    }
-}
-
-impl Drop for StudyLock {
+impl Drop for LockFile {
     fn drop(&mut self) {
         // Still holding the lock: remove the file if it is still this lock's.
         if same_file(&self.file, &self.path) {
             let _ = std::fs::remove_file(&self.path);
         }
+    }
+}
+
+/// One try at a lock file.
+enum Attempt {
+    /// Locked; the holder the file recorded, if it was left by an earlier run (`Some(None)`
+    /// when it recorded none).
+    Locked(LockFile, Option<Option<Holder>>),
+    /// Another process holds it.
+    Busy(Option<Holder>),
+    /// Lockable, but it records another host (refused by the caller's choice).
+    OtherHost(Holder),
+}
+
+/// Try the lock file at `path` once for `study`: create it or open it, flock it without
+/// waiting, and write this process into it. A lockable file is stale and taken over,
+/// except one recording another host when `other_host_is_live`.
+fn try_lock(path: &Path, study: &str, other_host_is_live: bool) -> Result<Attempt, Error> {
+    let me = host();
+    for _ in 0..LOCK_ATTEMPTS {
+        let mut options = std::fs::OpenOptions::new();
+        options.read(true).write(true);
+        let (mut file, fresh) = match options.clone().create_new(true).open(path) {
+            Ok(f) => (f, true),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => match options.open(path) {
+                Ok(f) => (f, false),
+                Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
+                Err(e) => return Err(output_error(path, e)),
+            },
+            Err(e) => return Err(output_error(path, e)),
+        };
+        match FileExt::try_lock(&file) {
+            Ok(()) => {}
+            Err(TryLockError::WouldBlock) => return Ok(Attempt::Busy(read_holder(&mut file))),
+            Err(TryLockError::Error(e)) => return Err(output_error(path, format!("cannot lock: {e}"))),
+        }
+        // Its holder may have removed the file between the open and the lock: this
+        // file is then no one's lock, so start again.
+        if !same_file(&file, path) {
+            continue;
+        }
+        let previous = if fresh { None } else { read_holder(&mut file) };
+        if let Some(h) = previous.as_ref().filter(|h| h.host != me && other_host_is_live) {
+            return Ok(Attempt::OtherHost(h.clone()));
+        }
+        let holder = Holder {
+            pid: std::process::id(),
+            host: me.clone(),
+            study: study.to_string(),
+            started_unix_s: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs()),
+        };
+        let text = serde_json::to_string(&holder).expect("plain data serialises") + "\n";
+        (|| {
+            file.set_len(0)?;
+            file.rewind()?;
+            file.write_all(text.as_bytes())?;
+            file.sync_all()
+        })()
+        .map_err(|e| output_error(path, e))?;
+        let taken_over = (!fresh).then_some(previous);
+        return Ok(Attempt::Locked(LockFile { file, path: path.to_path_buf() }, taken_over));
+    }
+    Err(output_error(path, format!("the lock file kept disappearing ({LOCK_ATTEMPTS} attempts)")))
+}
+
+/// The lock of a study's `--out` folder: the file [`LOCK`], locked exclusively with the
+/// operating system's advisory lock (flock) and holding the holder's pid, host, study
+/// and start time. The kernel releases the lock when its holder dies, even by SIGKILL:
+/// a lock file that can be locked is stale and is taken over. An unsharded run holds it
+/// for its whole length and refuses a lock that records another host, whose runs this
+/// host's kernel may not see (network filesystems). A sharded run, `study slurm` and
+/// `merge` hold it only while they set up or write the folder's own files, wait for it
+/// ([`StudyLock::wait`]), and take over a lockable file whatever host it names: those
+/// holders are brief, and a lock left by a task on a lost node must not stop the rest of
+/// the array. The file is removed when the lock is dropped, on every return path.
+pub(crate) struct StudyLock {
+    _file: LockFile,
+    /// The note on a stale lock taken over.
+    pub(crate) taken_over: Option<String>,
+}
+
+fn taken_over_note(previous: Option<Option<Holder>>) -> Option<String> {
+    previous.map(|p| match p {
+        Some(h) => format!(
+            "note: took over the lock of an earlier run (pid {} on host {}) that is no longer running",
+            h.pid, h.host
+        ),
+        None => "note: took over a lock left by an earlier run that is no longer running".to_string(),
+    })
+}
+
+impl StudyLock {
+    fn locked(out: &Path, h: Option<Holder>) -> Error {
+        Error::StudyLocked {
+            dir: out.display().to_string(),
+            lock: out.join(LOCK).display().to_string(),
+            pid: h.as_ref().map(|h| h.pid),
+            host: h.map(|h| h.host),
+        }
+    }
+
+    /// Take the lock of `out` for `study`, or refuse with [`Error::StudyLocked`].
+    pub(crate) fn acquire(out: &Path, study: &str) -> Result<StudyLock, Error> {
+        match try_lock(&out.join(LOCK), study, true)? {
+            Attempt::Locked(file, previous) => Ok(StudyLock { _file: file, taken_over: taken_over_note(previous) }),
+            Attempt::Busy(h) => Err(StudyLock::locked(out, h)),
+            Attempt::OtherHost(h) => Err(StudyLock::locked(out, Some(h))),
+        }
+    }
+
+    /// Take the lock of `out` for `study`, waiting up to [`SETUP_LOCK_WAIT`] for another
+    /// holder ([`Error::StudyLocked`] after that).
+    pub(crate) fn wait(out: &Path, study: &str) -> Result<StudyLock, Error> {
+        let deadline = std::time::Instant::now() + SETUP_LOCK_WAIT;
+        loop {
+            match try_lock(&out.join(LOCK), study, false)? {
+                Attempt::Locked(file, previous) => {
+                    return Ok(StudyLock { _file: file, taken_over: taken_over_note(previous) })
+                }
+                Attempt::Busy(h) if std::time::Instant::now() >= deadline => return Err(StudyLock::locked(out, h)),
+                Attempt::OtherHost(h) if std::time::Instant::now() >= deadline => {
+                    return Err(StudyLock::locked(out, Some(h)))
+                }
+                Attempt::Busy(_) | Attempt::OtherHost(_) => std::thread::sleep(SETUP_LOCK_POLL),
+            }
+        }
+    }
+}
+
+/// The lock of one case folder, [`CASE_LOCK`]: held while a run opens, runs and commits
+/// the case. A lockable file is taken over whatever host it names.
+pub(crate) struct CaseLock {
+    _file: LockFile,
+}
+
+impl CaseLock {
+    /// Take the lock of case folder `dir`: `Err(holder)` if another run holds it after
+    /// [`CASE_LOCK_TRIES`] tries.
+    fn acquire(dir: &Path, study: &str) -> Result<Result<CaseLock, Option<Holder>>, Error> {
+        let mut last = None;
+        for attempt in 0..CASE_LOCK_TRIES {
+            if attempt > 0 {
+                std::thread::sleep(CASE_LOCK_PAUSE);
+            }
+            match try_lock(&dir.join(CASE_LOCK), study, false)? {
+                Attempt::Locked(file, _) => return Ok(Ok(CaseLock { _file: file })),
+                Attempt::Busy(h) => last = h,
+                Attempt::OtherHost(h) => last = Some(h),
+            }
+        }
+        Ok(Err(last))
+    }
+}
+
+/// Whether another process holds the case lock of `dir` now (`study status`): the holder
+/// (`None` inside when it recorded none), or `None` when no one does. Never writes: a
+/// missing lock file is not created, and a stale one is left as it is.
+pub(crate) fn case_running(dir: &Path) -> Option<Option<String>> {
+    let mut file = std::fs::OpenOptions::new().read(true).open(dir.join(CASE_LOCK)).ok()?;
+    match FileExt::try_lock_shared(&file) {
+        Ok(()) => {
+            let _ = FileExt::unlock(&file);
+            None
+        }
+        Err(TryLockError::WouldBlock) => {
+            Some(read_holder(&mut file).map(|h| format!("pid {} on host {}", h.pid, h.host)))
+        }
+        Err(TryLockError::Error(_)) => None,
     }
 }
 

@@ -8,9 +8,16 @@
 //! The study owns only what it writes ([`folder`]): a manifest records it, a lock keeps a
 //! second run out, and any other entry of `DIR` is left alone. The plan is iterated
 //! lazily and bounded ([`plan`]).
+//!
+//! A study can be split into shards (`--shard K/N`, [`shard`]) that run at once into one
+//! folder, e.g. as the tasks of a Slurm array ([`slurm`]); `study status` and `study merge`
+//! read the folder at any time ([`state`]).
 
 mod folder;
 mod plan;
+mod shard;
+mod slurm;
+mod state;
 
 use super::bounds::{self, Names};
 use super::design::{design_estimate, design_report, DESIGN};
@@ -26,13 +33,16 @@ use crate::analysis::Rotor;
 use crate::problem::Problem;
 use crate::Error;
 pub(crate) use folder::Ledger;
-use folder::{Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
+use folder::{CaseFolder, Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
 pub use folder::{Manifest, Role};
 pub use plan::{Case, MAX_STUDY_CASES};
 use plan::{Plan, StudyFile};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
+pub use shard::{array_expression, Shard, TaskRecord, MAX_SHARDS};
+pub use slurm::{slurm_cmd, SlurmOptions};
+pub use state::{merge_cmd, plan_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -52,6 +62,10 @@ pub enum CaseKind {
 pub struct CaseResult {
     /// Case name.
     pub name: String,
+    /// Stable id: the folder name and a hash of the kind and resolved overrides
+    /// ([`case_id`]); empty in results of older versions.
+    #[serde(default)]
+    pub id: String,
     /// Directory name.
     pub slug: String,
     /// Kind.
@@ -68,19 +82,52 @@ pub struct CaseResult {
     pub metrics: BTreeMap<String, serde_json::Value>,
     /// Wall time of the case (s).
     pub seconds: f64,
+    /// The task that ran the case (host, pid, shard, Slurm ids).
+    #[serde(default)]
+    pub task: TaskRecord,
     /// Tool and version.
     pub tool: String,
 }
 
-fn input_hash(base_text: &[u8], case: &Case, study: &StudyFile) -> String {
+/// The input hashes of one study's cases: SHA-256 of the base problem text, the case's
+/// kind and overrides, the study parameters and the tool version (the base hashed once).
+#[derive(Clone)]
+pub(crate) struct InputHasher(Sha256);
+
+impl InputHasher {
+    pub(crate) fn new(base_text: &[u8]) -> InputHasher {
+        let mut h = Sha256::new();
+        h.update(base_text);
+        InputHasher(h)
+    }
+
+    pub(crate) fn of(&self, case: &Case, study: &StudyFile) -> String {
+        let mut h = self.0.clone();
+        h.update(format!(
+            "\n{:?}\n{:?}\n{:?} {:?} {:?} {:?}\n",
+            case.kind, case.overrides, study.phi, study.beta_max, study.level, study.phi_op
+        ));
+        h.update(TOOL.as_bytes());
+        format!("{:x}", h.finalize())
+    }
+}
+
+/// Hex digits of the hash in a case id: 48 bits, enough to tell apart the cases that
+/// share a folder name across edits of a plan.
+const CASE_ID_HEX: usize = 12;
+
+/// The stable id of a case: `FOLDER@HASH`, the case's folder name and the first
+/// [`CASE_ID_HEX`] hex digits of the SHA-256 of its kind and resolved overrides (the
+/// study's `set`, then the case's). The same case gets the same id on any machine and in
+/// any plan that holds it, whatever its index.
+pub fn case_id(case: &Case) -> String {
     let mut h = Sha256::new();
-    h.update(base_text);
-    h.update(format!(
-        "\n{:?}\n{:?}\n{:?} {:?} {:?} {:?}\n",
-        case.kind, case.overrides, study.phi, study.beta_max, study.level, study.phi_op
-    ));
-    h.update(TOOL.as_bytes());
-    format!("{:x}", h.finalize())
+    h.update(format!("rotorshunt case\n{:?}\n", case.kind));
+    for o in &case.overrides {
+        h.update(o.as_bytes());
+        h.update(b"\n");
+    }
+    format!("{}@{}", case.slug, &format!("{:x}", h.finalize())[..CASE_ID_HEX])
 }
 
 fn metric(v: impl Serialize) -> serde_json::Value {
@@ -214,38 +261,108 @@ fn finished(dir: &OutDir, hash: &str) -> Option<CaseResult> {
     (r.input_hash == hash && r.status == "ok").then_some(r)
 }
 
+/// Which share of the plan a run does.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum ShardRequest {
+    /// The whole plan; inside a Slurm array task (`SLURM_ARRAY_TASK_ID` set), the task's
+    /// shard of the count the `--out` folder records (`study slurm` writes it).
+    #[default]
+    Auto,
+    /// `--shard K/N`.
+    Shard(Shard),
+    /// `--shards N`: shard `SLURM_ARRAY_TASK_ID` of N.
+    Count(u32),
+}
+
 /// How `study` treats finished cases and the `--out` folder.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct StudyOptions {
     /// Recompute cases that are already finished (`--force`).
     pub force: bool,
     /// Write into a `--out` folder that holds entries the study did not create
     /// (`--allow-non-empty`); they are never changed.
     pub allow_non_empty: bool,
+    /// The share of the plan to run.
+    pub shard: ShardRequest,
+    /// The value of `SLURM_ARRAY_TASK_ID` in the environment, if set.
+    pub array_task_id: Option<String>,
+    /// Print the cases the run would do and touch nothing (`--dry-run`).
+    pub dry_run: bool,
     /// The limits of each case's estimated cost (`--max-cost`); the number of cases is
     /// bounded by [`MAX_STUDY_CASES`] instead.
     pub budget: Budget,
 }
 
+/// The shard a run does (`None`: the whole plan), from its request, the task id of the
+/// environment and the shard count the `--out` folder records.
+fn resolve_shard(options: &StudyOptions, recorded: Option<u32>, cases: u64) -> Result<Option<Shard>, Error> {
+    let shard = match (options.shard, options.array_task_id.as_deref()) {
+        (ShardRequest::Shard(s), _) => {
+            shard::check_count("--shard", s.count, cases)?;
+            Some(s)
+        }
+        (ShardRequest::Count(n), Some(id)) => {
+            shard::check_count("--shards", n, cases)?;
+            Some(Shard::from_task_id(id, n)?)
+        }
+        (ShardRequest::Count(n), None) => {
+            return Err(Error::Shard {
+                source_name: "--shards".into(),
+                value: n.to_string(),
+                message: "takes the shard number from SLURM_ARRAY_TASK_ID, which is not set: outside a Slurm array task give --shard K/N".into(),
+            })
+        }
+        (ShardRequest::Auto, None) => None,
+        (ShardRequest::Auto, Some(id)) => match recorded {
+            Some(n) => Some(Shard::from_task_id(id, n)?),
+            None => {
+                return Err(Error::Shard {
+                    source_name: "SLURM_ARRAY_TASK_ID".into(),
+                    value: id.into(),
+                    message: "this is a Slurm array task, but the --out folder records no shard count (`rotorshunt study slurm` writes it): give --shards N with N written into the job script (SLURM_ARRAY_TASK_COUNT describes a submission, not the study), or --shard K/N, or --shard 0/1 for the whole plan".into(),
+                })
+            }
+        },
+    };
+    if let (Some(s), Some(n)) = (shard, recorded) {
+        if s.count != n {
+            return Err(shard::count_mismatch(s, n));
+        }
+    }
+    Ok(shard)
+}
+
+/// What became of one case in a run.
+enum Outcome {
+    /// Run now.
+    Ran(CaseResult),
+    /// Finished by an earlier run (or by another task meanwhile).
+    Skipped(CaseResult),
+    /// Another task holds it: its name and holder.
+    Busy(String, Option<String>),
+}
+
 /// Everything a case needs from its study.
 struct Run<'a> {
     plan: &'a Plan,
-    base_text: &'a [u8],
+    hasher: InputHasher,
     cases_dir: std::path::PathBuf,
     study: &'a str,
     inputs: &'a [(&'a Path, &'a str)],
     force: bool,
+    task: TaskRecord,
     budget: Budget,
 }
 
 impl Run<'_> {
-    /// Run case `index` (or take its finished result); its row and whether it was skipped.
-    fn case(&self, index: u64) -> (CaseResult, bool) {
+    /// Run case `index` (or take its finished result).
+    fn case(&self, index: u64) -> Outcome {
         let case = self.plan.case(index);
-        let hash = input_hash(self.base_text, &case, &self.plan.study);
+        let hash = self.hasher.of(&case, &self.plan.study);
         let t = Instant::now();
         let row = |status: &str, error: Option<String>, metrics| CaseResult {
             name: case.name.clone(),
+            id: case_id(&case),
             slug: case.slug.clone(),
             kind: case.kind,
             overrides: case.overrides.clone(),
@@ -254,43 +371,58 @@ impl Run<'_> {
             error,
             metrics,
             seconds: t.elapsed().as_secs_f64(),
+            task: self.task.clone(),
             tool: TOOL.into(),
         };
         let path = self.cases_dir.join(&case.slug);
-        let dir = match folder::open_case(&path, self.study, &case.name) {
-            Ok(ledger) => OutDir::planned(&path, self.inputs).with_ledger(ledger),
+        // The case lock is held until this function returns: through the commit.
+        let (dir, _lock) = match folder::open_case(&path, self.study, &case.name) {
+            Ok(CaseFolder::Held(ledger, lock)) => (OutDir::planned(&path, self.inputs).with_ledger(*ledger), lock),
+            Ok(CaseFolder::Busy(holder)) => return Outcome::Busy(case.name.clone(), holder),
             // Not this study's folder: nothing is written into it, not even the result.
-            Err(e) => return (row("failed", Some(e.to_string()), BTreeMap::new()), false),
+            Err(e) => return Outcome::Ran(row("failed", Some(e.to_string()), BTreeMap::new())),
         };
         if !self.force {
             if let Some(r) = finished(&dir, &hash) {
-                return (r, true);
+                return Outcome::Skipped(r);
             }
         }
         let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir, &self.budget) {
             Ok(m) => row("ok", None, m),
             Err(e) => row("failed", Some(e.to_string()), BTreeMap::new()),
         };
-        // result.json last: its presence marks the case finished.
+        // A failure never replaces a finished result that another task committed meanwhile
+        // (on a filesystem whose locks do not reach across nodes).
+        if r.status != "ok" {
+            if let Some(done) = finished(&dir, &hash) {
+                return Outcome::Skipped(done);
+            }
+        }
+        // result.json last, renamed into place: its presence marks the case finished.
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises") + "\n";
         match dir.write("result.json", text.as_bytes()) {
-            Ok(()) => (r, false),
-            Err(e) => (
-                CaseResult { status: "failed".into(), error: Some(format!("cannot write result.json: {e}")), ..r },
-                false,
-            ),
+            Ok(()) => Outcome::Ran(r),
+            Err(e) => Outcome::Ran(CaseResult {
+                status: "failed".into(),
+                error: Some(format!("cannot write result.json: {e}")),
+                ..r
+            }),
         }
     }
 }
 
-/// `rotorshunt study STUDY.toml --out DIR [--force] [--allow-non-empty]`: the summary
-/// text and the number of failed cases.
-pub fn study_cmd(
-    file: &Path,
-    out: &Path,
-    options: StudyOptions,
-    progress: &dyn Progress,
-) -> Result<(String, usize), Error> {
+/// The study file read: its plan, base text and identity.
+pub(crate) struct Loaded {
+    pub(crate) plan: Plan,
+    pub(crate) base_text: Vec<u8>,
+    pub(crate) identity: Identity,
+    /// The base problem with the study's `set`.
+    pub(crate) base: Problem,
+}
+
+/// Read and check a study file: its plan, the base with the study's overrides and each
+/// sweep value on its own (before any folder is touched), and its identity.
+pub(crate) fn load_study(file: &Path) -> Result<Loaded, Error> {
     let plan = Plan::read(file)?;
     let base_text = crate::problem::read_input(&plan.base)?;
     // Before the folder is touched: the base with the study's overrides, each sweep value
@@ -298,27 +430,67 @@ pub fn study_cmd(
     let base_name = plan.base.display().to_string();
     let base = Problem::from_bytes(&base_text, &base_name, &plan.study.set)?;
     plan.check_sweep(file, crate::problem::input::text_of(&base_text, &base_name)?, &base_name)?;
-    let budget = case_budget(&options.budget);
-    let kinds: std::collections::BTreeSet<CaseKind> = plan.kinds();
-    for kind in kinds {
-        admit_case(&base, kind, &plan.study, &budget)?;
-    }
     let identity = Identity {
         study: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()).display().to_string(),
         plan: plan.survey(file, &base_text)?,
         cases: plan.len(),
     };
+    Ok(Loaded { plan, base_text, identity, base })
+}
+
+/// `rotorshunt study STUDY.toml --out DIR [--force] [--allow-non-empty] [--shard K/N |
+/// --shards N] [--dry-run]`: the text for standard output and the number of failed
+/// cases. A sharded run does its shard's cases only and writes no summary
+/// (`study merge` does).
+pub fn study_cmd(
+    file: &Path,
+    out: &Path,
+    options: StudyOptions,
+    progress: &dyn Progress,
+) -> Result<(String, usize), Error> {
+    let Loaded { plan, base_text, identity, base } = load_study(file)?;
+    // Before the folder is touched: the per-case estimate of the base's cases.
+    let budget = case_budget(&options.budget);
+    for kind in plan.kinds() {
+        admit_case(&base, kind, &plan.study, &budget)?;
+    }
+    let found = folder::read_manifest(out).ok().flatten();
+    let recorded = found.as_ref().filter(|m| m.plan_sha256.as_deref() == Some(&identity.plan)).and_then(|m| m.shards);
+    if options.array_task_id.is_some() && options.shard == ShardRequest::Auto && found.is_some() && recorded.is_none() {
+        // An array task in a folder of another plan: that refusal, not a missing count.
+        folder::inspect_as(out, &identity, true, true)?;
+    }
+    let shard = resolve_shard(&options, recorded, plan.len())?;
+    if options.dry_run {
+        return Ok((state::dry_run_text(&plan, &identity, shard), 0));
+    }
     let inputs: [(&Path, &str); 2] = [(file, "the study file"), (&plan.base, "the study's base problem file")];
     // The folder is checked before anything is created in it, and again under the lock.
     let root = OutDir::planned(out, &inputs);
     let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).collect();
     root.check_outputs(&own_names)?;
-    folder::inspect(out, &identity, options.allow_non_empty)?;
+    let sharded = shard.is_some();
+    let check_shards = |m: &Manifest| match (shard, m.shards) {
+        (Some(s), Some(n)) if s.count != n => Err(shard::count_mismatch(s, n)),
+        _ => Ok(()),
+    };
+    if let Some(m) = folder::inspect_as(out, &identity, options.allow_non_empty, sharded)? {
+        check_shards(&m)?;
+    }
     std::fs::create_dir_all(out)
         .map_err(|e| Error::Output { path: out.display().to_string(), message: e.to_string() })?;
-    let lock = StudyLock::acquire(out, &identity.study)?;
-    let found = folder::inspect(out, &identity, options.allow_non_empty)?;
-    let (ledger, mut notes) = folder::open_root(out, &identity, found)?;
+    // A sharded run holds the folder's lock only while it sets the folder up.
+    let lock = if sharded { StudyLock::wait(out, &identity.study)? } else { StudyLock::acquire(out, &identity.study)? };
+    let found = folder::inspect_as(out, &identity, options.allow_non_empty, sharded)?;
+    if let Some(m) = &found {
+        check_shards(m)?;
+    }
+    let (ledger, mut notes) = folder::open_root_with(out, &identity, found, |m| {
+        if let Some(s) = shard {
+            m.shards.get_or_insert(s.count);
+        }
+        Ok(())
+    })?;
     notes.extend(lock.taken_over.clone());
     ledger.claim(CASES, &out.join(CASES))?;
     let root = root.with_ledger(ledger);
@@ -328,44 +500,89 @@ pub fn study_cmd(
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && cases_dir.is_dir() => {}
         Err(e) => return Err(root.error(CASES, e)),
     }
+    let lock = if sharded {
+        drop(lock);
+        None
+    } else {
+        Some(lock)
+    };
+    let indices: Vec<u64> = match shard {
+        Some(s) => shard::cases_of(&plan, s),
+        None => (0..plan.len()).collect(),
+    };
     let started = Instant::now();
-    progress.start(plan.len(), "study");
+    progress.start(indices.len() as u64, "study");
     let run = Run {
         plan: &plan,
-        base_text: &base_text,
+        hasher: InputHasher::new(&base_text),
         cases_dir,
         study: &identity.study,
         inputs: &inputs,
         force: options.force,
+        task: TaskRecord::current(shard),
         budget,
     };
     // Cases in parallel (the outermost loop), each built from its index when it runs;
     // results in case order.
-    let results: Vec<(CaseResult, bool)> = (0..plan.len() as usize)
-        .into_par_iter()
-        .map(|i| {
-            let r = run.case(i as u64);
+    let outcomes: Vec<Outcome> = indices
+        .par_iter()
+        .map(|&i| {
+            let r = run.case(i);
             progress.tick();
             r
         })
         .collect();
     progress.finish();
-    let rows: Vec<&CaseResult> = results.iter().map(|(r, _)| r).collect();
-    write_summary(&root, &rows)?;
+    let mut rows: Vec<&CaseResult> = Vec::new();
+    let mut busy = Vec::new();
+    let mut skipped = 0;
+    for o in &outcomes {
+        match o {
+            Outcome::Ran(r) => rows.push(r),
+            Outcome::Skipped(r) => {
+                rows.push(r);
+                skipped += 1;
+            }
+            Outcome::Busy(name, holder) => busy.push((name, holder)),
+        }
+    }
+    if !sharded {
+        write_summary(&root, &rows)?;
+    }
     drop(lock);
-    let skipped = results.iter().filter(|(_, s)| *s).count();
     let failed = rows.iter().filter(|r| r.status != "ok").count();
-    let mut text = format!(
-        "study: {} cases ({} run, {} skipped as finished, {} failed) in {:.1} s; wrote summary.{{csv,json,md}} and cases/ to {}\n",
-        rows.len(),
-        rows.len() - skipped,
-        skipped,
-        failed,
-        started.elapsed().as_secs_f64(),
-        out.display()
-    );
+    let mut text = match shard {
+        None => format!(
+            "study: {} cases ({} run, {} skipped as finished, {} failed) in {:.1} s; wrote summary.{{csv,json,md}} and cases/ to {}\n",
+            rows.len() + busy.len(),
+            rows.len() - skipped,
+            skipped,
+            failed,
+            started.elapsed().as_secs_f64(),
+            out.display()
+        ),
+        Some(s) => format!(
+            "study: shard {s} of {} cases: {} cases ({} run, {} skipped as finished, {} running in another task, {} failed) in {:.1} s; results in {} (`rotorshunt study merge {}` writes the summary)\n",
+            plan.len(),
+            indices.len(),
+            rows.len() - skipped,
+            skipped,
+            busy.len(),
+            failed,
+            started.elapsed().as_secs_f64(),
+            out.join(CASES).display(),
+            out.display()
+        ),
+    };
     for r in rows.iter().filter(|r| r.status != "ok") {
         text += &format!("failed: {}: {}\n", r.name, r.error.clone().unwrap_or_default());
+    }
+    for (name, holder) in &busy {
+        text += &format!(
+            "running in another task ({}): {name}: left to it{}\n",
+            holder.as_deref().unwrap_or("holder not recorded"),
+            if sharded { "" } else { ", not in this summary" }
+        );
     }
     for n in notes {
         text += &n;
@@ -382,7 +599,7 @@ fn cell(v: Option<&serde_json::Value>) -> String {
     }
 }
 
-fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
+pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
     let keys: std::collections::BTreeSet<String> = rows.iter().flat_map(|r| r.metrics.keys().cloned()).collect();
     #[derive(Serialize)]
     struct Summary<'a> {

@@ -231,6 +231,14 @@ impl Plan {
         self.study.cases.len() as u64 + self.swept
     }
 
+    /// The kind of case `index` (< [`Plan::len`]), without building the case.
+    pub(crate) fn kind_of(&self, index: u64) -> CaseKind {
+        match self.study.cases.get(index as usize) {
+            Some(c) => c.kind.unwrap_or(self.study.kind),
+            None => self.study.kind,
+        }
+    }
+
     /// Case `index` (< [`Plan::len`]): the listed cases in file order, then the sweep's
     /// combinations with the last key varying fastest.
     pub(crate) fn case(&self, index: u64) -> Case {
