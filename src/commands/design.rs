@@ -9,6 +9,7 @@ use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
 use crate::analysis::regions::RegionSettings;
 use crate::analysis::Interval;
+use crate::commands::out::json_pretty;
 use crate::design::evaluate::Candidate;
 use crate::design::evaluate::{neighbourhood, values_of};
 use crate::design::spec::{DesignSpec, Objective};
@@ -313,10 +314,7 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         files,
     };
     dir.write(design_file_name(outcome.status), tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
-    dir.write(
-        "report.json",
-        (serde_json::to_string_pretty(&report).expect("plain data serialises") + "\n").as_bytes(),
-    )?;
+    dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
     dir.write("report.md", markdown(&report).as_bytes())?;
     charts(dir, &before, &after, spec)?;
     let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;

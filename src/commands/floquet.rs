@@ -9,6 +9,7 @@ use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
 use crate::analysis::response::{checked_response, rk4_steps_per_period, ResponseResult, STIFFNESS_LIMIT};
 use crate::analysis::Rotor;
+use crate::commands::out::{json_compact, json_pretty};
 use crate::problem::Problem;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use crate::report::plot::{LinePlot, Series};
@@ -66,7 +67,7 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: B
     let point = fs.point(phi, beta);
     if json {
         let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
-        return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
+        return Ok(json_pretty(&out, "the JSON output")? + "\n");
     }
     let mut s = format!(
         "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\n",
@@ -130,7 +131,7 @@ fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Pro
 
 fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
     let json = ChartJson { provenance: Provenance::of(problem), chart: c };
-    dir.write(&format!("{stem}.json"), serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
+    dir.write(&format!("{stem}.json"), json_compact(&json, "the JSON output")?.as_bytes())?;
     let csv = chart_csv(c).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
     dir.write(&format!("{stem}.csv"), csv.as_bytes())
 }
@@ -256,7 +257,7 @@ pub fn response_cmd(
         response: &'a ResponseResult,
     }
     let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r };
-    dir.write("response.json", serde_json::to_string(&json).expect("plain data serialises").as_bytes())?;
+    dir.write("response.json", json_compact(&json, "the JSON output")?.as_bytes())?;
     let mut csv = String::from("time_s,q1_re,q1_im\n");
     for (t, q) in r.time.iter().zip(&r.q1) {
         csv += &format!("{t},{},{}\n", q[0], q[1]);

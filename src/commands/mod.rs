@@ -25,6 +25,7 @@ use crate::analysis::cost::{Budget, Dense};
 use crate::analysis::limits::{self, MAX_COUNT};
 use crate::analysis::modes::{whirl_modes_of, WhirlMode};
 use crate::analysis::Rotor;
+use crate::commands::out::json_pretty;
 use crate::problem::Problem;
 use crate::report::{campbell as campbell_report, summary};
 use crate::Error;
@@ -123,7 +124,7 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, bu
         modes: r.lowest(count),
     };
     if json {
-        Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n")
+        Ok(json_pretty(&out, "the JSON output")? + "\n")
     } else {
         Ok(summary::modes_text(&out.modes, speed, out.critical_load))
     }
@@ -158,7 +159,7 @@ pub fn campbell_cmd(
         campbell: &'a crate::analysis::campbell::CampbellResult,
     }
     let json = Json { provenance: Provenance::of(problem), campbell: &result };
-    dir.write("campbell.json", serde_json::to_string_pretty(&json).expect("plain data serialises").as_bytes())?;
+    dir.write("campbell.json", json_pretty(&json, "the JSON output")?.as_bytes())?;
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
     let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));

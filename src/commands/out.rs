@@ -87,3 +87,17 @@ impl OutDir {
         write_atomic(&self.path(name), bytes).map_err(|e| self.error(name, e))
     }
 }
+
+/// `value` as pretty JSON, the one way JSON output is written (a
+/// serialisation failure, e.g. a map with non-string keys, is an output error naming
+/// `what`, not a panic).
+pub(crate) fn json_pretty<T: serde::Serialize + ?Sized>(value: &T, what: &str) -> Result<String, Error> {
+    serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Output { path: what.to_string(), message: format!("cannot serialise it as JSON: {e}") })
+}
+
+/// `value` as compact JSON (large outputs: charts, responses, locks), as [`json_pretty`].
+pub(crate) fn json_compact<T: serde::Serialize + ?Sized>(value: &T, what: &str) -> Result<String, Error> {
+    serde_json::to_string(value)
+        .map_err(|e| Error::Output { path: what.to_string(), message: format!("cannot serialise it as JSON: {e}") })
+}

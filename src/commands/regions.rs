@@ -13,6 +13,7 @@ use crate::analysis::regions::{band, catalogue, Band, Bound, Catalogue, Catalogu
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
+use crate::commands::out::json_pretty;
 use crate::problem::Problem;
 use crate::report::chart::{Layer, StabilityPlot};
 use crate::report::plot::Series;
@@ -121,7 +122,7 @@ pub fn regions_cmd(
         seconds,
         catalogue: &cat,
     };
-    let json_text = serde_json::to_string_pretty(&doc).expect("plain data serialises") + "\n";
+    let json_text = json_pretty(&doc, "the JSON output")? + "\n";
     if let Some(dir) = out {
         let dir = OutDir::create(dir, &problem.file)?;
         dir.write("regions.json", json_text.as_bytes())?;
@@ -241,7 +242,7 @@ pub fn band_cmd(
         seconds: start.elapsed().as_secs_f64(),
     };
     if json {
-        return Ok(serde_json::to_string_pretty(&out).expect("plain data serialises") + "\n");
+        return Ok(json_pretty(&out, "the JSON output")? + "\n");
     }
     let b = &out.band;
     let mut text = match b.band {

@@ -18,6 +18,7 @@
 //!   (docs/decisions.md, "Shards in one folder").
 
 use super::TOOL;
+use crate::commands::out::{json_compact, json_pretty};
 use crate::report::{remove_temporaries, temporary_target, write_atomic};
 use crate::Error;
 use fs4::{FileExt, TryLockError};
@@ -181,7 +182,7 @@ impl Ledger {
     }
 
     fn save(&self, m: &Manifest) -> Result<(), Error> {
-        let text = serde_json::to_string_pretty(m).expect("plain data serialises") + "\n";
+        let text = json_pretty(m, "the JSON output")? + "\n";
         write_atomic(&self.path, text.as_bytes()).map_err(|e| output_error(&self.path, e))
     }
 
@@ -482,7 +483,7 @@ fn try_lock(path: &Path, study: &str, other_host_is_live: bool) -> Result<Attemp
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| d.as_secs()),
         };
-        let text = serde_json::to_string(&holder).expect("plain data serialises") + "\n";
+        let text = json_compact(&holder, "the JSON output")? + "\n";
         (|| {
             file.set_len(0)?;
             file.rewind()?;

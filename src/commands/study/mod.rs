@@ -30,6 +30,7 @@ use crate::analysis::regions::{band, catalogue, CatalogueRequest, RegionSettings
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
+use crate::commands::out::json_pretty;
 use crate::problem::Problem;
 use crate::Error;
 pub(crate) use folder::Ledger;
@@ -229,10 +230,7 @@ fn run_case(
             let range = Interval::new(study.phi[0], study.phi[1]);
             let cat =
                 catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
-            dir.write(
-                "regions.json",
-                (serde_json::to_string_pretty(&cat).expect("plain data serialises") + "\n").as_bytes(),
-            )?;
+            dir.write("regions.json", (json_pretty(&cat, "the JSON output")? + "\n").as_bytes())?;
             m.insert("regions".into(), metric(cat.regions.len()));
             let lowest = cat.regions.iter().min_by(|a, b| a.onset_beta.total_cmp(&b.onset_beta));
             m.insert("lowest_onset".into(), metric(lowest.map(|r| r.onset_beta)));
@@ -399,8 +397,9 @@ impl Run<'_> {
             }
         }
         // result.json last, renamed into place: its presence marks the case finished.
-        let text = serde_json::to_string_pretty(&r).expect("plain data serialises") + "\n";
-        match dir.write("result.json", text.as_bytes()) {
+        let written =
+            json_pretty(&r, "result.json").and_then(|text| dir.write("result.json", (text + "\n").as_bytes()));
+        match written {
             Ok(()) => Outcome::Ran(r),
             Err(e) => Outcome::Ran(CaseResult {
                 status: "failed".into(),
@@ -606,8 +605,7 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
         tool: &'static str,
         cases: &'a [&'a CaseResult],
     }
-    let json =
-        serde_json::to_string_pretty(&Summary { tool: TOOL, cases: rows }).expect("plain data serialises") + "\n";
+    let json = json_pretty(&Summary { tool: TOOL, cases: rows }, "the JSON output")? + "\n";
     root.write("summary.json", json.as_bytes())?;
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "seconds".into()];

@@ -7,6 +7,7 @@ use super::folder::{self, Identity, Manifest, Role, StudyLock, CASES, CASE_MANIF
 use super::plan::Plan;
 use super::shard::{self, kind_cost, Shard};
 use super::{case_id, load_study, write_summary, CaseKind, CaseResult, InputHasher, Loaded, OutDir};
+use crate::commands::out::json_pretty;
 use crate::Error;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -129,7 +130,7 @@ pub fn plan_cmd(file: &Path, shards: Option<u32>, json: bool) -> Result<String, 
         let cost = [("regions", shard::REGIONS_COST), ("design", shard::DESIGN_COST)].into_iter().collect();
         let l =
             PlanListing { study: &identity.study, plan_sha256: &identity.plan, cases: plan.len(), shards, cost, list };
-        return Ok(serde_json::to_string_pretty(&l).expect("plain data serialises") + "\n");
+        return Ok(json_pretty(&l, "the JSON output")? + "\n");
     }
     let mut text = header(&plan, &identity);
     if let (Some(n), Some(s)) = (shards, &shard_of) {
@@ -462,7 +463,7 @@ pub fn status_cmd(dir: &Path, shards: Option<u32>, json: bool) -> Result<(String
     let s = survey(dir, shards, false)?;
     let r = report(dir, &s);
     let text = if json {
-        serde_json::to_string_pretty(&r).expect("plain data serialises") + "\n"
+        json_pretty(&r, "the JSON output")? + "\n"
     } else {
         format!("study status {}: {} (study {})\n{}", dir.display(), counts_line(&r), r.study, details(&r, dir))
     };
