@@ -1,0 +1,164 @@
+//! The widest stable band: multi-start Nelder–Mead (argmin) on the scaled variables,
+//! the band of `rotorshunt band` as the objective.
+
+use super::*;
+
+/// Edge of the initial Nelder–Mead simplex in scaled units: 10 % of each variable's range
+/// (of its logarithm for C_f, L, ω), large enough to step across a narrow region.
+const SIMPLEX_STEP: f64 = 0.1;
+/// Nelder–Mead stops when the simplex's objective values differ by less than this (rad/s):
+/// the band edges themselves are bisected to 0.2 rad/s.
+const OBJECTIVE_TOLERANCE: f64 = 0.1;
+/// Penalty per scaled unit outside [0, 1] (rad/s): the optimiser evaluates the nearest
+/// point inside the bounds and is pushed back in.
+const BOUND_PENALTY: f64 = 1.0e4;
+
+/// The Nelder–Mead cost of one start: −(band objective) + bound penalty; records history.
+struct BandCost<'a, 'b> {
+    ctx: &'a Context<'b>,
+    start: usize,
+    history: RefCell<Vec<HistoryPoint>>,
+}
+
+impl CostFunction for BandCost<'_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Self::Param) -> Result<f64, argmin::core::Error> {
+        let outside: f64 = u.iter().map(|&x| (x - x.clamp(0.0, 1.0)).abs()).sum();
+        let value = self.ctx.band_objective(u);
+        let mut h = self.history.borrow_mut();
+        let best = h.last().map_or(value, |p| p.best.max(value));
+        let step = h.len() + 1;
+        h.push(HistoryPoint { start: self.start, step, value, best });
+        Ok(-value + BOUND_PENALTY * outside)
+    }
+}
+
+/// The physics seed: every tuning variable (ω of Eq. 4, or L through it) set so that the
+/// predicted electrical region starts ω_w + ω_e (w = the lowest forward and backward
+/// mechanical whirls of the reference, at each speed) lie as far from φ_op as the bounds
+/// allow; other variables keep their reference values. None without a tuning variable.
+fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Option<Vec<f64>>, DesignError> {
+    let tuning: Vec<usize> = (0..ctx.spec.variables.len())
+        .filter(|&j| matches!(ctx.spec.variables[j].parameter, Parameter::TuningFrequency | Parameter::Inductance))
+        .collect();
+    if tuning.is_empty() {
+        return Ok(None);
+    }
+    let rotor = crate::analysis::Rotor::new(&ctx.base.model)?;
+    let mut whirls = Vec::new();
+    for &w in &ctx.spec.speeds {
+        let m = crate::analysis::modes::whirl_modes_of(&rotor, &ctx.base.settings, w)?;
+        for tag in ["f1", "b1"] {
+            if let Some(x) = m.modes.iter().find(|x| x.tag() == tag) {
+                whirls.push(x.frequency);
+            }
+        }
+    }
+    let cp_t = ctx.base.model.left.cp_t;
+    let mut u = to_unit(ctx.spec, reference);
+    for &j in &tuning {
+        let v: &Variable = &ctx.spec.variables[j];
+        // ω_e as a function of the scaled variable (L through Eq. 4 with the branch's C_f).
+        let c_f = ctx.base.model.circuit.branches[v.branch].c_f;
+        let omega = |x: f64| match v.parameter {
+            Parameter::TuningFrequency => v.from_unit(x),
+            _ => crate::model::Branch { c_f, inductance: v.from_unit(x), resistance: 0.0 }.tuning_frequency(cp_t),
+        };
+        let distance = |x: f64| whirls.iter().map(|w| (w + omega(x) - phi_op).abs()).fold(f64::INFINITY, f64::min);
+        let best = (0..=200).map(|k| k as f64 / 200.0).max_by(|a, b| distance(*a).total_cmp(&distance(*b)));
+        u[j] = best.unwrap_or(u[j]);
+    }
+    Ok(Some(u))
+}
+
+pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+    let spec = ctx.spec;
+    let phi_op = ctx.phi_op.ok_or(DesignError::NoOperatingFrequency)?;
+    let n = spec.variables.len();
+    let reference = to_unit(spec, &out.before);
+    let mut starts: Vec<(String, Vec<f64>)> = vec![("reference".into(), reference.clone())];
+    if let Some(seed) = physics_seed(ctx, &out.before, phi_op)? {
+        starts.push(("physics seed".into(), seed));
+    }
+    let mut k = 0;
+    while starts.len() < spec.starts.max(1) {
+        starts.push((format!("halton {}", k + 1), halton(k, n)));
+        k += 1;
+    }
+    starts.truncate(spec.starts.max(1));
+    // Starts in parallel (the outermost loop); each Nelder–Mead run is sequential.
+    let runs: Vec<Result<StartRun, DesignError>> = starts
+        .par_iter()
+        .enumerate()
+        .map(|(i, (origin, u0))| {
+            let cost = BandCost { ctx, start: i, history: RefCell::new(Vec::new()) };
+            let mut simplex = vec![u0.clone()];
+            for j in 0..n {
+                let mut p = u0.clone();
+                p[j] = if p[j] + SIMPLEX_STEP <= 1.0 { p[j] + SIMPLEX_STEP } else { p[j] - SIMPLEX_STEP };
+                simplex.push(p);
+            }
+            let solver = NelderMead::new(simplex)
+                .with_sd_tolerance(OBJECTIVE_TOLERANCE)
+                .map_err(|e| DesignError::Optimiser(e.to_string()))?;
+            let res = Executor::new(cost, solver)
+                .configure(|s| s.max_iters(spec.max_iterations as u64))
+                .run()
+                .map_err(|e| DesignError::Optimiser(e.to_string()))?;
+            let state = res.state();
+            let best_u: Vec<f64> = state
+                .get_best_param()
+                .cloned()
+                .unwrap_or_else(|| u0.clone())
+                .iter()
+                .map(|x| x.clamp(0.0, 1.0))
+                .collect();
+            let history = res.problem.problem.as_ref().map(|c| c.history.borrow().clone()).unwrap_or_default();
+            let report = StartReport {
+                origin: origin.clone(),
+                initial: ctx.values(u0),
+                best: ctx.values(&best_u),
+                objective: -state.get_best_cost(),
+                evaluations: history.len(),
+                iterations: state.get_iter(),
+                termination: state.get_termination_reason().map_or("none".into(), |r| r.to_string()),
+            };
+            Ok((report, history, best_u))
+        })
+        .collect();
+    let mut finals = Vec::new();
+    for r in runs {
+        let (report, history, u) = r?;
+        finals.push(u);
+        out.history.extend(history);
+        out.starts.push(report);
+    }
+    let reference_candidate = Candidate::new(ctx.base, spec, &out.before)?;
+    out.before_bands = ctx.bands(&reference_candidate)?;
+    // The widest band over the starts' best points, by the same band function as the
+    // objective (ties: the earlier start).
+    let banded: Vec<Result<Vec<OperatingBand>, DesignError>> =
+        finals.par_iter().map(|u| ctx.bands(&Candidate::new(ctx.base, spec, &ctx.values(u))?)).collect();
+    let mut best: Option<(f64, usize, Vec<OperatingBand>)> = None;
+    for (k, b) in banded.into_iter().enumerate() {
+        let b = b?;
+        let w = smallest(&b);
+        if best.as_ref().is_none_or(|x| w > x.0) {
+            best = Some((w, k, b));
+        }
+    }
+    match best {
+        Some((w, k, bands)) if w > smallest(&out.before_bands) => {
+            out.status = Status::Improved;
+            out.after = ctx.values(&finals[k]);
+            out.after_bands = bands;
+        }
+        _ => {
+            out.status = Status::Unchanged;
+            out.after = out.before.clone();
+            out.after_bands = out.before_bands.clone();
+        }
+    }
+    Ok(())
+}
