@@ -462,7 +462,8 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,
             };
-            plain(commands::chart_cmd(&problem, &phi, &beta, &out, cmp, timing, &bar(), budget))
+            let args = commands::ChartArgs { phi: &phi, beta: &beta, compare: cmp, timing };
+            plain(commands::chart_cmd(&problem, args, &out, &bar(), budget))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
             plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref(), budget))

@@ -136,18 +136,27 @@ fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> 
     dir.write(&format!("{stem}.csv"), csv.as_bytes())
 }
 
+/// What a chart is asked: the grids as given on the command line and what to compare.
+pub struct ChartArgs<'a> {
+    /// `--phi A:B:STEP` (rad/s).
+    pub phi: &'a str,
+    /// `--beta A:B:STEP` (−).
+    pub beta: &'a str,
+    /// The second configuration drawn beside the problem, if any.
+    pub compare: Compare<'a>,
+    /// `--timing`: also print the chart's wall time per point.
+    pub timing: bool,
+}
+
 /// `rotorshunt chart FILE --phi A:B:STEP --beta A:B:STEP --out DIR [--compare …]`.
-#[allow(clippy::too_many_arguments)]
 pub fn chart_cmd(
     problem: &Problem,
-    phi: &str,
-    beta: &str,
+    args: ChartArgs<'_>,
     out: &Path,
-    compare: Compare<'_>,
-    timing: bool,
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
+    let ChartArgs { phi, beta, compare, timing } = args;
     let phis = parse_range(phi, "--phi")?;
     let betas = parse_range(beta, "--beta")?;
     for &p in &phis {
