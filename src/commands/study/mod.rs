@@ -118,7 +118,7 @@ impl InputHasher {
 const CASE_ID_HEX: usize = 12;
 
 /// The stable id of a case: `FOLDER@HASH`, the case's folder name and the first
-/// [`CASE_ID_HEX`] hex digits of the SHA-256 of its kind and resolved overrides (the
+/// `CASE_ID_HEX` (12) hex digits of the SHA-256 of its kind and resolved overrides (the
 /// study's `set`, then the case's). The same case gets the same id on any machine and in
 /// any plan that holds it, whatever its index.
 pub fn case_id(case: &Case) -> String {
