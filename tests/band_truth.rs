@@ -29,15 +29,7 @@ const BEYOND: f64 = 0.5;
 
 /// Every problem file of the catalogue (top level of problems/).
 fn problems() -> Vec<String> {
-    let dir = format!("{}/problems", env!("CARGO_MANIFEST_DIR"));
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    v.sort();
-    v
+    common::toml_names(&common::root().join("problems"))
 }
 
 /// Grid points k·GRID (k integer) strictly inside (lo, hi).

@@ -36,6 +36,7 @@
 //! A band must also contain its φ_op.
 //!
 //! Every case prints one summary line; failures are collected and asserted at the end.
+mod common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::{FloquetSystem, PointSummary};
@@ -137,14 +138,7 @@ fn rule(name: &str) -> Vec<(f64, f64)> {
 }
 
 fn fixture_names() -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(fixture_dir())
-        .unwrap()
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    v.sort();
-    v
+    common::toml_names(std::path::Path::new(&fixture_dir()))
 }
 
 #[test]

@@ -112,30 +112,6 @@ fn bin() -> Command {
     c
 }
 
-/// Every file under `out/cases`: result.json without wall time and task, others as bytes.
-fn case_files(out: &Path) -> BTreeMap<PathBuf, Result<Value, Vec<u8>>> {
-    let mut files = BTreeMap::new();
-    let cases = out.join("cases");
-    for d in std::fs::read_dir(&cases).unwrap() {
-        for f in std::fs::read_dir(d.unwrap().path()).unwrap() {
-            let p = f.unwrap().path();
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            assert!(!name.starts_with(".rotorshunt-tmp.") && name != ".rotorshunt-case.lock", "{} left", p.display());
-            let bytes = std::fs::read(&p).unwrap();
-            let rel = p.strip_prefix(&cases).unwrap().to_path_buf();
-            if name == "result.json" {
-                let mut v: Value = serde_json::from_slice(&bytes).unwrap();
-                v["seconds"] = Value::Null;
-                v["task"] = Value::Null;
-                files.insert(rel, Ok(v));
-            } else {
-                files.insert(rel, Err(bytes));
-            }
-        }
-    }
-    files
-}
-
 fn summary(out: &Path) -> Value {
     let mut v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     for c in v["cases"].as_array_mut().unwrap() {
@@ -309,7 +285,7 @@ fn a_study_runs_as_a_slurm_array_and_recovers_from_a_cancelled_and_a_killed_task
 
     // The same summary and byte-identical case files as the single-machine run.
     assert_eq!(summary(&out), summary(&whole));
-    assert_eq!(case_files(&out), case_files(&whole));
+    assert_eq!(common::case_files(&out), common::case_files(&whole));
     // The task record names the Slurm task that ran each case.
     let s: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     for c in s["cases"].as_array().unwrap() {

@@ -112,32 +112,6 @@ fn summary_csv(out: &Path) -> Vec<Vec<String>> {
     rows
 }
 
-/// Every file under `out/cases`, relative: result.json parsed without wall time and task,
-/// the others as bytes. Lock files and temporaries must not be there.
-fn case_files(out: &Path) -> BTreeMap<PathBuf, Result<Value, Vec<u8>>> {
-    let mut files = BTreeMap::new();
-    let cases = out.join("cases");
-    for d in std::fs::read_dir(&cases).unwrap() {
-        let d = d.unwrap().path();
-        for f in std::fs::read_dir(&d).unwrap() {
-            let p = f.unwrap().path();
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            assert!(!name.starts_with(".rotorshunt-tmp.") && name != ".rotorshunt-case.lock", "{} left", p.display());
-            let rel = p.strip_prefix(&cases).unwrap().to_path_buf();
-            let bytes = std::fs::read(&p).unwrap();
-            if name == "result.json" {
-                let mut v: Value = serde_json::from_slice(&bytes).unwrap();
-                v["seconds"] = Value::Null;
-                v["task"] = Value::Null;
-                files.insert(rel, Ok(v));
-            } else {
-                files.insert(rel, Err(bytes));
-            }
-        }
-    }
-    files
-}
-
 /// The unsharded run of a study into `out` (the reference).
 fn reference(study: &str, out: &Path) {
     ok(&run(&["study", study], Some(out)));
@@ -189,7 +163,7 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
         assert!(m.contains("12 cases in") && m.contains("12 done, 0 failed, 0 missing, 0 running"), "{m}");
         assert_eq!(summary(&out), summary(&whole), "N = {n}: merged summary differs from the unsharded run's");
         assert_eq!(summary_csv(&out), summary_csv(&whole), "N = {n}");
-        assert_eq!(case_files(&out), case_files(&whole), "N = {n}: case files differ");
+        assert_eq!(common::case_files(&out), common::case_files(&whole), "N = {n}: case files differ");
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -330,7 +304,7 @@ fn a_killed_task_and_a_lost_node_are_recovered_by_rerunning_what_status_prints()
     assert_eq!((code, s["done"].as_u64()), (Some(0), Some(12)), "{s}");
     ok(&run(&["study", "merge", out.to_str().unwrap()], None));
     // No result lost, duplicated or half written: every file equals the fresh run's.
-    assert_eq!(case_files(&out), case_files(&whole));
+    assert_eq!(common::case_files(&out), common::case_files(&whole));
     assert_eq!(summary(&out), summary(&whole));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -371,7 +345,7 @@ fn two_tasks_given_the_same_shard_run_each_case_once() {
         assert_eq!(ran, 6, "each case of the shard is computed once");
         ok(&run(&["study", study.to_str().unwrap(), "--shard", "1/2"], Some(&out)));
         ok(&run(&["study", "merge", out.to_str().unwrap()], None));
-        assert_eq!(case_files(&out), case_files(&whole), "trial {trial}");
+        assert_eq!(common::case_files(&out), common::case_files(&whole), "trial {trial}");
         assert_eq!(summary(&out), summary(&whole), "trial {trial}");
     }
     std::fs::remove_dir_all(&dir).unwrap();

@@ -158,3 +158,43 @@ pub fn run_measured(args: &[String], dir: &std::path::Path, timeout: std::time::
         stderr: text(reader_err.join().expect("stderr reader")),
     }
 }
+
+/// The `.toml` file names directly in `dir`, sorted.
+pub fn toml_names(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Every file under `out/cases`, relative: result.json parsed without wall time and task,
+/// the others as bytes. Lock files and temporaries must not be there.
+pub fn case_files(
+    out: &std::path::Path,
+) -> std::collections::BTreeMap<std::path::PathBuf, Result<serde_json::Value, Vec<u8>>> {
+    let mut files = std::collections::BTreeMap::new();
+    let cases = out.join("cases");
+    for d in std::fs::read_dir(&cases).unwrap() {
+        let d = d.unwrap().path();
+        for f in std::fs::read_dir(&d).unwrap() {
+            let p = f.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(!name.starts_with(".rotorshunt-tmp.") && name != ".rotorshunt-case.lock", "{} left", p.display());
+            let rel = p.strip_prefix(&cases).unwrap().to_path_buf();
+            let bytes = std::fs::read(&p).unwrap();
+            if name == "result.json" {
+                let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
+                v["seconds"] = serde_json::Value::Null;
+                v["task"] = serde_json::Value::Null;
+                files.insert(rel, Ok(v));
+            } else {
+                files.insert(rel, Err(bytes));
+            }
+        }
+    }
+    files
+}
