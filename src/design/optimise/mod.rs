@@ -171,6 +171,8 @@ struct Context<'a> {
     failures: AtomicUsize,
     first_failure: std::sync::Mutex<Option<String>>,
     progress: &'a (dyn Fn(usize) + Sync),
+    /// The reference design (the file's values), built once and checked reliable.
+    reference: Candidate,
 }
 
 impl Context<'_> {
@@ -243,6 +245,13 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
     spec.check(base.model.circuit.branches.len()).map_err(|(field, error)| DesignError::Spec { field, error })?;
     let started = Instant::now();
+    let before = values_of(base, spec);
+    // The reference design's Floquet points must pass the β = 0 check over the design's
+    // range at every speed before any candidate is searched.
+    let reference = Candidate::new(base, spec, &before)?;
+    for (_, fs) in &reference.systems {
+        check_reliable(fs, spec.range())?;
+    }
     let ctx = Context {
         base,
         spec,
@@ -253,13 +262,8 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
         failures: AtomicUsize::new(0),
         first_failure: std::sync::Mutex::new(None),
         progress,
+        reference,
     };
-    let before = values_of(base, spec);
-    // The reference design's Floquet points must pass the β = 0 check over the design's
-    // range at every speed before any candidate is searched.
-    for (_, fs) in &Candidate::new(base, spec, &before)?.systems {
-        check_reliable(fs, spec.range())?;
-    }
     let mut out = DesignOutcome {
         spec: spec.clone(),
         status: Status::Unchanged,

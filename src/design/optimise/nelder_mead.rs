@@ -134,8 +134,7 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
         out.history.extend(history);
         out.starts.push(report);
     }
-    let reference_candidate = Candidate::new(ctx.base, spec, &out.before)?;
-    out.before_bands = ctx.bands(&reference_candidate)?;
+    out.before_bands = ctx.bands(&ctx.reference)?;
     // The widest band over the starts' best points, by the same band function as the
     // objective (ties: the earlier start).
     let banded: Vec<Result<Vec<OperatingBand>, DesignError>> =
