@@ -142,7 +142,7 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let p = Problem::from_path(&tuned, &[]).unwrap();
     let spec = p.design.clone().unwrap();
     let level = spec.level;
-    for (i, b) in spec.bands.iter().enumerate() {
+    for (i, b) in spec.objective.bands().iter().enumerate() {
         let g = b.guarded();
         let pts = chart(&tuned, g.lo, g.hi, 0.05, level, &dir.join(format!("band{i}")));
         let bad: Vec<f64> = pts.iter().filter(|p| !p.1).map(|p| p.0).collect();
@@ -211,7 +211,7 @@ fn a_design_run_is_reproducible_bit_for_bit() {
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a.after), bits(&b.after));
     assert_eq!(a.floquet_evaluations, b.floquet_evaluations);
-    assert_eq!(format!("{:?}", a.after_bands), format!("{:?}", b.after_bands));
+    assert_eq!(format!("{:?}", a.after_bands()), format!("{:?}", b.after_bands()));
     eprintln!(
         "design run: {:.1} s optimising, {:.1} s verifying, {} candidates, {} + {} Floquet evaluations",
         a.seconds, a.verification_cost.seconds, a.candidates, a.floquet_evaluations, a.verification_cost.evaluations

@@ -80,7 +80,6 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
 fn design_kind(e: &DesignError) -> &'static str {
     match e {
         DesignError::NoDesign => "NoDesign",
-        DesignError::NoOperatingFrequency => "NoOperatingFrequency",
         // A candidate's file or analysis error is one of those kinds.
         DesignError::Candidate(p) => problem_kind(&p.kind),
         DesignError::Analysis(a) => analysis_kind(a),
@@ -180,7 +179,6 @@ fn every_kind() -> Vec<&'static str> {
         Error::SlurmMissing { program: s(), reason: s() },
         Error::SlurmFailed { program: s(), script: s(), status: s(), stderr: s() },
         Error::Design(DesignError::NoDesign),
-        Error::Design(DesignError::NoOperatingFrequency),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
     ];

@@ -50,13 +50,13 @@ fn branches(p: &Problem) -> Vec<BranchRow> {
 /// The φ window of the charts: around φ_op or the bands, inside the design's range.
 fn chart_window(spec: &DesignSpec) -> (f64, f64) {
     let (lo, hi) = match spec.objective {
-        Objective::WidestStableBand => {
-            let p = spec.phi_op.unwrap_or(spec.phi_range.0);
+        Objective::WidestStableBand { .. } => {
+            let p = spec.objective.phi_op().unwrap_or(spec.phi_range.0);
             (p * 0.5, p * 1.5)
         }
-        Objective::ClearBands => {
-            let lo = spec.bands.iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
-            let hi = spec.bands.iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
+        Objective::ClearBands { .. } => {
+            let lo = spec.objective.bands().iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
+            let hi = spec.objective.bands().iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
             (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
         }
     };
@@ -69,10 +69,10 @@ fn charts(dir: &OutDir, before: &Candidate, after: &Candidate, spec: &DesignSpec
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
     let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
     let mut markers = Vec::new();
-    if let Some(p) = spec.phi_op {
+    if let Some(p) = spec.objective.phi_op() {
         markers.push((p, "φ_op".to_string()));
     }
-    for (i, b) in spec.bands.iter().enumerate() {
+    for (i, b) in spec.objective.bands().iter().enumerate() {
         markers.push((b.lo, format!("band {} lo", i + 1)));
         markers.push((b.hi, format!("band {} hi", i + 1)));
     }
@@ -106,8 +106,10 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
     let series: Vec<Series> = (0..starts)
         .map(|k| Series {
             name: match o.spec.objective {
-                Objective::WidestStableBand => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
-                Objective::ClearBands => {
+                Objective::WidestStableBand { .. } => {
+                    o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone())
+                }
+                Objective::ClearBands { .. } => {
                     if k == 0 {
                         "from the reference".into()
                     } else {
@@ -127,12 +129,12 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
     LinePlot {
         title: "Optimiser history (best so far)".into(),
         x_label: match o.spec.objective {
-            Objective::WidestStableBand => "candidate evaluations of the start".into(),
-            Objective::ClearBands => "convex step".into(),
+            Objective::WidestStableBand { .. } => "candidate evaluations of the start".into(),
+            Objective::ClearBands { .. } => "convex step".into(),
         },
         y_label: match o.spec.objective {
-            Objective::WidestStableBand => "smallest band width over the speeds (rad/s)".into(),
-            Objective::ClearBands => "total intrusion into the bands (rad/s)".into(),
+            Objective::WidestStableBand { .. } => "smallest band width over the speeds (rad/s)".into(),
+            Objective::ClearBands { .. } => "total intrusion into the bands (rad/s)".into(),
         },
         x_range: (0.0, x1),
         y_range: (y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0)),
@@ -189,8 +191,8 @@ pub(crate) const DESIGN: Names<'static> = Names {
 fn candidates(spec: &DesignSpec) -> f64 {
     let (starts, iterations, variables) = (spec.starts as f64, spec.max_iterations as f64, spec.variables.len() as f64);
     match spec.objective {
-        Objective::WidestStableBand => starts * (2.0 * iterations + variables + 1.0) + starts + 1.0,
-        Objective::ClearBands => 4.0 * starts + 1.0 + 2.0 * iterations * (2.0 * variables + 1.0) + 1.0,
+        Objective::WidestStableBand { .. } => starts * (2.0 * iterations + variables + 1.0) + starts + 1.0,
+        Objective::ClearBands { .. } => 4.0 * starts + 1.0 + 2.0 * iterations * (2.0 * variables + 1.0) + 1.0,
     }
 }
 
@@ -219,12 +221,13 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
         let seeds = reference.seeds(k, spec)?;
         let range = spec.range();
         let work = match spec.objective {
-            Objective::WidestStableBand => {
-                let phi_op = spec.phi_op.unwrap_or(range.lo);
+            Objective::WidestStableBand { .. } => {
+                let phi_op = spec.objective.phi_op().unwrap_or(range.lo);
                 cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
             }
-            Objective::ClearBands => {
-                let windows: Vec<Interval> = spec.bands.iter().map(|b| neighbourhood(b).clipped(&range)).collect();
+            Objective::ClearBands { .. } => {
+                let windows: Vec<Interval> =
+                    spec.objective.bands().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
                 cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level)
             }
         };
@@ -234,11 +237,13 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
         // The windows checked: the band, taken as the charts' window around φ_op (half to
         // 1.5 times it), or each widened operating band.
         let windows: Vec<Interval> = match spec.objective {
-            Objective::WidestStableBand => {
+            Objective::WidestStableBand { .. } => {
                 let (lo, hi) = chart_window(spec);
                 vec![Interval::new(lo, hi)]
             }
-            Objective::ClearBands => spec.bands.iter().map(|b| b.guarded().clipped(&range)).collect(),
+            Objective::ClearBands { .. } => {
+                spec.objective.bands().iter().map(|b| b.guarded().clipped(&range)).collect()
+            }
         };
         let mut grids = Estimate::zero();
         for w in &windows {
@@ -286,8 +291,8 @@ pub fn design_cmd(
 pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     let expected = match spec.objective {
-        Objective::WidestStableBand => spec.starts * (2 * spec.max_iterations + spec.variables.len() + 1),
-        Objective::ClearBands => 4 * spec.starts + 1 + 2 * spec.max_iterations * (2 * spec.variables.len() + 1),
+        Objective::WidestStableBand { .. } => spec.starts * (2 * spec.max_iterations + spec.variables.len() + 1),
+        Objective::ClearBands { .. } => 4 * spec.starts + 1 + 2 * spec.max_iterations * (2 * spec.variables.len() + 1),
     };
     progress.start(expected as u64, "design");
     let outcome = design::run(problem, &|_| progress.tick())?;
@@ -342,7 +347,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     };
     let mut s = format!("design: {}", status_word(o.status));
     match spec.objective {
-        Objective::WidestStableBand => {
+        Objective::WidestStableBand { .. } => {
             let w = |v: &[crate::design::evaluate::OperatingBand]| {
                 v.iter()
                     .map(|b| match b.band.band {
@@ -355,23 +360,23 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             s += &format!(
                 "\nstable band at beta = {} around phi_op = {} rad/s: before {}; after {}",
                 spec.level,
-                spec.phi_op.map_or_else(|| "?".into(), |p| p.to_string()),
-                w(&o.before_bands),
-                w(&o.after_bands)
+                spec.objective.phi_op().map_or_else(|| "?".into(), |p| p.to_string()),
+                w(o.before_bands()),
+                w(o.after_bands())
             );
-            if let Some(b) = o.after_bands.first() {
+            if let Some(b) = o.after_bands().first() {
                 s += &format!("\nguarantee: {}", b.band.guarantee);
             }
         }
-        Objective::ClearBands => {
+        Objective::ClearBands { .. } => {
             s += &format!(
                 "\nbands: {} tongue(s) inside before, {} after",
-                o.before_intrusions.len(),
-                o.after_intrusions.len()
+                o.before_intrusions().len(),
+                o.after_intrusions().len()
             );
             if o.status == Status::Infeasible {
-                for it in &o.after_intrusions {
-                    let b = &spec.bands[it.band];
+                for it in o.after_intrusions() {
+                    let b = &spec.objective.bands()[it.band];
                     s += &format!(
                         "\nviolated: band [{}, {}] (clearance {}) at Ω = {}: {} at [{:.2}, {:.2}] rad/s",
                         b.lo, b.hi, b.clearance, it.speed, it.label, it.left, it.right

@@ -223,7 +223,7 @@ pub fn intrusions(
         let seeds = c.seeds(k, spec)?;
         let probe = Probe::new(fs, s);
         let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
-        for (i, band) in spec.bands.iter().enumerate() {
+        for (i, band) in spec.objective.bands().iter().enumerate() {
             let near = neighbourhood(band).clipped(&spec.range());
             for t in level.scan(&seeds, near) {
                 let point = t.seeds.first().map_or(t.inside, |(_, p)| *p);

@@ -35,10 +35,6 @@ pub enum DesignError {
     /// The problem file has no `[design]` table.
     #[error("the problem file has no [design] table: add one (problems/README.md, section [design])")]
     NoDesign,
-    /// The widest-stable-band objective without an operating frequency (a spec built
-    /// through the library without `phi_op`).
-    #[error("the widest-stable-band objective needs design.phi_op (rad/s)")]
-    NoOperatingFrequency,
     /// A spec built in code breaks a rule of the `[design]` table
     /// ([`spec::DesignSpec::check`]); the file layer refuses such a table first.
     #[error("design.{field}: {error}")]

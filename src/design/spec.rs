@@ -5,16 +5,57 @@ use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use serde::{Deserialize, Serialize};
 
-/// What the optimiser is asked to do.
+/// The kind of objective, as `design.objective` names it in a problem file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+pub enum ObjectiveKind {
+    /// `widest-stable-band`: see [`Objective::WidestStableBand`].
+    WidestStableBand,
+    /// `clear-bands`: see [`Objective::ClearBands`].
+    ClearBands,
+}
+
+/// What the optimiser is asked to do, with the data the objective needs.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Objective {
     /// Maximise the width of the stable band at β_op containing φ_op (the smallest over
     /// the speeds).
-    WidestStableBand,
+    WidestStableBand {
+        /// The operating frequency φ_op (rad/s) whose stable band is widened.
+        phi_op: f64,
+    },
     /// Keep every operating band clear of instability at β_op by its clearance, with the
     /// least weighted change to the reference design.
-    ClearBands,
+    ClearBands {
+        /// The operating bands (at least one).
+        bands: Vec<Band>,
+    },
+}
+
+impl Objective {
+    /// The kind, as named in the file.
+    pub fn kind(&self) -> ObjectiveKind {
+        match self {
+            Objective::WidestStableBand { .. } => ObjectiveKind::WidestStableBand,
+            Objective::ClearBands { .. } => ObjectiveKind::ClearBands,
+        }
+    }
+
+    /// φ_op (rad/s) of the widest-stable-band objective.
+    pub fn phi_op(&self) -> Option<f64> {
+        match self {
+            Objective::WidestStableBand { phi_op } => Some(*phi_op),
+            Objective::ClearBands { .. } => None,
+        }
+    }
+
+    /// The operating bands of the clear-bands objective (empty for the others).
+    pub fn bands(&self) -> &[Band] {
+        match self {
+            Objective::WidestStableBand { .. } => &[],
+            Objective::ClearBands { bands } => bands,
+        }
+    }
 }
 
 /// A circuit parameter a design may change.
@@ -116,28 +157,58 @@ impl Band {
 }
 
 /// A validated design problem.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DesignSpec {
-    /// The objective.
+    /// The objective and its data.
     pub objective: Objective,
     /// β_op (−).
     pub level: f64,
-    /// Operating frequency φ_op (rad/s) of the widest-stable-band objective.
-    pub phi_op: Option<f64>,
     /// φ range of the catalogues and band searches (rad/s).
     pub phi_range: (f64, f64),
     /// β_max of the catalogues (−).
     pub beta_max: f64,
     /// Operating speeds Ω (rad/s); the file's `speed` if not given.
     pub speeds: Vec<f64>,
-    /// Operating bands (clear-bands).
-    pub bands: Vec<Band>,
     /// Design variables.
     pub variables: Vec<Variable>,
     /// Nelder–Mead starts (multi-start).
     pub starts: usize,
     /// Nelder–Mead iterations per start, or sequential convex steps.
     pub max_iterations: usize,
+}
+
+/// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys
+/// (`phi_op`, `bands`), the shape reports have always had.
+#[derive(Serialize)]
+struct SpecJson<'a> {
+    objective: ObjectiveKind,
+    level: f64,
+    phi_op: Option<f64>,
+    phi_range: (f64, f64),
+    beta_max: f64,
+    speeds: &'a [f64],
+    bands: &'a [Band],
+    variables: &'a [Variable],
+    starts: usize,
+    max_iterations: usize,
+}
+
+impl Serialize for DesignSpec {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        SpecJson {
+            objective: self.objective.kind(),
+            level: self.level,
+            phi_op: self.objective.phi_op(),
+            phi_range: self.phi_range,
+            beta_max: self.beta_max,
+            speeds: &self.speeds,
+            bands: self.objective.bands(),
+            variables: &self.variables,
+            starts: self.starts,
+            max_iterations: self.max_iterations,
+        }
+        .serialize(serializer)
+    }
 }
 
 /// Most Nelder–Mead starts and iterations (or convex steps) of a design, as the file
@@ -167,14 +238,17 @@ impl DesignSpec {
         })?;
         let beta_max = limits::beta_max(self.beta_max).map_err(at("beta_max"))?;
         limits::level(self.level, beta_max).map_err(at("level"))?;
-        if let Some(p) = self.phi_op {
+        if let Some(p) = self.objective.phi_op() {
             limits::phi_op(p, self.range()).map_err(at("phi_op"))?;
         }
         for (i, &w) in self.speeds.iter().enumerate() {
             limits::speed(w).map_err(at(&format!("speeds[{i}]")))?;
         }
         limits::count(self.speeds.len() as u64, 1, u64::MAX).map_err(at("speeds"))?;
-        for (i, b) in self.bands.iter().enumerate() {
+        if let Objective::ClearBands { bands } = &self.objective {
+            limits::count(bands.len() as u64, 1, u64::MAX).map_err(at("bands"))?;
+        }
+        for (i, b) in self.objective.bands().iter().enumerate() {
             limits::band(b.lo, b.hi).map_err(at(&format!("bands[{i}]")))?;
             limits::span(b.clearance).map_err(at(&format!("bands[{i}].clearance")))?;
         }

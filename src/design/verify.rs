@@ -119,8 +119,8 @@ pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<
                         .map(|m| WhirlRow { tag: m.tag(), frequency: m.frequency }),
                 );
             }
-            let catalogue_band = spec.phi_op.and_then(|p| cat.band_containing(p));
-            let band = match spec.phi_op {
+            let catalogue_band = spec.objective.phi_op().and_then(|p| cat.band_containing(p));
+            let band = match spec.objective.phi_op() {
                 Some(p) => {
                     let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
                     let probe = Probe::new(fs, s);
@@ -184,7 +184,7 @@ pub fn verify(
         let fs = &c.systems[k].1;
         // The windows that must be free of instability, and the reach of "near".
         let windows: Vec<Interval> = match spec.objective {
-            Objective::WidestStableBand => {
+            Objective::WidestStableBand { .. } => {
                 let b = bands.get(k).and_then(|b| b.band.band);
                 if d.band.as_ref().map(|x| x.band) != Some(b) {
                     d.failures.push(format!(
@@ -204,7 +204,7 @@ pub fn verify(
                 }
                 b.into_iter().collect()
             }
-            Objective::ClearBands => spec.bands.iter().map(|b| b.guarded()).collect(),
+            Objective::ClearBands { .. } => spec.objective.bands().iter().map(|b| b.guarded()).collect(),
         };
         let all = tongues(&d.catalogue);
         for w in &windows {
@@ -214,7 +214,7 @@ pub fn verify(
                 }
             }
         }
-        let reach = |w: &Interval| NEAR * w.centre().max(spec.phi_op.unwrap_or(0.0));
+        let reach = |w: &Interval| NEAR * w.centre().max(spec.objective.phi_op().unwrap_or(0.0));
         let near: Vec<&(String, Interval, bool)> = all
             .iter()
             .filter(|(_, e, _)| windows.iter().any(|w| e.overlaps(&Interval::new(w.lo - reach(w), w.hi + reach(w)))))

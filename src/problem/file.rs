@@ -2,7 +2,7 @@
 //! Every key is documented in `problems/README.md`; units are SI and rad/s.
 
 use crate::analysis::Settings;
-pub use crate::design::spec::{Objective, Parameter};
+pub use crate::design::spec::{ObjectiveKind, Parameter};
 use crate::model::CircuitState;
 use serde::{Deserialize, Serialize};
 
@@ -47,7 +47,7 @@ pub struct ProblemFile {
 #[serde(deny_unknown_fields)]
 pub struct DesignFile {
     /// `widest-stable-band` or `clear-bands`.
-    pub objective: Objective,
+    pub objective: ObjectiveKind,
     /// β_op: the dynamic load level of bands and edges (−).
     pub level: f64,
     /// φ_op (rad/s): the operating frequency whose stable band is widened.

@@ -5,7 +5,9 @@ use super::ProblemErrorKind as K;
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::{Interval, Settings};
 use crate::assembly::DofMap;
-use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS};
+use crate::design::spec::{
+    Band, DesignSpec, Objective, ObjectiveKind, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS,
+};
 use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
 
 /// A key path and what is wrong there.
@@ -378,12 +380,6 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
         None => vec![f.speed],
     };
     let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
-    if d.objective == Objective::WidestStableBand && phi_op.is_none() {
-        return Err((
-            "design.phi_op".into(),
-            K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
-        ));
-    }
     let bands = d
         .bands
         .iter()
@@ -398,9 +394,39 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
             Ok(Band { lo, hi, clearance })
         })
         .collect::<Result<Vec<_>, Failure>>()?;
-    if d.objective == Objective::ClearBands && bands.is_empty() {
-        return Err(("design.bands".into(), K::Schema("the clear-bands objective needs [[design.bands]]".into())));
-    }
+    // Each objective takes its own data; a key of the other one is a mistake, not a hint.
+    let objective = match d.objective {
+        ObjectiveKind::WidestStableBand => {
+            if !bands.is_empty() {
+                return Err((
+                    "design.bands".into(),
+                    K::Schema("[[design.bands]] belong to the clear-bands objective, not widest-stable-band".into()),
+                ));
+            }
+            let Some(phi_op) = phi_op else {
+                return Err((
+                    "design.phi_op".into(),
+                    K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
+                ));
+            };
+            Objective::WidestStableBand { phi_op }
+        }
+        ObjectiveKind::ClearBands => {
+            if phi_op.is_some() {
+                return Err((
+                    "design.phi_op".into(),
+                    K::Schema("`phi_op` belongs to the widest-stable-band objective, not clear-bands".into()),
+                ));
+            }
+            if bands.is_empty() {
+                return Err((
+                    "design.bands".into(),
+                    K::Schema("the clear-bands objective needs [[design.bands]]".into()),
+                ));
+            }
+            Objective::ClearBands { bands }
+        }
+    };
     if d.variables.is_empty() {
         return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));
     }
@@ -451,13 +477,11 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
         rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
     };
     Ok(Some(DesignSpec {
-        objective: d.objective,
+        objective,
         level,
-        phi_op,
         phi_range: (range.lo, range.hi),
         beta_max,
         speeds,
-        bands,
         variables,
         starts: count("design.starts", d.starts, DEFAULT_STARTS, MAX_STARTS)?,
         max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,

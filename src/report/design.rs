@@ -87,11 +87,19 @@ pub fn markdown(r: &DesignReport) -> String {
     );
     let _ = writeln!(s, "- tool: {}; settings: `{}`", p.tool, serde_json::to_string(&p.settings).unwrap_or_default());
     let objective = match spec.objective {
-        Objective::WidestStableBand => {
-            format!("widest stable band at β_op = {} containing φ_op = {} rad/s", spec.level, opt(spec.phi_op, 1))
+        Objective::WidestStableBand { .. } => {
+            format!(
+                "widest stable band at β_op = {} containing φ_op = {} rad/s",
+                spec.level,
+                opt(spec.objective.phi_op(), 1)
+            )
         }
-        Objective::ClearBands => {
-            format!("clear {} operating band(s) at β_op = {} with the least change", spec.bands.len(), spec.level)
+        Objective::ClearBands { .. } => {
+            format!(
+                "clear {} operating band(s) at β_op = {} with the least change",
+                spec.objective.bands().len(),
+                spec.level
+            )
         }
     };
     let _ = writeln!(s, "- objective: {objective}; speeds {:?} rad/s", spec.speeds);
@@ -161,18 +169,18 @@ pub fn markdown(r: &DesignReport) -> String {
         criterion.max_tongue_order
     );
     match spec.objective {
-        Objective::WidestStableBand => {
+        Objective::WidestStableBand { .. } => {
             let _ = writeln!(s, "\n## Stable band around φ_op (rad/s; width in brackets)\n");
             let _ = writeln!(
                 s,
                 "The band is the interval around φ_op in which no tongue counts by the criterion: {}. It is the same function as `rotorshunt band` over the design's φ range, and the design's objective.\n",
-                o.after_bands.first().map_or_else(String::new, |b| b.band.guarantee.clone())
+                o.after_bands().first().map_or_else(String::new, |b| b.band.guarantee.clone())
             );
             let _ = writeln!(
                 s,
                 "| speed | before | after | after: bounded below by | after: bounded above by |\n|---|---|---|---|---|"
             );
-            for (b, a) in o.before_bands.iter().zip(&o.after_bands) {
+            for (b, a) in o.before_bands().iter().zip(o.after_bands()) {
                 let _ = writeln!(
                     s,
                     "| {:.0} | {} | {} | {} | {} |",
@@ -183,7 +191,7 @@ pub fn markdown(r: &DesignReport) -> String {
                     bound_text(&a.band.right)
                 );
             }
-            for a in &o.after_bands {
+            for a in o.after_bands() {
                 for t in &a.band.ignored {
                     let _ = writeln!(
                         s,
@@ -196,9 +204,9 @@ pub fn markdown(r: &DesignReport) -> String {
                 }
             }
         }
-        Objective::ClearBands => {
+        Objective::ClearBands { .. } => {
             let _ = writeln!(s, "\n## Operating bands\n\n| band (rad/s) | clearance (rad/s) | tongues inside before | tongues inside after | unstable verification grid points after |\n|---|---|---|---|---|");
-            for (i, b) in spec.bands.iter().enumerate() {
+            for (i, b) in spec.objective.bands().iter().enumerate() {
                 let names = |v: &[crate::design::evaluate::Intrusion]| {
                     let l: Vec<String> = v
                         .iter()
@@ -223,12 +231,12 @@ pub fn markdown(r: &DesignReport) -> String {
                     b.lo,
                     b.hi,
                     b.clearance,
-                    names(&o.before_intrusions),
-                    names(&o.after_intrusions),
+                    names(&o.before_intrusions()),
+                    names(&o.after_intrusions()),
                     fine
                 );
             }
-            if o.linear_infeasible {
+            if o.linear_infeasible() {
                 let _ =
                     writeln!(s, "\nThe linearised constraints at the final point have no solution inside the bounds.");
             }
@@ -310,11 +318,11 @@ pub fn markdown(r: &DesignReport) -> String {
     }
     let _ = writeln!(s, "\n## Optimiser\n");
     match spec.objective {
-        Objective::WidestStableBand => {
+        Objective::WidestStableBand { .. } => {
             let _ = writeln!(s, "Nelder–Mead (argmin) from {} starts in parallel; objective = smallest band width over the speeds (rad/s).\n", o.starts.len());
             let _ = writeln!(s, "| start | initial | best | objective (rad/s) | evaluations | iterations | termination |\n|---|---|---|---|---|---|---|");
         }
-        Objective::ClearBands => {
+        Objective::ClearBands { .. } => {
             let _ = writeln!(s, "Coarse global pass (objective = minus the total intrusion, rad/s), then sequential convex steps (clarabel QP) from the reference and from the best global point.\n");
             let _ = writeln!(s, "| point | values | | −intrusion (rad/s) | evaluations | iterations | stage |\n|---|---|---|---|---|---|---|");
         }

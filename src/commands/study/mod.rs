@@ -202,18 +202,18 @@ fn run_case(
             let width = |v: &[crate::design::evaluate::OperatingBand]| {
                 v.iter().map(|b| b.band.band.map_or(0.0, |x| x.width())).fold(f64::INFINITY, f64::min)
             };
-            if !o.before_bands.is_empty() {
-                m.insert("band_width_before".into(), metric(width(&o.before_bands)));
-                m.insert("band_width_after".into(), metric(width(&o.after_bands)));
-                if let [only] = o.after_bands.as_slice() {
+            if !o.before_bands().is_empty() {
+                m.insert("band_width_before".into(), metric(width(o.before_bands())));
+                m.insert("band_width_after".into(), metric(width(o.after_bands())));
+                if let [only] = o.after_bands() {
                     m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
                     m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
                 }
             }
             if let Some(spec) = problem.design.as_ref() {
-                if !spec.bands.is_empty() {
-                    m.insert("regions_in_bands_before".into(), metric(o.before_intrusions.len()));
-                    m.insert("regions_in_bands_after".into(), metric(o.after_intrusions.len()));
+                if !spec.objective.bands().is_empty() {
+                    m.insert("regions_in_bands_before".into(), metric(o.before_intrusions().len()));
+                    m.insert("regions_in_bands_after".into(), metric(o.after_intrusions().len()));
                 }
                 for (v, x) in spec.variables.iter().zip(&o.after) {
                     m.insert(format!("{} ({})", v.name(), v.parameter.unit()), metric(x));

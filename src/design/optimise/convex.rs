@@ -80,7 +80,7 @@ fn linearise(ctx: &Context<'_>, u: &[f64], ints: &[Intrusion]) -> Result<Vec<Lin
                 grad[2][j] = (a.2 - b.2) / span;
             }
         }
-        let g = spec.bands[it.band].guarded();
+        let g = spec.objective.bands()[it.band].guarded();
         let below = Linear { g: grad[2].clone(), h: g.lo - MARGIN_PHI - it.right };
         let above = Linear { g: grad[1].iter().map(|x| -x).collect(), h: it.left - g.hi - MARGIN_PHI };
         let lifted = Linear { g: grad[0].iter().map(|x| -x).collect(), h: it.onset - spec.level - MARGIN_BETA };
@@ -184,10 +184,11 @@ pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
         })
         .collect();
     let mut scored = Vec::new();
+    let mut before = Vec::new();
     for ((origin, u), m) in points.iter().zip(merits) {
         let (merit, ints) = m?;
         if origin == "reference" {
-            out.before_intrusions = ints.into_iter().filter(|i| i.inside).collect();
+            before = ints.into_iter().filter(|i| i.inside).collect();
         }
         out.starts.push(StartReport {
             origin: origin.clone(),
@@ -206,31 +207,32 @@ pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
     if let Some(best) = scored[1..].iter().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))) {
         seeds.push(best.2.clone());
     }
-    let mut best_run: Option<ConvexRun> = None;
-    for (k, u0) in seeds.iter().enumerate() {
+    // The run from the reference always exists; a later run replaces it when better.
+    let (first, rest) = seeds.split_first().ok_or(DesignError::Qp("no convex start".into()))?;
+    let mut best_run = convex_run(ctx, first, &reference)?;
+    record(out, 0, &best_run);
+    for (k, u0) in rest.iter().enumerate() {
         let run = convex_run(ctx, u0, &reference)?;
-        let merit = total(&run.intrusions);
-        out.history.push(HistoryPoint { start: k, step: 0, value: total(&run.intrusions), best: merit });
-        for (i, s) in run.steps.iter().enumerate() {
-            let value = s.intrusion_after.unwrap_or(s.intrusion_before);
-            out.history.push(HistoryPoint { start: k, step: i + 1, value, best: value.min(s.intrusion_before) });
-        }
-        out.convex_steps.extend(run.steps.iter().cloned());
-        let better = match &best_run {
-            None => true,
-            Some(b) => {
-                let (m0, m1) = (total(&b.intrusions), merit);
-                m1 < m0 || (m1 == m0 && change(&run.u, &reference) < change(&b.u, &reference))
-            }
-        };
-        if better {
-            best_run = Some(run);
+        record(out, k + 1, &run);
+        let (m0, m1) = (total(&best_run.intrusions), total(&run.intrusions));
+        if m1 < m0 || (m1 == m0 && change(&run.u, &reference) < change(&best_run.u, &reference)) {
+            best_run = run;
         }
     }
-    let run = best_run.expect("at least the reference run");
-    out.linear_infeasible = run.linear_infeasible;
-    out.after = ctx.values(&run.u);
-    out.after_intrusions = run.intrusions.into_iter().filter(|i| i.inside).collect();
-    out.status = if out.after_intrusions.is_empty() { Status::Feasible } else { Status::Infeasible };
+    out.after = ctx.values(&best_run.u);
+    let after: Vec<Intrusion> = best_run.intrusions.into_iter().filter(|i| i.inside).collect();
+    out.status = if after.is_empty() { Status::Feasible } else { Status::Infeasible };
+    out.findings = Findings::ClearBands { before, after, linear_infeasible: best_run.linear_infeasible };
     Ok(())
+}
+
+/// A convex run's history and steps, as start `k`.
+fn record(out: &mut DesignOutcome, k: usize, run: &ConvexRun) {
+    let merit = total(&run.intrusions);
+    out.history.push(HistoryPoint { start: k, step: 0, value: merit, best: merit });
+    for (i, s) in run.steps.iter().enumerate() {
+        let value = s.intrusion_after.unwrap_or(s.intrusion_before);
+        out.history.push(HistoryPoint { start: k, step: i + 1, value, best: value.min(s.intrusion_before) });
+    }
+    out.convex_steps.extend(run.steps.iter().cloned());
 }

@@ -101,8 +101,30 @@ pub struct ConvexStep {
     pub values: Vec<f64>,
 }
 
+/// What a run found that only its objective has.
+#[derive(Debug, Clone)]
+pub enum Findings {
+    /// Widest stable band.
+    WidestBand {
+        /// The stable band around φ_op of the reference design at each speed.
+        before: Vec<OperatingBand>,
+        /// The same for the tuned design.
+        after: Vec<OperatingBand>,
+    },
+    /// Clear bands.
+    ClearBands {
+        /// Tongues intruding into the widened bands, reference design.
+        before: Vec<Intrusion>,
+        /// The same for the tuned design (empty when feasible).
+        after: Vec<Intrusion>,
+        /// The linearised constraints at the final point had no solution inside the
+        /// bounds (a sign that the bounds forbid clearing the bands).
+        linear_infeasible: bool,
+    },
+}
+
 /// Everything a design run found.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct DesignOutcome {
     /// The design problem.
     pub spec: DesignSpec,
@@ -112,14 +134,8 @@ pub struct DesignOutcome {
     pub before: Vec<f64>,
     /// Variable values of the tuned design.
     pub after: Vec<f64>,
-    /// Widest band: the stable band around φ_op of the reference design at each speed.
-    pub before_bands: Vec<OperatingBand>,
-    /// Widest band: the same for the tuned design.
-    pub after_bands: Vec<OperatingBand>,
-    /// Clear bands: tongues intruding into the widened bands, reference design.
-    pub before_intrusions: Vec<Intrusion>,
-    /// Clear bands: the same for the tuned design (empty when feasible).
-    pub after_intrusions: Vec<Intrusion>,
+    /// The objective's own findings: bands or intrusions, before and after.
+    pub findings: Findings,
     /// The reference design at each speed: whirls and full catalogue.
     pub before_speeds: Vec<DesignAtSpeed>,
     /// The tuned design at each speed: whirls, full catalogue and the verification checks.
@@ -132,9 +148,6 @@ pub struct DesignOutcome {
     pub history: Vec<HistoryPoint>,
     /// Sequential convex steps.
     pub convex_steps: Vec<ConvexStep>,
-    /// Clear bands: the linearised constraints at the final point had no solution inside
-    /// the bounds (a sign that the bounds forbid clearing the bands).
-    pub linear_infeasible: bool,
     /// Candidate designs analysed.
     pub candidates: usize,
     /// Candidates whose analysis failed (counted in `candidates`).
@@ -150,6 +163,97 @@ pub struct DesignOutcome {
     pub verification_cost: Cost,
 }
 
+impl DesignOutcome {
+    /// Widest band: the reference design's band around φ_op at each speed (else empty).
+    pub fn before_bands(&self) -> &[OperatingBand] {
+        match &self.findings {
+            Findings::WidestBand { before, .. } => before,
+            Findings::ClearBands { .. } => &[],
+        }
+    }
+    /// Widest band: the tuned design's band around φ_op at each speed (else empty).
+    pub fn after_bands(&self) -> &[OperatingBand] {
+        match &self.findings {
+            Findings::WidestBand { after, .. } => after,
+            Findings::ClearBands { .. } => &[],
+        }
+    }
+    /// Clear bands: the reference design's intrusions (else empty).
+    pub fn before_intrusions(&self) -> &[Intrusion] {
+        match &self.findings {
+            Findings::ClearBands { before, .. } => before,
+            Findings::WidestBand { .. } => &[],
+        }
+    }
+    /// Clear bands: the tuned design's intrusions (else empty).
+    pub fn after_intrusions(&self) -> &[Intrusion] {
+        match &self.findings {
+            Findings::ClearBands { after, .. } => after,
+            Findings::WidestBand { .. } => &[],
+        }
+    }
+    /// Clear bands: whether the final linearisation had no solution inside the bounds.
+    pub fn linear_infeasible(&self) -> bool {
+        matches!(self.findings, Findings::ClearBands { linear_infeasible: true, .. })
+    }
+}
+
+/// The JSON form of a [`DesignOutcome`]: every objective's keys present (empty for the
+/// other objective), the shape `report.json` has always had.
+#[derive(Serialize)]
+struct OutcomeJson<'a> {
+    spec: &'a DesignSpec,
+    status: Status,
+    before: &'a [f64],
+    after: &'a [f64],
+    before_bands: &'a [OperatingBand],
+    after_bands: &'a [OperatingBand],
+    before_intrusions: &'a [Intrusion],
+    after_intrusions: &'a [Intrusion],
+    before_speeds: &'a [DesignAtSpeed],
+    after_speeds: &'a [DesignAtSpeed],
+    verified: bool,
+    starts: &'a [StartReport],
+    history: &'a [HistoryPoint],
+    convex_steps: &'a [ConvexStep],
+    linear_infeasible: bool,
+    candidates: usize,
+    failed_candidates: usize,
+    first_failure: &'a Option<String>,
+    floquet_evaluations: usize,
+    seconds: f64,
+    verification_cost: Cost,
+}
+
+impl Serialize for DesignOutcome {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        OutcomeJson {
+            spec: &self.spec,
+            status: self.status,
+            before: &self.before,
+            after: &self.after,
+            before_bands: self.before_bands(),
+            after_bands: self.after_bands(),
+            before_intrusions: self.before_intrusions(),
+            after_intrusions: self.after_intrusions(),
+            before_speeds: &self.before_speeds,
+            after_speeds: &self.after_speeds,
+            verified: self.verified,
+            starts: &self.starts,
+            history: &self.history,
+            convex_steps: &self.convex_steps,
+            linear_infeasible: self.linear_infeasible(),
+            candidates: self.candidates,
+            failed_candidates: self.failed_candidates,
+            first_failure: &self.first_failure,
+            floquet_evaluations: self.floquet_evaluations,
+            seconds: self.seconds,
+            verification_cost: self.verification_cost,
+        }
+        .serialize(serializer)
+    }
+}
+
 /// The cost of a phase of the run.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Cost {
@@ -163,8 +267,6 @@ pub struct Cost {
 struct Context<'a> {
     base: &'a Problem,
     spec: &'a DesignSpec,
-    /// φ_op of the widest-stable-band objective.
-    phi_op: Option<f64>,
     regions: RegionSettings,
     floquet: Counter,
     candidates: AtomicUsize,
@@ -196,15 +298,14 @@ impl Context<'_> {
         c
     }
 
-    /// The bands around φ_op of the design at `u` (scaled), at every speed.
-    fn bands(&self, c: &Candidate) -> Result<Vec<OperatingBand>, DesignError> {
-        let phi_op = self.phi_op.ok_or(DesignError::NoOperatingFrequency)?;
+    /// The bands around φ_op (rad/s) of a candidate, at every speed.
+    fn bands(&self, c: &Candidate, phi_op: f64) -> Result<Vec<OperatingBand>, DesignError> {
         operating_bands(c, self.spec, phi_op, &self.regions, &self.floquet)
     }
 
-    /// Smallest signed band width over the speeds (rad/s).
-    fn band_objective(&self, u: &[f64]) -> f64 {
-        match self.candidate(u).and_then(|c| self.bands(&c)) {
+    /// Smallest signed band width over the speeds (rad/s) of the design at `u` (scaled).
+    fn band_objective(&self, u: &[f64], phi_op: f64) -> f64 {
+        match self.candidate(u).and_then(|c| self.bands(&c, phi_op)) {
             Ok(b) => smallest(&b),
             Err(_) => -FAILED_COST,
         }
@@ -255,7 +356,6 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     let ctx = Context {
         base,
         spec,
-        phi_op: spec.phi_op,
         regions: RegionSettings::default(),
         floquet: Counter::default(),
         candidates: AtomicUsize::new(0),
@@ -269,17 +369,18 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
         status: Status::Unchanged,
         before: before.clone(),
         after: before.clone(),
-        before_bands: Vec::new(),
-        after_bands: Vec::new(),
-        before_intrusions: Vec::new(),
-        after_intrusions: Vec::new(),
+        findings: match spec.objective {
+            Objective::WidestStableBand { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
+            Objective::ClearBands { .. } => {
+                Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
+            }
+        },
         before_speeds: Vec::new(),
         after_speeds: Vec::new(),
         verified: false,
         starts: Vec::new(),
         history: Vec::new(),
         convex_steps: Vec::new(),
-        linear_infeasible: false,
         candidates: 0,
         failed_candidates: 0,
         first_failure: None,
@@ -287,9 +388,9 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
         seconds: 0.0,
         verification_cost: Cost::default(),
     };
-    match spec.objective {
-        Objective::WidestStableBand => widest_band(&ctx, &mut out)?,
-        Objective::ClearBands => clear_bands(&ctx, &mut out)?,
+    match &spec.objective {
+        Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
+        Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
     }
     out.candidates = ctx.candidates.load(Ordering::Relaxed);
     out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
@@ -305,25 +406,32 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     out.before_speeds = describe(&reference, spec, &ctx.regions)?;
     out.after_speeds = describe(&tuned, spec, &ctx.regions)?;
     count.add(out.before_speeds.iter().chain(&out.after_speeds).map(|d| d.catalogue.evaluations).sum());
-    out.verified = verify(&tuned, spec, &out.after_bands, &mut out.after_speeds, &count);
-    // Intrusions named after the full model's whirls: the catalogue's region with the
-    // same edges (the lattice-refined edges are the same numbers).
-    for (ints, speeds) in
-        [(&mut out.before_intrusions, &out.before_speeds), (&mut out.after_intrusions, &out.after_speeds)]
-    {
-        for it in ints.iter_mut() {
-            let Some(d) = speeds.iter().find(|d| d.speed == it.speed) else { continue };
-            let same = |r: &&crate::analysis::regions::Region| r.left == Some(it.left) && r.right == Some(it.right);
-            if let Some(r) = d.catalogue.regions.iter().filter(same).min_by_key(|r| r.order) {
-                it.label = format!("{}/{}", r.label, r.order);
+    let mut after_speeds = std::mem::take(&mut out.after_speeds);
+    out.verified = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count);
+    out.after_speeds = after_speeds;
+    match &mut out.findings {
+        // Intrusions named after the full model's whirls: the catalogue's region with the
+        // same edges (the lattice-refined edges are the same numbers).
+        Findings::ClearBands { before, after, .. } => {
+            for (ints, speeds) in [(before, &out.before_speeds), (after, &out.after_speeds)] {
+                for it in ints.iter_mut() {
+                    let Some(d) = speeds.iter().find(|d| d.speed == it.speed) else { continue };
+                    let same =
+                        |r: &&crate::analysis::regions::Region| r.left == Some(it.left) && r.right == Some(it.right);
+                    if let Some(r) = d.catalogue.regions.iter().filter(same).min_by_key(|r| r.order) {
+                        it.label = format!("{}/{}", r.label, r.order);
+                    }
+                }
             }
         }
-    }
-    // The bands with the full model's labels (the same numbers, checked by `verify`).
-    for (bands, speeds) in [(&mut out.before_bands, &out.before_speeds), (&mut out.after_bands, &out.after_speeds)] {
-        for (b, d) in bands.iter_mut().zip(speeds) {
-            if let Some(l) = d.band.as_ref().filter(|l| l.band == b.band.band) {
-                b.band = l.clone();
+        // The bands with the full model's labels (the same numbers, checked by `verify`).
+        Findings::WidestBand { before, after } => {
+            for (bands, speeds) in [(before, &out.before_speeds), (after, &out.after_speeds)] {
+                for (b, d) in bands.iter_mut().zip(speeds) {
+                    if let Some(l) = d.band.as_ref().filter(|l| l.band == b.band.band) {
+                        b.band = l.clone();
+                    }
+                }
             }
         }
     }

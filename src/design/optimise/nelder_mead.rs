@@ -16,6 +16,7 @@ const BOUND_PENALTY: f64 = 1.0e4;
 /// The Nelder–Mead cost of one start: −(band objective) + bound penalty; records history.
 struct BandCost<'a, 'b> {
     ctx: &'a Context<'b>,
+    phi_op: f64,
     start: usize,
     history: RefCell<Vec<HistoryPoint>>,
 }
@@ -25,7 +26,7 @@ impl CostFunction for BandCost<'_, '_> {
     type Output = f64;
     fn cost(&self, u: &Self::Param) -> Result<f64, argmin::core::Error> {
         let outside: f64 = u.iter().map(|&x| (x - x.clamp(0.0, 1.0)).abs()).sum();
-        let value = self.ctx.band_objective(u);
+        let value = self.ctx.band_objective(u, self.phi_op);
         let mut h = self.history.borrow_mut();
         let best = h.last().map_or(value, |p| p.best.max(value));
         let step = h.len() + 1;
@@ -72,9 +73,10 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
     Ok(Some(u))
 }
 
-pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+/// The widest-band run around φ_op (rad/s): fills the starts, the history, the tuned
+/// values and [`Findings::WidestBand`].
+pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f64) -> Result<(), DesignError> {
     let spec = ctx.spec;
-    let phi_op = ctx.phi_op.ok_or(DesignError::NoOperatingFrequency)?;
     let n = spec.variables.len();
     let reference = to_unit(spec, &out.before);
     let mut starts: Vec<(String, Vec<f64>)> = vec![("reference".into(), reference.clone())];
@@ -92,7 +94,7 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
         .par_iter()
         .enumerate()
         .map(|(i, (origin, u0))| {
-            let cost = BandCost { ctx, start: i, history: RefCell::new(Vec::new()) };
+            let cost = BandCost { ctx, phi_op, start: i, history: RefCell::new(Vec::new()) };
             let mut simplex = vec![u0.clone()];
             for j in 0..n {
                 let mut p = u0.clone();
@@ -134,11 +136,11 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
         out.history.extend(history);
         out.starts.push(report);
     }
-    out.before_bands = ctx.bands(&ctx.reference)?;
+    let before = ctx.bands(&ctx.reference, phi_op)?;
     // The widest band over the starts' best points, by the same band function as the
     // objective (ties: the earlier start).
     let banded: Vec<Result<Vec<OperatingBand>, DesignError>> =
-        finals.par_iter().map(|u| ctx.bands(&Candidate::new(ctx.base, spec, &ctx.values(u))?)).collect();
+        finals.par_iter().map(|u| ctx.bands(&Candidate::new(ctx.base, spec, &ctx.values(u))?, phi_op)).collect();
     let mut best: Option<(f64, usize, Vec<OperatingBand>)> = None;
     for (k, b) in banded.into_iter().enumerate() {
         let b = b?;
@@ -147,17 +149,18 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
             best = Some((w, k, b));
         }
     }
-    match best {
-        Some((w, k, bands)) if w > smallest(&out.before_bands) => {
+    let after = match best {
+        Some((w, k, bands)) if w > smallest(&before) => {
             out.status = Status::Improved;
             out.after = ctx.values(&finals[k]);
-            out.after_bands = bands;
+            bands
         }
         _ => {
             out.status = Status::Unchanged;
             out.after = out.before.clone();
-            out.after_bands = out.before_bands.clone();
+            before.clone()
         }
-    }
+    };
+    out.findings = Findings::WidestBand { before, after };
     Ok(())
 }

@@ -1,0 +1,66 @@
+//! Cost of the dense eigensolutions of the full model, from its DOFs.
+
+use super::*;
+use crate::assembly::DofMap;
+use crate::model::{CircuitState, Model};
+
+/// Complex DOFs of a model: 2 per shaft node, 2 for the rings, 2 per branch when closed
+/// ([`DofMap::len`]).
+pub fn model_dofs(model: &Model) -> usize {
+    let closed = model.circuit.state == CircuitState::Closed;
+    DofMap { nodes: model.shaft.nodes(), branches: if closed { model.circuit.branches.len() } else { 0 } }.len()
+}
+
+/// The dense stages a command runs on the full model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dense {
+    /// Assembly and the buckling load (`check`, and every command first).
+    Rotor,
+    /// Rotor, and the modal basis of the reduced model (Floquet commands).
+    Reduced,
+    /// Rotor, and the quadratic eigenproblem at `n` speeds (whirls: `modes`, `campbell`),
+    /// keeping the mode shapes of every speed when `n` > 1.
+    Whirls(usize),
+    /// Rotor, modal basis and whirls at one speed (`regions`, `band`).
+    ReducedAndWhirls,
+}
+
+/// The dense work of `stage` on `model`, from its DOFs alone (nothing is assembled).
+/// `threads` stages may run at once (a Campbell diagram's speeds).
+pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
+    let n = model_dofs(model) as f64;
+    // P_cr is computed on the open-circuit model unless the file gives it.
+    let open = DofMap { nodes: model.shaft.nodes(), branches: 0 }.len() as f64;
+    let buckling = if model.load.critical_load.is_some() { 0.0 } else { DENSE_EIGEN_N3 * open.powi(3) };
+    let eigen = DENSE_EIGEN_N3 * n.powi(3);
+    let qep = QEP_2N3 * (2.0 * n).powi(3);
+    let dofs = format!("{} complex DOFs", n);
+    // Without the buckling eigenproblem a rotor is its five assembled matrices.
+    let rotor_bytes = if buckling > 0.0 { ROTOR_BYTES_N2 } else { ASSEMBLED_BYTES_N2 } * n * n;
+    let (seconds, bytes, memory_driver, memory_detail) = match stage {
+        Dense::Rotor => (buckling, rotor_bytes, Driver::Dofs, dofs.clone()),
+        Dense::Reduced => (buckling + eigen, ROTOR_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
+        Dense::ReducedAndWhirls => (buckling + eigen + qep, QEP_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
+        Dense::Whirls(speeds) => {
+            let s = speeds.max(1) as f64;
+            let shapes = if speeds > 1 { SHAPES_BYTES_N2 * n * n * s } else { 0.0 };
+            let working = QEP_BYTES_N2 * n * n * (threads.max(1).min(speeds.max(1)) as f64);
+            let driver = if shapes > working { Driver::Grid } else { Driver::Dofs };
+            let detail =
+                if speeds > 1 { format!("{speeds} speeds × the mode shapes of {dofs}") } else { dofs.clone() };
+            (buckling + qep * s, working + shapes, driver, detail)
+        }
+    };
+    let time_detail = match stage {
+        Dense::Whirls(s) if s > 1 => format!("{s} whirl eigenproblems of {dofs}"),
+        _ => format!("the dense eigenproblems of {dofs}"),
+    };
+    let time_driver = match stage {
+        Dense::Whirls(s) if s > 1 && qep * s as f64 > (buckling + qep) * 4.0 => Driver::Grid,
+        _ => Driver::Dofs,
+    };
+    Estimate {
+        time: Part { amount: seconds, driver: time_driver, detail: time_detail },
+        memory: Part { amount: bytes, driver: memory_driver, detail: memory_detail },
+    }
+}

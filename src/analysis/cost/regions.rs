@@ -1,0 +1,205 @@
+//! Cost of the region searches: catalogues, bands and intrusion scans, summed over the
+//! φ values they visit.
+
+use super::*;
+
+/// Evaluations of a tip climb: three to bracket, doubling steps across the start window
+/// (2e-5 to 3e-3 of φ: 8) and the refinement (`tip_iterations`).
+const CLIMB_BRACKET: f64 = 3.0 + 8.0;
+/// Evaluations of one seed's search at the level: the centre search (1 + its iterations,
+/// each with eigenvectors: counted twice), the lock test (2), the crest climb and its
+/// check; and of its tongue's two edges (the first growing march steps and the lattice
+/// refinement: 13 each).
+const HIT_FIXED: f64 = 2.0 + CLIMB_BRACKET + 1.0;
+const EDGE_EVALUATIONS: f64 = 26.0;
+/// Evaluations of one tracked level of a boundary: the inside point (up to 10 tries) and
+/// both edges.
+const TRACK_EVALUATIONS: f64 = 40.0;
+/// Evaluations a widest-band design spends per candidate and speed on its band: the
+/// bundled problem takes 105 on average (21 711 over 207 candidates); five times that.
+pub const DESIGN_BAND_EVALUATIONS: f64 = 500.0;
+
+/// The points (1 + g)^k of the guard lattice inside `window` ([`crate::analysis::regions::Level::lattice`]).
+fn lattice(g: f64, window: Interval) -> impl Iterator<Item = f64> {
+    let base = g.ln_1p();
+    let (first, last) = if g > 0.0 && window.lo > 0.0 {
+        ((window.lo.ln() / base).ceil() as i64, (window.hi.ln() / base).floor() as i64)
+    } else {
+        (1, 0)
+    };
+    (first..=last).map(move |k| (k as f64 * base).exp())
+}
+
+/// The φ values an edge march may step through across `window` (steps of the largest
+/// edge-march step, [`RegionSettings::max_edge_step`]): where a tongue as wide as the
+/// window is marched over.
+fn march(s: &RegionSettings, window: Interval) -> impl Iterator<Item = f64> + '_ {
+    std::iter::successors(Some(window.lo), move |&p| {
+        let next = p + s.edge_step.at(p);
+        (next < window.hi && next > p).then_some(next)
+    })
+}
+
+/// Evaluations of a β bracket from `from` to `to` at the bracket step, and its bisection
+/// to `tolerance`.
+fn bracket(s: &RegionSettings, from: f64, to: f64, tolerance: f64) -> f64 {
+    ((to - from).max(0.0) / s.beta_bracket).ceil() + 1.0 + (s.beta_bracket / tolerance).log2().ceil().max(0.0)
+}
+
+/// What a search of the unstable set at `level` over `window` costs (the band, and the
+/// level part of a catalogue): each seed of order up to the criterion's whose window
+/// reaches it (centre search, crest, both edges), every guard lattice point, and a march
+/// across the whole window on both sides (a tongue as wide as the window).
+fn level_search(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    window: Interval,
+    level: f64,
+) -> (f64, usize) {
+    let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
+    let per_seed = HIT_FIXED + s.centre_iterations as f64 * 2.0 + 2.0 + s.tip_iterations as f64 + EDGE_EVALUATIONS;
+    let mut seconds = 0.0;
+    let mut count = 0;
+    for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {
+        let phi = x.phi.clamp(window.lo, window.hi);
+        seconds += per_seed * pc.point(phi, level);
+        count += 1;
+    }
+    seconds += lattice(s.guard_step, window).map(|p| pc.point(p, level)).sum::<f64>();
+    seconds += 2.0 * march(s, window).map(|p| pc.point(p, level)).sum::<f64>();
+    (seconds, count)
+}
+
+/// What a catalogue request asks of the search.
+#[derive(Debug, Clone, Copy)]
+pub struct CatalogueWork {
+    /// The φ range (rad/s).
+    pub range: Interval,
+    /// β_max.
+    pub beta_max: f64,
+    /// β_op.
+    pub level: f64,
+    /// Boundaries tracked (`--out`).
+    pub track: bool,
+}
+
+/// A region catalogue (`regions`, a study's regions case, a design's verification): the
+/// starts of the seeds of order ≤ `s.max_order` in the range (β_c bracketed up to β_max at
+/// the bracket step, the tip climb, the onset below it), the unstable set at the level
+/// (`level_search`), the onsets of regions found only at the level, and the tracking.
+/// `seeds` are the range's ([`super::regions::seeds_for`]).
+pub fn catalogue(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    work: &CatalogueWork,
+) -> Estimate {
+    let (range, beta_max, level) = (work.range, work.beta_max, work.level);
+    let screen = SCREENING_TOLERANCE.min(s.tip_margin.absolute).max(s.beta_tolerance);
+    let climb = CLIMB_BRACKET + s.tip_iterations as f64;
+    let mut starts = 0.0;
+    let mut brackets = 0.0;
+    let mut located = 0usize;
+    for x in seeds.iter().filter(|x| x.order <= s.max_order && range.contains(x.phi)) {
+        let phi = x.phi;
+        located += 1;
+        // β_c(seed): to the level on a table built to it, then to β_max on another.
+        brackets += pc.table(phi, level).0 + bracket(s, 0.0, level, screen) * pc.monodromy(phi, level);
+        brackets += pc.table(phi, beta_max).0 + bracket(s, level, beta_max, screen) * pc.monodromy(phi, beta_max);
+        // The onset at the tip, stepping down from up to β_max, and β_c(seed) refined.
+        brackets +=
+            pc.table(phi, beta_max).0 + bracket(s, 0.0, beta_max, s.beta_tolerance) * pc.monodromy(phi, beta_max);
+        starts +=
+            climb * pc.point(phi, beta_max) + bracket(s, 0.0, 0.0, s.beta_tolerance) * pc.monodromy(phi, beta_max);
+        if work.track {
+            starts += s.tracking_levels as f64 * TRACK_EVALUATIONS * pc.point(phi, beta_max);
+        }
+    }
+    let (at_level, searched) = level_search(pc, s, criterion, seeds, range, level);
+    // Regions found only at the level: β_c stepped down from the level.
+    let onsets: f64 = seeds
+        .iter()
+        .filter(|x| x.order <= criterion.max_order && range.contains(x.phi))
+        .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
+        .sum();
+    let seconds = starts + brackets + at_level + onsets;
+    let samples = bracket(s, 0.0, beta_max, screen);
+    let (driver, detail) = if brackets > 0.5 * seconds {
+        (
+            Driver::Load,
+            format!(
+                "{located} region starts × {} beta samples up to beta_max = {} (step {})",
+                compact_count(samples),
+                compact(beta_max),
+                compact(s.beta_bracket)
+            ),
+        )
+    } else {
+        let (d, why) = pc.point_driver(range.lo);
+        let what = format!(
+            "{located} region starts and {searched} seeds at the level over phi = {}..{} rad/s",
+            compact(range.lo),
+            compact(range.hi)
+        );
+        let d = if d == Driver::ReducedModel && searched > 1000 { Driver::Grid } else { d };
+        (d, if why.is_empty() { what } else { format!("{what}; {why}") })
+    };
+    Estimate::time(seconds, driver, detail)
+}
+
+/// The stable band around φ_op at `level` in `window` (`band`, a study's band): the
+/// search of the whole window (`level_search`), an upper bound of the outward search
+/// that stops at the nearest tongue on each side.
+pub fn band(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    window: Interval,
+    level: f64,
+) -> Estimate {
+    let (seconds, searched) = level_search(pc, s, criterion, seeds, window, level);
+    let (d, why) = pc.point_driver(window.lo);
+    let what = format!(
+        "{searched} seeds and the guard lattice over phi = {}..{} rad/s",
+        compact(window.lo),
+        compact(window.hi)
+    );
+    Estimate::time(seconds, d, if why.is_empty() { what } else { format!("{what}; {why}") })
+}
+
+/// The search for the tongues at the level over `windows` (a clear-bands candidate's
+/// operating bands) and their onsets.
+pub fn scan(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    windows: &[Interval],
+    level: f64,
+) -> Estimate {
+    let mut seconds = 0.0;
+    for w in windows {
+        let (t, _) = level_search(pc, s, criterion, seeds, *w, level);
+        seconds += t;
+        let onsets: f64 = seeds
+            .iter()
+            .filter(|x| x.order <= criterion.max_order && w.contains(x.phi))
+            .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
+            .sum();
+        seconds += onsets;
+    }
+    let lowest = windows.iter().map(|w| w.lo).fold(f64::INFINITY, f64::min);
+    let (d, why) = pc.point_driver(lowest);
+    Estimate::time(seconds, d, if why.is_empty() { "the operating bands' tongues".into() } else { why })
+}
+
+/// `count` points on tables of their own at (φ, β) (a verification grid, a design's
+/// band work per candidate).
+pub fn points(pc: &PointCost, count: f64, phi: f64, beta: f64) -> Estimate {
+    let (d, why) = pc.point_driver(phi);
+    Estimate::time(count * pc.point(phi, beta), d, why)
+}
