@@ -231,8 +231,8 @@ pub fn markdown(r: &DesignReport) -> String {
                     b.lo,
                     b.hi,
                     b.clearance,
-                    names(&o.before_intrusions()),
-                    names(&o.after_intrusions()),
+                    names(o.before_intrusions()),
+                    names(o.after_intrusions()),
                     fine
                 );
             }
