@@ -1,0 +1,106 @@
+//! The growth-rate map of Fig. 12.
+
+use super::*;
+
+impl GrowthMap {
+    /// A growth-rate map of `chart`, no markers.
+    pub fn new(title: &str, chart: ChartResult) -> GrowthMap {
+        GrowthMap { title: title.to_string(), chart, markers: Vec::new() }
+    }
+
+    /// With vertical marker lines at φ (rad/s), each labelled at the top.
+    pub fn with_markers(mut self, markers: Vec<(f64, String)>) -> GrowthMap {
+        self.markers = markers;
+        self
+    }
+
+    /// Min and max growth rate (1/s) over the unstable points, if any.
+    pub fn growth_range(&self) -> Option<(f64, f64)> {
+        self.chart.points.iter().filter(|p| unstable(p) && p.growth_rate.is_finite()).map(|p| p.growth_rate).fold(
+            None,
+            |acc, g| match acc {
+                None => Some((g, g)),
+                Some((lo, hi)) => Some((f64::min(lo, g), f64::max(hi, g))),
+            },
+        )
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        root.fill(&WHITE).map_err(err)?;
+        let area = root.titled(&self.title, ("sans-serif", 24)).map_err(err)?;
+        let failed = failed_count(&self.chart);
+        let (legend_area, area) = area.split_vertically(if failed > 0 { 34 } else { 0 });
+        if failed > 0 {
+            draw_legend(&legend_area, &[(Swatch::Cross, failed_label(failed))])?;
+        }
+        let width = area.dim_in_pixel().0;
+        let (main, bar) = area.split_horizontally(width.saturating_sub(135));
+
+        // Colour scale: the unstable growth rates, in GROWTH_LEVELS levels.
+        let range = self.growth_range();
+        let (lo, hi) = match range {
+            Some((lo, hi)) if hi > lo => (lo, hi),
+            Some((g, _)) => {
+                let d = (0.05 * g.abs()).max(1e-9);
+                (g - d, g + d)
+            }
+            None => (0.0, 1.0),
+        };
+        let top = (GROWTH_LEVELS - 1) as f64;
+        let level = |g: f64| {
+            let t = if g.is_finite() { (g - lo) / (hi - lo) } else { 1.0 };
+            (t.clamp(0.0, 1.0) * top).round() as usize
+        };
+        let color = |k: usize| -> RGBAColor { ViridisRGB.get_color_normalized(k as f64, 0.0, top).to_rgba() };
+
+        let (x, y) = ranges(std::iter::once(&self.chart));
+        let mut plot = axes(&main, x, y, 10)?;
+        let cells = blocks(&self.chart, |p| unstable(p).then(|| level(p.growth_rate)));
+        draw_blocks(&mut plot, &self.chart, &cells, |&k| color(k))?;
+        draw_failed(&mut plot, &self.chart)?;
+        draw_markers(&mut plot, &self.markers)?;
+        draw_frame(&mut plot)?;
+
+        // Colour bar, aligned with the main plotting area (same margins and x-label area).
+        let mut cbar = ChartBuilder::on(&bar)
+            .margin_top(15)
+            .margin_bottom(15)
+            .margin_left(15)
+            .margin_right(5)
+            .x_label_area_size(50)
+            .right_y_label_area_size(85)
+            .build_cartesian_2d(0.0..1.0, lo..hi)
+            .map_err(err)?;
+        cbar.configure_mesh()
+            .disable_x_mesh()
+            .disable_y_mesh()
+            .disable_x_axis()
+            .x_labels(0)
+            .y_label_formatter(&tick)
+            .y_desc(GROWTH_LABEL)
+            .label_style(("sans-serif", 14))
+            .axis_desc_style(("sans-serif", 16))
+            .draw()
+            .map_err(err)?;
+        if range.is_some() {
+            cbar.draw_series((0..GROWTH_LEVELS).map(|k| {
+                let t0 = ((k as f64 - 0.5) / top).max(0.0);
+                let t1 = ((k as f64 + 0.5) / top).min(1.0);
+                Rectangle::new([(0.0, lo + t0 * (hi - lo)), (1.0, lo + t1 * (hi - lo))], color(k).filled())
+            }))
+            .map_err(err)?;
+        }
+        draw_frame(&mut cbar)?;
+        root.present().map_err(err)
+    }
+
+    /// Render as SVG text.
+    pub fn svg(&self) -> Result<String, PlotError> {
+        render_svg(|root| self.draw(root))
+    }
+
+    /// Render as PNG bytes.
+    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
+        render_png(|root| self.draw(root))
+    }
+}
