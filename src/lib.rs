@@ -21,17 +21,32 @@
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
 //! (matrices) → [`analysis`] → [`design`] → [`report`]. SI units and rad/s throughout.
 //!
+//! ## The library's face
+//!
+//! The types re-exported here are the supported surface: load a [`Problem`], take its
+//! rotor at a speed as an [`OperatingPoint`] (whirls and the reduced periodic system),
+//! and ask it for a chart ([`ChartRequest`]), a catalogue of regions
+//! ([`CatalogueRequest`]) or a stable band ([`BandRequest`]); every request is checked
+//! when it is built. A file with a `[design]` table is designed by [`run_design`]. The
+//! modules stay public for the rest (assembled matrices, solvers); `commands` is the
+//! command line's layer and not part of the library.
+//!
 //! ```
-//! let problem = rotorshunt::problem::Problem::from_path("problems/paper-open.toml", &[]).unwrap();
-//! let result = rotorshunt::analysis::modes::whirl_modes(&problem.model, &problem.settings, 2000.0).unwrap();
-//! let f1 = result.forward().next().unwrap().frequency;
-//! assert!((f1 / 399.0 - 1.0).abs() < 1e-3); // Table 2
+//! use rotorshunt::{CatalogueRequest, Interval, Problem};
+//!
+//! let problem = Problem::from_path("problems/paper-open.toml", &[]).unwrap();
+//! let op = problem.operating_point_at(2000.0).unwrap();
+//! let f1 = op.modes.forward().next().unwrap().frequency;
+//! assert!((f1 / 399.0 - 1.0).abs() < 1e-3); // Table 2: ω_f1 = 399.0 rad/s
+//! let cat = op.catalogue(&CatalogueRequest::new(Interval::new(600.0, 800.0), 0.1, 0.05, false).unwrap()).unwrap();
+//! assert!(cat.regions.iter().any(|r| r.label == "f1+b1")); // Fig. 9: ω_f1 + ω_b1 ≈ 700
 //! ```
 
 #![warn(missing_docs)]
 
 pub mod analysis;
 pub mod assembly;
+#[doc(hidden)]
 pub mod commands;
 pub mod design;
 pub mod error;
@@ -40,4 +55,8 @@ pub mod model;
 pub mod problem;
 pub mod report;
 
+pub use analysis::regions::{Band, Catalogue, CatalogueRequest};
+pub use analysis::{AnalysisError, BandRequest, ChartRequest, Criterion, Interval, OperatingPoint, Rotor, Settings};
+pub use design::{run as run_design, DesignError, DesignOutcome};
 pub use error::Error;
+pub use problem::{Problem, ProblemError};

@@ -9,6 +9,7 @@ pub mod floquet;
 pub mod interval;
 pub mod limits;
 pub mod modes;
+mod operating;
 pub mod reduction;
 pub mod regions;
 pub mod response;
@@ -17,6 +18,7 @@ mod settings;
 
 pub use criterion::Criterion;
 pub use interval::Interval;
+pub use operating::{BandRequest, ChartRequest, OperatingPoint, MAX_CHART_AXIS};
 pub use rotor::Rotor;
 pub use settings::{MonodromyMethod, Settings};
 

@@ -53,6 +53,26 @@ pub fn input_hash(text: &str, overrides: &[String]) -> String {
 }
 
 impl Problem {
+    /// The assembled rotor of the problem's model, P_cr computed or given.
+    pub fn rotor(&self) -> Result<crate::analysis::Rotor, crate::analysis::AnalysisError> {
+        crate::analysis::Rotor::new(&self.model)
+    }
+
+    /// The rotor at the file's speed, with the file's settings ([`OperatingPoint`]).
+    ///
+    /// [`OperatingPoint`]: crate::analysis::OperatingPoint
+    pub fn operating_point(&self) -> Result<crate::analysis::OperatingPoint, crate::analysis::AnalysisError> {
+        self.operating_point_at(self.model.speed)
+    }
+
+    /// The rotor at speed Ω (rad/s), with the file's settings.
+    pub fn operating_point_at(
+        &self,
+        speed: f64,
+    ) -> Result<crate::analysis::OperatingPoint, crate::analysis::AnalysisError> {
+        crate::analysis::OperatingPoint::new(&self.rotor()?, &self.settings, speed)
+    }
+
     /// Load `path` and apply overrides `key.path=value`. The file is read by
     /// [`read_input`]: a regular file of at most [`MAX_FILE_BYTES`].
     pub fn from_path(path: impl AsRef<Path>, overrides: &[String]) -> Result<Problem, ProblemError> {
