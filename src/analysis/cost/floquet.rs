@@ -201,7 +201,7 @@ pub fn response_steps(pc: &PointCost, phi: f64) -> f64 {
 }
 
 /// A time response of `periods` periods of `per_period` RK4 steps each (the response's
-/// own step rule, [`super::response::rk4_steps_per_period`]) and its Floquet point.
+/// own step rule, [`crate::analysis::response::rk4_steps_per_period`]) and its Floquet point.
 pub fn response(pc: &PointCost, phi: f64, beta: f64, periods: usize, per_period: f64) -> Estimate {
     let steps = per_period * periods as f64;
     let seconds = steps * (RK4_N2 * pc.n * pc.n + 1e-7) + pc.point_by_method(phi, beta);

@@ -89,7 +89,7 @@ pub struct CatalogueWork {
 /// starts of the seeds of order ≤ `s.max_order` in the range (β_c bracketed up to β_max at
 /// the bracket step, the tip climb, the onset below it), the unstable set at the level
 /// (`level_search`), the onsets of regions found only at the level, and the tracking.
-/// `seeds` are the range's ([`super::regions::seeds_for`]).
+/// `seeds` are the range's ([`crate::analysis::regions::seeds_for`]).
 pub fn catalogue(
     pc: &PointCost,
     s: &RegionSettings,
