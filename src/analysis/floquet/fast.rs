@@ -44,9 +44,8 @@ pub const MAX_STEPS: usize = 4096;
 /// over the steps of a period (32 by default) the interpolation error is of order
 /// 3e-10 of Φ: far below the CFM4 error (1e-6 of a converged reference) and the
 /// instability tolerance (1e-4), and inside the 1e-9 the fast path is checked to against
-/// the straightforward CFM4 (tests/floquet_paths.rs). 1e-13, with counts 4, 6, 8, 10, …,
-/// cost 13 % more exponentials over the Fig. 11 catalogue (30 398 against 26 849) for
-/// digits no verdict uses.
+/// the straightforward CFM4 (tests/floquet_paths.rs); a tighter value buys digits no
+/// verdict uses (docs/decisions.md, "Chebyshev tolerance").
 const CHEBYSHEV_TOLERANCE: f64 = 1e-11;
 
 /// The CFM4 weights and nodes (Blanes & Moan; Alvermann & Fehske).
@@ -82,9 +81,8 @@ pub struct PhiTable {
 }
 
 /// Columns of exponentials evaluated per real matrix product in [`PhiTable::monodromy`]:
-/// 8 columns of 2n² = 512 (M = 8) are 32 KB, which stay in the L1 cache; 32 columns
-/// (128 KB) made the monodromy ~9 % slower (measured against the eigenvalue time of the
-/// same run, the machine being noisy).
+/// 8 columns of 2n² = 512 (M = 8) are 32 KB, which stay in the L1 cache (wider blocks
+/// were slower: docs/decisions.md, "Exponential blocks").
 const EVALUATION_BATCH: usize = 8;
 
 /// The split real form of an n×n complex matrix written into one column `out` (2n² long):
