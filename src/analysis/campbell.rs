@@ -27,7 +27,7 @@ pub struct TrackPoint {
 pub struct Track {
     /// Tag at the first speed (e.g. `f1`, `br2`).
     pub tag: String,
-    /// Forward or backward.
+    /// Forward or backward whirl.
     pub whirl: Whirl,
     /// Mechanical or electrical at the first speed.
     pub kind: ModeKind,

@@ -17,13 +17,13 @@ pub struct ChartResult {
     pub speed: f64,
     /// φ values (rad/s).
     pub phis: Vec<f64>,
-    /// β values.
+    /// β values (−).
     pub betas: Vec<f64>,
     /// Points, φ-major: index = i_φ·len(β) + i_β.
     pub points: Vec<ChartPoint>,
-    /// Instability tolerance used.
+    /// Instability tolerance used: max|μ| above 1 + this counts (−).
     pub instability_tolerance: f64,
-    /// Reduced model used.
+    /// The reduced model the points were computed on (M, frequencies).
     pub reduction: ReductionInfo,
     /// Points whose monodromy failed (no verdict; counted apart from unstable ones).
     pub failed: usize,

@@ -6,9 +6,9 @@ use serde::{Deserialize, Serialize};
 /// A closed interval [lo, hi].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Interval {
-    /// Lower end.
+    /// Lower end (rad/s for φ intervals, − for β intervals).
     pub lo: f64,
-    /// Upper end.
+    /// Upper end, ≥ `lo` (same unit).
     pub hi: f64,
 }
 

@@ -117,7 +117,7 @@ pub enum Rule {
 #[derive(Debug, Clone, PartialEq, Error, Serialize)]
 #[error("{}", rule_text(rule, *value))]
 pub struct ParamError {
-    /// Which parameter.
+    /// Which parameter the value was given for.
     pub quantity: Quantity,
     /// The value given.
     pub value: f64,

@@ -100,14 +100,14 @@ pub enum ModeKind {
 pub struct WhirlMode {
     /// Whirl frequency |Im λ| (rad/s).
     pub frequency: f64,
-    /// Forward or backward.
+    /// Forward or backward whirl (sign of the eigenvalue's imaginary part).
     pub whirl: Whirl,
     /// Damping ratio ζ = −Re λ/|λ| (−).
     pub damping_ratio: f64,
     /// The paper's number: "1", "2", … for rotor modes, "r1", "r2", "s1", … for the
     /// electrical modes of branch 1, 2, … (Table 3).
     pub label: String,
-    /// Mechanical or electrical.
+    /// Mechanical or electrical, by the share of kinetic energy in the charges.
     pub kind: ModeKind,
     /// Share of kinetic energy in the charge DOFs (−).
     pub electrical_fraction: f64,

@@ -44,7 +44,7 @@ pub struct ReducedModel {
     pub unbalance: Vec<c64>,
     /// P_cr (N).
     pub critical_load: f64,
-    /// α.
+    /// Static load coefficient α (−).
     pub alpha: f64,
 }
 
@@ -73,7 +73,7 @@ impl PeriodicSystem {
 /// Summary of a reduced model for outputs.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReductionInfo {
-    /// M.
+    /// Number of retained modes M.
     pub modes: usize,
     /// Basis frequencies (rad/s).
     pub frequencies: Vec<f64>,

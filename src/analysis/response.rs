@@ -24,7 +24,7 @@ const MAX_SAMPLES: usize = 4000;
 pub struct ResponseResult {
     /// φ (rad/s).
     pub phi: f64,
-    /// β.
+    /// Dynamic load coefficient β (−).
     pub beta: f64,
     /// Periods of the load simulated.
     pub periods: usize,

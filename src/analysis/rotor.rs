@@ -8,7 +8,7 @@ use crate::model::Model;
 /// The model, its speed-independent matrices and its reference load P_cr.
 #[derive(Debug, Clone)]
 pub struct Rotor {
-    /// The physics.
+    /// The physics the matrices were assembled from.
     pub model: Model,
     /// M, C, K, S, G and the unbalance.
     pub system: SystemMatrices,

@@ -93,7 +93,7 @@ impl DofMap {
 /// The speed-independent global matrices and the unbalance amplitude.
 #[derive(Debug, Clone)]
 pub struct SystemMatrices {
-    /// DOF layout.
+    /// DOF layout: which row is which node, ring or charge.
     pub dofs: DofMap,
     /// Mass M (kg, and γL for charges).
     pub m: Mat<f64>,

@@ -39,13 +39,13 @@ pub const TOOL: &str = concat!("rotorshunt ", env!("CARGO_PKG_VERSION"));
 /// version, the problem file, the hash of its text and overrides, and the settings.
 #[derive(Debug, Clone, Serialize)]
 pub struct Provenance {
-    /// Tool and version.
+    /// Tool name and version, e.g. `rotorshunt 0.1.0`.
     pub tool: &'static str,
     /// Problem file as given.
     pub problem: String,
     /// SHA-256 of the problem text and the overrides ([`crate::problem::input_hash`]).
     pub input_sha256: String,
-    /// `--set` overrides.
+    /// The `--set key.path=value` overrides applied, in order.
     pub overrides: Vec<String>,
     /// Numerical settings in force.
     pub settings: crate::analysis::Settings,

@@ -55,7 +55,7 @@ pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
 pub struct Candidate {
     /// The problem with the variables set.
     pub problem: Problem,
-    /// Its assembled rotor.
+    /// The candidate's assembled rotor (matrices and P_cr).
     pub rotor: Rotor,
     /// (speed, reduced periodic system) per operating speed.
     pub systems: Vec<(f64, FloquetSystem)>,

@@ -16,9 +16,9 @@ use serde::Serialize;
 /// One linear constraint g · d ≤ h.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Linear {
-    /// Gradient g.
+    /// Gradient g of the constraint in scaled variables (its unit per scaled unit).
     pub g: Vec<f64>,
-    /// Right-hand side h.
+    /// Right-hand side h: the constraint reads g·d ≥ h (rad/s, or β for onsets).
     pub h: f64,
 }
 
@@ -27,11 +27,11 @@ pub struct Linear {
 pub struct StepProblem<'a> {
     /// Current point u (scaled, in [0, 1]).
     pub current: &'a [f64],
-    /// Reference point r.
+    /// Reference point r in scaled variables (−), from which the change is weighed.
     pub reference: &'a [f64],
     /// Weights w_j > 0.
     pub weights: &'a [f64],
-    /// Linearised constraints.
+    /// Linearised constraints g·d ≥ h, one per intrusion.
     pub constraints: &'a [Linear],
     /// Trust-region half-width Δ (scaled units).
     pub trust: f64,

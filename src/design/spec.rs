@@ -104,11 +104,11 @@ impl Parameter {
 pub struct Variable {
     /// Branch index, 0-based (`branch = 1` in the file is index 0).
     pub branch: usize,
-    /// Which parameter.
+    /// Which branch parameter (C_f, L, ω or R).
     pub parameter: Parameter,
     /// Lower bound (SI unit of the parameter).
     pub min: f64,
-    /// Upper bound.
+    /// Upper bound (SI unit of the parameter), above `min`.
     pub max: f64,
 }
 
@@ -169,9 +169,9 @@ pub struct DesignSpec {
     pub beta_max: f64,
     /// Operating speeds Ω (rad/s); the file's `speed` if not given.
     pub speeds: Vec<f64>,
-    /// Design variables.
+    /// Design variables: branch parameters with bounds (at least one).
     pub variables: Vec<Variable>,
-    /// Nelder–Mead starts (multi-start).
+    /// Nelder–Mead starts run in parallel (multi-start), 1–64.
     pub starts: usize,
     /// Nelder–Mead iterations per start, or sequential convex steps.
     pub max_iterations: usize,

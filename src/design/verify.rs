@@ -69,7 +69,7 @@ pub struct GridCheck {
     pub window: Interval,
     /// Grid spacing (rad/s).
     pub step: f64,
-    /// Points evaluated.
+    /// Grid points evaluated (interior points of the window).
     pub points: usize,
     /// Points that count as unstable (rad/s).
     pub unstable: Vec<f64>,
@@ -80,7 +80,7 @@ pub struct GridCheck {
 pub struct DesignAtSpeed {
     /// Ω (rad/s).
     pub speed: f64,
-    /// Lowest whirls.
+    /// The lowest forward and backward whirls at this speed (rad/s).
     pub whirls: Vec<WhirlRow>,
     /// Region catalogue at β_op over the design's φ range.
     pub catalogue: Catalogue,

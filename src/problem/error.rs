@@ -152,7 +152,7 @@ pub struct ProblemError {
     pub location: Location,
     /// Key path, e.g. `disks[0].mass`; empty for whole-file errors.
     pub key: String,
-    /// What is wrong.
+    /// What is wrong, with the value given.
     pub kind: ProblemErrorKind,
 }
 

@@ -27,9 +27,9 @@ pub struct Problem {
     pub file: String,
     /// The file's content after overrides (what was analysed).
     pub data: ProblemFile,
-    /// The physics.
+    /// The physics: shaft, disks, rings, circuit, load and speed.
     pub model: Model,
-    /// Numerical settings.
+    /// Numerical settings (`[analysis]`).
     pub settings: Settings,
     /// The `[design]` problem, if the file has one.
     pub design: Option<DesignSpec>,

@@ -30,9 +30,9 @@ pub struct DesignReport {
     pub provenance: crate::commands::Provenance,
     /// Title of the problem.
     pub title: String,
-    /// Circuit before.
+    /// The circuit's branches before the design (C_f, L, R).
     pub branches_before: Vec<BranchRow>,
-    /// Circuit after.
+    /// The circuit's branches after the design (C_f, L, R).
     pub branches_after: Vec<BranchRow>,
     /// The optimiser's outcome (bands, intrusions, catalogues, verification, starts,
     /// history, counts).

@@ -13,28 +13,28 @@ pub const SIZE: (u32, u32) = (1000, 700);
 pub struct Series {
     /// Legend text; empty for no legend entry.
     pub name: String,
-    /// RGB colour.
+    /// RGB colour of the line.
     pub color: (u8, u8, u8),
     /// Dashed (e.g. backward whirls, reference lines).
     pub dashed: bool,
-    /// (x, y) points.
+    /// (x, y) points in the axes' units.
     pub points: Vec<(f64, f64)>,
 }
 
 /// A plot of polylines.
 #[derive(Debug, Clone)]
 pub struct LinePlot {
-    /// Caption.
+    /// Caption drawn above the plot.
     pub title: String,
     /// x-axis label with unit.
     pub x_label: String,
     /// y-axis label with unit.
     pub y_label: String,
-    /// x range.
+    /// x axis range, in the x label's unit.
     pub x_range: (f64, f64),
-    /// y range.
+    /// y axis range, in the y label's unit.
     pub y_range: (f64, f64),
-    /// The lines.
+    /// The lines, drawn in order.
     pub series: Vec<Series>,
 }
 

@@ -231,7 +231,7 @@ pub enum Resource {
 pub struct CostError {
     /// What would run, e.g. `the chart`, `check`.
     pub what: String,
-    /// Time or memory.
+    /// Time or memory: which limit the estimate exceeds.
     pub resource: Resource,
     /// The estimate (s or bytes).
     pub estimate: f64,

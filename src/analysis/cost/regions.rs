@@ -77,9 +77,9 @@ fn level_search(
 pub struct CatalogueWork {
     /// The φ range (rad/s).
     pub range: Interval,
-    /// β_max.
+    /// β_max searched for onsets (−).
     pub beta_max: f64,
-    /// β_op.
+    /// The level β_op of edges (−).
     pub level: f64,
     /// Boundaries tracked (`--out`).
     pub track: bool,

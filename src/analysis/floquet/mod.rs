@@ -302,7 +302,7 @@ impl ZeroLoadReference {
 /// A rotor prepared for Floquet analysis at one speed: reduced model, B0, B1, X.
 #[derive(Debug, Clone)]
 pub struct FloquetSystem {
-    /// The reduced model.
+    /// The reduced model (Eq. 22–24) the monodromy is computed on.
     pub reduced: ReducedModel,
     /// B0, B1 at the speed.
     pub system: PeriodicSystem,
@@ -310,7 +310,7 @@ pub struct FloquetSystem {
     pub symmetry: Symmetry,
     /// Speed Ω (rad/s).
     pub speed: f64,
-    /// Settings in force.
+    /// Numerical settings in force.
     pub settings: Settings,
     /// The β = 0 check's reference.
     zero_load: ZeroLoadReference,

@@ -10,7 +10,7 @@ use crate::analysis::Interval;
 pub struct Bracket {
     /// Where the test holds.
     pub inside: f64,
-    /// Where it fails.
+    /// Where the predicate fails (the other end of the bracket).
     pub outside: f64,
 }
 

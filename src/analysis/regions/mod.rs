@@ -50,9 +50,9 @@ use serde::Serialize;
 pub struct Region {
     /// e.g. `f1+b1`.
     pub label: String,
-    /// Simple or combination.
+    /// Simple (2ω_i/k) or combination ((ω_i + ω_j)/k).
     pub kind: RegionKind,
-    /// Order k.
+    /// Order k of the resonance (−).
     pub order: usize,
     /// The predicted start (ω_i + ω_j)/k (rad/s).
     pub predicted: f64,
@@ -121,14 +121,14 @@ pub struct Catalogue {
     pub level: f64,
     /// φ range searched (rad/s).
     pub range: Interval,
-    /// β_max.
+    /// β_max searched for onsets (−).
     pub beta_max: f64,
     /// Counted tongues at the level in which no seed's pair was identified (found by the
     /// guard lattice or beside a seed): they bound stable bands like any other.
     pub unexplained: Vec<Interval>,
     /// Tongues at the level that the criterion ignores (narrower than its width floor).
     pub ignored: Vec<Tongue>,
-    /// The declared criterion.
+    /// The declared stability criterion every verdict used.
     pub criterion: Criterion,
     /// What the stable bands guarantee, in words.
     pub guarantee: String,

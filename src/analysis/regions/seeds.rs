@@ -23,9 +23,9 @@ pub enum RegionKind {
 pub struct Seed {
     /// e.g. `f1+b1`, `f1+r1`, `2 n1`, `n1+n2`.
     pub label: String,
-    /// Simple or combination.
+    /// Simple (2ω_i/k) or combination ((ω_i + ω_j)/k).
     pub kind: RegionKind,
-    /// k.
+    /// Order k of the resonance (−).
     pub order: usize,
     /// (ω_i + ω_j)/k (rad/s).
     pub phi: f64,

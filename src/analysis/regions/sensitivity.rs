@@ -46,9 +46,9 @@ pub struct Derivatives {
 pub struct Sensitivity {
     /// Key path of the parameter.
     pub parameter: String,
-    /// Its value.
+    /// The parameter's value in the base design (SI unit).
     pub value: f64,
-    /// Step h.
+    /// Central-difference step h (SI unit of the parameter).
     pub step: f64,
     /// Central differences with step h.
     pub derivatives: Derivatives,

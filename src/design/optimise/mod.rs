@@ -61,11 +61,11 @@ pub struct StartReport {
     pub best: Vec<f64>,
     /// Objective at the best point (rad/s).
     pub objective: f64,
-    /// Candidate designs evaluated.
+    /// Candidate designs evaluated by this start.
     pub evaluations: usize,
-    /// Nelder–Mead iterations.
+    /// Nelder–Mead iterations of this start.
     pub iterations: u64,
-    /// argmin's termination reason.
+    /// argmin's termination reason (e.g. the simplex's spread below the tolerance).
     pub termination: String,
 }
 
@@ -78,14 +78,14 @@ pub struct HistoryPoint {
     pub step: usize,
     /// Objective (rad/s: signed band width) or total intrusion (rad/s).
     pub value: f64,
-    /// Best so far.
+    /// Best value so far in this start (same unit as `value`).
     pub best: f64,
 }
 
 /// One sequential convex step.
 #[derive(Debug, Clone, Serialize)]
 pub struct ConvexStep {
-    /// Iteration.
+    /// Iteration of the sequential convex run, from 1.
     pub iteration: usize,
     /// Trust region used (scaled units).
     pub trust: f64,
@@ -126,9 +126,9 @@ pub enum Findings {
 /// Everything a design run found.
 #[derive(Debug, Clone)]
 pub struct DesignOutcome {
-    /// The design problem.
+    /// The validated design problem that was run.
     pub spec: DesignSpec,
-    /// How it ended.
+    /// How the run ended: improved, unchanged, feasible, infeasible or not verified.
     pub status: Status,
     /// Variable values of the reference design (SI units, as in the problem file).
     pub before: Vec<f64>,
@@ -146,9 +146,9 @@ pub struct DesignOutcome {
     pub starts: Vec<StartReport>,
     /// Objective or intrusion history.
     pub history: Vec<HistoryPoint>,
-    /// Sequential convex steps.
+    /// Sequential convex steps (clear bands), in order.
     pub convex_steps: Vec<ConvexStep>,
-    /// Candidate designs analysed.
+    /// Candidate designs analysed (each a rotor at every speed).
     pub candidates: usize,
     /// Candidates whose analysis failed (counted in `candidates`).
     pub failed_candidates: usize,
@@ -257,7 +257,7 @@ impl Serialize for DesignOutcome {
 /// The cost of a phase of the run.
 #[derive(Debug, Clone, Copy, Default, Serialize)]
 pub struct Cost {
-    /// Monodromy evaluations.
+    /// Candidate designs evaluated by this start.
     pub evaluations: usize,
     /// Wall time (s).
     pub seconds: f64,

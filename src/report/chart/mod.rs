@@ -78,7 +78,7 @@ pub struct Layer {
     pub name: String,
     /// RGB colour of its unstable cells.
     pub color: (u8, u8, u8),
-    /// The chart.
+    /// The chart drawn (its φ and β grid and verdicts).
     pub chart: ChartResult,
 }
 
@@ -87,7 +87,7 @@ pub struct Layer {
 /// ones are drawn over it with opacity [`OVERLAY_ALPHA`].
 #[derive(Debug, Clone)]
 pub struct StabilityPlot {
-    /// Caption.
+    /// Caption drawn above the plot.
     pub title: String,
     /// Charts, drawn in order.
     pub layers: Vec<Layer>,
@@ -101,9 +101,9 @@ pub struct StabilityPlot {
 /// cells white, failed points as black crosses, colour bar on the right.
 #[derive(Debug, Clone)]
 pub struct GrowthMap {
-    /// Caption.
+    /// Caption drawn above the plot.
     pub title: String,
-    /// The chart.
+    /// The chart drawn (its φ and β grid and verdicts).
     pub chart: ChartResult,
     /// Vertical dashed marker lines at φ (rad/s) with a label at the top.
     pub markers: Vec<(f64, String)>,
