@@ -7,7 +7,6 @@ use super::{title, OutDir, Progress, TOOL};
 use crate::analysis::campbell::campbell;
 use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
-use crate::analysis::regions::RegionSettings;
 use crate::analysis::Interval;
 use crate::commands::out::json_pretty;
 use crate::design::evaluate::Candidate;
@@ -216,7 +215,7 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
     let admitted = Estimate { time: dense.time.clone(), memory: memory.clone() };
     bounds::admit(budget, "the design", &admitted, &DESIGN)?;
     let reference = Candidate::new(problem, spec, &values_of(problem, spec))?;
-    let s = RegionSettings::default();
+    let s = problem.regions.clone();
     let criterion = reference.criterion();
     let mut per_candidate = Estimate::time(dense.time.amount * speeds, Driver::Dofs, dense.time.detail.clone());
     let mut verification = Estimate::zero();

@@ -97,7 +97,7 @@ pub fn regions_cmd(
     let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
     let (rotor, fs) = prepare(problem, &budget)?;
-    let settings = RegionSettings::default();
+    let settings = problem.regions.clone();
     let req =
         CatalogueRequest::new(range, beta_max, level, out.is_some()).map_err(crate::analysis::AnalysisError::from)?;
     // The search's work, from the seeds of the range, before the whirls and the search.
@@ -223,7 +223,7 @@ pub fn band_cmd(
     };
     bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
     let (rotor, fs) = prepare(problem, &budget)?;
-    let settings = RegionSettings::default();
+    let settings = problem.regions.clone();
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(&fs, None, window, criterion.max_order)?;
     let estimate = cost::band(&PointCost::of(&fs), &settings, &criterion, &seeds, window, level);

@@ -1,6 +1,7 @@
 //! The problem-file format, version 1: serde types mirroring the TOML, user data only.
 //! Every key is documented in `problems/README.md`; units are SI and rad/s.
 
+use crate::analysis::regions::RegionSettings;
 use crate::analysis::Settings;
 pub use crate::design::spec::{ObjectiveKind, Parameter};
 use crate::model::CircuitState;
@@ -53,6 +54,9 @@ pub struct ProblemFile {
     /// Numerical settings.
     #[serde(default)]
     pub analysis: Settings,
+    /// Settings of the region search (`[regions]`); defaults when absent.
+    #[serde(default, skip_serializing_if = "RegionSettings::is_default")]
+    pub regions: RegionSettings,
     /// A shunt design problem (`rotorshunt design`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub design: Option<DesignFile>,

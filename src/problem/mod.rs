@@ -33,6 +33,8 @@ pub struct Problem {
     pub model: Model,
     /// Numerical settings (`[analysis]`).
     pub settings: Settings,
+    /// Settings of the region search (`[regions]`, defaults where absent).
+    pub regions: crate::analysis::regions::RegionSettings,
     /// The `[design]` problem, if the file has one.
     pub design: Option<DesignSpec>,
     /// The `--set` overrides applied, in order.
@@ -72,7 +74,9 @@ impl Problem {
         &self,
         speed: f64,
     ) -> Result<crate::analysis::OperatingPoint, crate::analysis::AnalysisError> {
-        crate::analysis::OperatingPoint::new(&self.rotor()?, &self.settings, speed)
+        let mut op = crate::analysis::OperatingPoint::new(&self.rotor()?, &self.settings, speed)?;
+        op.regions = self.regions.clone();
+        Ok(op)
     }
 
     /// Load `path` and apply overrides `key.path=value`. The file is read by
@@ -160,11 +164,13 @@ impl Problem {
             err(location, &key, kind)
         })?;
         let design = design_keys::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let regions = validate::regions(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         Ok(Problem {
             file: name.to_string(),
             data,
             model,
             settings,
+            regions,
             design,
             overrides: overrides.to_vec(),
             input_sha256: input_hash(text, overrides),
@@ -184,6 +190,7 @@ impl Problem {
         };
         let (model, settings) = validate::translate(&data).map_err(err)?;
         let design = design_keys::design(&data).map_err(err)?;
+        let regions = validate::regions(&data).map_err(err)?;
         // The edited data are the input: hash their TOML form.
         let input_sha256 = input_hash(&toml::to_string(&data).unwrap_or_default(), overrides);
         Ok(Problem {
@@ -191,6 +198,7 @@ impl Problem {
             data,
             model,
             settings,
+            regions,
             design,
             overrides: overrides.to_vec(),
             input_sha256,

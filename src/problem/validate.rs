@@ -4,6 +4,7 @@ use super::file::*;
 use super::general;
 use super::ProblemErrorKind as K;
 use crate::analysis::limits::{self, ParamError, Quantity};
+use crate::analysis::regions::RegionSettings;
 use crate::analysis::{Interval, Settings};
 use crate::assembly::DofMap;
 use crate::model::{Bearing, Branch, Circuit, CircuitState, Disk, Load, Model, Ring, RingSupport, Shaft};
@@ -385,6 +386,41 @@ fn charges(file: &CircuitFile, circuit: &Circuit, prefix: &str, rings: &[(&Ring,
         }
     }
     Ok(())
+}
+
+/// Most iterations, levels or orders a `[regions]` count may ask for: far above the
+/// defaults (8–60), and low enough that a typo cannot ask for an endless search.
+const MAX_REGION_COUNT: usize = 10_000;
+
+/// Check `[regions]`: tolerances and steps positive and finite, margins non-negative,
+/// counts from 1 to [`MAX_REGION_COUNT`].
+pub fn regions(f: &ProblemFile) -> Result<RegionSettings, Failure> {
+    let r = &f.regions;
+    for (key, v) in [
+        ("beta_bracket", r.beta_bracket),
+        ("beta_tolerance", r.beta_tolerance),
+        ("phi_tolerance", r.phi_tolerance),
+        ("tip_tolerance", r.tip_tolerance),
+        ("guard_step", r.guard_step),
+        ("edge_step[0]", r.edge_step.absolute),
+        ("edge_step[1]", r.edge_step.relative),
+    ] {
+        positive(&format!("regions.{key}"), v)?;
+    }
+    non_negative("regions.tip_margin[0]", r.tip_margin.relative)?;
+    non_negative("regions.tip_margin[1]", r.tip_margin.absolute)?;
+    for (key, v) in [
+        ("max_order", r.max_order),
+        ("tracking_levels", r.tracking_levels),
+        ("tip_iterations", r.tip_iterations),
+        ("centre_iterations", r.centre_iterations),
+    ] {
+        if v < 1 || v > MAX_REGION_COUNT {
+            let range = format!("a whole number from 1 to {MAX_REGION_COUNT}");
+            return Err((format!("regions.{key}"), K::OutOfRange { value: v as f64, range }));
+        }
+    }
+    Ok(r.clone())
 }
 
 fn settings(s: &Settings) -> Result<Settings, Failure> {

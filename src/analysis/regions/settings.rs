@@ -1,15 +1,15 @@
 //! Settings of the region search: tolerances, steps and margins, each default with its
 //! reason.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The load at which a region's tip is searched, above a bracketed β_c(seed):
 /// β = β_c·(1 + `relative`) + `absolute`. The region is a short interval there whose growth
 /// maximum is the start, biased by at most its half-width.
 ///
 /// Recorded in outputs as the array `[relative, absolute]`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(into = "(f64, f64)")]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(into = "(f64, f64)", from = "(f64, f64)")]
 pub struct TipMargin {
     /// Part proportional to β_c (−).
     pub relative: f64,
@@ -24,6 +24,12 @@ impl TipMargin {
     }
 }
 
+impl From<(f64, f64)> for TipMargin {
+    fn from((relative, absolute): (f64, f64)) -> TipMargin {
+        TipMargin { relative, absolute }
+    }
+}
+
 impl From<TipMargin> for (f64, f64) {
     fn from(m: TipMargin) -> (f64, f64) {
         (m.relative, m.absolute)
@@ -34,8 +40,8 @@ impl From<TipMargin> for (f64, f64) {
 /// `relative`·φ. A stable gap between two tongues at least this wide is never stepped over.
 ///
 /// Recorded in outputs as the array `[absolute, relative]`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-#[serde(into = "(f64, f64)")]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(into = "(f64, f64)", from = "(f64, f64)")]
 pub struct EdgeStep {
     /// Floor of the step (rad/s).
     pub absolute: f64,
@@ -50,14 +56,22 @@ impl EdgeStep {
     }
 }
 
+impl From<(f64, f64)> for EdgeStep {
+    fn from((absolute, relative): (f64, f64)) -> EdgeStep {
+        EdgeStep { absolute, relative }
+    }
+}
+
 impl From<EdgeStep> for (f64, f64) {
     fn from(s: EdgeStep) -> (f64, f64) {
         (s.absolute, s.relative)
     }
 }
 
-/// Settings of the region analysis.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// Settings of the region analysis; a problem file may set any of them in `[regions]`
+/// (the others keep their defaults).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct RegionSettings {
     /// Bracketing step in β (−): β is sampled upward from 0 at this step until the first
     /// unstable sample; an unstable band thinner than this in β can be stepped over.
@@ -88,6 +102,11 @@ pub struct RegionSettings {
 }
 
 impl RegionSettings {
+    /// Whether every setting has its default (a file without `[regions]`).
+    pub fn is_default(&self) -> bool {
+        *self == RegionSettings::default()
+    }
+
     /// Tight tolerances for finite-difference sensitivities: quantities must be resolved
     /// far below their change over the step (start to ~1e-8·φ, β to 1e-8).
     pub fn precise() -> RegionSettings {

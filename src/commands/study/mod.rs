@@ -26,7 +26,7 @@ use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{band, catalogue, CatalogueRequest, RegionSettings};
+use crate::analysis::regions::{band, catalogue, CatalogueRequest};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
@@ -157,7 +157,7 @@ fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) ->
     let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
     let level = study.level.unwrap_or(study.beta_max);
     let range = Interval::new(study.phi[0], study.phi[1]);
-    let (s, criterion, pc) = (RegionSettings::default(), Criterion::of(&fs.settings), PointCost::of(&fs));
+    let (s, criterion, pc) = (problem.regions.clone(), Criterion::of(&fs.settings), PointCost::of(&fs));
     let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
     let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
     let mut estimate = cost::catalogue(&pc, &s, &criterion, &seeds, &work);
@@ -226,7 +226,7 @@ fn run_case(
             let (rotor, fs) = regions_case_system(&problem, study, budget)?;
             let speed = problem.model.speed;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
-            let s = RegionSettings::default();
+            let s = problem.regions.clone();
             let range = Interval::new(study.phi[0], study.phi[1]);
             let cat =
                 catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;

@@ -357,7 +357,7 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     let ctx = Context {
         base,
         spec,
-        regions: RegionSettings::default(),
+        regions: base.regions.clone(),
         floquet: Counter::default(),
         candidates: AtomicUsize::new(0),
         failures: AtomicUsize::new(0),
