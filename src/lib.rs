@@ -38,6 +38,7 @@ pub mod error;
 pub mod linalg;
 pub mod model;
 pub mod problem;
+pub mod progress;
 pub mod report;
 
 pub use error::Error;
