@@ -484,7 +484,8 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
             plain(commands::chart_cmd(&problem, args, &out, progress, budget))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
-            plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref(), progress, budget))
+            let args = commands::RegionsArgs { phi: &phi, beta_max, level, json, out: out.as_deref() };
+            plain(commands::regions_cmd(&load(&input)?, args, progress, budget))
         }
         Command::Band { input, phi_op, level, phi, json } => {
             plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, progress, budget))

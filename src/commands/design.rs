@@ -324,11 +324,14 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, progress)?;
     let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
+    progress.advance(1);
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
+    progress.advance(1);
     let h = history_plot(&outcome);
     dir.write("history.svg", h.svg().map_err(|e| dir.error("history.svg", e))?.as_bytes())?;
+    progress.advance(1);
     dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
-    progress.advance(4);
+    progress.advance(1);
     Ok(outcome)
 }
 

@@ -13,7 +13,7 @@ pub use args::parse_range;
 pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
 pub use out::{check_folder, remove_unfinished, OutDir};
-pub use regions::{band_cmd, regions_cmd};
+pub use regions::{band_cmd, regions_cmd, RegionsArgs};
 pub use study::{
     array_expression, case_id, merge_cmd, plan_cmd, planned_inputs, slurm_cmd, status_cmd, study_cmd, Case, CaseKind,
     CaseResult, CaseState, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions, TaskRecord,

@@ -2,7 +2,7 @@
 //! and `band` (the stable band around an operating frequency).
 
 use super::bounds::{self, Names};
-use super::{check_folder, files_phase, OutDir, Provenance};
+use super::{files_phase, OutDir, Provenance};
 use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
@@ -85,19 +85,30 @@ struct RegionsJson<'a> {
     catalogue: &'a Catalogue,
 }
 
+/// What a catalogue is asked on the command line.
+pub struct RegionsArgs<'a> {
+    /// `--phi A:B` (rad/s).
+    pub phi: &'a str,
+    /// `--beta-max` (−).
+    pub beta_max: f64,
+    /// `--level` (−; default β_max).
+    pub level: Option<f64>,
+    /// `--json`: print JSON instead of the table.
+    pub json: bool,
+    /// `--out DIR`: also track boundaries and write regions.{json,svg,png} there.
+    pub out: Option<&'a Path>,
+}
+
 /// `rotorshunt regions FILE --phi A:B --beta-max BMAX [--level BOP] [--json] [--out DIR]`.
 /// Progress: `catalogue` (a step per search, [`catalogue_with`]), and with `--out` the
 /// boundary plot's `chart` and the `files`.
 pub fn regions_cmd(
     problem: &Problem,
-    phi: &str,
-    beta_max: f64,
-    level: Option<f64>,
-    json: bool,
-    out: Option<&Path>,
+    args: RegionsArgs<'_>,
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
+    let RegionsArgs { phi, beta_max, level, json, out } = args;
     let range = range_of(phi)?;
     let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
@@ -116,9 +127,9 @@ pub fn regions_cmd(
     }
     let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
     bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
-    if let Some(dir) = out {
-        check_folder(dir)?;
-    }
+    // The staging folder is made before the search: an --out that cannot be written
+    // fails at once, and nothing of the folder changes until the last file is written.
+    let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
     progress.phase("catalogue", 0);
@@ -132,10 +143,9 @@ pub fn regions_cmd(
         catalogue: &cat,
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
-    if let Some(dir) = out {
+    if let Some(dir) = dir {
         let plot = boundary_plot(problem, &fs, &cat, progress);
         let written = files_phase(progress, 3);
-        let dir = OutDir::create(dir, &problem.file)?;
         dir.write("regions.json", json_text.as_bytes())?;
         written();
         dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;
