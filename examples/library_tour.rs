@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 5. A design: widen that band by tuning branch 1 (two starts, to keep the tour short).
     let overrides = ["design.starts=2".to_string(), "design.max_iterations=10".to_string()];
     let design = Problem::from_path("problems/design-widest-band.toml", &overrides)?;
-    let outcome = run_design(&design, &|_| {})?;
+    let outcome = run_design(&design, &rotorshunt::progress::Silent)?;
     let (before, after) = (&outcome.before_bands()[0].band, &outcome.after_bands()[0].band);
     println!(
         "design {:?} (verified: {}): band width {:.1} → {:.1} rad/s with {:?}",

@@ -62,6 +62,14 @@ pub enum Error {
         /// Which input, e.g. "the --compare file".
         input: String,
     },
+    /// A command's `--out` names an existing file (or a link to one), not a folder.
+    #[error("--out {path} is {what}, not a folder: give a folder for the output files (it is created if missing)")]
+    OutIsNotAFolder {
+        /// The path given.
+        path: String,
+        /// What it is, e.g. "a file".
+        what: String,
+    },
     /// A study's `--out` folder holds entries that the study did not create.
     #[error(
         "--out folder {dir} holds {} this study did not create ({}): use a new or empty folder, or give --allow-non-empty to write the study beside them (they are never changed)",

@@ -53,6 +53,7 @@ pub mod error;
 pub mod linalg;
 pub mod model;
 pub mod problem;
+pub mod progress;
 pub mod report;
 
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};

@@ -1,9 +1,11 @@
 //! `rotorshunt` command line: parse arguments, load the problem, run, print, exit code.
 
+mod reporter;
+
 use clap::{Args, Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
+use reporter::Reporter;
 use rotorshunt::analysis::cost::Budget;
-use rotorshunt::commands::{self, Progress};
+use rotorshunt::commands;
 use rotorshunt::problem::Problem;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -20,6 +22,10 @@ struct Cli {
     /// cost against before it starts (docs/errors.md, `Cost`).
     #[arg(long = "max-cost", value_name = "FACTOR", global = true, default_value_t = 1.0)]
     max_cost: f64,
+    /// Report no progress on standard error (by default: a bar on a terminal; otherwise,
+    /// from a run's fifth second on, a line every 5 s and at each phase).
+    #[arg(long, global = true)]
+    quiet: bool,
 }
 
 /// The problem file and its overrides, shared by every command.
@@ -293,7 +299,7 @@ fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Er
     .transpose()
 }
 
-fn study(args: StudyArgs, budget: Budget) -> Result<(String, u8), rotorshunt::Error> {
+fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error> {
     let done = |r: &commands::StatusReport| if r.done == r.cases { 0 } else { exit::STUDY_FAILED_CASES };
     match args.action {
         Some(StudyAction::Plan { file, shards, json }) => {
@@ -356,7 +362,7 @@ fn study(args: StudyArgs, budget: Budget) -> Result<(String, u8), rotorshunt::Er
                 dry_run: args.dry_run,
                 budget,
             };
-            let (text, failed) = commands::study_cmd(&file, &out, options, &bar())?;
+            let (text, failed) = commands::study_cmd(&file, &out, options, progress)?;
             if failed > 0 {
                 // Scripts read the status; a person reads why on stderr, after the summary.
                 let place = if text.starts_with("study: shard ") {
@@ -385,30 +391,42 @@ fn threads_from_slurm() {
     }
 }
 
-/// An indicatif bar on standard error (hidden when it is not a terminal).
-struct Bar(ProgressBar);
-
-impl Progress for Bar {
-    fn start(&self, len: u64, what: &str) {
-        self.0.set_length(len);
-        self.0.set_message(what.to_string());
-        self.0.reset_eta();
-    }
-    fn tick(&self) {
-        self.0.inc(1);
-    }
-    fn finish(&self) {
-        self.0.finish_and_clear();
-    }
+/// The progress reporter of a command: its name and phases, or none for the quick ones.
+fn reporter(cli: &Cli) -> Reporter {
+    let (name, plan): (&'static str, &[&'static str]) = match &cli.command {
+        Command::Campbell { .. } => ("campbell", &["whirls", "files"]),
+        Command::Chart { compare, compare_set, .. } if compare.is_some() || !compare_set.is_empty() => {
+            ("chart", &["chart", "compare", "files"])
+        }
+        Command::Chart { .. } => ("chart", &["chart", "files"]),
+        Command::Regions { out: Some(_), .. } => ("regions", &["catalogue", "chart", "files"]),
+        Command::Regions { .. } => ("regions", &["catalogue"]),
+        Command::Band { .. } => ("band", &["band"]),
+        Command::Design { .. } => ("design", &["optimise", "verification", "report"]),
+        Command::Study(StudyArgs { action: None, .. }) => ("study", &["cases"]),
+        Command::Response { .. } => ("response", &["response", "files"]),
+        _ => return Reporter::Quiet,
+    };
+    Reporter::new(cli.quiet, name, plan)
 }
 
-fn bar() -> Bar {
-    let pb = ProgressBar::new(0);
-    if let Ok(style) = ProgressStyle::with_template("{msg:>10} [{bar:40}] {pos}/{len} ({eta})") {
-        pb.set_style(style.progress_chars("=> "));
-    }
-    Bar(pb)
+/// On SIGINT or SIGTERM, remove the unfinished output folders of this run, then end as
+/// the signal would have ended it (the same exit status).
+#[cfg(unix)]
+fn remove_outputs_on_signals() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
+    let _ = std::thread::Builder::new().name("signals".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            commands::remove_unfinished();
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            std::process::exit(128 + signal);
+        }
+    });
 }
+
+#[cfg(not(unix))]
+fn remove_outputs_on_signals() {}
 
 fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
     Ok(Problem::from_path(&input.file, &input.set)?)
@@ -424,7 +442,7 @@ mod exit {
 }
 
 /// The text for standard output and the exit code of a run that produced output.
-fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
+fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error> {
     let plain = |r: Result<String, rotorshunt::Error>| r.map(|t| (t, 0));
     let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::Error::parameter("--max-cost", &e))?;
     match cli.command {
@@ -433,7 +451,7 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
             plain(commands::modes(&load(&input)?, speed, count, json, budget))
         }
         Command::Campbell { input, speeds, count, out } => {
-            plain(commands::campbell_cmd(&load(&input)?, &speeds, count, &out, &bar(), budget))
+            plain(commands::campbell_cmd(&load(&input)?, &speeds, count, &out, progress, budget))
         }
         Command::Floquet { input, point, json } => {
             plain(commands::floquet_cmd(&load(&input)?, point.phi, point.beta, json, budget))
@@ -463,16 +481,17 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
                 None => commands::Compare::None,
             };
             let args = commands::ChartArgs { phi: &phi, beta: &beta, compare: cmp, timing };
-            plain(commands::chart_cmd(&problem, args, &out, &bar(), budget))
+            plain(commands::chart_cmd(&problem, args, &out, progress, budget))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
-            plain(commands::regions_cmd(&load(&input)?, &phi, beta_max, level, json, out.as_deref(), budget))
+            let args = commands::RegionsArgs { phi: &phi, beta_max, level, json, out: out.as_deref() };
+            plain(commands::regions_cmd(&load(&input)?, args, progress, budget))
         }
         Command::Band { input, phi_op, level, phi, json } => {
-            plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, budget))
+            plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, progress, budget))
         }
         Command::Design { input, out } => {
-            let (text, outcome) = commands::design_cmd(&load(&input)?, &out, &bar(), budget)?;
+            let (text, outcome) = commands::design_cmd(&load(&input)?, &out, progress, budget)?;
             let code = match outcome.status {
                 rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,
                 rotorshunt::design::Status::NotVerified => exit::NOT_VERIFIED,
@@ -480,17 +499,21 @@ fn run(cli: Cli) -> Result<(String, u8), rotorshunt::Error> {
             };
             Ok((text, code))
         }
-        Command::Study(args) => study(args, budget),
+        Command::Study(args) => study(args, budget, progress),
         Command::Response { input, point, periods, out } => {
-            plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out, budget))
+            plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out, progress, budget))
         }
     }
 }
 
 fn main() -> ExitCode {
     threads_from_slurm();
+    remove_outputs_on_signals();
     let cli = Cli::parse();
-    match run(cli) {
+    let progress = reporter(&cli);
+    let result = run(cli, &progress);
+    progress.finish();
+    match result {
         Ok((text, code)) => {
             print!("{text}");
             ExitCode::from(code)
@@ -514,6 +537,7 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::NotAStudyFolder { .. }
                 | rotorshunt::Error::SlurmMissing { .. }
                 | rotorshunt::Error::OutputIsInput { .. }
+                | rotorshunt::Error::OutIsNotAFolder { .. }
                 | rotorshunt::Error::Design(
                     rotorshunt::design::DesignError::NoDesign
                     | rotorshunt::design::DesignError::Candidate(_)

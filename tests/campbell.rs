@@ -4,7 +4,8 @@ mod common;
 use common::{load, rel};
 use rotorshunt::analysis::campbell::campbell;
 use rotorshunt::analysis::Rotor;
-use rotorshunt::commands::{campbell_cmd, parse_range, Quiet};
+use rotorshunt::commands::{campbell_cmd, parse_range};
+use rotorshunt::progress::Silent as Quiet;
 
 #[test]
 fn tracks_follow_modes_through_the_table_speeds() {

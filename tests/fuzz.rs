@@ -769,7 +769,8 @@ fn toml_number(x: f64) -> String {
 /// error) or an analysis error, and a result's JSON without nulls.
 fn run_flag_case(c: &FlagCase, problem: &Problem, dir: &Path) -> Result<(), String> {
     use rotorshunt::analysis::cost::Budget;
-    use rotorshunt::commands::{self, Quiet, StudyOptions};
+    use rotorshunt::commands::{self, StudyOptions};
+    use rotorshunt::progress::Silent as Quiet;
     let budget = Budget::default();
     let start = Instant::now();
     let out = dir.join("out");
@@ -777,11 +778,15 @@ fn run_flag_case(c: &FlagCase, problem: &Problem, dir: &Path) -> Result<(), Stri
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match c {
         FlagCase::Floquet(p, b) => commands::floquet_cmd(problem, *p, *b, true, budget),
         FlagCase::Regions(a, b, m, l) => {
-            commands::regions_cmd(problem, &format!("{a}:{b}"), *m, Some(*l), true, None, budget)
+            let phi = format!("{a}:{b}");
+            let args = commands::RegionsArgs { phi: &phi, beta_max: *m, level: Some(*l), json: true, out: None };
+            commands::regions_cmd(problem, args, &Quiet, budget)
         }
-        FlagCase::Band(p, l, a, b) => commands::band_cmd(problem, *p, *l, Some(&format!("{a}:{b}")), true, budget),
+        FlagCase::Band(p, l, a, b) => {
+            commands::band_cmd(problem, *p, *l, Some(&format!("{a}:{b}")), true, &Quiet, budget)
+        }
         FlagCase::Modes(w, n) => commands::modes(problem, Some(*w), *n as usize, true, budget),
-        FlagCase::Response(p, b, n) => commands::response_cmd(problem, *p, *b, *n as usize, &out, budget),
+        FlagCase::Response(p, b, n) => commands::response_cmd(problem, *p, *b, *n as usize, &out, &Quiet, budget),
         FlagCase::Study(a, b, m, l, o) => {
             let text = format!(
                 "base = \"base.toml\"\nkind = \"regions\"\nphi = [{}, {}]\nbeta_max = {}\nlevel = {}\nphi_op = {}\n[[cases]]\nname = \"a\"\n",

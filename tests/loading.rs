@@ -165,7 +165,7 @@ fn dev_zero_is_refused_by_every_route() {
     assert_refused(&["study", path_str(&study), "--out", path_str(&out)], "/dev/zero: the path is a character device");
     // The library's study command gives the typed error.
     let options = rotorshunt::commands::StudyOptions::default();
-    match rotorshunt::commands::study_cmd(&study, &out, options, &rotorshunt::commands::Quiet) {
+    match rotorshunt::commands::study_cmd(&study, &out, options, &rotorshunt::progress::Silent) {
         Err(rotorshunt::Error::Problem(e)) => {
             assert!(matches!(e.kind, ProblemErrorKind::NotARegularFile { .. }), "{e}");
             assert_eq!(e.file, "/dev/zero");

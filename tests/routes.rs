@@ -367,6 +367,6 @@ fn library_requests_obey_the_same_rules() {
     if let Some(spec) = p.design.as_mut() {
         spec.level = 1e300;
     }
-    let e = rotorshunt::design::optimise::run(&p, &|_| {}).unwrap_err();
+    let e = rotorshunt::design::optimise::run(&p, &|| {}).unwrap_err();
     assert_eq!(e.to_string(), "design.level: must be at most 100, found 1e300");
 }

@@ -40,6 +40,11 @@ around the value, so it cannot reach a result:
                  the header) or a Markdown table (study summary.csv and summary.md: wall
                  time of each case) -> `<WALL>`.
 
+  progress-line  a whole line of standard error starting `progress: ` (the CLI's progress
+                 on a non-terminal: from a run's fifth second on, every 5 s and at each
+                 phase) -> removed: how many there are, and their counts and times,
+                 depend on the machine's speed; the results are in the other files.
+
 Progress bars are not normalised: the CLI draws them only on a terminal, and standard
 error is a file here. Paths need no rule: both binaries run in the same directory with the
 same relative arguments, so absolute paths (the study manifests) are equal.
@@ -77,6 +82,7 @@ RULES = [
         r"\g<1>" + WALL + r"\g<2>",
     ),
     ("study-wall", re.compile(r"^(study: \d+ cases \([^)]*\) in )" + NUM + r"( s;)", re.M), r"\g<1>" + WALL + r"\g<2>"),
+    ("progress-line", re.compile(r"^progress: [^\n]*\n", re.M), ""),
 ]
 
 

@@ -3,6 +3,7 @@
 
 use super::modes::{whirl_modes_of, ModeKind, ModesResult, Whirl};
 use super::{AnalysisError, Rotor, Settings};
+use crate::progress::Progress;
 use faer::{c64, ColRef};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -65,20 +66,20 @@ pub fn mac(x: ColRef<'_, c64>, y: ColRef<'_, c64>) -> f64 {
 const TRACKING_MARGIN: usize = 3;
 
 /// Campbell diagram of the lowest `count` forward and backward whirls over `speeds`
-/// (rad/s). Eigen-solutions run in parallel over speeds (`tick` is called once per
+/// (rad/s). Eigen-solutions run in parallel over speeds (`progress` advances one step per
 /// speed); tracking is sequential and deterministic.
 pub fn campbell(
     rotor: &Rotor,
     settings: &Settings,
     speeds: &[f64],
     count: usize,
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<CampbellResult, AnalysisError> {
     let solved: Vec<ModesResult> = speeds
         .par_iter()
         .map(|&w| {
             let r = whirl_modes_of(rotor, settings, w);
-            tick();
+            progress.advance(1);
             r
         })
         .collect::<Result<_, _>>()?;

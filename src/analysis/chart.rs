@@ -4,6 +4,7 @@
 
 use super::floquet::{FloquetSystem, PointStatus, PointSummary};
 use super::reduction::ReductionInfo;
+use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -42,13 +43,13 @@ impl ChartResult {
     }
 }
 
-/// Compute a chart; `tick` is called once per φ row.
-pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], tick: &(dyn Fn() + Sync)) -> ChartResult {
+/// Compute a chart; `progress` advances one step per φ row (the caller names the phase).
+pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress) -> ChartResult {
     let rows: Vec<Vec<ChartPoint>> = phis
         .par_iter()
         .map(|&phi| {
             let row = fs.row(phi, betas).into_iter().map(|p| p.summary).collect();
-            tick();
+            progress.advance(1);
             row
         })
         .collect();

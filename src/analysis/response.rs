@@ -4,6 +4,7 @@
 
 use super::floquet::FloquetSystem;
 use super::AnalysisError;
+use crate::progress::{Progress, Silent};
 use faer::c64;
 use serde::Serialize;
 
@@ -91,24 +92,37 @@ fn step_rules(fs: &FloquetSystem, phi: f64) -> (f64, f64, f64) {
 }
 
 /// [`response`] for callers that report it: refused before work when it is stiff
-/// (beyond [`STIFFNESS_LIMIT`]), and an error when its state stops being finite.
+/// (beyond [`STIFFNESS_LIMIT`]), and an error when its state stops being finite;
+/// `progress` advances one step per load period integrated.
 pub fn checked_response(
     fs: &FloquetSystem,
     phi: f64,
     beta: f64,
     periods: usize,
+    progress: &dyn Progress,
 ) -> Result<ResponseResult, AnalysisError> {
     let (by_phase, by_stability, radius) = step_rules(fs, phi);
     let by_phase = by_phase.max(64.0);
     if by_stability.is_nan() || by_stability > STIFFNESS_LIMIT * by_phase {
         return Err(AnalysisError::StiffResponse { phi, rate: radius, steps: by_stability, accuracy_steps: by_phase });
     }
-    response(fs, phi, beta, periods).finite()
+    response_reporting(fs, phi, beta, periods, progress).finite()
 }
 
 /// Integrate `periods` load periods at (φ, β) from rest, stopping at the first step whose
 /// state is not finite (`stopped_at`; [`ResponseResult::finite`] makes that an error).
 pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> ResponseResult {
+    response_reporting(fs, phi, beta, periods, &Silent)
+}
+
+/// [`response`], advancing `progress` one step per load period integrated.
+pub fn response_reporting(
+    fs: &FloquetSystem,
+    phi: f64,
+    beta: f64,
+    periods: usize,
+    progress: &dyn Progress,
+) -> ResponseResult {
     let sys = &fs.system;
     let n = sys.b0.nrows();
     let m = n / 2;
@@ -170,6 +184,9 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
         if (s + 1) % stride == 0 {
             time.push(t + h);
             q1.push([y[m].re, y[m].im]);
+        }
+        if (s + 1) % steps_per_period.max(1) == 0 {
+            progress.advance(1);
         }
     }
     ResponseResult {

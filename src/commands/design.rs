@@ -3,7 +3,7 @@
 //! plots (charts before/after with the operating bands, Campbell diagram, history).
 
 use super::bounds::{self, Names};
-use super::{title, OutDir, Progress, TOOL};
+use super::{title, OutDir, TOOL};
 use crate::analysis::campbell::campbell;
 use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
@@ -15,6 +15,7 @@ use crate::design::spec::{DesignSpec, Objective};
 use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
+use crate::progress::Progress;
 use crate::report::campbell::campbell_plot;
 use crate::report::chart::{Layer, StabilityPlot};
 use crate::report::design::{markdown, BranchRow, DesignReport};
@@ -66,7 +67,14 @@ fn chart_window(spec: &DesignSpec) -> (f64, f64) {
     (lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
 }
 
-fn charts(dir: &OutDir, before: &Candidate, after: &Candidate, spec: &DesignSpec) -> Result<(), Error> {
+/// The before/after charts at each speed; a step of `progress` per φ row and per file.
+fn charts(
+    dir: &OutDir,
+    before: &Candidate,
+    after: &Candidate,
+    spec: &DesignSpec,
+    progress: &dyn Progress,
+) -> Result<(), Error> {
     let (lo, hi) = chart_window(spec);
     let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
@@ -84,7 +92,7 @@ fn charts(dir: &OutDir, before: &Candidate, after: &Candidate, spec: &DesignSpec
         for (name, c, color) in [("reference circuit", before, (31, 119, 180)), ("tuned circuit", after, (214, 39, 40))]
         {
             let fs = &c.systems[k].1;
-            layers.push(Layer { name: name.into(), color, chart: chart(fs, &phis, &betas, &|| {}) });
+            layers.push(Layer { name: name.into(), color, chart: chart(fs, &phis, &betas, progress) });
         }
         // The operating level as a horizontal line.
         let level = Series {
@@ -98,7 +106,9 @@ fn charts(dir: &OutDir, before: &Candidate, after: &Candidate, spec: &DesignSpec
             .with_lines(vec![level]);
         let name = if spec.speeds.len() == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
         dir.write(&format!("{name}.svg"), plot.svg().map_err(|e| dir.error("charts.svg", e))?.as_bytes())?;
+        progress.advance(1);
         dir.write(&format!("{name}.png"), &plot.png().map_err(|e| dir.error("charts.png", e))?)?;
+        progress.advance(1);
     }
     Ok(())
 }
@@ -188,17 +198,6 @@ pub(crate) const DESIGN: Names<'static> = Names {
     periods: "the design",
 };
 
-/// Candidates a design may build: the progress count of its optimiser (Nelder–Mead:
-/// 2 per iteration and the simplex, per start; clear-bands: the global pass and
-/// 2·(2·variables + 1) per convex step), and the finals and the reference.
-fn candidates(spec: &DesignSpec) -> f64 {
-    let (starts, iterations, variables) = (spec.starts as f64, spec.max_iterations as f64, spec.variables.len() as f64);
-    match spec.objective {
-        Objective::WidestStableBand { .. } => starts * (2.0 * iterations + variables + 1.0) + starts + 1.0,
-        Objective::ClearBands { .. } => 4.0 * starts + 1.0 + 2.0 * iterations * (2.0 * variables + 1.0) + 1.0,
-    }
-}
-
 /// The estimated cost of `problem`'s design, from its reference candidate (its rotor and
 /// reduced systems are built: bounded by the dense estimate, checked first): every
 /// candidate's dense stages and band (or operating-band) search at every speed, and the
@@ -270,13 +269,17 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
     // The whirls: the physics seed's and the catalogues' at each speed, and the Campbell
     // diagram's speeds.
     let whirls = cost::dense(model, Dense::Whirls(CAMPBELL_SPEEDS + 3 * spec.speeds.len()), threads);
-    let total = per_candidate.times(candidates(spec), Driver::Candidates, "candidates").then(verification).then(whirls);
+    let total = per_candidate
+        .times(design::optimise::most_candidates(spec) as f64, Driver::Candidates, "candidates")
+        .then(verification)
+        .then(whirls);
     Ok(Estimate { memory: if memory.amount > total.memory.amount { memory } else { total.memory.clone() }, ..total })
 }
 
 /// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
 /// decides the exit code). Refused before any folder is made when its estimate is beyond
-/// `budget`.
+/// `budget`. Progress: the design's `optimise` and `verification` ([`design::run`]),
+/// then `report` (a step per chart row, Campbell speed and file).
 pub fn design_cmd(
     problem: &Problem,
     out: &Path,
@@ -286,20 +289,16 @@ pub fn design_cmd(
     // No folder is created for a file without a [design] table.
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
-    let outcome = design_report(problem, &OutDir::create(out, &problem.file)?, progress)?;
+    let dir = OutDir::create(out, &problem.file)?;
+    let outcome = design_report(problem, &dir, progress)?;
+    dir.commit("design")?;
     Ok((summary_text(&outcome, out), outcome))
 }
 
 /// Run the design and write the report files to `dir`; the outcome.
 pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let expected = match spec.objective {
-        Objective::WidestStableBand { .. } => spec.starts * (2 * spec.max_iterations + spec.variables.len() + 1),
-        Objective::ClearBands { .. } => 4 * spec.starts + 1 + 2 * spec.max_iterations * (2 * spec.variables.len() + 1),
-    };
-    progress.start(expected as u64, "design");
-    let outcome = design::run(problem, &|_| progress.tick())?;
-    progress.finish();
+    let outcome = design::run(problem, progress)?;
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(problem, spec, &outcome.before)?;
     let after = Candidate::new(problem, spec, &outcome.after)?;
@@ -313,6 +312,8 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         vec!["report.md".into(), "report.json".into(), design_file_name(outcome.status).into()];
     files.extend(chart_files);
     files.extend(["campbell.svg", "campbell.png", "history.svg", "history.png"].iter().map(|s| s.to_string()));
+    let chart_rows = 2 * spec.speeds.len() * CHART_GRID.0;
+    progress.phase("report", (chart_rows + CAMPBELL_SPEEDS + files.len()) as u64);
     let report = DesignReport {
         provenance: super::Provenance::of(problem),
         title: title(problem),
@@ -324,16 +325,21 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     dir.write(design_file_name(outcome.status), tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
     dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
     dir.write("report.md", markdown(&report).as_bytes())?;
-    charts(dir, &before, &after, spec)?;
+    progress.advance(3);
+    charts(dir, &before, &after, spec, progress)?;
     let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
     let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
-    let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, &|| {})?;
+    let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, progress)?;
     let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
+    progress.advance(1);
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
+    progress.advance(1);
     let h = history_plot(&outcome);
     dir.write("history.svg", h.svg().map_err(|e| dir.error("history.svg", e))?.as_bytes())?;
+    progress.advance(1);
     dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
+    progress.advance(1);
     Ok(outcome)
 }
 

@@ -2,7 +2,7 @@
 //! a second configuration) and `response` (time response at one point).
 
 use super::bounds::{self, Names};
-use super::{parse_range, title, OutDir, Progress, Provenance};
+use super::{files_phase, parse_range, title, OutDir, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
@@ -11,6 +11,7 @@ use crate::analysis::response::{checked_response, rk4_steps_per_period, Response
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
 use crate::problem::Problem;
+use crate::progress::Progress;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use crate::report::plot::{LinePlot, Series};
 use crate::Error;
@@ -123,10 +124,8 @@ pub enum Compare<'a> {
 }
 
 fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress, what: &str) -> ChartResult {
-    progress.start(phis.len() as u64, what);
-    let c = chart(fs, phis, betas, &|| progress.tick());
-    progress.finish();
-    c
+    progress.phase(what, phis.len() as u64);
+    chart(fs, phis, betas, progress)
 }
 
 fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
@@ -149,6 +148,7 @@ pub struct ChartArgs<'a> {
 }
 
 /// `rotorshunt chart FILE --phi A:B:STEP --beta A:B:STEP --out DIR [--compare …]`.
+/// Progress: `chart` (a step per φ), `compare` (with a second configuration), `files`.
 pub fn chart_cmd(
     problem: &Problem,
     args: ChartArgs<'_>,
@@ -194,23 +194,38 @@ pub fn chart_cmd(
     let start = Instant::now();
     let main = run_chart(&main_fs, &phis, &betas, progress, "chart");
     let elapsed = start.elapsed().as_secs_f64();
+    let compared = match (compare, &other_fs) {
+        (Compare::Problem(name, other), Some(fs)) => {
+            Some((name, other, run_chart(fs, &phis, &betas, progress, "compare")))
+        }
+        _ => None,
+    };
+    let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main)?;
     let label = title(problem);
     let name = layer_name(problem);
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
-    if let (Compare::Problem(name, other), Some(fs)) = (compare, &other_fs) {
-        let c = run_chart(fs, &phis, &betas, progress, "compare");
+    if let Some((name, other, c)) = compared {
         write_chart(&dir, "compare", other, &c)?;
+        written();
+        written();
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
         layers.push(Layer { name: name.to_string(), color: (214, 39, 40), chart: c });
     }
+    written();
+    written();
     let plot = StabilityPlot::new(&format!("Stability chart: {label}"), layers);
     dir.write("chart.svg", plot.svg().map_err(|e| dir.error("chart.svg", e))?.as_bytes())?;
+    written();
     dir.write("chart.png", &plot.png().map_err(|e| dir.error("chart.png", e))?)?;
+    written();
     let growth = GrowthMap::new(&format!("Growth rate: {label}"), main.clone());
     dir.write("growth.svg", growth.svg().map_err(|e| dir.error("growth.svg", e))?.as_bytes())?;
+    written();
     dir.write("growth.png", &growth.png().map_err(|e| dir.error("growth.png", e))?)?;
+    written();
+    dir.commit("chart")?;
     let mut head = format!(
         "chart: {} points ({} phi x {} beta), {} unstable, {} failed, {} inaccurate; wrote chart.{{json,csv,svg,png}} and growth.{{svg,png}} to {}\n",
         main.points.len(),
@@ -235,13 +250,15 @@ pub fn chart_cmd(
     Ok(head + &text)
 }
 
-/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`.
+/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`. Progress:
+/// `response` (a step per load period), then `files`.
 pub fn response_cmd(
     problem: &Problem,
     phi: f64,
     beta: f64,
     periods: usize,
     out: &Path,
+    progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
     check_point(phi, beta)?;
@@ -255,8 +272,11 @@ pub fn response_cmd(
     let steps = rk4_steps_per_period(&fs, phi) as f64;
     let steps = if steps > STIFFNESS_LIMIT * phase { phase } else { steps };
     bounds::admit(&budget, "the response", &cost::response(&pc, phi, beta, periods, steps), &POINT)?;
+    super::check_folder(out)?;
     let point = fs.point(phi, beta);
-    let r: ResponseResult = checked_response(&fs, phi, beta, periods)?;
+    progress.phase("response", periods as u64);
+    let r: ResponseResult = checked_response(&fs, phi, beta, periods, progress)?;
+    let written = files_phase(progress, 4);
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
     struct Json<'a> {
@@ -267,11 +287,13 @@ pub fn response_cmd(
     }
     let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r };
     dir.write("response.json", json_compact(&json, "the JSON output")?.as_bytes())?;
+    written();
     let mut csv = String::from("time_s,q1_re,q1_im\n");
     for (t, q) in r.time.iter().zip(&r.q1) {
         csv += &format!("{t},{},{}\n", q[0], q[1]);
     }
     dir.write("response.csv", csv.as_bytes())?;
+    written();
     let ymax = r.q1.iter().map(|q| q[0].abs()).fold(0.0, f64::max).max(1e-300);
     let plot = LinePlot {
         title: format!(
@@ -291,7 +313,10 @@ pub fn response_cmd(
         }],
     };
     dir.write("response.svg", plot.svg().map_err(|e| dir.error("response.svg", e))?.as_bytes())?;
+    written();
     dir.write("response.png", &plot.png().map_err(|e| dir.error("response.png", e))?)?;
+    written();
+    dir.commit("response")?;
     Ok(format!(
         "response: {} periods, RK4 step {:.3e} s; peak |q| first period {:.4e}, last period {:.4e} (ratio {:.3e}); Floquet: max|mu| = {:.6} ({}); wrote response.{{json,csv,svg,png}} to {}\n",
         periods,

@@ -12,8 +12,8 @@ mod study;
 pub use args::parse_range;
 pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
-pub use out::OutDir;
-pub use regions::{band_cmd, regions_cmd};
+pub use out::{check_folder, remove_unfinished, OutDir};
+pub use regions::{band_cmd, regions_cmd, RegionsArgs};
 pub use study::{
     array_expression, case_id, merge_cmd, plan_cmd, planned_inputs, slurm_cmd, status_cmd, study_cmd, Case, CaseKind,
     CaseResult, CaseState, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions, TaskRecord,
@@ -27,6 +27,7 @@ use crate::analysis::modes::{whirl_modes_of, WhirlMode};
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::problem::Problem;
+use crate::progress::Progress;
 use crate::report::{campbell as campbell_report, summary};
 use crate::Error;
 use serde::Serialize;
@@ -64,19 +65,12 @@ impl Provenance {
     }
 }
 
-/// A source of progress ticks for long loops; the CLI drives a progress bar with it.
-pub trait Progress: Sync {
-    /// Announce the number of steps.
-    fn start(&self, _len: u64, _what: &str) {}
-    /// One step done.
-    fn tick(&self) {}
-    /// All done.
-    fn finish(&self) {}
+/// Begin the `files` phase that ends a command, of `count` files; the step to call after
+/// each file is written.
+pub(crate) fn files_phase(progress: &dyn Progress, count: u64) -> impl Fn() + '_ {
+    progress.phase("files", count);
+    move || progress.advance(1)
 }
-
-/// Progress that shows nothing.
-pub struct Quiet;
-impl Progress for Quiet {}
 
 pub(crate) fn title(p: &Problem) -> String {
     p.data.title.clone().unwrap_or_else(|| p.file.clone())
@@ -131,6 +125,7 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, bu
 }
 
 /// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
+/// Progress: `whirls` (a step per speed), then `files` (a step per file).
 pub fn campbell_cmd(
     problem: &Problem,
     speeds: &str,
@@ -149,9 +144,9 @@ pub fn campbell_cmd(
     bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
     let dir = OutDir::create(out, &problem.file)?;
     let rotor = Rotor::new(&problem.model)?;
-    progress.start(speeds.len() as u64, "campbell");
-    let result = campbell(&rotor, &problem.settings, &speeds, count, &|| progress.tick())?;
-    progress.finish();
+    progress.phase("whirls", speeds.len() as u64);
+    let result = campbell(&rotor, &problem.settings, &speeds, count, progress)?;
+    progress.phase("files", 4);
     #[derive(Serialize)]
     struct Json<'a> {
         #[serde(flatten)]
@@ -160,11 +155,16 @@ pub fn campbell_cmd(
     }
     let json = Json { provenance: Provenance::of(problem), campbell: &result };
     dir.write("campbell.json", json_pretty(&json, "the JSON output")?.as_bytes())?;
+    progress.advance(1);
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
+    progress.advance(1);
     let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
+    progress.advance(1);
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
+    progress.advance(1);
+    dir.commit("campbell")?;
     Ok(format!(
         "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
         speeds.len(),

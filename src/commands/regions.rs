@@ -2,19 +2,22 @@
 //! and `band` (the stable band around an operating frequency).
 
 use super::bounds::{self, Names};
-use super::{OutDir, Provenance};
+use super::{files_phase, OutDir, Provenance};
 use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::limits::{self, Quantity};
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{band, catalogue, Band, Bound, Catalogue, CatalogueRequest, Edges, RegionSettings};
+use crate::analysis::regions::{
+    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, RegionSettings,
+};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::problem::Problem;
+use crate::progress::Progress;
 use crate::report::chart::{Layer, StabilityPlot};
 use crate::report::plot::Series;
 use crate::Error;
@@ -51,10 +54,12 @@ fn plot_grid(range: Interval, beta_max: f64) -> (Vec<f64>, Vec<f64>) {
     (phis, betas)
 }
 
-/// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid).
-fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Catalogue) -> Result<(), Error> {
+/// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid), the
+/// `chart` phase of `progress`.
+fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progress: &dyn Progress) -> StabilityPlot {
     let (phis, betas) = plot_grid(cat.range, cat.beta_max);
-    let c = chart(fs, &phis, &betas, &|| {});
+    progress.phase("chart", phis.len() as u64);
+    let c = chart(fs, &phis, &betas, progress);
     let mut lines = Vec::new();
     for r in cat.regions.iter().filter(|r| r.resolved) {
         let side = |f: &dyn Fn(&Edges) -> f64| -> Series {
@@ -66,10 +71,7 @@ fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Cata
         lines.push(side(&|e| e.phi.hi));
     }
     let layer = Layer { name: format!("{} circuit", problem.model.state_text()), color: (31, 119, 180), chart: c };
-    let plot = StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer])
-        .with_lines(lines);
-    dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;
-    dir.write("regions.png", &plot.png().map_err(|e| dir.error("regions.png", e))?)
+    StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer]).with_lines(lines)
 }
 
 #[derive(Serialize)]
@@ -83,16 +85,30 @@ struct RegionsJson<'a> {
     catalogue: &'a Catalogue,
 }
 
+/// What a catalogue is asked on the command line.
+pub struct RegionsArgs<'a> {
+    /// `--phi A:B` (rad/s).
+    pub phi: &'a str,
+    /// `--beta-max` (−).
+    pub beta_max: f64,
+    /// `--level` (−; default β_max).
+    pub level: Option<f64>,
+    /// `--json`: print JSON instead of the table.
+    pub json: bool,
+    /// `--out DIR`: also track boundaries and write regions.{json,svg,png} there.
+    pub out: Option<&'a Path>,
+}
+
 /// `rotorshunt regions FILE --phi A:B --beta-max BMAX [--level BOP] [--json] [--out DIR]`.
+/// Progress: `catalogue` (a step per search, [`catalogue_with`]), and with `--out` the
+/// boundary plot's `chart` and the `files`.
 pub fn regions_cmd(
     problem: &Problem,
-    phi: &str,
-    beta_max: f64,
-    level: Option<f64>,
-    json: bool,
-    out: Option<&Path>,
+    args: RegionsArgs<'_>,
+    progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
+    let RegionsArgs { phi, beta_max, level, json, out } = args;
     let range = range_of(phi)?;
     let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
@@ -111,9 +127,13 @@ pub fn regions_cmd(
     }
     let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
     bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
+    // The staging folder is made before the search: an --out that cannot be written
+    // fails at once, and nothing of the folder changes until the last file is written.
+    let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
-    let cat = catalogue(&fs, &full, &settings, &req)?;
+    progress.phase("catalogue", 0);
+    let cat = catalogue_with(&fs, &full, &settings, &req, progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let doc = RegionsJson {
         provenance: Provenance::of(problem),
@@ -123,10 +143,16 @@ pub fn regions_cmd(
         catalogue: &cat,
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
-    if let Some(dir) = out {
-        let dir = OutDir::create(dir, &problem.file)?;
+    if let Some(dir) = dir {
+        let plot = boundary_plot(problem, &fs, &cat, progress);
+        let written = files_phase(progress, 3);
         dir.write("regions.json", json_text.as_bytes())?;
-        boundary_plot(&dir, problem, &fs, &cat)?;
+        written();
+        dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;
+        written();
+        dir.write("regions.png", &plot.png().map_err(|e| dir.error("regions.png", e))?)?;
+        written();
+        dir.commit("regions")?;
     }
     if json {
         return Ok(json_text);
@@ -206,13 +232,15 @@ fn bound_text(b: &Option<Bound>) -> String {
     }
 }
 
-/// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`.
+/// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`. Progress: `band`
+/// (a step per search, [`band_with`]).
 pub fn band_cmd(
     problem: &Problem,
     phi_op: f64,
     level: f64,
     window: Option<&str>,
     json: bool,
+    progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
     let phi_op = bounds::flag("--phi-op", limits::frequency(Quantity::OperatingFrequency, phi_op))?;
@@ -232,7 +260,8 @@ pub fn band_cmd(
     bounds::admit(&budget, "the band search", &estimate, &names)?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
-    let b = band(&fs, &full, &settings, window, phi_op, level)?;
+    progress.phase("band", 0);
+    let b = band_with(&fs, &full, &settings, window, phi_op, level, progress)?;
     let out = BandOutput {
         provenance: Provenance::of(problem),
         speed: problem.model.speed,

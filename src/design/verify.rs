@@ -20,9 +20,10 @@ use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
 use crate::analysis::regions::{
-    band_around, catalogue, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, Probe, RegionSettings,
+    band_around, catalogue_with, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, Probe, RegionSettings,
 };
 use crate::analysis::{Criterion, Interval};
+use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -100,15 +101,21 @@ pub struct DesignAtSpeed {
 /// Whirls per direction listed in the report.
 const REPORT_WHIRLS: usize = 6;
 
-/// Whirls and catalogue of a design at each operating speed (no checks).
-pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<Vec<DesignAtSpeed>, DesignError> {
+/// Whirls and catalogue of a design at each operating speed (no checks); the searches
+/// report their steps to `progress` ([`catalogue_with`]).
+pub fn describe(
+    c: &Candidate,
+    spec: &DesignSpec,
+    s: &RegionSettings,
+    progress: &dyn Progress,
+) -> Result<Vec<DesignAtSpeed>, DesignError> {
     c.systems
         .iter()
         .map(|(w, fs)| {
             let full = whirl_modes_of(&c.rotor, &c.problem.settings, *w)?;
             let req =
                 CatalogueRequest { range: spec.range(), beta_max: spec.beta_max, level: spec.level, track: false };
-            let cat = catalogue(fs, &full, s, &req)?;
+            let cat = catalogue_with(fs, &full, s, &req, progress)?;
             let mut whirls = Vec::new();
             for dir in [Whirl::Forward, Whirl::Backward] {
                 whirls.extend(
@@ -123,7 +130,7 @@ pub fn describe(c: &Candidate, spec: &DesignSpec, s: &RegionSettings) -> Result<
             let band = match spec.objective.phi_op() {
                 Some(p) => {
                     let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
-                    let probe = Probe::new(fs, s);
+                    let probe = Probe::reporting(fs, s, progress);
                     Some(band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, p))
                 }
                 None => None,
@@ -155,28 +162,42 @@ fn tongues(cat: &Catalogue) -> Vec<(String, Interval, bool)> {
 }
 
 /// The grid over `window` at [`GRID_STEP`] (coarser beyond [`MAX_GRID_POINTS`]), interior
-/// points only, in parallel.
-fn grid(fs: &FloquetSystem, criterion: &Criterion, window: Interval, level: f64, count: &Counter) -> GridCheck {
+/// points only, in parallel; a step of `progress` per point.
+fn grid(
+    fs: &FloquetSystem,
+    criterion: &Criterion,
+    window: Interval,
+    level: f64,
+    count: &Counter,
+    progress: &dyn Progress,
+) -> GridCheck {
     let step = GRID_STEP.max(window.width() / MAX_GRID_POINTS as f64);
     let n = (window.width() / step).floor() as usize;
     let points: Vec<f64> = (1..n).map(|i| window.lo + step * i as f64).filter(|&p| p < window.hi).collect();
     count.add(points.len());
+    progress.extend(points.len() as u64);
     let unstable: Vec<f64> = points
         .par_iter()
         .copied()
-        .filter(|&phi| criterion.counts(&fs.point_fast(&fs.table(phi, level), level).summary))
+        .filter(|&phi| {
+            let counted = criterion.counts(&fs.point_fast(&fs.table(phi, level), level).summary);
+            progress.advance(1);
+            counted
+        })
         .collect();
     GridCheck { window, step, points: points.len(), unstable }
 }
 
 /// Verify a design's result (module docs): `bands` are the design's operating bands at
-/// each speed (widest-stable-band), or empty (clear-bands). Fills the checks of `at`.
+/// each speed (widest-stable-band), or empty (clear-bands). Fills the checks of `at`;
+/// a step of `progress` per reference point and grid point.
 pub fn verify(
     c: &Candidate,
     spec: &DesignSpec,
     bands: &[OperatingBand],
     at: &mut [DesignAtSpeed],
     count: &Counter,
+    progress: &dyn Progress,
 ) -> bool {
     let criterion = c.criterion();
     let mut passed = true;
@@ -220,11 +241,13 @@ pub fn verify(
             .filter(|(_, e, _)| windows.iter().any(|w| e.overlaps(&Interval::new(w.lo - reach(w), w.hi + reach(w)))))
             .collect();
         count.add(near.len());
+        progress.extend(near.len() as u64);
         d.centres = near
             .par_iter()
             .map(|(label, e, _)| {
                 let phi = e.centre();
                 let p = fs.point_dstm(phi, spec.level, fs.settings.reference_steps).summary;
+                progress.advance(1);
                 CentreCheck {
                     label: label.clone(),
                     phi,
@@ -240,7 +263,7 @@ pub fn verify(
                 cc.label, cc.phi, cc.max_multiplier
             ));
         }
-        d.grids = windows.iter().map(|w| grid(fs, &criterion, *w, spec.level, count)).collect();
+        d.grids = windows.iter().map(|w| grid(fs, &criterion, *w, spec.level, count, progress)).collect();
         for g in &d.grids {
             if let Some(p) = g.unstable.first() {
                 d.failures.push(format!(

@@ -32,6 +32,25 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     use std::io::Write;
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let existing = replaceable(path)?;
+    let (tmp, mut f) = create_temporary(dir, &name)?;
+    let written = (|| {
+        f.write_all(bytes)?;
+        if let Some(m) = existing.as_ref().filter(|m| m.is_file()) {
+            f.set_permissions(m.permissions())?;
+        }
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    written.inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}
+
+/// The file at `path` that an output would replace, if any; an error for a read-only one,
+/// which is never replaced (a rename would replace it whatever its mode).
+pub fn replaceable(path: &Path) -> io::Result<Option<std::fs::Metadata>> {
     let existing = match std::fs::metadata(path) {
         Ok(m) => Some(m),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
@@ -46,19 +65,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
             ),
         ));
     }
-    let (tmp, mut f) = create_temporary(dir, &name)?;
-    let written = (|| {
-        f.write_all(bytes)?;
-        if let Some(m) = existing.as_ref().filter(|m| m.is_file()) {
-            f.set_permissions(m.permissions())?;
-        }
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    written.inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
+    Ok(existing)
 }
 
 /// A new temporary for `name` in `dir`, created exclusively (an existing file of that

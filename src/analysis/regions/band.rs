@@ -108,7 +108,16 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
         .collect();
     // Seeds whose window contains φ_op serve both sides: searched once, first.
     let both: Vec<usize> = relevant.iter().copied().filter(|&i| reach(&seeds[i]).contains(phi_op)).collect();
-    let shared: Vec<Hit> = both.par_iter().flat_map_iter(|&i| level.hits(seeds, i)).collect();
+    let progress = level.probe().progress();
+    progress.extend(both.len() as u64);
+    let shared: Vec<Hit> = both
+        .par_iter()
+        .flat_map_iter(|&i| {
+            let h = level.hits(seeds, i);
+            progress.advance(1);
+            h
+        })
+        .collect();
     let ((left, left_ignored), (right, right_ignored)) = rayon::join(
         || side(level, seeds, &relevant, &shared, phi_op, -1.0),
         || side(level, seeds, &relevant, &shared, phi_op, 1.0),
@@ -187,17 +196,23 @@ fn side(
             searches[next..].iter().take_while(|(k, _)| before(*k)).take(BATCH).map(|(_, s)| *s).collect();
         if !batch.is_empty() {
             next += batch.len();
+            let progress = level.probe().progress();
+            progress.extend(batch.len() as u64);
             let found: Vec<Vec<Hit>> = batch
                 .par_iter()
-                .map(|s| match *s {
-                    Search::Lattice(p) => {
-                        if level.counts(p) {
-                            vec![Hit { phi: p, seed: None }]
-                        } else {
-                            Vec::new()
+                .map(|s| {
+                    let found = match *s {
+                        Search::Lattice(p) => {
+                            if level.counts(p) {
+                                vec![Hit { phi: p, seed: None }]
+                            } else {
+                                Vec::new()
+                            }
                         }
-                    }
-                    Search::Seed(i) => level.hits(seeds, i),
+                        Search::Seed(i) => level.hits(seeds, i),
+                    };
+                    progress.advance(1);
+                    found
                 })
                 .collect();
             hits.extend(found.into_iter().flatten().filter(|h| ahead(h.phi)));

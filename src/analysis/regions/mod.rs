@@ -42,6 +42,7 @@ use super::floquet::FloquetSystem;
 use super::limits::{self, ParamError};
 use super::modes::ModesResult;
 use super::{AnalysisError, Criterion, Interval};
+use crate::progress::{Progress, Silent};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -179,6 +180,20 @@ pub fn band(
     phi_op: f64,
     level: f64,
 ) -> Result<Band, AnalysisError> {
+    band_with(fs, full, s, range, phi_op, level, &Silent)
+}
+
+/// [`band`], reporting its searches to `progress` ([`probe`]: a step is a seed's search
+/// or a guard-lattice point; the steps are learned batch by batch as the sides widen).
+pub fn band_with(
+    fs: &FloquetSystem,
+    full: &ModesResult,
+    s: &RegionSettings,
+    range: Interval,
+    phi_op: f64,
+    level: f64,
+    progress: &dyn Progress,
+) -> Result<Band, AnalysisError> {
     limits::phi_range(range.lo, range.hi)?;
     limits::level(level, limits::MAX_BETA)?;
     limits::frequency(limits::Quantity::OperatingFrequency, phi_op)?;
@@ -188,7 +203,7 @@ pub fn band(
     check_reliable(fs, range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), range, criterion.max_order)?;
-    let probe = Probe::new(fs, s);
+    let probe = Probe::reporting(fs, s, progress);
     Ok(band_around(&Level::new(&probe, criterion, level, range), &seeds, phi_op))
 }
 
@@ -206,11 +221,26 @@ pub fn catalogue(
     s: &RegionSettings,
     req: &CatalogueRequest,
 ) -> Result<Catalogue, AnalysisError> {
+    catalogue_with(fs, full, s, req, &Silent)
+}
+
+/// [`catalogue`], reporting its searches to `progress` as steps of the caller's phase
+/// ([`probe`]): each seed's start, each seed's hits at the level, each tongue's extent,
+/// each guard-lattice point, each region's onset and each tracked boundary. The steps are
+/// announced ([`Progress::extend`]) as each stage learns of them, so the total grows
+/// while the search runs.
+pub fn catalogue_with(
+    fs: &FloquetSystem,
+    full: &ModesResult,
+    s: &RegionSettings,
+    req: &CatalogueRequest,
+    progress: &dyn Progress,
+) -> Result<Catalogue, AnalysisError> {
     req.check()?;
     check_reliable(fs, req.range)?;
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), req.range, criterion.max_order)?;
-    let probe = Probe::new(fs, s);
+    let probe = Probe::reporting(fs, s, progress);
     let level = Level::new(&probe, criterion, req.level, req.range);
     // Each seed searches its own window for its start: ±0.3 %, but less than half-way to
     // the nearest seed of another start (seeds within `phi_tolerance`, degenerate whirls,
@@ -223,16 +253,19 @@ pub fn catalogue(
             .fold(f64::INFINITY, f64::min);
         (START_WINDOW * seeds[i].phi).min(0.45 * nearest)
     };
+    let searched = |i: usize| seeds[i].order <= s.max_order && req.range.contains(seeds[i].phi);
+    progress.extend((0..seeds.len()).filter(|&i| searched(i)).count() as u64);
     let (located, tongues) = rayon::join(
         || {
             (0..seeds.len())
                 .into_par_iter()
                 .map(|i| {
-                    let seed = &seeds[i];
-                    if seed.order > s.max_order || !req.range.contains(seed.phi) {
+                    if !searched(i) {
                         return None;
                     }
-                    probe.locate_start(seed.phi, half_width(i), req.level, req.beta_max)
+                    let start = probe.locate_start(seeds[i].phi, half_width(i), req.level, req.beta_max);
+                    progress.advance(1);
+                    start
                 })
                 .collect::<Vec<Option<Start>>>()
         },
@@ -242,11 +275,13 @@ pub fn catalogue(
     let own = |i: usize| {
         tongues.iter().enumerate().find_map(|(t, x)| x.seeds.iter().find(|(j, _)| *j == i).map(|(_, p)| (t, *p)))
     };
+    progress.extend(seeds.len() as u64);
     let found: Vec<Option<Region>> = (0..seeds.len())
         .into_par_iter()
         .map(|i| {
             let seed = &seeds[i];
             let hit = own(i);
+            progress.advance(1);
             let tongue = hit.map(|(t, _)| &tongues[t]);
             // A start located on the seed's line above the level, while the tongue reaches
             // the level beside it (a drifted tongue): the onset is at most β_c where it was
@@ -288,8 +323,10 @@ pub fn catalogue(
     regions.sort_by(|a, b| a.start.total_cmp(&b.start));
     let before_tracking = probe.evaluations();
     if req.track {
+        progress.extend(regions.iter().filter(|r| r.resolved).count() as u64);
         regions.par_iter_mut().filter(|r| r.resolved).for_each(|r| {
             r.boundary = probe.track(r.start, r.onset_beta, req.beta_max);
+            progress.advance(1);
         });
     }
     let tracking = probe.evaluations() - before_tracking;

@@ -11,10 +11,15 @@
 //! [`super::Level`], which borrows a probe: a catalogue asks at one level under two
 //! criteria (the declared one, and the tolerance alone for the slow tongues), and at many
 //! other loads (onsets, tracking), and all of it is one count.
+//!
+//! A probe also carries the search's [`Progress`]: the searches report their steps (a
+//! seed's start or hits, a tongue's extent, a guard-lattice point, a tracked boundary)
+//! to it as they learn of them and finish them.
 
 use super::RegionSettings;
 use crate::analysis::floquet::fast::PhiTable;
 use crate::analysis::floquet::{FloquetSystem, PointSummary};
+use crate::progress::{Progress, Silent};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Counts monodromy evaluations (shared across threads).
@@ -32,18 +37,40 @@ impl Counter {
     }
 }
 
-/// The region search's access to one Floquet system: settings and evaluation count.
-#[derive(Debug)]
+/// The region search's access to one Floquet system: settings, evaluation count and the
+/// progress the searches report to.
 pub struct Probe<'a> {
     fs: &'a FloquetSystem,
     settings: &'a RegionSettings,
     evaluations: Counter,
+    progress: &'a dyn Progress,
+}
+
+impl std::fmt::Debug for Probe<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Probe")
+            .field("fs", &self.fs)
+            .field("settings", &self.settings)
+            .field("evaluations", &self.evaluations)
+            .finish_non_exhaustive()
+    }
 }
 
 impl<'a> Probe<'a> {
-    /// A probe of `fs` with the search settings `settings`, no evaluations yet.
+    /// A probe of `fs` with the search settings `settings`, no evaluations yet, whose
+    /// progress nobody watches.
     pub fn new(fs: &'a FloquetSystem, settings: &'a RegionSettings) -> Probe<'a> {
-        Probe { fs, settings, evaluations: Counter::default() }
+        Probe::reporting(fs, settings, &Silent)
+    }
+
+    /// A probe whose searches report their steps to `progress` (module docs).
+    pub fn reporting(fs: &'a FloquetSystem, settings: &'a RegionSettings, progress: &'a dyn Progress) -> Probe<'a> {
+        Probe { fs, settings, evaluations: Counter::default(), progress }
+    }
+
+    /// The progress the searches report to.
+    pub fn progress(&self) -> &'a dyn Progress {
+        self.progress
     }
 
     /// The Floquet system.

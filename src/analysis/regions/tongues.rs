@@ -192,16 +192,30 @@ impl Level<'_> {
         let chosen: Vec<usize> = (0..seeds.len())
             .filter(|&i| seeds[i].order <= self.criterion.max_order && reach(&seeds[i]).overlaps(&window))
             .collect();
-        let mut hits: Vec<Hit> = chosen.par_iter().flat_map_iter(|&i| self.hits(seeds, i)).collect();
+        let progress = self.probe.progress();
+        progress.extend(chosen.len() as u64);
+        let mut hits: Vec<Hit> = chosen
+            .par_iter()
+            .flat_map_iter(|&i| {
+                let h = self.hits(seeds, i);
+                progress.advance(1);
+                h
+            })
+            .collect();
         // Twins report their group's hits once each.
         hits.sort_by(|a, b| a.phi.total_cmp(&b.phi).then(a.seed.cmp(&b.seed)));
         hits.dedup();
         let mut tongues = self.tongues_of(seeds, &hits, &[]);
         let covered = |phi: f64, t: &[Tongue]| t.iter().any(|x| x.extent.contains(phi));
-        let guard: Vec<Hit> = self
-            .lattice(window)
+        let lattice = self.lattice(window);
+        progress.extend(lattice.len() as u64);
+        let guard: Vec<Hit> = lattice
             .into_par_iter()
-            .filter(|&p| !covered(p, &tongues) && self.counts(p))
+            .filter(|&p| {
+                let counted = !covered(p, &tongues) && self.counts(p);
+                progress.advance(1);
+                counted
+            })
             .map(|phi| Hit { phi, seed: None })
             .collect();
         let more = self.tongues_of(seeds, &guard, &tongues);
@@ -231,7 +245,16 @@ impl Level<'_> {
                     round.push(h.phi);
                 }
             }
-            let extents: Vec<(f64, Option<Interval>)> = round.par_iter().map(|&p| (p, self.extent(p))).collect();
+            let progress = self.probe.progress();
+            progress.extend(round.len() as u64);
+            let extents: Vec<(f64, Option<Interval>)> = round
+                .par_iter()
+                .map(|&p| {
+                    let e = self.extent(p);
+                    progress.advance(1);
+                    (p, e)
+                })
+                .collect();
             // Hits beyond the window are done with once their march was made: their
             // tongue's extent is clipped to the window and need not contain them.
             let mut done: Vec<f64> = Vec::new();

@@ -21,7 +21,7 @@ mod state;
 
 use super::bounds::{self, Names};
 use super::design::{design_estimate, design_report, DESIGN};
-use super::{OutDir, Progress, Quiet, TOOL};
+use super::{OutDir, TOOL};
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
@@ -32,6 +32,7 @@ use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::problem::Problem;
+use crate::progress::{Progress, Silent};
 use crate::Error;
 pub(crate) use folder::Ledger;
 use folder::{CaseFolder, Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
@@ -194,7 +195,7 @@ fn run_case(
     match case.kind {
         CaseKind::Design => {
             admit_case(&problem, CaseKind::Design, study, budget)?;
-            let o = design_report(&problem, dir, &Quiet)?;
+            let o = design_report(&problem, dir, &Silent)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified));
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
@@ -510,7 +511,7 @@ pub fn study_cmd(
         None => (0..plan.len()).collect(),
     };
     let started = Instant::now();
-    progress.start(indices.len() as u64, "study");
+    progress.phase("cases", indices.len() as u64);
     let run = Run {
         plan: &plan,
         hasher: InputHasher::new(&base_text),
@@ -527,11 +528,10 @@ pub fn study_cmd(
         .par_iter()
         .map(|&i| {
             let r = run.case(i);
-            progress.tick();
+            progress.advance(1);
             r
         })
         .collect();
-    progress.finish();
     let mut rows: Vec<&CaseResult> = Vec::new();
     let mut busy = Vec::new();
     let mut skipped = 0;

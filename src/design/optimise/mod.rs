@@ -8,6 +8,7 @@ use super::verify::{describe, verify, DesignAtSpeed};
 use super::DesignError;
 use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
 use crate::problem::Problem;
+use crate::progress::Progress;
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
@@ -263,7 +264,7 @@ pub struct Cost {
     pub seconds: f64,
 }
 
-/// Shared state of a run: the base problem, counters and the progress callback.
+/// Shared state of a run: the base problem, counters and the progress observer.
 struct Context<'a> {
     base: &'a Problem,
     spec: &'a DesignSpec,
@@ -272,7 +273,7 @@ struct Context<'a> {
     candidates: AtomicUsize,
     failures: AtomicUsize,
     first_failure: std::sync::Mutex<Option<String>>,
-    progress: &'a (dyn Fn(usize) + Sync),
+    progress: &'a dyn Progress,
     /// The reference design (the file's values), built once and checked reliable.
     reference: Candidate,
 }
@@ -283,8 +284,8 @@ impl Context<'_> {
     }
 
     fn candidate(&self, u: &[f64]) -> Result<Candidate, DesignError> {
-        let n = self.candidates.fetch_add(1, Ordering::Relaxed) + 1;
-        (self.progress)(n);
+        self.candidates.fetch_add(1, Ordering::Relaxed);
+        self.progress.advance(1);
         let c = Candidate::new(self.base, self.spec, &self.values(u));
         if let Err(e) = &c {
             self.failures.fetch_add(1, Ordering::Relaxed);
@@ -338,14 +339,29 @@ fn halton(i: usize, dims: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The most candidates a design of `spec` builds: Nelder–Mead: the simplex and 2 per
+/// iteration, per start, then each start's final point and the reference; clear-bands:
+/// the global pass (4 per start and the reference), 2·(2·variables + 1) per convex step,
+/// and the result. An optimiser that converges early builds fewer.
+pub fn most_candidates(spec: &DesignSpec) -> usize {
+    let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
+    match spec.objective {
+        Objective::WidestStableBand { .. } => starts * (2 * iterations + variables + 1) + starts + 1,
+        Objective::ClearBands { .. } => 4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1,
+    }
+}
+
 /// Run the design of `base.design`, first checked by the `[design]` rules
-/// ([`DesignSpec::check`]: a spec built in code is not trusted); `progress` receives the
-/// number of candidates so far. The result is verified independently ([`crate::design::verify`]); the catalogues of
-/// the reference and the tuned design (for the report) come with it.
-pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOutcome, DesignError> {
+/// ([`DesignSpec::check`]: a spec built in code is not trusted). `progress` sees two
+/// phases: `optimise`, a step per candidate built (at most [`most_candidates`]), and
+/// `verification`, a step per search and grid point of the checks ([`describe`],
+/// [`verify`]). The result is verified independently ([`crate::design::verify`]); the
+/// catalogues of the reference and the tuned design (for the report) come with it.
+pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
+    progress.phase("optimise", most_candidates(spec) as u64);
     let started = Instant::now();
     let before = values_of(base, spec);
     // The reference design's Floquet points must pass the β = 0 check over the design's
@@ -401,14 +417,15 @@ pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOu
     // Verification, from scratch: the reference and the tuned design rebuilt, their full
     // catalogues, and the checks on the tuned one.
     let checked = Instant::now();
+    progress.phase("verification", 0);
     let count = Counter::default();
     let reference = Candidate::new(base, spec, &out.before)?;
     let tuned = Candidate::new(base, spec, &out.after)?;
-    out.before_speeds = describe(&reference, spec, &ctx.regions)?;
-    out.after_speeds = describe(&tuned, spec, &ctx.regions)?;
+    out.before_speeds = describe(&reference, spec, &ctx.regions, progress)?;
+    out.after_speeds = describe(&tuned, spec, &ctx.regions, progress)?;
     count.add(out.before_speeds.iter().chain(&out.after_speeds).map(|d| d.catalogue.evaluations).sum());
     let mut after_speeds = std::mem::take(&mut out.after_speeds);
-    out.verified = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count);
+    out.verified = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count, progress);
     out.after_speeds = after_speeds;
     match &mut out.findings {
         // Intrusions named after the full model's whirls: the catalogue's region with the
