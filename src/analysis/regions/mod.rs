@@ -183,7 +183,7 @@ pub fn band(
     band_with(fs, full, s, range, phi_op, level, &Silent)
 }
 
-/// [`band`], reporting its searches to `progress` ([`probe`]: a step is a seed's search
+/// [`band()`], reporting its searches to `progress` ([`probe`]: a step is a seed's search
 /// or a guard-lattice point; the steps are learned batch by batch as the sides widen).
 pub fn band_with(
     fs: &FloquetSystem,
