@@ -32,7 +32,8 @@ What it writes into `tests/fixtures/ross/` (or `--out DIR`), all SI units, rad/s
   direction from the amplitude-weighted orbit sense; see `whirl_index` below).
 * `speed_dependent.toml` and `speed_dependent.modal.json`: the rotor_example geometry on
   bearings whose (isotropic) coefficients are tabulated against frequency; importable
-  only once a speed is chosen. Its modal file is at a tabulated speed.
+  only once a speed is chosen. Its modal file is at a tabulated speed (1000 rad/s) and
+  between two (750 rad/s, where ROSS's spline is checked to be the table's line).
 * `refuse_*.toml`: rotors the importer must refuse; where one element is at fault its
   tag starts with `Refused`: Timoshenko elements (all of them), a tapered outer
   diameter, a tapered bore, an anisotropic bearing (kxx != kyy), anisotropic bearing
@@ -154,6 +155,8 @@ SPEED_TABLE = [0.0, 500.0, 1000.0, 1500.0]
 SPEED_K = [1.0e6 + 200.0 * w for w in SPEED_TABLE]
 SPEED_C = [100.0 + 0.1 * w for w in SPEED_TABLE]
 SPEED_DEPENDENT_AT = 1000.0
+# A speed between table points: ROSS's spline there is the line through the table.
+SPEED_BETWEEN = 750.0
 
 
 def speed_dependent():
@@ -173,6 +176,14 @@ def check_speed_dependent(loaded):
             gap = abs(float(got(SPEED_DEPENDENT_AT)) - want) / want
             if not gap <= ROUND_TRIP:
                 sys.exit(f"speed_dependent: ROSS's spline misses the table by {gap:.3e}")
+        # Between table points the spline is the table's line.
+        for got, want in (
+            (b.kxx_interpolated, 1.0e6 + 200.0 * SPEED_BETWEEN),
+            (b.cxx_interpolated, 100.0 + 0.1 * SPEED_BETWEEN),
+        ):
+            gap = abs(float(got(SPEED_BETWEEN)) - want) / want
+            if not gap <= ROUND_TRIP:
+                sys.exit(f"speed_dependent: ROSS's spline leaves the line by {gap:.3e} at {SPEED_BETWEEN}")
     bearings = [
         rs.BearingElement(n=n, kxx=SPEED_K[i], cxx=SPEED_C[i]) for n in (0, 6)
     ]
@@ -241,7 +252,7 @@ ROTORS = {
     "rotor_example_rayleigh": (rotor_example_rayleigh, [0.0, 500.0, 1500.0]),
     # Speeds where no two lateral whirls are within 2 % of each other.
     "stepped_hollow": (stepped_hollow, [0.0, 800.0, 2500.0]),
-    "speed_dependent": (speed_dependent, [SPEED_DEPENDENT_AT]),
+    "speed_dependent": (speed_dependent, [SPEED_DEPENDENT_AT, SPEED_BETWEEN]),
     "refuse_timoshenko": (refuse_timoshenko, None),
     "refuse_tapered_outer": (refuse_tapered_outer, None),
     "refuse_tapered_bore": (refuse_tapered_bore, None),

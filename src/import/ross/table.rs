@@ -6,9 +6,11 @@
 //! `UnivariateSpline` (cubic, default smoothing s = number of points); this module uses
 //! the cubic interpolating spline with not-a-knot ends, which is what FITPACK returns at
 //! s = 0. The two agree exactly at the tabulated frequencies and wherever the table is a
-//! cubic polynomial of the frequency (a linear table included); elsewhere ROSS's
-//! smoothing lets its spline leave the points by a residual of Σr² ≤ s, about one unit of
-//! the coefficient (1 N/m on a table of 10⁶ N/m), so the two differ by about that much.
+//! cubic polynomial of the frequency (a linear table included). Elsewhere they differ:
+//! ROSS's smoothing lets its spline miss the points by residuals with Σr² ≤ s (about one
+//! unit of the coefficient each, 1 N/m on a table of 10⁶ N/m) and may give it fewer
+//! knots, so between the points of a coarse, strongly curved table the two can part by
+//! more (docs/ross-format.md).
 //! Speeds outside the table are refused by the caller: ROSS extrapolates its spline.
 
 use nalgebra::{DMatrix, DVector};
