@@ -144,3 +144,17 @@ fn speed_dependent_bearings_match_ross_at_the_chosen_speed() {
         assert!(dev < ACCEPTANCE_RTOL, "at {speed} rad/s: deviation {dev:.3e} from ROSS");
     }
 }
+
+#[test]
+fn the_catalogue_rotor_is_the_imported_rotor_example() {
+    // problems/ross-rotor-example.toml is `import-ross` of the fixture, unedited, so the
+    // comparison above is its check (expected values: problems/README.md).
+    let name = "tests/fixtures/ross/rotor_example_rayleigh.toml";
+    let text = std::fs::read_to_string(common::root().join(name)).unwrap();
+    let import = rotorshunt::import::ross::import_text(&text, name, Default::default()).unwrap();
+    let fresh: toml::Table = toml::from_str(&import.text).unwrap();
+    let catalogue: toml::Table =
+        toml::from_str(&std::fs::read_to_string(common::problem_path("ross-rotor-example.toml")).unwrap()).unwrap();
+    assert_eq!(catalogue, fresh);
+    common::load("ross-rotor-example.toml", &[]);
+}
