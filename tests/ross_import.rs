@@ -268,3 +268,40 @@ fn an_existing_out_file_is_kept_unless_force() {
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me\n");
 }
+
+#[test]
+fn mutated_ross_files_never_panic() {
+    // Each line of each fixture deleted, or its value replaced by a bad one: the import
+    // returns a result or a typed error (a panic fails the test). Values that ROSS never
+    // writes but TOML allows (nan, inf, negative numbers, strings, arrays) included.
+    let replacements = ["-1.0", "nan", "inf", "0", "\"x\"", "[]", "[ 1.0, 2.0,]", "true", "1e308"];
+    let mut runs = 0;
+    let mut refused = 0;
+    for name in
+        ["rotor_example_rayleigh.toml", "stepped_hollow.toml", "speed_dependent.toml", "refuse_linked_bearing.toml"]
+    {
+        let text = std::fs::read_to_string(fixture(name)).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        for i in 0..lines.len() {
+            let mut variants =
+                vec![lines.iter().enumerate().filter(|(j, _)| *j != i).map(|(_, l)| *l).collect::<Vec<_>>().join("\n")];
+            if let Some((key, _)) = lines[i].split_once(" = ") {
+                for r in replacements {
+                    let mut edited = lines.clone();
+                    let line = format!("{key} = {r}");
+                    edited[i] = &line;
+                    variants.push(edited.join("\n"));
+                }
+            }
+            for v in variants {
+                for speed in [None, Some(750.0)] {
+                    runs += 1;
+                    if rotorshunt::import::ross::import_text(&v, name, Options { speed }).is_err() {
+                        refused += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(runs > 5000 && refused > runs / 4, "{runs} runs, {refused} refused");
+}
