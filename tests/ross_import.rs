@@ -305,3 +305,21 @@ fn mutated_ross_files_never_panic() {
     }
     assert!(runs > 5000 && refused > runs / 4, "{runs} runs, {refused} refused");
 }
+
+#[test]
+fn a_rotor_the_general_form_refuses_is_not_written() {
+    // The rotor example on its left bearing only: a rigid-body mode remains.
+    let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
+    let start = text.find("[\"BearingElement_Bearing 1\"]").unwrap();
+    let end = start + text[start..].find("\n\n").unwrap();
+    let dir = common::root().join("out/tests/ross_import");
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = dir.join("one_bearing.toml");
+    std::fs::write(&source, format!("{}{}", &text[..start], &text[end..])).unwrap();
+    let out = dir.join("one_bearing.problem.toml");
+    let _ = std::fs::remove_file(&out);
+    let e = rotorshunt::commands::import_ross_cmd(&source, &out, None, false).unwrap_err();
+    let Error::Problem(p) = &e else { panic!("{e}") };
+    assert!(matches!(p.kind, rotorshunt::problem::ProblemErrorKind::RigidBody { .. }), "{e}");
+    assert!(!out.exists());
+}

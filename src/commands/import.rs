@@ -11,7 +11,8 @@ use std::path::Path;
 /// Convert a ROSS `Rotor.save` file into a problem file at `out`. An existing `out` is
 /// refused ([`Error::OutputExists`]) unless `force`, and is never the input
 /// ([`Error::OutputIsInput`], even with `force`); nothing is written when the import is
-/// refused. `speed` (rad/s) becomes the problem's speed and evaluates tabulated bearings.
+/// refused, or when the problem it gives does not load (a [`crate::problem::ProblemError`]
+/// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed and evaluates tabulated bearings.
 pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool) -> Result<String, Error> {
     let speed = speed.map(|w| bounds::flag("--speed", limits::speed(w))).transpose()?;
     if let (Ok(a), Ok(b)) = (std::fs::canonicalize(file), std::fs::canonicalize(out)) {
@@ -20,6 +21,10 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
         }
     }
     let import = ross::import_path(file, Options { speed })?;
+    // What is written must load: the general form's own checks (e.g. a rotor on one
+    // bearing keeps a rigid-body mode) refuse it before anything is written.
+    let name = format!("{} (as imported from {})", out.display(), file.display());
+    crate::problem::Problem::from_text(&import.text, &name, &[])?;
     let output = |e: std::io::Error| Error::Output { path: out.display().to_string(), message: e.to_string() };
     if force {
         write_atomic(out, import.text.as_bytes()).map_err(output)?;
