@@ -8,6 +8,10 @@ pub enum Error {
     /// A problem file is unreadable or invalid.
     #[error(transparent)]
     Problem(#[from] crate::problem::ProblemError),
+    /// A ROSS rotor file that cannot be imported (`import-ross`); boxed, as it is large
+    /// and rare.
+    #[error(transparent)]
+    Ross(Box<crate::import::ross::RossError>),
     /// An analysis failed on valid input (e.g. a load at buckling).
     #[error("analysis failed: {0}")]
     Analysis(#[from] crate::analysis::AnalysisError),
@@ -69,6 +73,12 @@ pub enum Error {
         path: String,
         /// What it is, e.g. "a file".
         what: String,
+    },
+    /// `import-ross --out FILE` names an existing file and `--force` was not given.
+    #[error("{path} exists and is not replaced: give --force to replace it, or choose another --out file")]
+    OutputExists {
+        /// The file.
+        path: String,
     },
     /// A study's `--out` folder holds entries that the study did not create.
     #[error(
@@ -187,6 +197,12 @@ pub enum Error {
         /// The limit.
         limit: u64,
     },
+}
+
+impl From<crate::import::ross::RossError> for Error {
+    fn from(e: crate::import::ross::RossError) -> Error {
+        Error::Ross(Box::new(e))
+    }
 }
 
 impl Error {

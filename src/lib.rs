@@ -19,7 +19,8 @@
 //! form (shift-invert, Eq. 18–21, where that form does not apply).
 //!
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
-//! (matrices) → [`analysis`] → [`design`] → [`report`]. SI units and rad/s throughout.
+//! (matrices) → [`analysis`] → [`design`] → [`report`]; [`import`] turns other programs'
+//! rotor files (ROSS's) into problem files. SI units and rad/s throughout.
 //!
 //! ## The library's face
 //!
@@ -50,6 +51,7 @@ pub mod assembly;
 pub mod commands;
 pub mod design;
 pub mod error;
+pub mod import;
 pub mod linalg;
 pub mod model;
 pub mod problem;

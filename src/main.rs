@@ -172,6 +172,25 @@ enum Command {
     /// `study plan|status|merge|slurm` list, inspect, summarise and submit a study split
     /// into shards (README, "Running a study on a cluster").
     Study(StudyArgs),
+    /// Convert a rotor saved by ROSS (`Rotor.save`, TOML or JSON) into a problem file: shaft
+    /// elements to sections, disks, isotropic bearings to plain bearings (docs/ross-format.md).
+    /// Elements rotorshunt cannot represent are refused, naming the element (exit 2).
+    #[command(name = "import-ross")]
+    ImportRoss {
+        /// The ROSS file (`.toml` or `.json`).
+        file: PathBuf,
+        /// The problem file to write; an existing file is refused unless --force.
+        #[arg(long)]
+        out: PathBuf,
+        /// Speed Ω (rad/s): the problem's `speed`, and where speed-dependent bearing
+        /// coefficients are evaluated (frequency = speed, as ROSS's run_modal); default 0,
+        /// and tabulated bearings refused.
+        #[arg(long)]
+        speed: Option<f64>,
+        /// Replace an existing --out file.
+        #[arg(long)]
+        force: bool,
+    },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
         #[command(flatten)]
@@ -500,6 +519,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
             Ok((text, code))
         }
         Command::Study(args) => study(args, budget, progress),
+        Command::ImportRoss { file, out, speed, force } => plain(commands::import_ross_cmd(&file, &out, speed, force)),
         Command::Response { input, point, periods, out } => {
             plain(commands::response_cmd(&load(&input)?, point.phi, point.beta, periods, &out, progress, budget))
         }
@@ -522,6 +542,8 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::from(match e {
                 rotorshunt::Error::Problem(_)
+                | rotorshunt::Error::Ross(_)
+                | rotorshunt::Error::OutputExists { .. }
                 | rotorshunt::Error::Argument { .. }
                 | rotorshunt::Error::Parameter { .. }
                 | rotorshunt::Error::Cost(_)

@@ -7,6 +7,7 @@ mod common;
 use rotorshunt::analysis::cost::{CostError, Resource};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::design::DesignError;
+use rotorshunt::import::ross::{Format, Refusal, RossError, RossErrorKind};
 use rotorshunt::linalg::LinalgError;
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 use rotorshunt::Error;
@@ -121,6 +122,16 @@ fn error_kind(e: &Error) -> &'static str {
         Error::NotAStudyFolder { .. } => "NotAStudyFolder",
         Error::SlurmMissing { .. } => "SlurmMissing",
         Error::SlurmFailed { .. } => "SlurmFailed",
+        Error::OutputExists { .. } => "OutputExists",
+        Error::Ross(r) => ross_kind(&r.kind),
+    }
+}
+
+fn ross_kind(k: &RossErrorKind) -> &'static str {
+    match k {
+        RossErrorKind::Syntax { .. } => "RossSyntax",
+        RossErrorKind::Schema { .. } => "RossSchema",
+        RossErrorKind::Refused { .. } => "RossRefused",
     }
 }
 
@@ -198,6 +209,16 @@ fn every_kind() -> Vec<&'static str> {
         Error::NotAStudyFolder { dir: s(), manifest: s(), reason: s() },
         Error::SlurmMissing { program: s(), reason: s() },
         Error::SlurmFailed { program: s(), script: s(), status: s(), stderr: s() },
+        Error::OutputExists { path: s() },
+        Error::from(RossError {
+            file: s(),
+            kind: RossErrorKind::Syntax { format: Format::Toml, line: None, message: s() },
+        }),
+        Error::from(RossError { file: s(), kind: RossErrorKind::Schema { key: s(), message: s() } }),
+        Error::from(RossError {
+            file: s(),
+            kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing) },
+        }),
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),

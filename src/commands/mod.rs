@@ -5,6 +5,7 @@ mod args;
 mod bounds;
 mod design;
 mod floquet;
+mod import;
 mod out;
 mod regions;
 mod study;
@@ -12,6 +13,7 @@ mod study;
 pub use args::parse_range;
 pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
+pub use import::import_ross_cmd;
 pub use out::{check_folder, remove_unfinished, OutDir};
 pub use regions::{band_cmd, regions_cmd, RegionsArgs};
 pub use study::{

@@ -1,0 +1,56 @@
+//! `rotorshunt import-ross ROTOR.{toml,json} --out PROBLEM.toml [--speed W] [--force]`.
+
+use super::bounds;
+use crate::analysis::limits;
+use crate::import::ross::{self, Options};
+use crate::report::write_atomic;
+use crate::Error;
+use std::io::Write;
+use std::path::Path;
+
+/// Convert a ROSS `Rotor.save` file into a problem file at `out`. An existing `out` is
+/// refused ([`Error::OutputExists`]) unless `force`, and is never the input
+/// ([`Error::OutputIsInput`], even with `force`); nothing is written when the import is
+/// refused, or when the problem it gives does not load (a [`crate::problem::ProblemError`]
+/// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed and evaluates tabulated bearings.
+pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool) -> Result<String, Error> {
+    let speed = speed.map(|w| bounds::flag("--speed", limits::speed(w))).transpose()?;
+    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(file), std::fs::canonicalize(out)) {
+        if a == b {
+            return Err(Error::OutputIsInput { path: out.display().to_string(), input: "the ROSS file".into() });
+        }
+    }
+    let import = ross::import_path(file, Options { speed })?;
+    // What is written must load: the general form's own checks (e.g. a rotor on one
+    // bearing keeps a rigid-body mode) refuse it before anything is written.
+    let name = format!("{} (as imported from {})", out.display(), file.display());
+    crate::problem::Problem::from_text(&import.text, &name, &[])?;
+    let output = |e: std::io::Error| Error::Output { path: out.display().to_string(), message: e.to_string() };
+    if force {
+        write_atomic(out, import.text.as_bytes()).map_err(output)?;
+    } else {
+        write_new(out, import.text.as_bytes()).map_err(|e| match e.kind() {
+            std::io::ErrorKind::AlreadyExists => Error::OutputExists { path: out.display().to_string() },
+            _ => output(e),
+        })?;
+    }
+    let r = &import.rotor;
+    let elements: usize = r.sections.iter().map(|s| s.elements).sum();
+    Ok(format!(
+        "import-ross: {} shaft elements in {} section(s), {} disk(s), {} bearing(s); wrote {} (add [[rings]] by editing)\n",
+        elements,
+        r.sections.len(),
+        r.disks.len(),
+        r.bearings.len(),
+        out.display()
+    ))
+}
+
+/// Write a file that must not exist yet: created exclusively (an existing file, or one
+/// created in the meantime, is never opened), removed again if writing fails.
+fn write_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(path)?;
+    f.write_all(bytes).and_then(|_| f.sync_all()).inspect_err(|_| {
+        let _ = std::fs::remove_file(path);
+    })
+}

@@ -1,0 +1,385 @@
+//! From ROSS's elements to rotorshunt's general form: materials, sections, disks and
+//! plain bearings, or a refusal naming the element. The rules are in
+//! `docs/ross-format.md` (section "Mapping to rotorshunt").
+
+use super::error::{ElementRef, Refusal, RossErrorKind};
+use super::parse::{Bearing, Coefficient, RossFile, Shaft};
+use super::table;
+
+/// Relative tolerance within which consecutive shaft elements have "the same" length and
+/// may share a section. ROSS writes lengths in Python's shortest round-trip form, and a
+/// length computed as `0.6/6` is saved as 0.09999999999999999 next to 0.1: those differ by
+/// one or two ulps (2e-16 relative). A section then spreads its total length evenly, which
+/// moves a node by at most this fraction of an element, far below any mesh effect;
+/// elements of really different lengths stay in separate sections, so that every node
+/// stays where ROSS has it.
+pub const SAME_LENGTH_RTOL: f64 = 1e-12;
+
+/// The imported rotor, ready to be written as a problem file (SI units, rad/s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Imported {
+    /// `ross_version` of the file.
+    pub ross_version: Option<String>,
+    /// The speed Ω (rad/s) the bearings were evaluated at, if one was chosen.
+    pub speed: Option<f64>,
+    /// Materials, in order of first use.
+    pub materials: Vec<MaterialOut>,
+    /// Shaft sections, left to right.
+    pub sections: Vec<SectionOut>,
+    /// Disks, by node (then tag).
+    pub disks: Vec<DiskOut>,
+    /// Plain bearings, by node.
+    pub bearings: Vec<BearingOut>,
+}
+
+/// A `[[materials]]` entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialOut {
+    /// Name (ROSS's, with `-2`, `-3`, … when ROSS gave one name different values).
+    pub name: String,
+    /// ROSS's name.
+    pub ross_name: String,
+    /// E (Pa).
+    pub youngs_modulus: f64,
+    /// ρ (kg/m³).
+    pub density: f64,
+}
+
+/// A `[[sections]]` entry: a run of consecutive uniform ROSS shaft elements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SectionOut {
+    /// Total length (m), the sum of the elements' L.
+    pub length: f64,
+    /// Outer diameter (m).
+    pub outer_diameter: f64,
+    /// Inner diameter (m).
+    pub inner_diameter: f64,
+    /// Material name (a [`MaterialOut::name`]).
+    pub material: String,
+    /// Number of elements.
+    pub elements: usize,
+    /// `n` of the first element (its left node).
+    pub first_n: i64,
+    /// Tags of the first and last element.
+    pub tags: (String, String),
+    /// L of the first element (m).
+    pub element_length: f64,
+}
+
+/// A `[[disks]]` entry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiskOut {
+    /// Node.
+    pub node: i64,
+    /// m (kg).
+    pub mass: f64,
+    /// J_p (kg·m²).
+    pub polar_inertia: f64,
+    /// J_d (kg·m²).
+    pub diametral_inertia: f64,
+    /// ROSS tag.
+    pub tag: String,
+}
+
+/// A `[[bearings]]` entry: one or more isotropic ROSS bearings at one node (ROSS adds the
+/// matrices of bearings at one node; rotorshunt has one support per node, so they are
+/// summed here).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BearingOut {
+    /// Node.
+    pub node: i64,
+    /// k = kxx = kyy (N/m).
+    pub stiffness: f64,
+    /// c = cxx = cyy (N·s/m).
+    pub damping: f64,
+    /// Added mass mxx = myy (kg), on the node.
+    pub mass: f64,
+    /// ROSS tags, with the number of tabulated frequencies if the coefficients were
+    /// evaluated at the chosen speed.
+    pub from: Vec<(String, Option<usize>)>,
+}
+
+fn refused(class: &str, tag: &str, n: Option<i64>, reason: Refusal) -> RossErrorKind {
+    RossErrorKind::Refused {
+        element: Some(Box::new(ElementRef { class: class.into(), tag: tag.into(), n })),
+        reason: Box::new(reason),
+    }
+}
+
+/// A value that must be finite and > 0 (`positive`) or ≥ 0.
+fn check(key: &str, value: f64, positive: bool) -> Result<(), Refusal> {
+    let ok = value.is_finite() && if positive { value > 0.0 } else { value >= 0.0 };
+    if ok {
+        return Ok(());
+    }
+    let rule = if positive { "must be finite and > 0" } else { "must be finite and ≥ 0" };
+    Err(Refusal::Value { key: key.into(), value, rule: rule.into() })
+}
+
+/// Map a parsed file; `speed` (rad/s) evaluates tabulated bearing coefficients.
+pub fn map(file: &RossFile, speed: Option<f64>) -> Result<Imported, RossErrorKind> {
+    let shafts = shafts(file)?;
+    let last_node = shafts.len() as i64;
+    let (materials, element_material) = materials(&shafts);
+    let sections = sections(&shafts, &materials, &element_material);
+    let mut disks = Vec::new();
+    for d in &file.disks {
+        let fail = |r| refused("DiskElement", &d.tag, Some(d.n), r);
+        for (key, value) in [("m", d.m), ("Ip", d.Ip), ("Id", d.Id)] {
+            check(key, value, false).map_err(fail)?;
+        }
+        if !(0..=last_node).contains(&d.n) {
+            return Err(fail(Refusal::NodeOffShaft { node: d.n, last: last_node }));
+        }
+        disks.push(DiskOut { node: d.n, mass: d.m, polar_inertia: d.Ip, diametral_inertia: d.Id, tag: d.tag.clone() });
+    }
+    disks.sort_by(|a, b| (a.node, &a.tag).cmp(&(b.node, &b.tag)));
+    let mut plain: Vec<(i64, [f64; 3], String, Option<usize>)> = Vec::new();
+    let mut sorted: Vec<&Bearing> = file.bearings.iter().collect();
+    sorted.sort_by(|a, b| (a.n, &a.tag).cmp(&(b.n, &b.tag)));
+    for b in sorted {
+        let (kcm, table) = bearing(b, speed).map_err(|r| refused("BearingElement", &b.tag, Some(b.n), r))?;
+        if !(0..=last_node).contains(&b.n) {
+            let r = Refusal::NodeOffShaft { node: b.n, last: last_node };
+            return Err(refused("BearingElement", &b.tag, Some(b.n), r));
+        }
+        plain.push((b.n, kcm, b.tag.clone(), table));
+    }
+    if let Some((class, tag, n)) = file.others.iter().min_by(|a, b| (&a.0, &a.1).cmp(&(&b.0, &b.1))) {
+        return Err(refused(class, tag, *n, Refusal::UnknownClass(class.clone())));
+    }
+    if plain.is_empty() {
+        return Err(RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing) });
+    }
+    let mut bearings: Vec<BearingOut> = Vec::new();
+    for (node, [k, c, m], tag, table) in plain {
+        match bearings.last_mut().filter(|b| b.node == node) {
+            Some(b) => {
+                b.stiffness += k;
+                b.damping += c;
+                b.mass += m;
+                b.from.push((tag, table));
+            }
+            None => bearings.push(BearingOut { node, stiffness: k, damping: c, mass: m, from: vec![(tag, table)] }),
+        }
+    }
+    Ok(Imported { ross_version: file.ross_version.clone(), speed, materials, sections, disks, bearings })
+}
+
+/// The shaft elements sorted by `n`, each checked, numbered 0…N−1.
+fn shafts(file: &RossFile) -> Result<Vec<&Shaft>, RossErrorKind> {
+    let mut shafts: Vec<&Shaft> = file.shafts.iter().collect();
+    shafts.sort_by(|a, b| (a.n, &a.tag).cmp(&(b.n, &b.tag)));
+    if shafts.is_empty() {
+        return Err(RossErrorKind::Schema {
+            key: String::new(),
+            message: "the file has no ShaftElement: a rotor needs a shaft".into(),
+        });
+    }
+    for (i, s) in shafts.iter().enumerate() {
+        let fail = |r| refused("ShaftElement", &s.tag, Some(s.n), r);
+        shaft(s).map_err(fail)?;
+        let i = i as i64;
+        if s.n != i {
+            let message = if i > 0 && shafts[i as usize - 1].n == s.n {
+                format!(
+                    "n = {} is also the n of ShaftElement \"{}\": ROSS stacks elements of one n as concentric layers, which rotorshunt does not model",
+                    s.n,
+                    shafts[i as usize - 1].tag
+                )
+            } else {
+                format!(
+                    "n = {} but no shaft element has n = {i}: ROSS numbers a shaft's elements 0 to N−1, each once",
+                    s.n
+                )
+            };
+            return Err(fail(Refusal::Numbering(message)));
+        }
+    }
+    Ok(shafts)
+}
+
+/// One shaft element's refusals, in the order docs/ross-format.md lists them.
+fn shaft(s: &Shaft) -> Result<(), Refusal> {
+    check("L", s.L, true)?;
+    check("odl", s.odl, true)?;
+    check("odr", s.odr, true)?;
+    check("idl", s.idl, false)?;
+    check("idr", s.idr, false)?;
+    check("material.rho", s.material.rho, true)?;
+    check("material.E", s.material.E, true)?;
+    if s.shear_effects {
+        return Err(Refusal::Timoshenko);
+    }
+    if !s.rotary_inertia {
+        return Err(Refusal::EffectOff("rotary_inertia"));
+    }
+    if !s.gyroscopic {
+        return Err(Refusal::EffectOff("gyroscopic"));
+    }
+    if s.odl != s.odr {
+        return Err(Refusal::Tapered { left_key: "odl", left: s.odl, right_key: "odr", right: s.odr });
+    }
+    if s.idl != s.idr {
+        return Err(Refusal::Tapered { left_key: "idl", left: s.idl, right_key: "idr", right: s.idr });
+    }
+    if s.idl >= s.odl {
+        let rule = format!("the inner diameter must be below the outer one, odl = {} m", s.odl);
+        return Err(Refusal::Value { key: "idl".into(), value: s.idl, rule });
+    }
+    for (key, value, unit) in [("axial_force", s.axial_force, "N"), ("torque", s.torque, "N·m")] {
+        if value != 0.0 {
+            return Err(Refusal::Preload { key, value, unit });
+        }
+    }
+    for (key, value) in [("alpha", s.alpha), ("beta", s.beta)] {
+        if value != 0.0 {
+            return Err(Refusal::ShaftDamping { key, value });
+        }
+    }
+    Ok(())
+}
+
+/// Distinct materials in order of first use, and each element's material index. ROSS
+/// keeps a material per element; one name with different values becomes `name-2`, ….
+fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
+    let mut out: Vec<MaterialOut> = Vec::new();
+    let mut index = Vec::with_capacity(shafts.len());
+    for s in shafts {
+        let m = &s.material;
+        let found = out.iter().position(|o| o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho);
+        let i = found.unwrap_or_else(|| {
+            let same_name = out.iter().filter(|o| o.ross_name == m.name).count();
+            let name = if same_name == 0 { m.name.clone() } else { format!("{}-{}", m.name, same_name + 1) };
+            out.push(MaterialOut { name, ross_name: m.name.clone(), youngs_modulus: m.E, density: m.rho });
+            out.len() - 1
+        });
+        index.push(i);
+    }
+    (out, index)
+}
+
+/// Runs of consecutive elements with the same diameters, material and length.
+fn sections(shafts: &[&Shaft], materials: &[MaterialOut], material: &[usize]) -> Vec<SectionOut> {
+    let mut out: Vec<SectionOut> = Vec::new();
+    let mut last_material = usize::MAX;
+    for (s, &m) in shafts.iter().zip(material) {
+        let same = out.last().is_some_and(|sec| {
+            m == last_material
+                && sec.outer_diameter == s.odl
+                && sec.inner_diameter == s.idl
+                && (s.L - sec.element_length).abs() <= SAME_LENGTH_RTOL * sec.element_length
+        });
+        match out.last_mut().filter(|_| same) {
+            Some(sec) => {
+                sec.length += s.L;
+                sec.elements += 1;
+                sec.tags.1 = s.tag.clone();
+            }
+            None => out.push(SectionOut {
+                length: s.L,
+                outer_diameter: s.odl,
+                inner_diameter: s.idl,
+                material: materials[m].name.clone(),
+                elements: 1,
+                first_n: s.n,
+                tags: (s.tag.clone(), s.tag.clone()),
+                element_length: s.L,
+            }),
+        }
+        last_material = m;
+    }
+    out
+}
+
+/// Stiffness, damping and mass of an isotropic grounded bearing at the chosen speed, and
+/// the length of its table when it has one.
+fn bearing(b: &Bearing, speed: Option<f64>) -> Result<([f64; 3], Option<usize>), Refusal> {
+    if let Some(link) = b.n_link {
+        return Err(Refusal::Linked(link));
+    }
+    let freq: Option<&[f64]> = b.frequency.as_ref().map(Coefficient::values);
+    let points = freq.map_or(1, <[f64]>::len).max(1);
+    let lateral: [(&'static str, &Coefficient); 12] = [
+        ("kxx", &b.kxx),
+        ("kyy", &b.kyy),
+        ("kxy", &b.kxy),
+        ("kyx", &b.kyx),
+        ("cxx", &b.cxx),
+        ("cyy", &b.cyy),
+        ("cxy", &b.cxy),
+        ("cyx", &b.cyx),
+        ("mxx", &b.mxx),
+        ("myy", &b.myy),
+        ("mxy", &b.mxy),
+        ("myx", &b.myx),
+    ];
+    let axial = [("kzz", &b.kzz), ("czz", &b.czz), ("mzz", &b.mzz)];
+    let lengths = lateral.iter().map(|(k, c)| (*k, c.values().len()));
+    let lengths = lengths.chain(axial.iter().filter_map(|(k, c)| c.as_ref().map(|c| (*k, c.values().len()))));
+    for (key, len) in lengths {
+        if len != points {
+            let rule = format!("has {len} values, but the bearing is tabulated at {points} frequencies");
+            return Err(Refusal::Value { key: key.into(), value: len as f64, rule });
+        }
+    }
+    for (key, c) in &lateral {
+        for &v in c.values() {
+            if !v.is_finite() {
+                return Err(Refusal::Value { key: (*key).into(), value: v, rule: "must be finite".into() });
+            }
+        }
+    }
+    for (i, unit) in [(0, "N/m"), (4, "N·s/m"), (8, "kg")] {
+        let (x_key, x) = lateral[i];
+        let (y_key, y) = lateral[i + 1];
+        if let Some((a, b)) = x.values().iter().zip(y.values()).find(|(a, b)| a != b) {
+            return Err(Refusal::Anisotropic { x_key, x: *a, y_key, y: *b, unit });
+        }
+        for (key, c) in [lateral[i + 2], lateral[i + 3]] {
+            if let Some(&value) = c.values().iter().find(|v| **v != 0.0) {
+                return Err(Refusal::CrossCoupled { key, value, unit });
+            }
+        }
+    }
+    let at = |c: &Coefficient| -> Result<f64, Refusal> {
+        match (freq, points) {
+            (_, 1) => Ok(c.values()[0]),
+            (Some(f), _) => {
+                let lo = f[0];
+                let hi = f[f.len() - 1];
+                let Some(w) = speed else { return Err(Refusal::SpeedDependent { points, lo, hi }) };
+                if !(lo..=hi).contains(&w) {
+                    return Err(Refusal::OutsideTable { speed: w, lo, hi });
+                }
+                table::evaluate(f, c.values(), w).ok_or(Refusal::Value {
+                    key: "frequency".into(),
+                    value: lo,
+                    rule: "the table cannot be interpolated".into(),
+                })
+            }
+            (None, _) => Ok(c.values()[0]),
+        }
+    };
+    if let Some(f) = freq.filter(|f| f.len() > 1) {
+        for (i, w) in f.windows(2).enumerate() {
+            if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
+                let rule = "the frequencies of the table must be finite and strictly increasing".to_string();
+                return Err(Refusal::Value { key: format!("frequency[{}]", i + 1), value: w[1], rule });
+            }
+        }
+    }
+    let k = at(&b.kxx)?;
+    let c = at(&b.cxx)?;
+    let m = at(&b.mxx)?;
+    for (key, v) in [("kxx", k), ("cxx", c), ("mxx", m)] {
+        if v < 0.0 {
+            let rule = match speed.filter(|_| points > 1) {
+                Some(w) => format!("at the chosen speed {w} rad/s: must be ≥ 0"),
+                None => "must be ≥ 0".into(),
+            };
+            return Err(Refusal::Value { key: key.into(), value: v, rule });
+        }
+    }
+    Ok(([k, c, m], (points > 1).then_some(points)))
+}

@@ -1,0 +1,135 @@
+//! The imported rotor as problem-file text (general form, `problems/README.md`), each
+//! line commented with its unit and the ROSS element it came from.
+
+use super::map::Imported;
+
+/// Column at which a line's comment starts (as in `problems/*.toml`).
+const COMMENT_COLUMN: usize = 30;
+
+/// A float as TOML: Rust's shortest round-trip form, which TOML reads back exactly.
+fn num(v: f64) -> String {
+    format!("{v:?}")
+}
+
+/// A TOML basic string.
+fn string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
+}
+
+/// Text for a comment: one line, no control characters.
+fn plain(s: &str) -> String {
+    s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect()
+}
+
+/// `key = value` padded to the comment column, then `# comment`.
+fn line(out: &mut String, assignment: &str, comment: &str) {
+    if comment.is_empty() {
+        out.push_str(assignment);
+        out.push('\n');
+        return;
+    }
+    let pad = COMMENT_COLUMN.saturating_sub(assignment.chars().count()).max(1);
+    out.push_str(&format!("{assignment}{}# {}\n", " ".repeat(pad), plain(comment)));
+}
+
+/// The problem file of an imported rotor. `source` is the ROSS file as given.
+pub fn render(r: &Imported, source: &str) -> String {
+    let version = r.ross_version.as_deref().unwrap_or("(version not recorded)");
+    let stem = std::path::Path::new(source).file_stem().map(|s| s.to_string_lossy().into_owned());
+    let stem = stem.unwrap_or_else(|| source.to_string());
+    let mut out = String::new();
+    out.push_str(&format!(
+        "# Imported by `rotorshunt import-ross` ({}) from {}, a rotor saved by ROSS {} (Rotor.save).\n",
+        crate::commands::TOOL,
+        plain(source),
+        plain(version)
+    ));
+    out.push_str(
+        "# The mapping is in docs/ross-format.md. Units: SI, rad/s. ROSS's axial and torsional\n\
+         # coefficients (kzz, czz, mzz, G_s) act on motion rotorshunt's lateral model does not\n\
+         # have, and are left out. There is no vibration ring: add [[rings]] by editing.\n",
+    );
+    out.push_str("version = 1\n");
+    out.push_str(&format!("title = {}\n", string(&format!("{stem} (imported from ROSS)"))));
+    out.push_str(&format!(
+        "source = {}\n",
+        string(&format!("ROSS {version} file {source}, by rotorshunt import-ross"))
+    ));
+    let speed_note = match r.speed {
+        Some(_) => "Ω (rad/s): --speed of import-ross, where the bearings were evaluated",
+        None => "Ω (rad/s): not in ROSS's file; 0 unless import-ross --speed",
+    };
+    line(&mut out, &format!("speed = {}", num(r.speed.unwrap_or(0.0))), speed_note);
+    for m in &r.materials {
+        out.push('\n');
+        let from = if m.name == m.ross_name {
+            format!("ROSS material {}", m.ross_name)
+        } else {
+            format!("ROSS material {} with other values than the first of that name", m.ross_name)
+        };
+        line(&mut out, "[[materials]]", &from);
+        line(&mut out, &format!("name = {}", string(&m.name)), "");
+        line(&mut out, &format!("youngs_modulus = {}", num(m.youngs_modulus)), "E (Pa), ROSS material.E");
+        line(&mut out, &format!("density = {}", num(m.density)), "ρ (kg/m³), ROSS material.rho");
+    }
+    for s in &r.sections {
+        out.push('\n');
+        let last_n = s.first_n + s.elements as i64 - 1;
+        let from = if s.elements == 1 {
+            format!("ROSS ShaftElement \"{}\" (n = {})", s.tags.0, s.first_n)
+        } else {
+            format!("ROSS ShaftElements n = {}…{} (\"{}\" … \"{}\")", s.first_n, last_n, s.tags.0, s.tags.1)
+        };
+        line(&mut out, "[[sections]]", &from);
+        line(
+            &mut out,
+            &format!("length = {}", num(s.length)),
+            &format!("m: Σ L of {} element(s) of L = {} m", s.elements, num(s.element_length)),
+        );
+        line(&mut out, &format!("outer_diameter = {}", num(s.outer_diameter)), "m, ROSS odl = odr");
+        line(&mut out, &format!("inner_diameter = {}", num(s.inner_diameter)), "m, ROSS idl = idr");
+        line(&mut out, &format!("material = {}", string(&s.material)), "");
+        line(
+            &mut out,
+            &format!("elements = {}", s.elements),
+            "Rayleigh elements (ROSS: shear_effects = false, rotary_inertia and gyroscopic = true)",
+        );
+    }
+    for d in &r.disks {
+        out.push('\n');
+        line(&mut out, "[[disks]]", &format!("ROSS DiskElement \"{}\"", d.tag));
+        line(&mut out, &format!("node = {}", d.node), "ROSS n");
+        line(&mut out, &format!("mass = {}", num(d.mass)), "m (kg), ROSS m");
+        line(&mut out, &format!("polar_inertia = {}", num(d.polar_inertia)), "J_p (kg·m²), ROSS Ip");
+        line(&mut out, &format!("diametral_inertia = {}", num(d.diametral_inertia)), "J_d (kg·m²), ROSS Id");
+    }
+    for b in &r.bearings {
+        out.push('\n');
+        let tags: Vec<String> = b.from.iter().map(|(t, _)| format!("\"{t}\"")).collect();
+        let from = if tags.len() == 1 {
+            format!("ROSS BearingElement {}", tags[0])
+        } else {
+            format!("ROSS BearingElements {} at one node, summed as ROSS adds them", tags.join(", "))
+        };
+        line(&mut out, "[[bearings]]", &from);
+        if let (Some(w), Some(points)) = (r.speed, b.from.iter().find_map(|(_, p)| *p)) {
+            out.push_str(&format!(
+                "# coefficients tabulated at {points} frequencies, evaluated at frequency = speed = {} rad/s as ROSS's run_modal does\n",
+                num(w)
+            ));
+        }
+        let sum = if tags.len() > 1 { "sum of " } else { "" };
+        line(&mut out, &format!("node = {}", b.node), "ROSS n");
+        line(&mut out, &format!("stiffness = {}", num(b.stiffness)), &format!("k (N/m), {sum}ROSS kxx = kyy"));
+        line(&mut out, &format!("damping = {}", num(b.damping)), &format!("c (N·s/m), {sum}ROSS cxx = cyy"));
+        line(
+            &mut out,
+            &format!("mass = {}", num(b.mass)),
+            &format!("kg, {sum}ROSS mxx = myy, added to the node's mass as in ROSS"),
+        );
+    }
+    out.push('\n');
+    line(&mut out, "[load]", "ROSS has no periodic axial load: set α and the load here");
+    line(&mut out, "alpha = 0.0", "static load coefficient α of P(t) = P_cr(α + β cos φt)");
+    out
+}
