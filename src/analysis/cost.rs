@@ -79,6 +79,12 @@ const QEP_BYTES_N2: f64 = 530.0;
 /// speeds at 132 DOFs).
 const SHAPES_BYTES_N2: f64 = 40.0;
 
+/// One numeric sparse LU factorisation and solve of the dynamic stiffness per DOF
+/// (`analysis::unbalance`; the shaft's band keeps the factors' fill fixed per DOF):
+/// 44–51 µs at 136 DOFs (0.35 µs per DOF, `cargo bench --bench unbalance`, host shared);
+/// 1e-6 s per DOF leans high, as the other rates do.
+const UNBALANCE_SOLVE_N: f64 = 1.0e-6;
+
 /// Chebyshev point counts the fast path's per-φ table tries (`floquet::fast`).
 const CHEBYSHEV_DEGREES: [usize; 15] = [4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 20, 24, 32, 48, 64];
 /// The table's step doubling: while the coupling per exponential exceeds this, up to
@@ -402,6 +408,23 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
         time: Part { amount: seconds, driver: time_driver, detail: time_detail },
         memory: Part { amount: bytes, driver: memory_driver, detail: memory_detail },
     }
+}
+
+/// The unbalance response of `model` at `speeds` speeds with `nodes` extra probes: the
+/// rotor (assembly and P_cr), one sparse solve per speed, and at most
+/// [`super::unbalance::SOLVES_PER_PEAK`] solves for each possible peak of each probe (every
+/// other grid speed of every disk node, support and node: an upper bound).
+pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
+    let n = model_dofs(model) as f64;
+    let probes = (super::unbalance::disk_nodes(model).len() + 4 + nodes) as f64;
+    let peaks = probes * (speeds / 2) as f64;
+    let solves = speeds as f64 + peaks * super::unbalance::SOLVES_PER_PEAK as f64;
+    let detail = format!(
+        "{} sparse solves of {n} complex DOFs ({speeds} speeds, {} peaks at most)",
+        compact_count(solves),
+        compact_count(peaks)
+    );
+    dense(model, Dense::Rotor, 1).then(Estimate::time(solves * UNBALANCE_SOLVE_N * n, Driver::Grid, detail))
 }
 
 /// The cost of Floquet evaluations on one reduced model: what a per-φ table, a CFM4 or
