@@ -57,6 +57,15 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::TooManyEntries { .. } => "TooManyEntries",
         K::TooManyDofs { .. } => "TooManyDofs",
         K::NoBranches => "NoBranches",
+        K::NodeOffShaft { .. } => "NodeOffShaft",
+        K::PositionOffShaft { .. } => "PositionOffShaft",
+        K::SupportsShareNode { .. } => "SupportsShareNode",
+        K::RigidBody { .. } => "RigidBody",
+        K::InnerNotBelowOuter { .. } => "InnerNotBelowOuter",
+        K::ShaftLength { .. } => "ShaftLength",
+        K::UnknownName { .. } => "UnknownName",
+        K::BadName { .. } => "BadName",
+        K::MixedForms(..) => "MixedForms",
         K::Override { .. } => "Override",
     }
 }
@@ -145,6 +154,15 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::TooManyEntries { count: 0, limit: 0 },
         ProblemErrorKind::TooManyDofs { dofs: 0, limit: 0 },
         ProblemErrorKind::NoBranches,
+        ProblemErrorKind::NodeOffShaft { node: 0, last: 0 },
+        ProblemErrorKind::PositionOffShaft { position: 0.0, length: 0.0 },
+        ProblemErrorKind::SupportsShareNode { node: 0, first: s() },
+        ProblemErrorKind::RigidBody { supports: 0 },
+        ProblemErrorKind::InnerNotBelowOuter { inner: 0.0, outer: 0.0 },
+        ProblemErrorKind::ShaftLength { total: 0.0 },
+        ProblemErrorKind::UnknownName { what: s(), name: s(), known: vec![] },
+        ProblemErrorKind::BadName { name: s(), reason: s() },
+        ProblemErrorKind::MixedForms(s(), s()),
         ProblemErrorKind::Override { text: s(), reason: s() },
     ];
     let analysis = [

@@ -48,12 +48,16 @@ fn analyses() -> String {
     out.push(format!("{:?}", whirl_modes_of(&rotor, &p.settings, 1500.0).unwrap()));
     // L = 0 on branch 1: a massless charge with R = 0, condensed statically.
     let mut zero = load("paper-closed.toml", &[]).model;
-    zero.circuit.branches[0].inductance = 0.0;
+    for r in &mut zero.rings {
+        r.circuit.branches[0].inductance = 0.0;
+    }
     let p = load("paper-closed.toml", &[]);
     let rotor = Rotor::new(&zero).unwrap();
     out.push(format!("{:?}", whirl_modes_of(&rotor, &p.settings, 2000.0).unwrap()));
     // L = 0 and R > 0: the shift-invert solver of Eq. (18–21).
-    zero.circuit.branches[0].resistance = 5.0;
+    for r in &mut zero.rings {
+        r.circuit.branches[0].resistance = 5.0;
+    }
     let rotor = Rotor::new(&zero).unwrap();
     out.push(format!("{:?}", whirl_modes_of(&rotor, &p.settings, 2000.0).unwrap()));
     // A Campbell diagram (rayon over speeds) of the paper's closed circuit.

@@ -46,7 +46,7 @@ fn rigid_translation_carries_the_total_mass() {
             mass += t[i] * s.m[(i, j)] * t[j];
         }
     }
-    let parts = p.model.shaft.density * p.model.shaft.area() * p.model.shaft.length + 4.85;
+    let parts = p.model.shaft.sections[0].density * p.model.shaft.sections[0].area() * p.model.shaft.length() + 4.85;
     assert!(rel(mass, parts) < 1e-12, "{mass} vs {parts}");
     assert!(rel(p.model.rotor_mass(), parts) < 1e-12);
     // A rigid translation also has no geometric or bending energy.
@@ -125,10 +125,10 @@ fn buckling_load_closed_forms() {
     // flexibility lowers it by O(k_s·L³/EI) ≈ 4e-9 here, below the solver's accuracy for a
     // pencil this ill-conditioned (k_s = 100 N/m against EI/l³ ≈ 6e9 N/m): 1e-5.
     let p = load("paper-open.toml", &["ring.k_b=100"]);
-    let r = &p.model.left;
+    let r = &p.model.rings[0].ring;
     let ground = r.k_eq1() + r.k_eq2();
     let k_s = r.k_eq() * ground / (r.k_eq() + ground);
-    let sway = k_s * p.model.shaft.length / 2.0;
+    let sway = k_s * p.model.shaft.length() / 2.0;
     let pcr = buckling_load(&SystemMatrices::assemble(&p.model)).unwrap();
     assert!(rel(pcr, sway) < 1e-5, "{pcr} vs {sway}");
     // The paper's problem: ≈ 1.650e5 N (docs/model.md).

@@ -270,14 +270,14 @@ fn a_million_branches_or_disks_are_refused_quickly() {
     // As data (the library's builders): the DOF count, before anything is assembled.
     let mut data = common::load("paper-closed.toml", &[]).data;
     let branch = BranchFile { c_f: 5e-6, inductance: None, tuning_frequency: Some(900.0), resistance: 0.0 };
-    data.circuit.branches = vec![branch; 1_000_000];
+    data.circuit.as_mut().expect("shorthand").branches = vec![branch; 1_000_000];
     let started = Instant::now();
     let e = Problem::from_data(data.clone(), "branches", &[]).expect_err("a million branches");
     println!("10^6 branches as data refused in {:.3} s: {e}", started.elapsed().as_secs_f64());
     assert_eq!(e.kind, ProblemErrorKind::TooManyDofs { dofs: 2 * 65 + 2 + 2 * 1_000_000, limit: MAX_DOFS });
     assert_eq!(e.key, "circuit.branches");
     assert!(started.elapsed() < FAST);
-    data.circuit.branches.truncate(2);
+    data.circuit.as_mut().expect("shorthand").branches.truncate(2);
     let disk = data.disks[0].clone();
     data.disks = vec![disk; 1_000_000];
     let started = Instant::now();
@@ -293,14 +293,15 @@ fn the_dof_limit_is_the_assembled_size() {
     // one branch more is refused.
     let branches = (MAX_DOFS - (2 * 2001 + 2)) / 2;
     let mut data = common::load("paper-closed.toml", &[]).data;
-    data.shaft.elements = 2000;
-    let branch = data.circuit.branches[0].clone();
-    data.circuit.branches = vec![branch; branches];
+    data.shaft.as_mut().expect("shorthand").elements = 2000;
+    let circuit = data.circuit.as_mut().expect("shorthand");
+    circuit.branches = vec![circuit.branches[0].clone(); branches];
     let p = Problem::from_data(data.clone(), "largest", &[]).unwrap_or_else(|e| panic!("{e}"));
-    let dofs = rotorshunt::assembly::DofMap { nodes: 2001, branches }.len();
+    let dofs = rotorshunt::assembly::DofMap { nodes: 2001, branches: vec![branches; 2] }.len();
     assert!(dofs <= MAX_DOFS && dofs + 2 > MAX_DOFS, "{dofs} DOFs");
-    assert_eq!(p.model.circuit.charge_dofs(), branches);
-    data.circuit.branches.push(data.circuit.branches[0].clone());
+    assert_eq!(p.model.rings[0].circuit.charge_dofs(), branches);
+    let circuit = data.circuit.as_mut().expect("shorthand");
+    circuit.branches.push(circuit.branches[0].clone());
     let e = Problem::from_data(data, "one more", &[]).expect_err("one branch more");
     assert_eq!(e.kind, ProblemErrorKind::TooManyDofs { dofs: dofs + 2, limit: MAX_DOFS });
 }

@@ -13,9 +13,13 @@ const TINY_L_AGREEMENT: f64 = 1e-6;
 fn zero_inductance_equals_tiny_inductance() {
     let p = load("paper-closed.toml", &[]);
     let mut zero = p.model.clone();
-    zero.circuit.branches[0].inductance = 0.0;
+    for r in &mut zero.rings {
+        r.circuit.branches[0].inductance = 0.0;
+    }
     let mut tiny = p.model.clone();
-    tiny.circuit.branches[0].inductance = 1e-9;
+    for r in &mut tiny.rings {
+        r.circuit.branches[0].inductance = 1e-9;
+    }
     let z = whirl_modes(&zero, &p.settings, 2000.0).unwrap();
     let t = whirl_modes(&tiny, &p.settings, 2000.0).unwrap();
     // Branch 1's charges are massless: its r modes vanish, the s and rotor modes remain.
@@ -42,7 +46,7 @@ fn inductance_zero_is_accepted_from_the_file() {
         1,
     );
     let p = rotorshunt::problem::Problem::from_text(&text, "zero-l.toml", &[]).unwrap();
-    assert_eq!(p.model.circuit.branches[0].inductance, 0.0);
+    assert_eq!(p.model.rings[0].circuit.branches[0].inductance, 0.0);
     let out = rotorshunt::commands::modes(&p, None, 4, true, Default::default()).unwrap();
     assert!(!out.contains("NaN") && !out.contains("inf"));
 }

@@ -23,7 +23,7 @@ use super::regions::start::SCREENING_TOLERANCE;
 use super::regions::{seeds::Seed, RegionSettings, CENTRE_WINDOW};
 use super::{Criterion, Interval, MonodromyMethod};
 use crate::assembly::DofMap;
-use crate::model::{CircuitState, Model};
+use crate::model::Model;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -349,11 +349,10 @@ impl Budget {
     }
 }
 
-/// Complex DOFs of a model: 2 per shaft node, 2 for the rings, 2 per branch when closed
-/// ([`DofMap::len`]).
+/// Complex DOFs of a model: 2 per shaft node, 1 per ring, 1 per closed branch of each
+/// ring ([`DofMap::len`]).
 pub fn model_dofs(model: &Model) -> usize {
-    let closed = model.circuit.state == CircuitState::Closed;
-    DofMap { nodes: model.shaft.nodes(), branches: if closed { model.circuit.branches.len() } else { 0 } }.len()
+    DofMap::of(model).len()
 }
 
 /// The dense stages a command runs on the full model.
@@ -375,7 +374,7 @@ pub enum Dense {
 pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
     let n = model_dofs(model) as f64;
     // P_cr is computed on the open-circuit model unless the file gives it.
-    let open = DofMap { nodes: model.shaft.nodes(), branches: 0 }.len() as f64;
+    let open = DofMap { nodes: model.shaft.nodes(), branches: vec![0; model.rings.len()] }.len() as f64;
     let buckling = if model.load.critical_load.is_some() { 0.0 } else { DENSE_EIGEN_N3 * open.powi(3) };
     let eigen = DENSE_EIGEN_N3 * n.powi(3);
     let qep = QEP_2N3 * (2.0 * n).powi(3);

@@ -7,7 +7,7 @@
 //! λ = −ζ|λ| + jω: ω > 0 is a forward whirl, ω < 0 a backward whirl (docs/model.md).
 
 use super::{AnalysisError, Rotor, Settings};
-use crate::assembly::{DofKind, End};
+use crate::assembly::DofKind;
 use crate::linalg::{qep_residual, solve_qep, solve_qep_definite};
 use crate::model::Model;
 use faer::{c64, Mat, MatRef};
@@ -185,6 +185,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     };
     let kinds = sys.dofs.kinds();
     let n = sys.size();
+    let slots = electrical_slots(rotor);
 
     struct Raw {
         col: usize,
@@ -203,7 +204,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         }
         let mut total = 0.0;
         let mut charge = 0.0;
-        let mut per_branch = vec![0.0; sys.dofs.branches];
+        let mut per_branch = vec![0.0; slots.len()];
         for i in 0..n {
             let mut mx = c64::new(0.0, 0.0);
             for j in 0..n {
@@ -215,9 +216,9 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
                 charge += e;
             }
         }
-        for (b, acc) in per_branch.iter_mut().enumerate() {
-            for end in [End::Left, End::Right] {
-                let i = sys.dofs.charge(end, b);
+        for (slot, acc) in slots.iter().zip(per_branch.iter_mut()) {
+            for &(ring, b) in &slot.charges {
+                let i = sys.dofs.charge(ring, b);
                 *acc += sys.m[(i, i)] * x[i].norm_sqr();
             }
         }
@@ -262,16 +263,16 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     // Number per whirl direction: rotor modes 1, 2, …; electrical modes by branch letter.
     for whirl in [Whirl::Forward, Whirl::Backward] {
         let mut mech = 0;
-        let mut elec = vec![0; sys.dofs.branches];
+        let mut elec = vec![0; slots.len()];
         for r in raw.iter_mut().filter(|r| r.mode.whirl == whirl) {
             r.mode.label = match r.branch {
                 None => {
                     mech += 1;
                     mech.to_string()
                 }
-                Some(b) => {
-                    elec[b] += 1;
-                    format!("{}{}", branch_letter(b), elec[b])
+                Some(s) => {
+                    elec[s] += 1;
+                    format!("{}{}{}", branch_letter(slots[s].branch), elec[s], slots[s].suffix)
                 }
             };
         }
@@ -284,6 +285,40 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         modes: raw.into_iter().map(|r| r.mode).collect(),
         shapes,
     })
+}
+
+/// An electrical mode family: the charges whose kinetic energy decides that a mode
+/// belongs to it, its branch and its label suffix.
+struct Slot {
+    /// (ring, branch) charge DOFs.
+    charges: Vec<(usize, usize)>,
+    /// Branch index (the letter: r, s, t, …).
+    branch: usize,
+    /// `""` or `@ringname`.
+    suffix: String,
+}
+
+/// The electrical mode families. When two or more rings carry an identical circuit (the
+/// shorthand always does), one per branch over all rings, labelled as in the paper
+/// (`r1`, `r2`, `s1`, …: branch letter and count); otherwise (circuits that differ, or a
+/// single ring) one per ring and branch, labelled with the ring's name (`r1@drive`,
+/// `s1@aux`), so that a label says which support the mode belongs to.
+fn electrical_slots(rotor: &Rotor) -> Vec<Slot> {
+    let model = &rotor.model;
+    let dofs = &rotor.system.dofs;
+    if model.rings.len() >= 2 && model.shared_circuit().is_some() {
+        let branches = dofs.branches.first().copied().unwrap_or(0);
+        return (0..branches)
+            .map(|b| Slot { charges: (0..dofs.rings()).map(|r| (r, b)).collect(), branch: b, suffix: String::new() })
+            .collect();
+    }
+    let mut slots = Vec::new();
+    for (r, ring) in model.rings.iter().enumerate() {
+        for b in 0..dofs.branches[r] {
+            slots.push(Slot { charges: vec![(r, b)], branch: b, suffix: format!("@{}", ring.name) });
+        }
+    }
+    slots
 }
 
 /// λ = jω refined by the Rayleigh functional of an undamped (C = 0) gyroscopic model:

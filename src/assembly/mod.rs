@@ -4,7 +4,7 @@
 //! `M, C, K, S, G` are real symmetric and independent of speed; they are built once and
 //! the speed enters only through [`SystemMatrices::damping_at`].
 
-use crate::model::{element, CircuitState, Model, Ring};
+use crate::model::{element, CircuitState, Model, RingSupport};
 use faer::{c64, Mat};
 use serde::Serialize;
 
@@ -22,30 +22,24 @@ pub enum DofKind {
     Charge,
 }
 
-/// Which end of the shaft a support sits at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum End {
-    /// x = 0.
-    Left,
-    /// x = L.
-    Right,
-}
-
-/// Layout of the global DOF vector: shaft nodes `[u, θ]`, then per ring (left, right)
-/// the ring DOF followed by its branch charges.
+/// Layout of the global DOF vector: shaft nodes `[u, θ]`, then per ring in the model's
+/// order the ring DOF followed by its branch charges.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DofMap {
     /// Number of shaft nodes.
     pub nodes: usize,
-    /// Charge DOFs per ring (N when closed, 0 otherwise).
-    pub branches: usize,
+    /// Charge DOFs of each ring, in ring order (its N branches when closed, 0 otherwise).
+    pub branches: Vec<usize>,
 }
 
 impl DofMap {
+    /// The layout of a model's DOFs.
+    pub fn of(model: &Model) -> DofMap {
+        DofMap { nodes: model.shaft.nodes(), branches: model.rings.iter().map(|r| r.circuit.charge_dofs()).collect() }
+    }
     /// Total number of complex DOFs.
     pub fn len(&self) -> usize {
-        2 * self.nodes + 2 * (1 + self.branches)
+        2 * self.nodes + self.branches.iter().map(|b| 1 + b).sum::<usize>()
     }
     /// Always false: a model has at least one element.
     pub fn is_empty(&self) -> bool {
@@ -55,6 +49,14 @@ impl DofMap {
     pub fn shaft_dofs(&self) -> usize {
         2 * self.nodes
     }
+    /// Number of rings.
+    pub fn rings(&self) -> usize {
+        self.branches.len()
+    }
+    /// Charge DOFs of all rings.
+    pub fn charges(&self) -> usize {
+        self.branches.iter().sum()
+    }
     /// Deflection DOF of a node.
     pub fn deflection(&self, node: usize) -> usize {
         2 * node
@@ -63,17 +65,13 @@ impl DofMap {
     pub fn slope(&self, node: usize) -> usize {
         2 * node + 1
     }
-    /// Ring DOF at an end.
-    pub fn ring(&self, end: End) -> usize {
-        let base = self.shaft_dofs();
-        match end {
-            End::Left => base,
-            End::Right => base + 1 + self.branches,
-        }
+    /// Ring DOF of ring `ring` (0-based, model order).
+    pub fn ring(&self, ring: usize) -> usize {
+        self.shaft_dofs() + self.branches[..ring].iter().map(|b| 1 + b).sum::<usize>()
     }
-    /// Charge DOF of branch `i` at an end.
-    pub fn charge(&self, end: End, i: usize) -> usize {
-        self.ring(end) + 1 + i
+    /// Charge DOF of branch `i` of ring `ring`.
+    pub fn charge(&self, ring: usize, i: usize) -> usize {
+        self.ring(ring) + 1 + i
     }
     /// The kind of every DOF, in order.
     pub fn kinds(&self) -> Vec<DofKind> {
@@ -82,9 +80,9 @@ impl DofMap {
             v.push(DofKind::Deflection);
             v.push(DofKind::Slope);
         }
-        for _ in 0..2 {
+        for &b in &self.branches {
             v.push(DofKind::Ring);
-            v.extend(std::iter::repeat_n(DofKind::Charge, self.branches));
+            v.extend(std::iter::repeat_n(DofKind::Charge, b));
         }
         v
     }
@@ -126,10 +124,10 @@ fn add_spring(target: &mut Mat<f64>, a: usize, b: usize, k: f64) {
 }
 
 impl SystemMatrices {
-    /// Assemble the model (Eq. 12 in complex form, Eq. 14).
+    /// Assemble the model (Eq. 12 in complex form, Eq. 14): the element matrices of each
+    /// section, the disks, the plain bearings, then the rings in model order.
     pub fn assemble(model: &Model) -> SystemMatrices {
-        let shaft = &model.shaft;
-        let dofs = DofMap { nodes: shaft.nodes(), branches: model.circuit.charge_dofs() };
+        let dofs = DofMap::of(model);
         let n = dofs.len();
         let mut m = Mat::<f64>::zeros(n, n);
         let mut c = Mat::<f64>::zeros(n, n);
@@ -137,19 +135,23 @@ impl SystemMatrices {
         let mut s = Mat::<f64>::zeros(n, n);
         let mut g = Mat::<f64>::zeros(n, n);
 
-        let (l, rho, a, i) = (shaft.element_length(), shaft.density, shaft.area(), shaft.inertia());
-        let me = element::translational_mass(rho, a, l);
-        let mr = element::rotary_mass(rho, i, l);
-        let ke = element::bending_stiffness(shaft.youngs_modulus, i, l);
-        let se = element::geometric(l);
-        let ge = element::gyroscopic(rho, i, l);
-        for e in 0..shaft.elements {
-            let first = dofs.deflection(e);
-            add_element(&mut m, first, &me);
-            add_element(&mut m, first, &mr);
-            add_element(&mut k, first, &ke);
-            add_element(&mut s, first, &se);
-            add_element(&mut g, first, &ge);
+        let mut first_element = 0;
+        for section in &model.shaft.sections {
+            let (l, rho, a, i) = (section.element_length(), section.density, section.area(), section.inertia());
+            let me = element::translational_mass(rho, a, l);
+            let mr = element::rotary_mass(rho, i, l);
+            let ke = element::bending_stiffness(section.youngs_modulus, i, l);
+            let se = element::geometric(l);
+            let ge = element::gyroscopic(rho, i, l);
+            for e in first_element..first_element + section.elements {
+                let first = dofs.deflection(e);
+                add_element(&mut m, first, &me);
+                add_element(&mut m, first, &mr);
+                add_element(&mut k, first, &ke);
+                add_element(&mut s, first, &se);
+                add_element(&mut g, first, &ge);
+            }
+            first_element += section.elements;
         }
 
         let mut unbalance = vec![c64::new(0.0, 0.0); n];
@@ -161,9 +163,16 @@ impl SystemMatrices {
             unbalance[u] += c64::from_polar(d.mass * d.eccentricity, d.phase);
         }
 
-        for (end, ring, node) in [(End::Left, &model.left, 0), (End::Right, &model.right, shaft.elements)] {
-            let mount = Mount { end, ring, shaft_dof: dofs.deflection(node) };
-            add_ring(&mut m, &mut c, &mut k, &dofs, model, &mount);
+        for b in &model.bearings {
+            let u = dofs.deflection(b.node);
+            m[(u, u)] += b.mass;
+            c[(u, u)] += b.damping;
+            k[(u, u)] += b.stiffness;
+        }
+
+        for (index, support) in model.rings.iter().enumerate() {
+            let mount = Mount { index, support, shaft_dof: dofs.deflection(support.node) };
+            add_ring(&mut m, &mut c, &mut k, &dofs, &mount);
         }
         SystemMatrices { dofs, m, c, k, s, g, unbalance }
     }
@@ -186,41 +195,43 @@ impl SystemMatrices {
     }
 }
 
-/// Where a ring sits: the shaft end, its ring, and the shaft's deflection DOF there.
+/// Where a ring sits: its index in the model, the ring and circuit, and the shaft's
+/// deflection DOF there.
 struct Mount<'a> {
-    end: End,
-    ring: &'a Ring,
+    index: usize,
+    support: &'a RingSupport,
     shaft_dof: usize,
 }
 
-/// Ring, bearing and shunt of one end (Eq. 7–11, A8, and docs/model.md for open/short).
-fn add_ring(m: &mut Mat<f64>, c: &mut Mat<f64>, k: &mut Mat<f64>, dofs: &DofMap, model: &Model, mount: &Mount<'_>) {
-    let Mount { end, ring, shaft_dof } = *mount;
-    let a = dofs.ring(end);
+/// Ring, bearing and shunt of one ring (Eq. 7–11, A8, and docs/model.md for open/short).
+fn add_ring(m: &mut Mat<f64>, c: &mut Mat<f64>, k: &mut Mat<f64>, dofs: &DofMap, mount: &Mount<'_>) {
+    let Mount { index, support, shaft_dof } = *mount;
+    let (ring, circuit) = (&support.ring, &support.circuit);
+    let a = dofs.ring(index);
     m[(a, a)] += ring.m_b;
     add_spring(c, shaft_dof, a, ring.eta);
     add_spring(k, shaft_dof, a, ring.k_eq());
     let k_eq2 = ring.k_eq2();
-    let ground = match model.circuit.state {
+    let ground = match circuit.state {
         CircuitState::Open | CircuitState::Closed => ring.k_eq1() + k_eq2,
         CircuitState::Short => ring.k_eq1(),
     };
     k[(a, a)] += ground;
-    if model.circuit.state != CircuitState::Closed {
+    if circuit.state != CircuitState::Closed {
         return;
     }
     // Eq. (A8): energy ½k_eq2(a − Σq̃ᵢ)² + Σ ½γq̃ᵢ²/C_fi, kinetic ½γLᵢq̃̇ᵢ², dissipation γRᵢ.
     let gamma = ring.gamma();
-    let nb = model.circuit.branches.len();
-    for (i, b) in model.circuit.branches.iter().enumerate() {
-        let qi = dofs.charge(end, i);
+    let nb = circuit.branches.len();
+    for (i, b) in circuit.branches.iter().enumerate() {
+        let qi = dofs.charge(index, i);
         m[(qi, qi)] += gamma * b.inductance;
         c[(qi, qi)] += gamma * b.resistance;
         k[(qi, qi)] += gamma / b.c_f;
         k[(a, qi)] -= k_eq2;
         k[(qi, a)] -= k_eq2;
         for j in 0..nb {
-            k[(qi, dofs.charge(end, j))] += k_eq2;
+            k[(qi, dofs.charge(index, j))] += k_eq2;
         }
     }
 }

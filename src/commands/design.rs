@@ -30,19 +30,23 @@ const CHART_GRID: (usize, usize) = (400, 31);
 /// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
 const CAMPBELL_SPEEDS: usize = 31;
 
+/// Every ring's circuit, branch by branch: one table of the shared circuit when all rings
+/// carry an identical one (tuning by the first ring's C_p^T, as `check` prints it), else
+/// each ring's branches under its name.
 fn branches(p: &Problem) -> Vec<BranchRow> {
-    let cp_t = p.model.left.cp_t;
-    p.model
-        .circuit
-        .branches
+    let shared = p.model.shared_circuit().is_some();
+    let rings = if shared { &p.model.rings[..1.min(p.model.rings.len())] } else { &p.model.rings[..] };
+    rings
         .iter()
-        .enumerate()
-        .map(|(i, b)| BranchRow {
-            branch: i + 1,
-            c_f: b.c_f,
-            inductance: b.inductance,
-            resistance: b.resistance,
-            tuning_frequency: b.tuning_frequency(cp_t),
+        .flat_map(|r| {
+            r.circuit.branches.iter().enumerate().map(move |(i, b)| BranchRow {
+                ring: (!shared).then(|| r.name.clone()),
+                branch: i + 1,
+                c_f: b.c_f,
+                inductance: b.inductance,
+                resistance: b.resistance,
+                tuning_frequency: b.tuning_frequency(r.ring.cp_t),
+            })
         })
         .collect()
 }

@@ -107,7 +107,7 @@ struct ChartJson<'a> {
 pub fn layer_name(problem: &Problem) -> String {
     let extra: Vec<&str> =
         problem.overrides.iter().map(String::as_str).filter(|o| !o.starts_with("circuit.state")).collect();
-    let mut name = format!("{} circuit", problem.model.circuit.state);
+    let mut name = format!("{} circuit", problem.model.state_text());
     if !extra.is_empty() {
         name += &format!(", {}", extra.join(", "));
     }

@@ -65,7 +65,7 @@ fn boundary_plot(dir: &OutDir, problem: &Problem, fs: &FloquetSystem, cat: &Cata
         lines.push(side(&|e| e.phi.lo));
         lines.push(side(&|e| e.phi.hi));
     }
-    let layer = Layer { name: format!("{} circuit", problem.model.circuit.state), color: (31, 119, 180), chart: c };
+    let layer = Layer { name: format!("{} circuit", problem.model.state_text()), color: (31, 119, 180), chart: c };
     let plot = StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer])
         .with_lines(lines);
     dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;

@@ -9,6 +9,7 @@ use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
+use crate::problem::file::BranchFile;
 use crate::problem::{Problem, ProblemFile};
 use serde::Serialize;
 
@@ -16,8 +17,24 @@ use serde::Serialize;
 pub fn problem_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<Problem, DesignError> {
     let mut data: ProblemFile = base.data.clone();
     for (v, &x) in spec.variables.iter().zip(values) {
-        let b = &mut data.circuit.branches[v.branch];
-        match v.parameter {
+        // The branch in the file: the shorthand's [circuit], one ring's, or every ring's.
+        let mut targets: Vec<&mut BranchFile> = match (&mut data.circuit, v.ring) {
+            (Some(c), _) => c.branches.get_mut(v.branch).into_iter().collect(),
+            (None, Some(r)) => {
+                data.rings.get_mut(r).and_then(|r| r.circuit.branches.get_mut(v.branch)).into_iter().collect()
+            }
+            (None, None) => data.rings.iter_mut().filter_map(|r| r.circuit.branches.get_mut(v.branch)).collect(),
+        };
+        for b in targets.iter_mut() {
+            set_branch(b, v.parameter, x);
+        }
+    }
+    Ok(Problem::from_data(data, &base.file, &base.overrides)?)
+}
+
+fn set_branch(b: &mut BranchFile, parameter: Parameter, x: f64) {
+    {
+        match parameter {
             Parameter::CF => b.c_f = x,
             Parameter::Resistance => b.resistance = x,
             Parameter::Inductance => {
@@ -30,17 +47,16 @@ pub fn problem_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<P
             }
         }
     }
-    Ok(Problem::from_data(data, &base.file, &base.overrides)?)
 }
 
 /// The current values of the variables in a problem (SI units): L from Eq. (4) where the
 /// branch is given by its tuning frequency and the other way round.
 pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
-    let cp_t = problem.model.left.cp_t;
     spec.variables
         .iter()
         .map(|v| {
-            let b = &problem.model.circuit.branches[v.branch];
+            let support = &problem.model.rings[v.ring.unwrap_or(0)];
+            let (b, cp_t) = (&support.circuit.branches[v.branch], support.ring.cp_t);
             match v.parameter {
                 Parameter::CF => b.c_f,
                 Parameter::Resistance => b.resistance,

@@ -59,8 +59,15 @@ impl Parameter {
 }
 
 /// One design variable: a parameter of one branch with bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Variable {
+    /// The ring (model order) whose branch this is; `None`: the branch of every ring
+    /// (their circuits are identical, as in the shorthand).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring: Option<usize>,
+    /// The ring's name, for reports (with `ring`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring_name: Option<String>,
     /// Branch index, 0-based (`branch = 1` in the file is index 0).
     pub branch: usize,
     /// Which parameter.
@@ -90,9 +97,12 @@ impl Variable {
         }
     }
 
-    /// Name for reports, e.g. `branch 1 tuning_frequency`.
+    /// Name for reports, e.g. `branch 1 tuning_frequency` (or `ring drive branch 1 …`).
     pub fn name(&self) -> String {
-        format!("branch {} {}", self.branch + 1, self.parameter.key())
+        match &self.ring_name {
+            Some(r) => format!("ring {r} branch {} {}", self.branch + 1, self.parameter.key()),
+            None => format!("branch {} {}", self.branch + 1, self.parameter.key()),
+        }
     }
 }
 
@@ -153,9 +163,10 @@ impl DesignSpec {
     }
 
     /// Check a spec built in code (its fields are public) by the rules the `[design]`
-    /// table obeys ([`crate::analysis::limits`]) for a problem with `branches` branches;
-    /// the first broken rule with the field's name (as in `[design]`).
-    pub fn check(&self, branches: usize) -> Result<(), (String, ParamError)> {
+    /// table obeys ([`crate::analysis::limits`]) for a problem whose rings have
+    /// `branches[r]` branches each (model order); the first broken rule with the field's
+    /// name (as in `[design]`).
+    pub fn check(&self, branches: &[usize]) -> Result<(), (String, ParamError)> {
         let at = |field: &str| {
             let field = field.to_string();
             move |e: ParamError| (field, e)
@@ -183,7 +194,11 @@ impl DesignSpec {
         limits::count(self.variables.len() as u64, 1, u64::MAX).map_err(at("variables"))?;
         for (i, v) in self.variables.iter().enumerate() {
             let key = format!("variables[{i}]");
-            limits::count(v.branch as u64 + 1, 1, branches as u64).map_err(at(&format!("{key}.branch")))?;
+            let ring = v.ring.unwrap_or(0);
+            let rings = limits::count(ring as u64 + 1, 1, branches.len() as u64);
+            rings.map_err(at(&format!("{key}.ring")))?;
+            let n = branches.get(ring).copied().unwrap_or(0) as u64;
+            limits::count(v.branch as u64 + 1, 1, n).map_err(at(&format!("{key}.branch")))?;
             let min = if v.parameter.logarithmic() {
                 limits::positive(Quantity::RangeLow, v.min)
             } else {

@@ -4,51 +4,13 @@
 
 pub mod element;
 mod ring;
+mod shaft;
+mod support;
 
 pub use ring::{Branch, Circuit, CircuitState, Ring};
 use serde::Serialize;
-
-/// A uniform solid circular shaft modelled by Rayleigh beam elements.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Shaft {
-    /// Length L (m).
-    pub length: f64,
-    /// Radius r (m).
-    pub radius: f64,
-    /// Number of equal elements n (n + 1 nodes).
-    pub elements: usize,
-    /// Young's modulus E (Pa).
-    pub youngs_modulus: f64,
-    /// Density ρ (kg/m³).
-    pub density: f64,
-}
-
-impl Shaft {
-    /// Cross-section area A = πr² (m²).
-    pub fn area(&self) -> f64 {
-        std::f64::consts::PI * self.radius * self.radius
-    }
-    /// Diametral second moment I = πr⁴/4 (m⁴); the polar one is 2I.
-    pub fn inertia(&self) -> f64 {
-        std::f64::consts::PI * self.radius.powi(4) / 4.0
-    }
-    /// Element length l = L/n (m).
-    pub fn element_length(&self) -> f64 {
-        self.length / self.elements as f64
-    }
-    /// Number of nodes n + 1.
-    pub fn nodes(&self) -> usize {
-        self.elements + 1
-    }
-    /// Shaft mass ρAL (kg).
-    pub fn mass(&self) -> f64 {
-        self.density * self.area() * self.length
-    }
-    /// Euler buckling load of the pinned-pinned shaft π²EI/L² (N), a closed-form bound.
-    pub fn euler_load(&self) -> f64 {
-        std::f64::consts::PI.powi(2) * self.youngs_modulus * self.inertia() / self.length.powi(2)
-    }
-}
+pub use shaft::{Section, Shaft};
+pub use support::{Bearing, RingSupport};
 
 /// A rigid disk lumped at a shaft node (Eq. 6).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -79,16 +41,15 @@ pub struct Load {
 /// The whole rotor system as described by a problem file.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Model {
-    /// The shaft.
+    /// The shaft (sections left to right).
     pub shaft: Shaft,
     /// Rigid disks.
     pub disks: Vec<Disk>,
-    /// Ring and bearing at x = 0.
-    pub left: Ring,
-    /// Ring and bearing at x = L.
-    pub right: Ring,
-    /// The shunt circuit of every piezo stack.
-    pub circuit: Circuit,
+    /// Plain bearings (no DOF of their own).
+    pub bearings: Vec<Bearing>,
+    /// Vibration rings in file order (the shorthand: `left` at node 0, `right` at node n),
+    /// each with its own circuit. Their DOFs follow the shaft's in this order.
+    pub rings: Vec<RingSupport>,
     /// Axial load.
     pub load: Load,
     /// Rotating speed Ω (rad/s).
@@ -96,15 +57,43 @@ pub struct Model {
 }
 
 impl Model {
-    /// Total mechanical mass: shaft plus disks (kg); ring masses not included.
+    /// Total mechanical mass: shaft plus disks (kg); ring and bearing masses not included.
     pub fn rotor_mass(&self) -> f64 {
         self.shaft.mass() + self.disks.iter().map(|d| d.mass).sum::<f64>()
     }
 
-    /// The same model with another circuit state.
+    /// The same model with every ring's circuit in another state.
     pub fn with_state(&self, state: CircuitState) -> Model {
         let mut m = self.clone();
-        m.circuit.state = state;
+        for r in &mut m.rings {
+            r.circuit.state = state;
+        }
         m
+    }
+
+    /// The circuit every ring carries, when all rings carry an identical one (the
+    /// shorthand always does); `None` when they differ or there is no ring.
+    pub fn shared_circuit(&self) -> Option<&Circuit> {
+        let first = &self.rings.first()?.circuit;
+        self.rings.iter().all(|r| &r.circuit == first).then_some(first)
+    }
+
+    /// The circuit state in words: `closed`, `open`, `short`, or, when the rings' states
+    /// differ, each ring's (`drive closed, aux open`).
+    pub fn state_text(&self) -> String {
+        match self.rings.first() {
+            Some(first) if self.rings.iter().all(|r| r.circuit.state == first.circuit.state) => {
+                first.circuit.state.to_string()
+            }
+            Some(_) => {
+                self.rings.iter().map(|r| format!("{} {}", r.name, r.circuit.state)).collect::<Vec<_>>().join(", ")
+            }
+            None => "no".to_string(),
+        }
+    }
+
+    /// Index of the ring named `name`.
+    pub fn ring_index(&self, name: &str) -> Option<usize> {
+        self.rings.iter().position(|r| r.name == name)
     }
 }

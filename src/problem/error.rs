@@ -129,6 +129,75 @@ pub enum ProblemErrorKind {
         /// The limit.
         limit: usize,
     },
+    /// A support (`[[bearings]]`, `[[rings]]`) node index that does not exist.
+    #[error("node {node} does not exist: the shaft has nodes 0 to {last}")]
+    NodeOffShaft {
+        /// The index.
+        node: i64,
+        /// The last node index Σ elements.
+        last: usize,
+    },
+    /// A support position off the shaft.
+    #[error("position {position} m is outside the shaft (0 to {length} m)")]
+    PositionOffShaft {
+        /// m.
+        position: f64,
+        /// The shaft's length (m).
+        length: f64,
+    },
+    /// Two supports (plain bearings or rings) at one node.
+    #[error("node {node} already carries a support (`{first}`): two supports at one node")]
+    SupportsShareNode {
+        /// The node.
+        node: usize,
+        /// Key of the support that is there first, e.g. `bearings[0]`.
+        first: String,
+    },
+    /// The supports leave the rotor free to move as a rigid body: the open-circuit
+    /// stiffness at zero load is singular.
+    #[error(
+        "unsupported: rigid-body mode(s): {supports} support(s) with stiffness, at least 2 at distinct nodes are needed (a free rotor translates and tilts; one support lets it tilt about that node)"
+    )]
+    RigidBody {
+        /// Supports with positive stiffness.
+        supports: usize,
+    },
+    /// An inner diameter not below the outer one.
+    #[error("inner diameter {inner} m must be below the outer diameter {outer} m")]
+    InnerNotBelowOuter {
+        /// d (m).
+        inner: f64,
+        /// D (m).
+        outer: f64,
+    },
+    /// The sections sum to no length (an empty `sections = []`), or their sum overflows.
+    #[error("the sections sum to {total} m: a shaft needs a finite positive length")]
+    ShaftLength {
+        /// The sum (m).
+        total: f64,
+    },
+    /// A material or ring name that the file does not define.
+    #[error("unknown {what} `{name}` (the file defines: {})", if known.is_empty() { "none".to_string() } else { known.join(", ") })]
+    UnknownName {
+        /// `material` or `ring`.
+        what: String,
+        /// The name given.
+        name: String,
+        /// The names defined, in file order.
+        known: Vec<String>,
+    },
+    /// A name that cannot be used: defined twice, empty, or with characters other than
+    /// letters, digits, `_` and `-` (names appear in labels such as `r1@drive`).
+    #[error("name `{name}`: {reason}")]
+    BadName {
+        /// The name.
+        name: String,
+        /// Why.
+        reason: String,
+    },
+    /// The shorthand and the general form given for one topic.
+    #[error("give either the shorthand `{0}` or the general form `{1}`, not both")]
+    MixedForms(String, String),
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,

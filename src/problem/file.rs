@@ -23,15 +23,31 @@ pub struct ProblemFile {
     pub source: Option<String>,
     /// Rotating speed Ω (rad/s).
     pub speed: f64,
-    /// The shaft.
-    pub shaft: ShaftFile,
+    /// `[[materials]]` (general form): named E and ρ that sections and disks refer to.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub materials: Vec<MaterialFile>,
+    /// The shorthand shaft: one uniform solid section (exclusive with `[[sections]]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaft: Option<ShaftFile>,
+    /// `[[sections]]` (general form): the shaft's sections, left to right.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sections: Option<Vec<SectionFile>>,
     /// Rigid disks (`[[disks]]`).
     #[serde(default)]
     pub disks: Vec<DiskFile>,
-    /// Ring and bearing, the same at both ends unless `[ring.right]` overrides.
-    pub ring: RingFile,
-    /// The shunt circuit.
-    pub circuit: CircuitFile,
+    /// The shorthand rings: the same ring at both ends unless `[ring.right]` overrides,
+    /// both on `[circuit]` (exclusive with `[[bearings]]` and `[[rings]]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ring: Option<RingFile>,
+    /// The shorthand's shunt circuit, shared by both rings.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub circuit: Option<CircuitFile>,
+    /// `[[bearings]]` (general form): plain bearings.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bearings: Vec<BearingFile>,
+    /// `[[rings]]` (general form): vibration rings, each with its own circuit.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rings: Vec<RingSupportFile>,
     /// The axial load.
     pub load: LoadFile,
     /// Numerical settings.
@@ -92,7 +108,11 @@ pub struct BandFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VariableFile {
-    /// Branch number, counted from 1 in the order of `[[circuit.branches]]`.
+    /// The ring (general form: its `name`) whose branch this is; omitted: every ring
+    /// (valid only while all rings carry an identical circuit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ring: Option<String>,
+    /// Branch number, counted from 1 in the order of the circuit's branches.
     pub branch: i64,
     /// `c_f`, `inductance`, `tuning_frequency` or `resistance`.
     pub parameter: Parameter,
@@ -118,7 +138,125 @@ pub struct ShaftFile {
     pub density: f64,
 }
 
-/// `[[disks]]`: placed by `node` (0-based) or `position` (m from the left end).
+/// `[[materials]]`: a named material.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    /// Name sections and disks refer to (`material = "steel"`); unique.
+    pub name: String,
+    /// E (Pa).
+    pub youngs_modulus: f64,
+    /// ρ (kg/m³).
+    pub density: f64,
+}
+
+/// `[[sections]]`: a uniform, solid or hollow, section of the shaft.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionFile {
+    /// Length (m).
+    pub length: f64,
+    /// Outer diameter D (m).
+    pub outer_diameter: f64,
+    /// Inner diameter d (m); default 0 (solid); below D.
+    #[serde(default)]
+    pub inner_diameter: f64,
+    /// A `[[materials]]` name; or give `youngs_modulus` and `density` here.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// E (Pa).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus: Option<f64>,
+    /// ρ (kg/m³).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Number of Rayleigh elements in the section (≥ 1).
+    pub elements: i64,
+}
+
+/// `[[bearings]]`: a plain isotropic bearing, placed by `node` or `position`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingFile {
+    /// Node index, 0 = left end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<i64>,
+    /// Position along the shaft (m); snapped to the nearest node.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<f64>,
+    /// Stiffness k (N/m).
+    pub stiffness: f64,
+    /// Damping c (N·s/m); default 0.
+    #[serde(default)]
+    pub damping: f64,
+    /// Bearing mass (kg), lumped at the node; default 0.
+    #[serde(default)]
+    pub mass: f64,
+}
+
+/// `[[rings]]`: a vibration ring (today's `[ring]` keys) at a node or position, with its
+/// own `[rings.circuit]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingSupportFile {
+    /// Name used in labels and design variables; default `ring1`, `ring2`, … (file order).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Node index, 0 = left end.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<i64>,
+    /// Position along the shaft (m); snapped to the nearest node.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<f64>,
+    /// Bearing stiffness k_b (N/m).
+    pub k_b: f64,
+    /// Bearing + ring mass m_b (kg).
+    pub m_b: f64,
+    /// Mechanical damping η (N·s/m).
+    #[serde(default)]
+    pub eta: f64,
+    /// Ring structure stiffness k_1 (N/m).
+    pub k_1: f64,
+    /// Piezo stack stiffness k_2 (N/m).
+    pub k_2: f64,
+    /// Structural angle β (degrees, 0 < β < 90).
+    pub angle_deg: f64,
+    /// Coupling coefficient θ_p (C/m).
+    pub theta_p: f64,
+    /// C_p^T (F).
+    pub cp_t: f64,
+    /// C_p^S (F); give this or `k_eq2`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cp_s: Option<f64>,
+    /// k_eq2 (N/m); give this or `cp_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_eq2: Option<f64>,
+    /// This ring's shunt circuit.
+    pub circuit: CircuitFile,
+}
+
+impl RingSupportFile {
+    /// The ring keys as a `[ring]` table (no override), to share its checks.
+    pub fn ring_keys(&self) -> RingFile {
+        RingFile {
+            k_b: self.k_b,
+            m_b: self.m_b,
+            eta: self.eta,
+            k_1: self.k_1,
+            k_2: self.k_2,
+            angle_deg: self.angle_deg,
+            theta_p: self.theta_p,
+            cp_t: self.cp_t,
+            cp_s: self.cp_s,
+            k_eq2: self.k_eq2,
+            right: None,
+        }
+    }
+}
+
+/// `[[disks]]`: placed by `node` (0-based) or `position` (m from the left end); given by
+/// `mass`, `polar_inertia` (and `diametral_inertia`) or by its geometry (`outer_diameter`,
+/// `inner_diameter`, `width`, `material`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiskFile {
@@ -128,13 +266,30 @@ pub struct DiskFile {
     /// Position along the shaft (m); snapped to the nearest node.
     #[serde(default)]
     pub position: Option<f64>,
-    /// m (kg).
-    pub mass: f64,
-    /// J_p (kg·m²).
-    pub polar_inertia: f64,
-    /// J_d (kg·m²); default J_p/2 (thin disk).
+    /// m (kg) (mass form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// J_p (kg·m²) (mass form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polar_inertia: Option<f64>,
+    /// J_d (kg·m²); default J_p/2 (thin disk) (mass form).
     #[serde(default)]
     pub diametral_inertia: Option<f64>,
+    /// Outer diameter D (m) (geometry form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter: Option<f64>,
+    /// Inner (bore) diameter d (m), default 0 (geometry form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter: Option<f64>,
+    /// Width w (m) (geometry form).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    /// A `[[materials]]` name (geometry form; or give `density`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// ρ (kg/m³) (geometry form, instead of `material`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
     /// Unbalance eccentricity e (m).
     #[serde(default)]
     pub eccentricity: f64,

@@ -2,8 +2,10 @@
 //! and translate it into [`crate::model::Model`] and [`crate::analysis::Settings`].
 //! This is the only module that knows both the file format and the model.
 
+mod design_keys;
 mod error;
 pub mod file;
+mod general;
 pub mod input;
 pub mod source;
 mod validate;
@@ -137,7 +139,7 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        let design = validate::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let design = design_keys::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         Ok(Problem {
             file: name.to_string(),
             data,
@@ -161,7 +163,7 @@ impl Problem {
             kind,
         };
         let (model, settings) = validate::translate(&data).map_err(err)?;
-        let design = validate::design(&data).map_err(err)?;
+        let design = design_keys::design(&data).map_err(err)?;
         // The edited data are the input: hash their TOML form.
         let input_sha256 = input_hash(&toml::to_string(&data).unwrap_or_default(), overrides);
         Ok(Problem {

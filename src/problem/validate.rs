@@ -1,12 +1,12 @@
 //! Value checks with key paths, and translation of the file types into the model.
 
 use super::file::*;
+use super::general;
 use super::ProblemErrorKind as K;
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::{Interval, Settings};
 use crate::assembly::DofMap;
-use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS};
-use crate::model::{Branch, Circuit, CircuitState, Disk, Load, Model, Ring, Shaft};
+use crate::model::{Bearing, Branch, Circuit, CircuitState, Disk, Load, Model, Ring, RingSupport, Shaft};
 
 /// A key path and what is wrong there.
 pub type Failure = (String, K);
@@ -32,7 +32,7 @@ pub const MAX_BRANCHES: usize = 100;
 /// `check` summary (10⁵ disks load in 0.3 s and 240 MB).
 pub const MAX_DISKS: usize = 100_000;
 
-fn finite(key: &str, v: f64) -> Result<f64, Failure> {
+pub(super) fn finite(key: &str, v: f64) -> Result<f64, Failure> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -40,7 +40,7 @@ fn finite(key: &str, v: f64) -> Result<f64, Failure> {
     }
 }
 
-fn positive(key: &str, v: f64) -> Result<f64, Failure> {
+pub(super) fn positive(key: &str, v: f64) -> Result<f64, Failure> {
     if finite(key, v)? > 0.0 {
         Ok(v)
     } else {
@@ -48,7 +48,7 @@ fn positive(key: &str, v: f64) -> Result<f64, Failure> {
     }
 }
 
-fn non_negative(key: &str, v: f64) -> Result<f64, Failure> {
+pub(super) fn non_negative(key: &str, v: f64) -> Result<f64, Failure> {
     if finite(key, v)? >= 0.0 {
         Ok(v)
     } else {
@@ -56,7 +56,7 @@ fn non_negative(key: &str, v: f64) -> Result<f64, Failure> {
     }
 }
 
-fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failure> {
+pub(super) fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failure> {
     let v = finite(key, v)?;
     if v > lo && v < hi {
         Ok(v)
@@ -67,19 +67,19 @@ fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result<f64, Failu
 
 /// A parameter rule's result at `key` ([`crate::analysis::limits`]: the rules every route
 /// shares).
-fn rule<T>(key: &str, r: Result<T, ParamError>) -> Result<T, Failure> {
+pub(super) fn rule<T>(key: &str, r: Result<T, ParamError>) -> Result<T, Failure> {
     r.map_err(|e| (key.into(), K::from(&e)))
 }
 
 /// A φ range's rule at `key[0]`/`key[1]`, whichever end breaks it.
-fn range_rule(key: &str, lo: f64, hi: f64) -> Result<Interval, Failure> {
+pub(super) fn range_rule(key: &str, lo: f64, hi: f64) -> Result<Interval, Failure> {
     limits::phi_range(lo, hi).map_err(|e| {
         let end = if e.quantity == Quantity::RangeLow { 0 } else { 1 };
         (format!("{key}[{end}]"), K::from(&e))
     })
 }
 
-fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
+pub(super) fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
     match (a.1, b.1) {
         (Some(_), Some(_)) => Err((format!("{key}.{}", b.0), K::BothGiven(a.0.into(), b.0.into()))),
         (None, None) => Err((key.into(), K::NeitherGiven(a.0.into(), b.0.into()))),
@@ -98,18 +98,37 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         return Err(("version".into(), K::Version { found: f.version, supported: FORMAT_VERSION }));
     }
     let speed = rule("speed", limits::speed(f.speed))?;
-    let shaft = shaft(&f.shaft)?;
-    sizes(f, &shaft)?;
-    let disks =
-        f.disks.iter().enumerate().map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft)).collect::<Result<_, _>>()?;
-    let left = ring("ring", &f.ring, &RingOverride::default())?;
-    let right = match &f.ring.right {
-        Some(r) => ring("ring.right", &f.ring, r)?,
-        None => left.clone(),
+    general::forms(f)?;
+    let shaft = match (&f.shaft, &f.sections) {
+        (Some(s), _) => shaft(s)?,
+        (None, Some(list)) => general::sections(f, list)?,
+        (None, None) => unreachable!("checked by general::forms"),
     };
-    let circuit = circuit(&f.circuit, &left)?;
-    let right_key = if f.ring.right.is_some() { "ring.right" } else { "ring" };
-    charges(&f.circuit, &circuit, [(&left, "ring"), (&right, right_key)])?;
+    sizes(f, &shaft)?;
+    let disks = f
+        .disks
+        .iter()
+        .enumerate()
+        .map(|(i, d)| disk(&format!("disks[{i}]"), d, &shaft, f))
+        .collect::<Result<_, _>>()?;
+    let (bearings, rings) = match (&f.ring, &f.circuit) {
+        (Some(r), Some(c)) => (Vec::<Bearing>::new(), shorthand_rings(r, c, &shaft)?),
+        _ => general::supports(f, &shaft)?,
+    };
+    match (&f.circuit, f.ring.as_ref().map(|r| r.right.is_some())) {
+        (Some(c), Some(has_right)) => {
+            let right_key = if has_right { "ring.right" } else { "ring" };
+            let both = [(&rings[0].ring, "ring".to_string()), (&rings[1].ring, right_key.to_string())];
+            charges(c, &rings[0].circuit, "circuit", &both)?;
+        }
+        _ => {
+            for (i, r) in rings.iter().enumerate() {
+                let prefix = format!("rings[{i}].circuit");
+                charges(&f.rings[i].circuit, &r.circuit, &prefix, &[(&r.ring, format!("rings[{i}]"))])?;
+            }
+        }
+    }
+    general::supports_check(f, &bearings, &rings)?;
     let load = Load {
         alpha: within(
             "load.alpha",
@@ -121,7 +140,23 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         critical_load: f.load.critical_load.map(|p| positive("load.critical_load", p)).transpose()?,
     };
     let settings = settings(&f.analysis)?;
-    Ok((Model { shaft, disks, left, right, circuit, load, speed }, settings))
+    Ok((Model { shaft, disks, bearings, rings, load, speed }, settings))
+}
+
+/// The shorthand's supports: the ring `left` at node 0 and `right` (with `[ring.right]`'s
+/// overrides) at the last node, both on the circuit `[circuit]` (tuned with the left
+/// ring's C_p^T, Eq. 4).
+fn shorthand_rings(r: &RingFile, c: &CircuitFile, shaft: &Shaft) -> Result<Vec<RingSupport>, Failure> {
+    let left = ring("ring", r, &RingOverride::default())?;
+    let right = match &r.right {
+        Some(o) => ring("ring.right", r, o)?,
+        None => left.clone(),
+    };
+    let circuit = circuit("circuit", c, &left)?;
+    Ok(vec![
+        RingSupport { name: "left".into(), node: 0, ring: left, circuit: circuit.clone() },
+        RingSupport { name: "right".into(), node: shaft.last_node(), ring: right, circuit },
+    ])
 }
 
 fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
@@ -131,65 +166,89 @@ fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
             K::OutOfRange { value: s.elements as f64, range: format!("a whole number from 1 to {MAX_ELEMENTS}") },
         ));
     }
-    Ok(Shaft {
-        length: positive("shaft.length", s.length)?,
-        radius: positive("shaft.radius", s.radius)?,
-        elements: s.elements as usize,
-        youngs_modulus: positive("shaft.youngs_modulus", s.youngs_modulus)?,
-        density: positive("shaft.density", s.density)?,
-    })
+    Ok(Shaft::uniform(
+        positive("shaft.length", s.length)?,
+        positive("shaft.radius", s.radius)?,
+        s.elements as usize,
+        positive("shaft.youngs_modulus", s.youngs_modulus)?,
+        positive("shaft.density", s.density)?,
+    ))
 }
 
 /// Refuse a model too large to analyse before any per-entry work or allocation.
 fn sizes(f: &ProblemFile, shaft: &Shaft) -> Result<(), Failure> {
-    let branches = f.circuit.branches.len();
-    let closed = f.circuit.state == CircuitState::Closed;
-    let dofs = DofMap { nodes: shaft.nodes(), branches: if closed { branches } else { 0 } }.len();
+    let closed = |c: &CircuitFile| if c.state == CircuitState::Closed { c.branches.len() } else { 0 };
+    let (branches, key): (Vec<usize>, &str) = match &f.circuit {
+        Some(c) if f.rings.is_empty() => (vec![closed(c); 2], "circuit.branches"),
+        _ => (f.rings.iter().map(|r| closed(&r.circuit)).collect(), "rings"),
+    };
+    let dofs = DofMap { nodes: shaft.nodes(), branches }.len();
     if dofs > MAX_DOFS {
-        return Err(("circuit.branches".into(), K::TooManyDofs { dofs, limit: MAX_DOFS }));
+        return Err((key.into(), K::TooManyDofs { dofs, limit: MAX_DOFS }));
     }
-    if branches > MAX_BRANCHES {
-        return Err(("circuit.branches".into(), K::TooManyEntries { count: branches, limit: MAX_BRANCHES }));
+    let circuits = f
+        .circuit
+        .iter()
+        .map(|c| ("circuit.branches".to_string(), c))
+        .chain(f.rings.iter().enumerate().map(|(i, r)| (format!("rings[{i}].circuit.branches"), &r.circuit)));
+    for (key, c) in circuits {
+        if c.branches.len() > MAX_BRANCHES {
+            return Err((key, K::TooManyEntries { count: c.branches.len(), limit: MAX_BRANCHES }));
+        }
     }
-    if f.disks.len() > MAX_DISKS {
-        return Err(("disks".into(), K::TooManyEntries { count: f.disks.len(), limit: MAX_DISKS }));
+    for (key, n) in [("disks", f.disks.len()), ("bearings", f.bearings.len()), ("rings", f.rings.len())] {
+        if n > MAX_DISKS {
+            return Err((key.into(), K::TooManyEntries { count: n, limit: MAX_DISKS }));
+        }
     }
     Ok(())
 }
 
-fn disk(key: &str, d: &DiskFile, shaft: &Shaft) -> Result<Disk, Failure> {
+fn disk(key: &str, d: &DiskFile, shaft: &Shaft, f: &ProblemFile) -> Result<Disk, Failure> {
     one_of(key, ("node", d.node.map(|n| n as f64)), ("position", d.position))?;
+    let (last, length) = (shaft.last_node(), shaft.length());
     let node = match (d.node, d.position) {
         (Some(n), _) => {
-            if n < 0 || n as usize > shaft.elements {
-                return Err((format!("{key}.node"), K::DiskNodeOffShaft { node: n, last: shaft.elements }));
+            if n < 0 || n as usize > last {
+                return Err((format!("{key}.node"), K::DiskNodeOffShaft { node: n, last }));
             }
             n as usize
         }
         (None, Some(p)) => {
             let p = finite(&format!("{key}.position"), p)?;
-            if !(0.0..=shaft.length).contains(&p) {
-                return Err((format!("{key}.position"), K::DiskOffShaft { position: p, length: shaft.length }));
+            if !(0.0..=length).contains(&p) {
+                return Err((format!("{key}.position"), K::DiskOffShaft { position: p, length }));
             }
-            (p / shaft.element_length()).round() as usize
+            shaft.nearest_node(p)
         }
         (None, None) => unreachable!("checked by one_of"),
     };
-    let polar_inertia = non_negative(&format!("{key}.polar_inertia"), d.polar_inertia)?;
+    let (mass, polar_inertia, diametral_inertia) = match general::disk_geometry(key, d, f)? {
+        Some(geometry) => geometry,
+        None => {
+            let missing = |name: &str| (format!("{key}.{name}"), K::Schema(format!("missing field `{name}`")));
+            let mass = d.mass.ok_or_else(|| missing("mass"))?;
+            let polar = d.polar_inertia.ok_or_else(|| missing("polar_inertia"))?;
+            let polar_inertia = non_negative(&format!("{key}.polar_inertia"), polar)?;
+            let mass = positive(&format!("{key}.mass"), mass)?;
+            let diametral = match d.diametral_inertia {
+                Some(j) => non_negative(&format!("{key}.diametral_inertia"), j)?,
+                None => polar_inertia / 2.0,
+            };
+            (mass, polar_inertia, diametral)
+        }
+    };
     Ok(Disk {
         node,
-        mass: positive(&format!("{key}.mass"), d.mass)?,
+        mass,
         polar_inertia,
-        diametral_inertia: match d.diametral_inertia {
-            Some(j) => non_negative(&format!("{key}.diametral_inertia"), j)?,
-            None => polar_inertia / 2.0,
-        },
+        diametral_inertia,
         eccentricity: non_negative(&format!("{key}.eccentricity"), d.eccentricity)?,
         phase: finite(&format!("{key}.phase"), d.phase)?,
     })
 }
 
-fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
+pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
     let k = |name: &str| format!("{key}.{name}");
     let angle_deg =
         within(&k("angle_deg"), o.angle_deg.unwrap_or(base.angle_deg), 0.0, 90.0, "between 0 and 90 degrees")?;
@@ -229,16 +288,16 @@ fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring, Failure> {
     })
 }
 
-fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
+pub(super) fn circuit(prefix: &str, c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
     if c.state == CircuitState::Closed && c.branches.is_empty() {
-        return Err(("circuit.branches".into(), K::NoBranches));
+        return Err((format!("{prefix}.branches"), K::NoBranches));
     }
     let branches = c
         .branches
         .iter()
         .enumerate()
         .map(|(i, b)| {
-            let key = format!("circuit.branches[{i}]");
+            let key = format!("{prefix}.branches[{i}]");
             one_of(&key, ("inductance", b.inductance), ("tuning_frequency", b.tuning_frequency))?;
             let c_f = positive(&format!("{key}.c_f"), b.c_f)?;
             let inductance = match (b.inductance, b.tuning_frequency) {
@@ -262,18 +321,18 @@ fn circuit(c: &CircuitFile, ring: &Ring) -> Result<Circuit, Failure> {
 /// reported at the input that overflows: for a product, the factor furthest from 1 (in
 /// orders of magnitude). A ring whose γ itself overflows is left to the analyses, as
 /// before. L = 0 (no mass) is fine: a massless charge.
-fn charges(file: &CircuitFile, circuit: &Circuit, rings: [(&Ring, &str); 2]) -> Result<(), Failure> {
+fn charges(file: &CircuitFile, circuit: &Circuit, prefix: &str, rings: &[(&Ring, String)]) -> Result<(), Failure> {
     if circuit.state != CircuitState::Closed {
         return Ok(());
     }
     let orders = |x: f64| x.abs().ln().abs();
     for (i, (b, given)) in circuit.branches.iter().zip(&file.branches).enumerate() {
-        let key = |name: &str| format!("circuit.branches[{i}].{name}");
+        let key = |name: &str| format!("{prefix}.branches[{i}].{name}");
         let out = |name: &str, value: f64, what: &str| {
             Err((key(name), K::OutOfRange { value, range: format!("one that gives a finite {what}") }))
         };
-        for (ring, prefix) in rings {
-            let ring_key = |name: &str| format!("{prefix}.{name}");
+        for (ring, ring_prefix) in rings {
+            let ring_key = |name: &str| format!("{ring_prefix}.{name}");
             if let (None, Some(w)) = (given.inductance, given.tuning_frequency) {
                 if !(1.0 / b.c_f).is_finite() {
                     return out("c_f", b.c_f, "1/C_f (Eq. 4)");
@@ -351,115 +410,4 @@ fn settings(s: &Settings) -> Result<Settings, Failure> {
     non_negative("analysis.min_tongue_width", s.min_tongue_width)?;
     count("analysis.max_tongue_order", s.max_tongue_order, 1, MAX_TONGUE_ORDER)?;
     Ok(s.clone())
-}
-
-/// Default φ range of a design's catalogues and band searches (rad/s): the paper's charts.
-const DEFAULT_PHI_RANGE: [f64; 2] = [100.0, 8000.0];
-/// Default Nelder–Mead starts and iterations.
-const DEFAULT_STARTS: i64 = 4;
-const DEFAULT_ITERATIONS: i64 = 40;
-
-/// Check `[design]` against the rest of the file.
-pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
-    let Some(d) = &f.design else { return Ok(None) };
-    let range = d.phi_range.unwrap_or(DEFAULT_PHI_RANGE);
-    let range = range_rule("design.phi_range", range[0], range[1])?;
-    // The level is a load coefficient up to β_max, whose default follows it.
-    let level = rule("design.level", limits::level(d.level, limits::MAX_BETA))?;
-    let beta_max = rule("design.beta_max", limits::beta_max(d.beta_max.unwrap_or(1.0_f64.max(level))))?;
-    rule("design.level", limits::level(level, beta_max))?;
-    let speeds = match &d.speeds {
-        Some(v) if v.is_empty() => return Err(("design.speeds".into(), K::Schema("needs at least one speed".into()))),
-        Some(v) => v
-            .iter()
-            .enumerate()
-            .map(|(i, &w)| rule(&format!("design.speeds[{i}]"), limits::speed(w)))
-            .collect::<Result<Vec<_>, _>>()?,
-        None => vec![f.speed],
-    };
-    let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
-    if d.objective == Objective::WidestStableBand && phi_op.is_none() {
-        return Err((
-            "design.phi_op".into(),
-            K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
-        ));
-    }
-    let bands = d
-        .bands
-        .iter()
-        .enumerate()
-        .map(|(i, b)| {
-            let key = format!("design.bands[{i}]");
-            let Interval { lo, hi } = limits::band(b.lo, b.hi).map_err(|e| {
-                let end = if e.quantity == Quantity::RangeLow { "lo" } else { "hi" };
-                (format!("{key}.{end}"), K::from(&e))
-            })?;
-            let clearance = rule(&format!("{key}.clearance"), limits::span(b.clearance))?;
-            Ok(Band { lo, hi, clearance })
-        })
-        .collect::<Result<Vec<_>, Failure>>()?;
-    if d.objective == Objective::ClearBands && bands.is_empty() {
-        return Err(("design.bands".into(), K::Schema("the clear-bands objective needs [[design.bands]]".into())));
-    }
-    if d.variables.is_empty() {
-        return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));
-    }
-    if f.circuit.state != CircuitState::Closed {
-        return Err((
-            "circuit.state".into(),
-            K::Schema("a design changes the shunt branches: the circuit must be `closed`".into()),
-        ));
-    }
-    let mut variables: Vec<Variable> = Vec::new();
-    for (i, v) in d.variables.iter().enumerate() {
-        let key = format!("design.variables[{i}]");
-        let n = f.circuit.branches.len();
-        if v.branch < 1 || v.branch as usize > n {
-            return Err((
-                format!("{key}.branch"),
-                K::OutOfRange { value: v.branch as f64, range: format!("a branch number from 1 to {n}") },
-            ));
-        }
-        let min = if v.parameter.logarithmic() {
-            positive(&format!("{key}.min"), v.min)?
-        } else {
-            non_negative(&format!("{key}.min"), v.min)?
-        };
-        let max = finite(&format!("{key}.max"), v.max)?;
-        if max <= min {
-            return Err((format!("{key}.max"), K::OutOfRange { value: max, range: format!("above min = {min}") }));
-        }
-        let var = Variable { branch: v.branch as usize - 1, parameter: v.parameter, min, max };
-        let exclusive = |p: Parameter| matches!(p, Parameter::Inductance | Parameter::TuningFrequency);
-        if variables.iter().any(|w| {
-            w.branch == var.branch
-                && (w.parameter == var.parameter || (exclusive(w.parameter) && exclusive(var.parameter)))
-        }) {
-            return Err((
-                format!("{key}.parameter"),
-                K::Schema(format!(
-                    "branch {} already has a variable for this parameter (inductance and tuning_frequency are one)",
-                    v.branch
-                )),
-            ));
-        }
-        variables.push(var);
-    }
-    let count = |key: &str, v: Option<i64>, default: i64, hi: u64| -> Result<usize, Failure> {
-        let v = v.unwrap_or(default);
-        let n = u64::try_from(v).unwrap_or(0);
-        rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
-    };
-    Ok(Some(DesignSpec {
-        objective: d.objective,
-        level,
-        phi_op,
-        phi_range: (range.lo, range.hi),
-        beta_max,
-        speeds,
-        bands,
-        variables,
-        starts: count("design.starts", d.starts, DEFAULT_STARTS, MAX_STARTS)?,
-        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,
-    }))
 }

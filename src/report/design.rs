@@ -10,6 +10,10 @@ use std::fmt::Write;
 /// One branch of a circuit as a designer reads it.
 #[derive(Debug, Clone, Serialize)]
 pub struct BranchRow {
+    /// The ring whose circuit this is, when the rings' circuits differ (absent: the
+    /// circuit every ring carries).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring: Option<String>,
     /// Branch number (from 1).
     pub branch: usize,
     /// C_f (F).
@@ -61,11 +65,17 @@ fn bound_text(b: &Option<Bound>) -> String {
 }
 
 fn branches_table(s: &mut String, rows: &[BranchRow]) {
-    let _ = writeln!(s, "| branch | C_f (F) | L (H) | R (Ω) | tuning ω (rad/s) |\n|---|---|---|---|---|");
+    if rows.iter().any(|b| b.ring.is_some()) {
+        let _ =
+            writeln!(s, "| ring | branch | C_f (F) | L (H) | R (Ω) | tuning ω (rad/s) |\n|---|---|---|---|---|---|");
+    } else {
+        let _ = writeln!(s, "| branch | C_f (F) | L (H) | R (Ω) | tuning ω (rad/s) |\n|---|---|---|---|---|");
+    }
     for b in rows {
+        let ring = b.ring.as_ref().map(|r| format!("| {r} ")).unwrap_or_default();
         let _ = writeln!(
             s,
-            "| {} | {:.4e} | {:.4} | {:.3} | {:.2} |",
+            "{ring}| {} | {:.4e} | {:.4} | {:.3} | {:.2} |",
             b.branch, b.c_f, b.inductance, b.resistance, b.tuning_frequency
         );
     }

@@ -243,7 +243,8 @@ fn halton(i: usize, dims: usize) -> Vec<f64> {
 /// the reference and the tuned design (for the report) come with it.
 pub fn run(base: &Problem, progress: &(dyn Fn(usize) + Sync)) -> Result<DesignOutcome, DesignError> {
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
-    spec.check(base.model.circuit.branches.len()).map_err(|(field, error)| DesignError::Spec { field, error })?;
+    spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
+        .map_err(|(field, error)| DesignError::Spec { field, error })?;
     let started = Instant::now();
     let before = values_of(base, spec);
     // The reference design's Floquet points must pass the β = 0 check over the design's

@@ -55,12 +55,12 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
             }
         }
     }
-    let cp_t = ctx.base.model.left.cp_t;
     let mut u = to_unit(ctx.spec, reference);
     for &j in &tuning {
         let v: &Variable = &ctx.spec.variables[j];
         // ω_e as a function of the scaled variable (L through Eq. 4 with the branch's C_f).
-        let c_f = ctx.base.model.circuit.branches[v.branch].c_f;
+        let support = &ctx.base.model.rings[v.ring.unwrap_or(0)];
+        let (c_f, cp_t) = (support.circuit.branches[v.branch].c_f, support.ring.cp_t);
         let omega = |x: f64| match v.parameter {
             Parameter::TuningFrequency => v.from_unit(x),
             _ => crate::model::Branch { c_f, inductance: v.from_unit(x), resistance: 0.0 }.tuning_frequency(cp_t),

@@ -1,0 +1,258 @@
+//! The general form of a problem file (issue 16): `[[materials]]`, `[[sections]]`,
+//! `[[bearings]]` and `[[rings]]` with their own circuits, the disks' geometry form, and
+//! the checks on supports (one per node, no rigid-body mode). The shorthand (`[shaft]`,
+//! `[ring]`, `[circuit]`) is translated in `validate.rs` onto the same model.
+
+use super::file::*;
+use super::validate::{circuit, finite, non_negative, one_of, positive, ring, Failure, MAX_ELEMENTS};
+use super::ProblemErrorKind as K;
+use crate::model::{Bearing, RingSupport, Section, Shaft};
+
+/// The key of the shaft topic's and of the supports topic's forms: mixing them in one
+/// topic, or leaving a topic out, is refused here (before any value is read).
+pub(super) fn forms(f: &ProblemFile) -> Result<(), Failure> {
+    match (&f.shaft, &f.sections) {
+        (Some(_), Some(_)) => return Err(("sections".into(), K::MixedForms("[shaft]".into(), "[[sections]]".into()))),
+        (None, None) => return Err(("shaft".into(), K::Schema("missing field `shaft`".into()))),
+        _ => {}
+    }
+    let general = if !f.rings.is_empty() {
+        Some(("rings", "[[rings]]"))
+    } else {
+        (!f.bearings.is_empty()).then_some(("bearings", "[[bearings]]"))
+    };
+    let shorthand = if f.ring.is_some() { Some("[ring]") } else { f.circuit.is_some().then_some("[circuit]") };
+    match (shorthand, general) {
+        (Some(s), Some((key, g))) => Err((key.into(), K::MixedForms(s.into(), g.into()))),
+        // A general shaft with no support is a free rotor: reported by `supports_check`.
+        (None, None) if f.sections.is_some() => Ok(()),
+        (None, None) => Err(("ring".into(), K::Schema("missing field `ring`".into()))),
+        (Some(_), None) if f.ring.is_none() => Err(("ring".into(), K::Schema("missing field `ring`".into()))),
+        (Some(_), None) if f.circuit.is_none() => Err(("circuit".into(), K::Schema("missing field `circuit`".into()))),
+        _ => Ok(()),
+    }
+}
+
+/// E and ρ of a material name at `key`.
+fn material(key: &str, name: &str, materials: &[MaterialFile]) -> Result<(f64, f64), Failure> {
+    let m = materials.iter().find(|m| m.name == name).ok_or_else(|| {
+        let known = materials.iter().map(|m| m.name.clone()).collect();
+        (key.to_string(), K::UnknownName { what: "material".into(), name: name.into(), known })
+    })?;
+    Ok((m.youngs_modulus, m.density))
+}
+
+/// `[[materials]]`: finite positive E and ρ, unique names.
+fn materials(f: &ProblemFile) -> Result<(), Failure> {
+    for (i, m) in f.materials.iter().enumerate() {
+        let key = format!("materials[{i}]");
+        if f.materials[..i].iter().any(|n| n.name == m.name) {
+            return Err((format!("{key}.name"), K::BadName { name: m.name.clone(), reason: "defined twice".into() }));
+        }
+        positive(&format!("{key}.youngs_modulus"), m.youngs_modulus)?;
+        positive(&format!("{key}.density"), m.density)?;
+    }
+    Ok(())
+}
+
+/// `[[sections]]` as the shaft.
+pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, Failure> {
+    materials(f)?;
+    let mut sections = Vec::with_capacity(list.len());
+    let mut total_elements: i64 = 0;
+    for (i, s) in list.iter().enumerate() {
+        let key = |name: &str| format!("sections[{i}].{name}");
+        if s.elements < 1 || s.elements > MAX_ELEMENTS {
+            let range = format!("a whole number from 1 to {MAX_ELEMENTS}");
+            return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+        }
+        total_elements += s.elements;
+        if total_elements > MAX_ELEMENTS {
+            let range = format!("such that all sections have at most {MAX_ELEMENTS} elements in total");
+            return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+        }
+        let length = positive(&key("length"), s.length)?;
+        let outer = positive(&key("outer_diameter"), s.outer_diameter)?;
+        let inner = non_negative(&key("inner_diameter"), s.inner_diameter)?;
+        if inner >= outer {
+            return Err((key("inner_diameter"), K::InnerNotBelowOuter { inner, outer }));
+        }
+        let (youngs_modulus, density) = match (&s.material, s.youngs_modulus, s.density) {
+            (Some(_), Some(_), _) => {
+                return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
+            }
+            (Some(_), None, Some(_)) => {
+                return Err((key("density"), K::BothGiven("material".into(), "density".into())))
+            }
+            (Some(name), None, None) => material(&key("material"), name, &f.materials)?,
+            (None, None, _) => {
+                return Err((format!("sections[{i}]"), K::NeitherGiven("material".into(), "youngs_modulus".into())))
+            }
+            (None, Some(e), d) => {
+                let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
+                (e, d)
+            }
+        };
+        sections.push(Section {
+            length,
+            outer_diameter: outer,
+            inner_diameter: inner,
+            elements: s.elements as usize,
+            youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
+            density: positive(&key("density"), density)?,
+        });
+    }
+    let shaft = Shaft { sections };
+    let total = shaft.length();
+    if !(total.is_finite() && total > 0.0) {
+        return Err(("sections".into(), K::ShaftLength { total }));
+    }
+    Ok(shaft)
+}
+
+/// A support's node from `node` or `position` (snapped to the nearest node).
+fn place(key: &str, node: Option<i64>, position: Option<f64>, shaft: &Shaft) -> Result<usize, Failure> {
+    one_of(key, ("node", node.map(|n| n as f64)), ("position", position))?;
+    match (node, position) {
+        (Some(n), _) => {
+            if n < 0 || n as usize > shaft.last_node() {
+                return Err((format!("{key}.node"), K::NodeOffShaft { node: n, last: shaft.last_node() }));
+            }
+            Ok(n as usize)
+        }
+        (None, Some(p)) => {
+            let p = finite(&format!("{key}.position"), p)?;
+            let length = shaft.length();
+            if !(0.0..=length).contains(&p) {
+                return Err((format!("{key}.position"), K::PositionOffShaft { position: p, length }));
+            }
+            Ok(shaft.nearest_node(p))
+        }
+        (None, None) => Err((key.into(), K::NeitherGiven("node".into(), "position".into()))),
+    }
+}
+
+/// A disk of the geometry form (m = ρπ(D² − d²)/4·w, J_p = m(D² + d²)/8,
+/// J_d = J_p/2 + m·w²/12), or `None` when none of its keys is given.
+pub(super) fn disk_geometry(key: &str, d: &DiskFile, f: &ProblemFile) -> Result<Option<(f64, f64, f64)>, Failure> {
+    let geometry = d.outer_diameter.is_some()
+        || d.inner_diameter.is_some()
+        || d.width.is_some()
+        || d.material.is_some()
+        || d.density.is_some();
+    if !geometry {
+        return Ok(None);
+    }
+    for (name, given) in
+        [("mass", d.mass), ("polar_inertia", d.polar_inertia), ("diametral_inertia", d.diametral_inertia)]
+    {
+        if given.is_some() {
+            return Err((format!("{key}.{name}"), K::BothGiven(name.into(), "outer_diameter".into())));
+        }
+    }
+    let k = |name: &str| format!("{key}.{name}");
+    let missing = |name: &str| (k(name), K::Schema(format!("missing field `{name}`")));
+    let outer = positive(&k("outer_diameter"), d.outer_diameter.ok_or_else(|| missing("outer_diameter"))?)?;
+    let inner = non_negative(&k("inner_diameter"), d.inner_diameter.unwrap_or(0.0))?;
+    if inner >= outer {
+        return Err((k("inner_diameter"), K::InnerNotBelowOuter { inner, outer }));
+    }
+    let width = positive(&k("width"), d.width.ok_or_else(|| missing("width"))?)?;
+    let density = match (&d.material, d.density) {
+        (Some(_), Some(_)) => return Err((k("density"), K::BothGiven("material".into(), "density".into()))),
+        (Some(name), None) => material(&k("material"), name, &f.materials)?.1,
+        (None, Some(rho)) => rho,
+        (None, None) => return Err((key.into(), K::NeitherGiven("material".into(), "density".into()))),
+    };
+    let density = positive(&k("density"), density)?;
+    let (d2, i2) = (outer * outer, inner * inner);
+    let mass = density * std::f64::consts::PI * (d2 - i2) / 4.0 * width;
+    let polar = mass * (d2 + i2) / 8.0;
+    let diametral = polar / 2.0 + mass * width * width / 12.0;
+    if !(mass.is_finite() && polar.is_finite() && diametral.is_finite() && mass > 0.0) {
+        let range = "one that gives a finite positive mass and inertias".to_string();
+        return Err((k("outer_diameter"), K::OutOfRange { value: outer, range }));
+    }
+    Ok(Some((mass, polar, diametral)))
+}
+
+/// A ring name: letters, digits, `_` and `-` (it appears in labels like `r1@drive` and
+/// region labels joined by `+`).
+fn name_ok(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("a name must not be empty".into());
+    }
+    if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        return Err("use only letters, digits, `_` and `-` (names appear in mode labels)".into());
+    }
+    Ok(())
+}
+
+/// `[[bearings]]` and `[[rings]]`.
+pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, Vec<RingSupport>), Failure> {
+    let bearings = f
+        .bearings
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let key = format!("bearings[{i}]");
+            let k = |name: &str| format!("{key}.{name}");
+            Ok(Bearing {
+                node: place(&key, b.node, b.position, shaft)?,
+                stiffness: non_negative(&k("stiffness"), b.stiffness)?,
+                damping: non_negative(&k("damping"), b.damping)?,
+                mass: non_negative(&k("mass"), b.mass)?,
+            })
+        })
+        .collect::<Result<Vec<_>, Failure>>()?;
+    let mut rings: Vec<RingSupport> = Vec::with_capacity(f.rings.len());
+    for (i, r) in f.rings.iter().enumerate() {
+        let key = format!("rings[{i}]");
+        let name = r.name.clone().unwrap_or_else(|| format!("ring{}", i + 1));
+        name_ok(&name).map_err(|reason| (format!("{key}.name"), K::BadName { name: name.clone(), reason }))?;
+        if rings.iter().any(|q| q.name == name) {
+            let reason = "two rings have this name".to_string();
+            return Err((format!("{key}.name"), K::BadName { name, reason }));
+        }
+        let node = place(&key, r.node, r.position, shaft)?;
+        let ring = ring(&key, &r.ring_keys(), &RingOverride::default())?;
+        let circuit = circuit(&format!("{key}.circuit"), &r.circuit, &ring)?;
+        rings.push(RingSupport { name, node, ring, circuit });
+    }
+    Ok((bearings, rings))
+}
+
+/// One support per node, and at least two supports with stiffness: the open-circuit
+/// stiffness K at zero load is positive definite exactly when the supports hold both
+/// rigid-body motions u = a + b·x of the free shaft (whose bending energy vanishes on
+/// them and only on them), i.e. when two supports with positive stiffness sit at
+/// distinct nodes. A ring always has stiffness to the ground on open circuit
+/// (k_eq in series with k_eq1 + k_eq2); a bearing when k > 0.
+pub(super) fn supports_check(f: &ProblemFile, bearings: &[Bearing], rings: &[RingSupport]) -> Result<(), Failure> {
+    let shorthand = f.ring.is_some();
+    let key_of = |i: usize| -> String {
+        if shorthand {
+            "ring".into()
+        } else if i < bearings.len() {
+            format!("bearings[{i}]")
+        } else {
+            format!("rings[{}]", i - bearings.len())
+        }
+    };
+    let nodes: Vec<usize> = bearings.iter().map(|b| b.node).chain(rings.iter().map(|r| r.node)).collect();
+    let mut seen = std::collections::HashMap::with_capacity(nodes.len());
+    for (i, &node) in nodes.iter().enumerate() {
+        if let Some(&first) = seen.get(&node) {
+            let given = if i < bearings.len() { &f.bearings[i].node } else { &f.rings[i - bearings.len()].node };
+            let key = format!("{}.{}", key_of(i), if given.is_some() { "node" } else { "position" });
+            return Err((key, K::SupportsShareNode { node, first: key_of(first) }));
+        }
+        seen.insert(node, i);
+    }
+    let stiff = bearings.iter().filter(|b| b.stiffness > 0.0).count() + rings.len();
+    if stiff < 2 {
+        let key = if nodes.is_empty() { "sections".to_string() } else { key_of(0) };
+        return Err((key, K::RigidBody { supports: stiff }));
+    }
+    Ok(())
+}
