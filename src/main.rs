@@ -573,7 +573,7 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::Cost(_)
                 | rotorshunt::Error::Analysis(
                     rotorshunt::analysis::AnalysisError::Request(_)
-                    | rotorshunt::analysis::AnalysisError::NodeOffShaft { .. }
+                    | rotorshunt::analysis::AnalysisError::ProbeNodeOffShaft { .. }
                     | rotorshunt::analysis::AnalysisError::NoSpeeds
                     | rotorshunt::analysis::AnalysisError::SpeedsNotAscending { .. }
                     | rotorshunt::analysis::AnalysisError::UnknownMode { .. },

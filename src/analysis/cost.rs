@@ -415,7 +415,8 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
 /// other grid speed of every disk node, support and node: an upper bound).
 pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
     let n = model_dofs(model) as f64;
-    let probes = (super::unbalance::disk_nodes(model).len() + 4 + nodes) as f64;
+    let probes =
+        (super::unbalance::disk_nodes(model).len() + model.bearings.len() + 2 * model.rings.len() + nodes) as f64;
     let peaks = probes * (speeds / 2) as f64;
     let solves = speeds as f64 + peaks * super::unbalance::SOLVES_PER_PEAK as f64;
     let detail = format!(

@@ -110,7 +110,7 @@ pub enum AnalysisError {
     Request(#[from] limits::ParamError),
     /// A response asked at a shaft node the model does not have.
     #[error("node {node} is off the shaft: the shaft has nodes 0 to {last}")]
-    NodeOffShaft {
+    ProbeNodeOffShaft {
         /// The node asked for.
         node: usize,
         /// The last node.

@@ -28,7 +28,7 @@
 //! response), given only when both lie inside the speed range.
 
 use super::{AnalysisError, Rotor};
-use crate::assembly::{DofMap, End, SystemMatrices};
+use crate::assembly::{DofMap, SystemMatrices};
 use crate::linalg::LinalgError;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
@@ -91,15 +91,35 @@ pub struct Probe {
     pub dof: usize,
 }
 
-/// The supports of a model: (name, shaft node, ring DOF). The shorthand model has a ring
-/// at each end of the shaft.
-fn supports(dofs: &DofMap) -> Vec<(&'static str, usize, usize)> {
-    vec![("left", 0, dofs.ring(End::Left)), ("right", dofs.nodes - 1, dofs.ring(End::Right))]
+/// The probes of every support: the journal (shaft deflection) at each plain bearing, and
+/// the journal and the ring DOF of each vibration ring (the shorthand's rings are named
+/// `left` and `right`).
+fn support_probes(rotor: &Rotor) -> Vec<Probe> {
+    let dofs = &rotor.system.dofs;
+    let mut out = Vec::new();
+    for (i, b) in rotor.model.bearings.iter().enumerate() {
+        out.push(Probe {
+            name: format!("journal at bearing {} (node {})", i + 1, b.node),
+            kind: ProbeKind::Journal,
+            node: Some(b.node),
+            dof: dofs.deflection(b.node),
+        });
+    }
+    for (i, r) in rotor.model.rings.iter().enumerate() {
+        out.push(Probe {
+            name: format!("journal at ring {} (node {})", r.name, r.node),
+            kind: ProbeKind::Journal,
+            node: Some(r.node),
+            dof: dofs.deflection(r.node),
+        });
+        out.push(Probe { name: format!("ring {}", r.name), kind: ProbeKind::Ring, node: None, dof: dofs.ring(i) });
+    }
+    out
 }
 
-/// The probes of a response: every node carrying disks (one probe for the disks there), the journal and the ring of every support, and
+/// The probes of a response: every node carrying disks (one probe for the disks there), the journal at every support, every ring's DOF, and
 /// the shaft `nodes` asked for (in that order). A node beyond the shaft is
-/// [`AnalysisError::NodeOffShaft`].
+/// [`AnalysisError::ProbeNodeOffShaft`].
 pub fn probes(rotor: &Rotor, nodes: &[usize]) -> Result<Vec<Probe>, AnalysisError> {
     let dofs = &rotor.system.dofs;
     let mut out = Vec::new();
@@ -116,15 +136,7 @@ pub fn probes(rotor: &Rotor, nodes: &[usize]) -> Result<Vec<Probe>, AnalysisErro
             dof: dofs.deflection(node),
         });
     }
-    for (name, node, ring) in supports(dofs) {
-        out.push(Probe {
-            name: format!("journal at {name} ring (node {node})"),
-            kind: ProbeKind::Journal,
-            node: Some(node),
-            dof: dofs.deflection(node),
-        });
-        out.push(Probe { name: format!("{name} ring"), kind: ProbeKind::Ring, node: None, dof: ring });
-    }
+    out.extend(support_probes(rotor));
     for &node in nodes {
         out.push(node_probe(dofs, node)?);
     }
@@ -139,10 +151,10 @@ pub fn disk_nodes(model: &crate::model::Model) -> Vec<usize> {
     nodes
 }
 
-/// The probe of shaft node `node`, or [`AnalysisError::NodeOffShaft`].
+/// The probe of shaft node `node`, or [`AnalysisError::ProbeNodeOffShaft`].
 pub fn node_probe(dofs: &DofMap, node: usize) -> Result<Probe, AnalysisError> {
     if node >= dofs.nodes {
-        return Err(AnalysisError::NodeOffShaft { node, last: dofs.nodes - 1 });
+        return Err(AnalysisError::ProbeNodeOffShaft { node, last: dofs.nodes - 1 });
     }
     Ok(Probe { name: format!("node {node}"), kind: ProbeKind::Node, node: Some(node), dof: dofs.deflection(node) })
 }

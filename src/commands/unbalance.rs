@@ -65,7 +65,7 @@ fn node_list(text: &str) -> Result<Vec<usize>, Error> {
 /// A library error about a flag's value, named by the flag (exit 2).
 fn about(argument: &str, e: AnalysisError) -> Error {
     match e {
-        AnalysisError::NodeOffShaft { .. } | AnalysisError::UnknownMode { .. } | AnalysisError::NoSpeeds => {
+        AnalysisError::ProbeNodeOffShaft { .. } | AnalysisError::UnknownMode { .. } | AnalysisError::NoSpeeds => {
             Error::Argument { argument: argument.into(), message: e.to_string() }
         }
         other => other.into(),
@@ -141,7 +141,7 @@ pub fn unbalance_cmd(
     // Every check and estimate before any file is touched.
     let last = problem.model.shaft.nodes() - 1;
     if let Some(&node) = nodes.iter().find(|&&n| n > last) {
-        return Err(about("--nodes", AnalysisError::NodeOffShaft { node, last }));
+        return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
     }
     let others: Vec<&Problem> = match &compare {
         Compare::Problem(_, other) => vec![*other],
@@ -151,7 +151,7 @@ pub fn unbalance_cmd(
     for other in &others {
         let other_last = other.model.shaft.nodes() - 1;
         if let Some(&node) = nodes.iter().find(|&&n| n > other_last) {
-            return Err(about("--nodes", AnalysisError::NodeOffShaft { node, last: other_last }));
+            return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last: other_last }));
         }
         estimate = estimate.then(cost::unbalance(&other.model, speeds.len(), nodes.len()));
     }

@@ -265,7 +265,7 @@ pub fn peaks_text(r: &UnbalanceResult, heading: &str) -> String {
 pub fn damping_text(modes: &[ModeDamping], speeds: &[f64]) -> String {
     let (first, last) = (speeds.first().copied().unwrap_or(0.0), speeds.last().copied().unwrap_or(0.0));
     let mut s = format!(
-        "damping ratios zeta = -Re(lambda)/|lambda| over {} speeds, {first} to {last} rad/s\n{:<8} {:>14} {:>14} {:>14} {:>14} {:>8}\n",
+        "damping ratios zeta = -Re(lambda)/|lambda| over {} speeds, {first} to {last} rad/s\n{:<14} {:>14} {:>14} {:>14} {:>14} {:>8}\n",
         speeds.len(),
         "mode",
         "zeta first",
@@ -278,7 +278,7 @@ pub fn damping_text(modes: &[ModeDamping], speeds: &[f64]) -> String {
         let p = &m.track.points;
         let flagged = p.iter().filter(|x| x.flagged).count();
         s += &format!(
-            "{:<8} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.2} {:>8}\n",
+            "{:<14} {:>14.6e} {:>14.6e} {:>14.6e} {:>14.2} {:>8}\n",
             m.tag,
             p.first().map_or(f64::NAN, |x| x.damping_ratio),
             p.last().map_or(f64::NAN, |x| x.damping_ratio),
