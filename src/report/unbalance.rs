@@ -80,7 +80,8 @@ impl BodePlot<'_> {
         let amax = all().flat_map(|(_, p)| p.amplitude.iter().copied()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
         let floor = amax * AMPLITUDE_DECADES;
         let amin = all().flat_map(|(_, p)| p.amplitude.iter().copied()).filter(|a| *a >= floor).fold(amax, f64::min);
-        let (ylo, yhi) = if amin < amax { (amin / 1.5, amax * 1.5) } else { (amax / 10.0, amax * 10.0) };
+        // Two decades above the largest amplitude: room for the legend above the curves.
+        let (ylo, yhi) = if amin < amax { (amin / 1.5, amax * 100.0) } else { (amax / 10.0, amax * 100.0) };
         let mut amp = ChartBuilder::on(&top)
             .margin(15)
             .x_label_area_size(30)
@@ -109,17 +110,11 @@ impl BodePlot<'_> {
                     .filter(|(_, a)| **a >= floor)
                     .map(|(w, a)| (*w, *a))
                     .collect();
-                let name = if layer.name.is_empty() {
-                    p.probe.name.clone()
+                if dashed {
+                    amp.draw_series(DashedLineSeries::new(points, 6, 4, style)).map_err(err)?;
                 } else {
-                    format!("{}, {}", p.probe.name, layer.name)
-                };
-                let drawn = if dashed {
-                    amp.draw_series(DashedLineSeries::new(points, 6, 4, style)).map_err(err)?
-                } else {
-                    amp.draw_series(LineSeries::new(points, style)).map_err(err)?
-                };
-                drawn.label(name).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                    amp.draw_series(LineSeries::new(points, style)).map_err(err)?;
+                }
                 amp.draw_series(
                     p.peaks
                         .iter()
@@ -129,11 +124,39 @@ impl BodePlot<'_> {
                 .map_err(err)?;
             }
         }
+        // The legend: a colour per probe (the first layer's names), a line style per
+        // configuration when there are two.
+        if let Some(first) = self.layers.first() {
+            for (k, p) in first.result.probes.iter().enumerate() {
+                let (style, _) = style_of(k, false);
+                amp.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                    .map_err(err)?
+                    .label(p.probe.name.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+            }
+        }
+        if self.layers.len() > 1 {
+            for layer in &self.layers {
+                let style = ShapeStyle::from(&BLACK).stroke_width(2);
+                let dashed = layer.dashed;
+                let what = if dashed { "dashed" } else { "solid" };
+                amp.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                    .map_err(err)?
+                    .label(format!("{what}: {}", layer.name))
+                    .legend(move |(x, y)| {
+                        // Two segments: a gap between them for the dashed configuration.
+                        let (end, start) = if dashed { (7, 13) } else { (10, 10) };
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (end, 0)], style)
+                            + PathElement::new(vec![(start, 0), (20, 0)], style)
+                    });
+            }
+        }
         amp.configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 13))
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(err)?;
 
