@@ -267,6 +267,11 @@ fn bad_command_lines_name_the_flag_and_write_nothing() {
         assert_eq!(stderr.lines().next().unwrap_or_default(), expected, "{all:?}");
         assert!(!dir.exists(), "{all:?} created the output folder");
     }
+    // A grid whose results would not fit the memory limit is refused before any work.
+    let (code, _, stderr) = cli(&["unbalance", file, "--speeds", "0:100000:0.1", "--out", out]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.starts_with("error: the unbalance response would need about 1.2 GiB of memory"), "{stderr}");
+    assert!(!dir.exists());
     let (code, _, stderr) = cli(&["damping", file, "--speeds", "0:100:50", "--modes", "f1,fq9"]);
     assert_eq!(code, Some(2), "{stderr}");
     assert!(

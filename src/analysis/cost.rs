@@ -85,6 +85,11 @@ const SHAPES_BYTES_N2: f64 = 40.0;
 /// 1e-6 s per DOF leans high, as the other rates do.
 const UNBALANCE_SOLVE_N: f64 = 1.0e-6;
 
+/// Peak bytes per probe and speed of an unbalance response: the values, and the JSON, CSV
+/// and SVG text written from them (118 MB above the process's own for 5 probes × 100 001
+/// speeds: 236 bytes).
+const UNBALANCE_BYTES_PER_VALUE: f64 = 250.0;
+
 /// Chebyshev point counts the fast path's per-φ table tries (`floquet::fast`).
 const CHEBYSHEV_DEGREES: [usize; 15] = [4, 5, 6, 7, 8, 9, 10, 12, 14, 16, 20, 24, 32, 48, 64];
 /// The table's step doubling: while the coupling per exponential exceeds this, up to
@@ -411,20 +416,30 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
 
 /// The unbalance response of `model` at `speeds` speeds with `nodes` extra probes: the
 /// rotor (assembly and P_cr), one sparse solve per speed, and at most
-/// [`super::unbalance::SOLVES_PER_PEAK`] solves for each possible peak of each probe (every
-/// other grid speed of every disk node, support and node: an upper bound).
+/// [`super::unbalance::SOLVES_PER_PEAK`] solves for each possible peak of each probe (an
+/// upper bound: every other grid speed, and at most 4 per DOF, of every disk node,
+/// support and node).
 pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
     let n = model_dofs(model) as f64;
     let probes =
         (super::unbalance::disk_nodes(model).len() + model.bearings.len() + 2 * model.rings.len() + nodes) as f64;
-    let peaks = probes * (speeds / 2) as f64;
+    // |U_dof(Ω)|² is a ratio of polynomials in Ω of degree at most 4n (A(Ω) is quadratic
+    // in Ω: det A and the cofactors have degree ≤ 2n), so it has at most 8n stationary
+    // points and 4n local maxima, and a grid at most one peak per two speeds.
+    let peaks = probes * ((speeds / 2) as f64).min(4.0 * n);
     let solves = speeds as f64 + peaks * super::unbalance::SOLVES_PER_PEAK as f64;
     let detail = format!(
         "{} sparse solves of {n} complex DOFs ({speeds} speeds, {} peaks at most)",
         compact_count(solves),
         compact_count(peaks)
     );
-    dense(model, Dense::Rotor, 1).then(Estimate::time(solves * UNBALANCE_SOLVE_N * n, Driver::Grid, detail))
+    let mut response = Estimate::time(solves * UNBALANCE_SOLVE_N * n, Driver::Grid, detail);
+    response.memory = Part {
+        amount: UNBALANCE_BYTES_PER_VALUE * probes * speeds as f64,
+        driver: Driver::Grid,
+        detail: format!("{} probes × {speeds} speeds of results and their JSON, CSV and SVG text", probes),
+    };
+    dense(model, Dense::Rotor, 1).then(response)
 }
 
 /// The cost of Floquet evaluations on one reduced model: what a per-φ table, a CFM4 or
