@@ -160,7 +160,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::RigidBody { supports: 0 },
         ProblemErrorKind::InnerNotBelowOuter { inner: 0.0, outer: 0.0 },
         ProblemErrorKind::ShaftLength { total: 0.0 },
-        ProblemErrorKind::UnknownName { what: s(), name: s(), known: vec![] },
+        ProblemErrorKind::UnknownName { what: rotorshunt::problem::NameOf::Ring, name: s(), known: Box::new([]) },
         ProblemErrorKind::BadName { name: s(), reason: s() },
         ProblemErrorKind::MixedForms(s(), s()),
         ProblemErrorKind::Override { text: s(), reason: s() },

@@ -8,7 +8,7 @@
 
 use super::{AnalysisError, Rotor, Settings};
 use crate::assembly::DofKind;
-use crate::linalg::{qep_residual, solve_qep, solve_qep_definite};
+use crate::linalg::{qep_residual_with, solve_qep, solve_qep_definite, QepNorms};
 use crate::model::Model;
 use faer::{c64, Mat, MatRef};
 use serde::Serialize;
@@ -186,6 +186,8 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     let kinds = sys.dofs.kinds();
     let n = sys.size();
     let slots = electrical_slots(rotor);
+    let norms = QepNorms::of(sys.m.as_ref(), d.as_ref(), k.as_ref());
+    let mut mx = vec![c64::new(0.0, 0.0); n];
 
     struct Raw {
         col: usize,
@@ -195,7 +197,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     let mut raw = Vec::new();
     for (col, &lambda) in sol.values.iter().enumerate() {
         let x = sol.vectors.col(col);
-        let residual = qep_residual(sys.m.as_ref(), d.as_ref(), k.as_ref(), lambda, x);
+        let residual = qep_residual_with(&norms, sys.m.as_ref(), d.as_ref(), k.as_ref(), lambda, x);
         if !(lambda.re.is_finite() && lambda.im.is_finite() && residual.is_finite()) {
             continue; // not an eigenpair that can be reported
         }
@@ -205,12 +207,16 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         let mut total = 0.0;
         let mut charge = 0.0;
         let mut per_branch = vec![0.0; slots.len()];
-        for i in 0..n {
-            let mut mx = c64::new(0.0, 0.0);
-            for j in 0..n {
-                mx += x[j] * sys.m[(i, j)];
+        // (M x)_i, column by column (each row's sum in column order, as a row loop would).
+        mx.fill(c64::new(0.0, 0.0));
+        for j in 0..n {
+            let xj = x[j];
+            for (i, v) in mx.iter_mut().enumerate() {
+                *v += xj * sys.m[(i, j)];
             }
-            let e = (x[i].conj() * mx).re;
+        }
+        for i in 0..n {
+            let e = (x[i].conj() * mx[i]).re;
             total += e;
             if kinds[i] == DofKind::Charge {
                 charge += e;
@@ -306,7 +312,7 @@ struct Slot {
 fn electrical_slots(rotor: &Rotor) -> Vec<Slot> {
     let model = &rotor.model;
     let dofs = &rotor.system.dofs;
-    if model.rings.len() >= 2 && model.shared_circuit().is_some() {
+    if !model.labels_by_ring() {
         let branches = dofs.branches.first().copied().unwrap_or(0);
         return (0..branches)
             .map(|b| Slot { charges: (0..dofs.rings()).map(|r| (r, b)).collect(), branch: b, suffix: String::new() })

@@ -30,11 +30,11 @@ const CHART_GRID: (usize, usize) = (400, 31);
 /// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
 const CAMPBELL_SPEEDS: usize = 31;
 
-/// Every ring's circuit, branch by branch: one table of the shared circuit when all rings
-/// carry an identical one (tuning by the first ring's C_p^T, as `check` prints it), else
-/// each ring's branches under its name.
+/// Every ring's circuit, branch by branch: one table of the shared circuit when two or
+/// more rings carry an identical one (tuning by the first ring's C_p^T, as `check` prints
+/// it), else each ring's branches under its name.
 fn branches(p: &Problem) -> Vec<BranchRow> {
-    let shared = p.model.shared_circuit().is_some();
+    let shared = !p.model.labels_by_ring();
     let rings = if shared { &p.model.rings[..1.min(p.model.rings.len())] } else { &p.model.rings[..] };
     rings
         .iter()

@@ -14,7 +14,9 @@ mod symmetric;
 
 pub use balance::balance;
 pub use expm::{expm, norm1, with_modulus};
-pub use qep::{qep_residual, solve_qep, solve_qep_definite, QepSolution, DEFINITE_FORM_SPREAD};
+pub use qep::{
+    qep_residual, qep_residual_with, solve_qep, solve_qep_definite, QepNorms, QepSolution, DEFINITE_FORM_SPREAD,
+};
 pub use split::{ExpWorkspace, SplitMatrix};
 pub use symmetric::{definite_eigen, DefiniteEigen};
 

@@ -92,6 +92,13 @@ impl Model {
         }
     }
 
+    /// Whether electrical modes and circuits are named by ring: unless two or more rings
+    /// carry an identical circuit (the shorthand's layout, whose modes are the paper's r1,
+    /// r2, s1, …), a label must say which ring a mode or branch belongs to.
+    pub fn labels_by_ring(&self) -> bool {
+        !(self.rings.len() >= 2 && self.shared_circuit().is_some())
+    }
+
     /// Index of the ring named `name`.
     pub fn ring_index(&self, name: &str) -> Option<usize> {
         self.rings.iter().position(|r| r.name == name)

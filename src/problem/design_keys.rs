@@ -4,7 +4,7 @@
 
 use super::file::*;
 use super::validate::{finite, non_negative, positive, range_rule, rule, Failure};
-use super::ProblemErrorKind as K;
+use super::{NameOf, ProblemErrorKind as K};
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use crate::design::spec::{Band, DesignSpec, Objective, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS};
@@ -27,32 +27,36 @@ fn circuits_key(f: &ProblemFile) -> String {
     }
 }
 
-/// The name of ring `r` as the model names it.
+/// The name of ring `r` as the model names it (the shorthand's: `left`, `right`).
 fn ring_name(f: &ProblemFile, r: usize) -> String {
+    if f.circuit.is_some() {
+        return if r == 0 { "left" } else { "right" }.to_string();
+    }
     f.rings.get(r).and_then(|x| x.name.clone()).unwrap_or_else(|| format!("ring{}", r + 1))
 }
 
-/// The ring a variable names (`None`: every ring, valid while their circuits are identical).
+/// The ring a variable names (`None`: every ring, valid while their circuits are
+/// identical). A file without rings has no branch to design.
 fn ring_of(
     f: &ProblemFile,
     circuits: &[&CircuitFile],
     key: &str,
     name: Option<&str>,
 ) -> Result<Option<usize>, Failure> {
-    let names: Vec<String> = (0..f.rings.len()).map(|r| ring_name(f, r)).collect();
+    if circuits.is_empty() {
+        let message = "a design changes the shunt branches: the file has no [[rings]]";
+        return Err(("design.variables".into(), K::Schema(message.into())));
+    }
+    let names: Vec<String> = (0..circuits.len()).map(|r| ring_name(f, r)).collect();
     match name {
         Some(name) => match names.iter().position(|n| n == name) {
             Some(r) => Ok(Some(r)),
             None => {
-                let what = if f.circuit.is_some() {
-                    "ring (the shorthand's rings share [circuit]: omit `ring`)"
-                } else {
-                    "ring"
-                };
-                Err((format!("{key}.ring"), K::UnknownName { what: what.into(), name: name.into(), known: names }))
+                let known = names.into_boxed_slice();
+                Err((format!("{key}.ring"), K::UnknownName { what: NameOf::Ring, name: name.into(), known }))
             }
         },
-        None if circuits.iter().all(|c| *c == circuits[0]) && !circuits.is_empty() => Ok(None),
+        None if circuits.iter().all(|c| *c == circuits[0]) => Ok(None),
         None => Err((
             format!("{key}.ring"),
             K::Schema(format!(

@@ -179,12 +179,12 @@ pub enum ProblemErrorKind {
     /// A material or ring name that the file does not define.
     #[error("unknown {what} `{name}` (the file defines: {})", if known.is_empty() { "none".to_string() } else { known.join(", ") })]
     UnknownName {
-        /// `material` or `ring`.
-        what: String,
+        /// What the name names.
+        what: NameOf,
         /// The name given.
         name: String,
         /// The names defined, in file order.
-        known: Vec<String>,
+        known: Box<[String]>,
     },
     /// A name that cannot be used: defined twice, empty, or with characters other than
     /// letters, digits, `_` and `-` (names appear in labels such as `r1@drive`).
@@ -209,6 +209,24 @@ pub enum ProblemErrorKind {
         /// Why.
         reason: String,
     },
+}
+
+/// What a name in a problem file names ([`ProblemErrorKind::UnknownName`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NameOf {
+    /// A `[[materials]]` entry.
+    Material,
+    /// A ring (`[[rings]]` `name`; the shorthand's are `left` and `right`).
+    Ring,
+}
+
+impl std::fmt::Display for NameOf {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NameOf::Material => "material",
+            NameOf::Ring => "ring",
+        })
+    }
 }
 
 /// A problem-file error with its location.

@@ -5,7 +5,7 @@
 
 use super::file::*;
 use super::validate::{circuit, finite, non_negative, one_of, positive, ring, Failure, MAX_ELEMENTS};
-use super::ProblemErrorKind as K;
+use super::{NameOf, ProblemErrorKind as K};
 use crate::model::{Bearing, RingSupport, Section, Shaft};
 
 /// The key of the shaft topic's and of the supports topic's forms: mixing them in one
@@ -37,7 +37,7 @@ pub(super) fn forms(f: &ProblemFile) -> Result<(), Failure> {
 fn material(key: &str, name: &str, materials: &[MaterialFile]) -> Result<(f64, f64), Failure> {
     let m = materials.iter().find(|m| m.name == name).ok_or_else(|| {
         let known = materials.iter().map(|m| m.name.clone()).collect();
-        (key.to_string(), K::UnknownName { what: "material".into(), name: name.into(), known })
+        (key.to_string(), K::UnknownName { what: NameOf::Material, name: name.into(), known })
     })?;
     Ok((m.youngs_modulus, m.density))
 }

@@ -10,7 +10,7 @@ pub mod input;
 pub mod source;
 mod validate;
 
-pub use error::{ProblemError, ProblemErrorKind};
+pub use error::{NameOf, ProblemError, ProblemErrorKind};
 pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
 pub use source::Location;
