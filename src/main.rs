@@ -191,6 +191,50 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// Steady-state unbalance response (one complex solve per speed, static load αP_cr
+    /// included) at the disks, the supports and chosen nodes: amplitude (m), phase (rad),
+    /// peaks and their API 684 amplification factors; JSON, CSV and a Bode plot in DIR.
+    Unbalance {
+        #[command(flatten)]
+        input: Input,
+        /// Speeds A:B:STEP (rad/s).
+        #[arg(long)]
+        speeds: String,
+        /// Shaft nodes reported besides the disks and supports, e.g. `3,16` (0 = left end).
+        #[arg(long, default_value = "")]
+        nodes: String,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Print the JSON instead of the table of peaks.
+        #[arg(long)]
+        json: bool,
+        /// Overlay the response of a second problem file (drawn dashed).
+        #[arg(long, conflicts_with = "compare_set")]
+        compare: Option<PathBuf>,
+        /// Overlay the response of the same file with these further overrides, e.g.
+        /// `--compare-set circuit.state=open`. Repeatable.
+        #[arg(long = "compare-set", value_name = "KEY=VALUE")]
+        compare_set: Vec<String>,
+    },
+    /// Damping ratios ζ of whirl modes over a speed range, tracked by MAC: the modes named
+    /// by their tag at the first speed (`--modes f1,fr1`), or the lowest N of each whirl.
+    Damping {
+        #[command(flatten)]
+        input: Input,
+        /// Speeds A:B:STEP (rad/s).
+        #[arg(long)]
+        speeds: String,
+        /// Mode tags at the first speed, e.g. `f1,b1,fr1` (as `modes` and `campbell` name them).
+        #[arg(long, default_value = "")]
+        modes: String,
+        /// Without --modes: the number of forward and of backward whirls.
+        #[arg(long, default_value_t = 4)]
+        count: usize,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Time response (Eq. 29) of the reduced model with unbalance at one (φ, β).
     Response {
         #[command(flatten)]
@@ -451,6 +495,35 @@ fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
     Ok(Problem::from_path(&input.file, &input.set)?)
 }
 
+/// The configuration of `--compare FILE2` (with the main `--set` overrides) or
+/// `--compare-set` (the main file with both sets of overrides), and its legend name: the
+/// compared file's title, or its circuit state and the `--compare-set` overrides.
+fn compared(
+    input: &Input,
+    compare: Option<&std::path::Path>,
+    compare_set: &[String],
+) -> Result<(String, Option<Problem>), rotorshunt::Error> {
+    let other = match (compare, compare_set.is_empty()) {
+        (Some(path), _) => Some(Problem::from_path(path, &input.set)?),
+        (None, false) => {
+            let all: Vec<String> = input.set.iter().chain(compare_set).cloned().collect();
+            Some(Problem::from_path(&input.file, &all)?)
+        }
+        (None, true) => None,
+    };
+    let label = match (compare, &other) {
+        (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
+        (_, Some(o)) => {
+            // The compare problem carries the main --set overrides too: name it by
+            // its state and the --compare-set overrides only.
+            let only = Problem { overrides: compare_set.to_vec(), ..o.clone() };
+            commands::layer_name(&only)
+        }
+        _ => String::new(),
+    };
+    Ok((label, other))
+}
+
 /// Exit codes (docs/errors.md): 0 a result, 1 an analysis failure, 2 bad input, 3 an
 /// infeasible design, 4 a design that failed its verification, 5 a study with failed
 /// cases (`study status` and `study merge`: a case not done).
@@ -477,30 +550,26 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
         }
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
-            let other = match (&compare, compare_set.is_empty()) {
-                (Some(path), _) => Some(Problem::from_path(path, &input.set)?),
-                (None, false) => {
-                    let all: Vec<String> = input.set.iter().chain(&compare_set).cloned().collect();
-                    Some(Problem::from_path(&input.file, &all)?)
-                }
-                (None, true) => None,
-            };
-            let label = match (&compare, &other) {
-                (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
-                (_, Some(o)) => {
-                    // The compare problem carries the main --set overrides too: name it by
-                    // its state and the --compare-set overrides only.
-                    let only = Problem { overrides: compare_set.clone(), ..o.clone() };
-                    commands::layer_name(&only)
-                }
-                _ => String::new(),
-            };
+            let (label, other) = compared(&input, compare.as_deref(), &compare_set)?;
             let cmp = match &other {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,
             };
             let args = commands::ChartArgs { phi: &phi, beta: &beta, compare: cmp, timing };
             plain(commands::chart_cmd(&problem, args, &out, progress, budget))
+        }
+        Command::Unbalance { input, speeds, nodes, out, json, compare, compare_set } => {
+            let problem = load(&input)?;
+            let (label, other) = compared(&input, compare.as_deref(), &compare_set)?;
+            let cmp = match &other {
+                Some(o) => commands::Compare::Problem(&label, o),
+                None => commands::Compare::None,
+            };
+            let args = commands::UnbalanceArgs { speeds: &speeds, nodes: &nodes, compare: cmp, json };
+            plain(commands::unbalance_cmd(&problem, args, &out, progress, budget))
+        }
+        Command::Damping { input, speeds, modes, count, json } => {
+            plain(commands::damping_cmd(&load(&input)?, &speeds, &modes, count, json, progress, budget))
         }
         Command::Regions { input, phi, beta_max, level, json, out } => {
             let args = commands::RegionsArgs { phi: &phi, beta_max, level, json, out: out.as_deref() };
@@ -547,7 +616,13 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::Argument { .. }
                 | rotorshunt::Error::Parameter { .. }
                 | rotorshunt::Error::Cost(_)
-                | rotorshunt::Error::Analysis(rotorshunt::analysis::AnalysisError::Request(_))
+                | rotorshunt::Error::Analysis(
+                    rotorshunt::analysis::AnalysisError::Request(_)
+                    | rotorshunt::analysis::AnalysisError::ProbeNodeOffShaft { .. }
+                    | rotorshunt::analysis::AnalysisError::NoSpeeds
+                    | rotorshunt::analysis::AnalysisError::SpeedsNotAscending { .. }
+                    | rotorshunt::analysis::AnalysisError::UnknownMode { .. },
+                )
                 | rotorshunt::Error::Study { .. }
                 | rotorshunt::Error::StudyTooLarge { .. }
                 | rotorshunt::Error::FolderNotEmpty { .. }

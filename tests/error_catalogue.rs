@@ -82,6 +82,12 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::ReducedBasis { .. } => "ReducedBasis",
         AnalysisError::StiffResponse { .. } => "StiffResponse",
         AnalysisError::Unreliable { .. } => "Unreliable",
+        AnalysisError::ProbeNodeOffShaft { .. } => "ProbeNodeOffShaft",
+        AnalysisError::ProbeOffSystem { .. } => "ProbeOffSystem",
+        AnalysisError::SingularAtSpeed { .. } => "SingularAtSpeed",
+        AnalysisError::NoSpeeds => "NoSpeeds",
+        AnalysisError::SpeedsNotAscending { .. } => "SpeedsNotAscending",
+        AnalysisError::UnknownMode { .. } => "UnknownMode",
         // A library request's broken rule is the file layer's kind for that value.
         AnalysisError::Request(e) => problem_kind(&ProblemErrorKind::from(e)),
     }
@@ -183,6 +189,12 @@ fn every_kind() -> Vec<&'static str> {
             phi: 1.0,
             issue: rotorshunt::analysis::floquet::PointIssue::ZeroLoad { deviation: 1.0 },
         },
+        AnalysisError::ProbeNodeOffShaft { node: 1, last: 0 },
+        AnalysisError::ProbeOffSystem { dof: 1, dofs: 1 },
+        AnalysisError::SingularAtSpeed { speed: 1.0 },
+        AnalysisError::NoSpeeds,
+        AnalysisError::SpeedsNotAscending { index: 1, speed: 1.0, previous: 1.0 },
+        AnalysisError::UnknownMode { label: s(), speed: 0.0, available: vec![] },
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },

@@ -5,6 +5,7 @@ pub mod campbell;
 pub mod chart;
 pub mod cost;
 pub mod criterion;
+pub mod damping;
 pub mod floquet;
 pub mod interval;
 pub mod limits;
@@ -15,6 +16,7 @@ pub mod regions;
 pub mod response;
 mod rotor;
 mod settings;
+pub mod unbalance;
 
 pub use criterion::Criterion;
 pub use interval::Interval;
@@ -108,6 +110,54 @@ pub enum AnalysisError {
     /// ([`limits`]); the command line checks its flags by the same rules first.
     #[error("the {} of the request {}", quantity_name(.0.quantity), .0)]
     Request(#[from] limits::ParamError),
+    /// A response asked at a shaft node the model does not have.
+    #[error("node {node} is off the shaft: the shaft has nodes 0 to {last}")]
+    ProbeNodeOffShaft {
+        /// The node asked for.
+        node: usize,
+        /// The last node.
+        last: usize,
+    },
+    /// A probe of a response whose DOF the system does not have (a probe built by hand).
+    #[error("the probe's DOF {dof} is not in the system, which has {dofs} DOFs")]
+    ProbeOffSystem {
+        /// The DOF asked for.
+        dof: usize,
+        /// The system's DOFs.
+        dofs: usize,
+    },
+    /// The dynamic stiffness is singular at a speed of the grid: the speed is exactly an
+    /// undamped critical speed, where the steady-state response is unbounded.
+    #[error("the dynamic stiffness is singular at speed {speed} rad/s: the speed is an undamped critical speed of the model (no damping acts on that mode) and the response there is unbounded; move the speed grid off it or add damping (eta, R)")]
+    SingularAtSpeed {
+        /// Ω (rad/s).
+        speed: f64,
+    },
+    /// A speed range without any speed.
+    #[error("the speed range is empty: give at least one speed (rad/s)")]
+    NoSpeeds,
+    /// Speeds of a response or damping range that do not ascend strictly.
+    #[error(
+        "the speeds must ascend strictly: speed {index} is {speed} rad/s, not above the previous {previous} rad/s"
+    )]
+    SpeedsNotAscending {
+        /// Index of the offending speed.
+        index: usize,
+        /// Its value (rad/s).
+        speed: f64,
+        /// The speed before it (rad/s).
+        previous: f64,
+    },
+    /// A whirl mode tag the model does not have at the first speed of a range.
+    #[error("the model has no whirl mode `{label}` at speed {speed} rad/s; its lowest modes there are {}", tag_list(.available))]
+    UnknownMode {
+        /// The tag asked for, e.g. `fr1`.
+        label: String,
+        /// The speed the tags are taken at (rad/s).
+        speed: f64,
+        /// The tags the model has there.
+        available: Vec<String>,
+    },
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -117,6 +167,27 @@ pub enum AnalysisError {
         critical_load: f64,
     },
 }
+
+/// The first [`TAGS_LISTED`] tags of each whirl direction of `tags` (forward tags start
+/// with `f`, backward with `b`), and how many more there are.
+fn tag_list(tags: &[String]) -> String {
+    let mut shown = Vec::new();
+    let mut more = 0;
+    for prefix in ["f", "b"] {
+        let of: Vec<&String> = tags.iter().filter(|t| t.starts_with(prefix)).collect();
+        more += of.len().saturating_sub(TAGS_LISTED);
+        shown.extend(of.into_iter().take(TAGS_LISTED).map(String::as_str));
+    }
+    let mut s = shown.join(", ");
+    if more > 0 {
+        s += &format!(" (and {more} more)");
+    }
+    s
+}
+
+/// Tags per whirl direction an [`AnalysisError::UnknownMode`] message lists: enough for
+/// the rotor modes and the electrical modes of a few branches of interest.
+const TAGS_LISTED: usize = 8;
 
 /// A number as plain text, in exponent form outside 1e-4…1e15 (1e300, not 301 digits).
 fn short(v: f64) -> String {

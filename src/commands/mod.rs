@@ -9,6 +9,7 @@ mod import;
 mod out;
 mod regions;
 mod study;
+mod unbalance;
 
 pub use args::parse_range;
 pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
@@ -21,6 +22,7 @@ pub use study::{
     CaseResult, CaseState, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions, TaskRecord,
     MAX_SHARDS, MAX_STUDY_CASES,
 };
+pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 
 use crate::analysis::campbell::campbell;
 use crate::analysis::cost::{Budget, Dense};

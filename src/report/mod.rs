@@ -6,6 +6,7 @@ pub mod chart;
 pub mod design;
 pub mod plot;
 pub mod summary;
+pub mod unbalance;
 
 use std::io;
 use std::path::Path;

@@ -63,3 +63,31 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
         memory: Part { amount: bytes, driver: memory_driver, detail: memory_detail },
     }
 }
+
+/// The unbalance response of `model` at `speeds` speeds with `nodes` extra probes: the
+/// rotor (assembly and P_cr), one sparse solve per speed, and at most
+/// [`crate::analysis::unbalance::SOLVES_PER_PEAK`] solves for each possible peak of each
+/// probe (an upper bound: every other grid speed, and at most 4 per DOF, of every disk
+/// node, support and node).
+pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
+    use crate::analysis::unbalance::{disk_nodes, SOLVES_PER_PEAK};
+    let n = model_dofs(model) as f64;
+    let probes = (disk_nodes(model).len() + model.bearings.len() + 2 * model.rings.len() + nodes) as f64;
+    // |U_dof(Ω)|² is a ratio of polynomials in Ω of degree at most 4n (A(Ω) is quadratic
+    // in Ω: det A and the cofactors have degree ≤ 2n), so it has at most 8n stationary
+    // points and 4n local maxima, and a grid at most one peak per two speeds.
+    let peaks = probes * ((speeds / 2) as f64).min(4.0 * n);
+    let solves = speeds as f64 + peaks * SOLVES_PER_PEAK as f64;
+    let detail = format!(
+        "{} sparse solves of {n} complex DOFs ({speeds} speeds, {} peaks at most)",
+        compact_count(solves),
+        compact_count(peaks)
+    );
+    let mut response = Estimate::time(solves * UNBALANCE_SOLVE_N * n, Driver::Grid, detail);
+    response.memory = Part {
+        amount: UNBALANCE_BYTES_PER_VALUE * probes * speeds as f64,
+        driver: Driver::Grid,
+        detail: format!("{} probes × {speeds} speeds of results and their JSON, CSV and SVG text", probes),
+    };
+    dense(model, Dense::Rotor, 1).then(response)
+}

@@ -21,7 +21,7 @@ mod dense;
 mod floquet;
 mod regions;
 
-pub use dense::{dense, model_dofs, Dense};
+pub use dense::{dense, model_dofs, unbalance, Dense};
 pub use floquet::{chart, floquet_point, response, response_steps, PointCost};
 pub use regions::{band, catalogue, points, scan, CatalogueWork, DESIGN_BAND_EVALUATIONS};
 
@@ -84,6 +84,17 @@ const QEP_BYTES_N2: f64 = 530.0;
 /// Bytes per DOF² of the mode shapes kept per speed by a Campbell diagram (237 MB for 301
 /// speeds at 132 DOFs).
 const SHAPES_BYTES_N2: f64 = 40.0;
+
+/// One numeric sparse LU factorisation and solve of the dynamic stiffness per DOF
+/// (`analysis::unbalance`; the shaft's band keeps the factors' fill fixed per DOF):
+/// 44–51 µs at 136 DOFs (0.35 µs per DOF, `cargo bench --bench unbalance`, host shared);
+/// 1e-6 s per DOF leans high, as the other rates do.
+const UNBALANCE_SOLVE_N: f64 = 1.0e-6;
+
+/// Peak bytes per probe and speed of an unbalance response: the values, and the JSON, CSV
+/// and SVG text written from them (118 MB above the process's own for 5 probes × 100 001
+/// speeds: 236 bytes).
+const UNBALANCE_BYTES_PER_VALUE: f64 = 250.0;
 
 /// What an estimate is driven by: the input a refusal names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -1,0 +1,244 @@
+//! `unbalance` (steady-state unbalance response, optionally compared with a second
+//! configuration) and `damping` (ζ of the whirl modes over a speed range).
+
+use super::bounds::{self, MODEL_ONLY};
+use super::out::json_pretty;
+use super::{parse_range, title, Compare, OutDir, Progress, Provenance};
+use crate::analysis::cost::{self, Budget, Dense};
+use crate::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
+use crate::analysis::limits::{self, MAX_COUNT};
+use crate::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
+use crate::analysis::{AnalysisError, Rotor};
+use crate::problem::Problem;
+use crate::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
+use crate::Error;
+use serde::Serialize;
+use std::path::Path;
+
+/// The files `unbalance` writes (checked against its inputs before it computes).
+const UNBALANCE_FILES: [&str; 8] = [
+    "unbalance.json",
+    "unbalance.csv",
+    "peaks.csv",
+    "compare.json",
+    "compare.csv",
+    "compare-peaks.csv",
+    "bode.svg",
+    "bode.png",
+];
+
+/// What `unbalance` is asked.
+pub struct UnbalanceArgs<'a> {
+    /// `--speeds A:B:STEP` (rad/s).
+    pub speeds: &'a str,
+    /// `--nodes 3,16`: shaft nodes reported besides the disks and supports.
+    pub nodes: &'a str,
+    /// The second configuration drawn beside the problem, if any.
+    pub compare: Compare<'a>,
+    /// `--json`: print the JSON instead of the table of peaks.
+    pub json: bool,
+}
+
+/// The speed grid of `--speeds`: parsed, each speed by its rule, at least one.
+fn speed_grid(text: &str) -> Result<Vec<f64>, Error> {
+    let speeds = parse_range(text, "--speeds")?;
+    for &w in &speeds {
+        bounds::flag("--speeds", limits::speed(w))?;
+    }
+    Ok(speeds)
+}
+
+/// `--nodes 3,16` as node indices (empty text: none).
+fn node_list(text: &str) -> Result<Vec<usize>, Error> {
+    text.split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(|t| {
+            t.parse::<usize>().map_err(|_| Error::Argument {
+                argument: "--nodes".into(),
+                message: format!("`{t}` in `{text}` is not a node index (expected e.g. 3,16)"),
+            })
+        })
+        .collect()
+}
+
+/// A library error about a flag's value, named by the flag (exit 2).
+fn about(argument: &str, e: AnalysisError) -> Error {
+    match e {
+        AnalysisError::ProbeNodeOffShaft { .. } | AnalysisError::UnknownMode { .. } | AnalysisError::NoSpeeds => {
+            Error::Argument { argument: argument.into(), message: e.to_string() }
+        }
+        other => other.into(),
+    }
+}
+
+/// The response of one configuration at the disks, supports and `nodes`.
+fn respond(
+    problem: &Problem,
+    speeds: &[f64],
+    nodes: &[usize],
+    progress: &dyn Progress,
+    what: &str,
+) -> Result<UnbalanceResult, Error> {
+    let rotor = Rotor::new(&problem.model)?;
+    let probes = probes(&rotor, nodes).map_err(|e| about("--nodes", e))?;
+    progress.phase(what, speeds.len() as u64);
+    let r = unbalance_response(&rotor, speeds, &probes, &|| progress.advance(1));
+    Ok(r?)
+}
+
+#[derive(Serialize)]
+struct UnbalanceJson<'a> {
+    #[serde(flatten)]
+    provenance: Provenance,
+    /// Definitions of the numbers, for a reader of the file.
+    conventions: Conventions,
+    unbalance: &'a UnbalanceResult,
+}
+
+#[derive(Serialize)]
+struct Conventions {
+    amplitude: &'static str,
+    phase: &'static str,
+    peaks: &'static str,
+    amplification_factor: &'static str,
+}
+
+const CONVENTIONS: Conventions = Conventions {
+    amplitude: "|U| (m): radius of the synchronous circular whirl u(t) = U e^{j Omega t}, u = v + jw",
+    phase: "arg U (rad, in (-pi, pi]): angle of the deflection from the v axis towards w at t = 0, the reference of the disks' phase",
+    peaks: "interior local maxima of the amplitude on the speed grid, refined by golden-section search on the analytic response",
+    amplification_factor: "API 684 half-power: Omega_peak/(Omega_2 - Omega_1), amplitude A_peak/sqrt(2) at Omega_1 and Omega_2",
+};
+
+fn write_layer(dir: &OutDir, stem: &str, problem: &Problem, r: &UnbalanceResult) -> Result<String, Error> {
+    let json = UnbalanceJson { provenance: Provenance::of(problem), conventions: CONVENTIONS, unbalance: r };
+    let text = json_pretty(&json, "the JSON output")?;
+    dir.write(&format!("{stem}.json"), text.as_bytes())?;
+    let csv = unbalance_csv(r).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
+    dir.write(&format!("{stem}.csv"), csv.as_bytes())?;
+    let peaks_name = if stem == "unbalance" { "peaks.csv".to_string() } else { format!("{stem}-peaks.csv") };
+    let peaks = peaks_csv(r).map_err(|e| dir.error(&peaks_name, e))?;
+    dir.write(&peaks_name, peaks.as_bytes())?;
+    Ok(text)
+}
+
+/// `rotorshunt unbalance FILE --speeds A:B:STEP --out DIR [--nodes 3,16] [--json]
+/// [--compare FILE2 | --compare-set key=value]`: the steady-state unbalance response at
+/// the disks, the supports and the nodes asked for; `unbalance.{json,csv}`, `peaks.csv`,
+/// `bode.{svg,png}` (and `compare.{json,csv}`, `compare-peaks.csv`).
+pub fn unbalance_cmd(
+    problem: &Problem,
+    args: UnbalanceArgs<'_>,
+    out: &Path,
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<String, Error> {
+    let UnbalanceArgs { speeds, nodes, compare, json } = args;
+    let speeds = speed_grid(speeds)?;
+    let nodes = node_list(nodes)?;
+    // Every check and estimate before any file is touched.
+    let last = problem.model.shaft.nodes() - 1;
+    if let Some(&node) = nodes.iter().find(|&&n| n > last) {
+        return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
+    }
+    let others: Vec<&Problem> = match &compare {
+        Compare::Problem(_, other) => vec![*other],
+        Compare::None => vec![],
+    };
+    let mut estimate = cost::unbalance(&problem.model, speeds.len(), nodes.len());
+    for other in &others {
+        let other_last = other.model.shaft.nodes() - 1;
+        if let Some(&node) = nodes.iter().find(|&&n| n > other_last) {
+            return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last: other_last }));
+        }
+        estimate = estimate.then(cost::unbalance(&other.model, speeds.len(), nodes.len()));
+    }
+    bounds::admit(&budget, "the unbalance response", &estimate, &MODEL_ONLY)?;
+    let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
+    if let Compare::Problem(_, other) = &compare {
+        inputs.push((Path::new(&other.file), "the --compare file"));
+    }
+    let dir = OutDir::with_inputs(out, &inputs)?;
+    dir.check_outputs(&UNBALANCE_FILES)?;
+    let main = respond(problem, &speeds, &nodes, progress, "unbalance")?;
+    let compared = match compare {
+        Compare::Problem(name, other) => Some((name, other, respond(other, &speeds, &nodes, progress, "compare")?)),
+        Compare::None => None,
+    };
+    let main_json = write_layer(&dir, "unbalance", problem, &main)?;
+    let mut layers = vec![BodeLayer {
+        name: if compared.is_some() { super::layer_name(problem) } else { String::new() },
+        dashed: false,
+        result: &main,
+    }];
+    let mut text = peaks_text(&main, &format!("unbalance response: {}", title(problem)));
+    if let Some((name, other, r)) = &compared {
+        write_layer(&dir, "compare", other, r)?;
+        text += &peaks_text(r, &format!("compare ({name}):"));
+        layers.push(BodeLayer { name: name.to_string(), dashed: true, result: r });
+    }
+    let plot = BodePlot { title: format!("Unbalance response: {}", title(problem)), layers };
+    dir.write("bode.svg", plot.svg().map_err(|e| dir.error("bode.svg", e))?.as_bytes())?;
+    dir.write("bode.png", &plot.png().map_err(|e| dir.error("bode.png", e))?)?;
+    dir.commit("unbalance")?;
+    let files = if compared.is_some() {
+        "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode.{svg,png}"
+    } else {
+        "unbalance.{json,csv}, peaks.csv and bode.{svg,png}"
+    };
+    let head = format!(
+        "unbalance: {} speeds ({} to {} rad/s), {} probes; wrote {files} to {}\n",
+        speeds.len(),
+        speeds[0],
+        speeds[speeds.len() - 1],
+        main.probes.len(),
+        out.display()
+    );
+    if json {
+        return Ok(main_json + "\n");
+    }
+    Ok(head + &text)
+}
+
+/// JSON of `damping`.
+#[derive(Serialize)]
+struct DampingJson<'a> {
+    #[serde(flatten)]
+    provenance: Provenance,
+    speeds: &'a [f64],
+    modes: &'a [ModeDamping],
+}
+
+/// `rotorshunt damping FILE --speeds A:B:STEP [--modes f1,fr1] [--count N] [--json]`:
+/// ζ of the named whirls (by their tag at the first speed), or of the lowest N forward
+/// and backward whirls, tracked over the speeds.
+pub fn damping_cmd(
+    problem: &Problem,
+    speeds: &str,
+    modes: &str,
+    count: usize,
+    json: bool,
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<String, Error> {
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+    let speeds = speed_grid(speeds)?;
+    let tags: Vec<String> = modes.split(',').map(str::trim).filter(|t| !t.is_empty()).map(String::from).collect();
+    let threads = rayon::current_num_threads();
+    let estimate = cost::dense(&problem.model, Dense::Whirls(speeds.len() + 1), threads);
+    bounds::admit(&budget, "the damping ratios", &estimate, &MODEL_ONLY)?;
+    let rotor = Rotor::new(&problem.model)?;
+    progress.phase("damping", speeds.len() as u64);
+    let result = if tags.is_empty() {
+        lowest_damping(&rotor, &problem.settings, &speeds, count, progress)
+    } else {
+        mode_damping(&rotor, &problem.settings, &speeds, &tags, progress)
+    };
+    let result = result.map_err(|e| about("--modes", e))?;
+    if json {
+        let out = DampingJson { provenance: Provenance::of(problem), speeds: &speeds, modes: &result };
+        return Ok(json_pretty(&out, "the JSON output")? + "\n");
+    }
+    Ok(damping_text(&result, &speeds))
+}
