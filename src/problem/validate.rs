@@ -415,7 +415,7 @@ pub fn regions(f: &ProblemFile) -> Result<RegionSettings, Failure> {
         ("tip_iterations", r.tip_iterations),
         ("centre_iterations", r.centre_iterations),
     ] {
-        if v < 1 || v > MAX_REGION_COUNT {
+        if !(1..=MAX_REGION_COUNT).contains(&v) {
             let range = format!("a whole number from 1 to {MAX_REGION_COUNT}");
             return Err((format!("regions.{key}"), K::OutOfRange { value: v as f64, range }));
         }
