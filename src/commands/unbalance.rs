@@ -137,22 +137,21 @@ pub fn unbalance_cmd(
     let UnbalanceArgs { speeds, nodes, compare, json } = args;
     let speeds = speed_grid(speeds)?;
     let nodes = node_list(nodes)?;
-    // Every check and estimate before any file is touched.
-    let last = problem.model.shaft.nodes() - 1;
-    if let Some(&node) = nodes.iter().find(|&&n| n > last) {
-        return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
-    }
-    let others: Vec<&Problem> = match &compare {
-        Compare::Problem(_, other) => vec![*other],
-        Compare::None => vec![],
+    // Every check and estimate before any file is touched, for each configuration.
+    let other = match &compare {
+        Compare::Problem(_, other) => Some(*other),
+        Compare::None => None,
     };
-    let mut estimate = cost::unbalance(&problem.model, speeds.len(), nodes.len());
-    for other in &others {
-        let other_last = other.model.shaft.nodes() - 1;
-        if let Some(&node) = nodes.iter().find(|&&n| n > other_last) {
-            return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last: other_last }));
+    let admit = |p: &Problem| -> Result<cost::Estimate, Error> {
+        let last = p.model.shaft.nodes() - 1;
+        if let Some(&node) = nodes.iter().find(|&&n| n > last) {
+            return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
         }
-        estimate = estimate.then(cost::unbalance(&other.model, speeds.len(), nodes.len()));
+        Ok(cost::unbalance(&p.model, speeds.len(), nodes.len()))
+    };
+    let mut estimate = admit(problem)?;
+    if let Some(other) = other {
+        estimate = estimate.then(admit(other)?);
     }
     bounds::admit(&budget, "the unbalance response", &estimate, &MODEL_ONLY)?;
     let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
