@@ -247,6 +247,11 @@ fn general_form_errors_are_typed_with_line_and_key() {
     let e = Problem::from_path(common::problem_path("two-rings-1-3.toml"), &o).expect_err("negative R");
     assert_eq!(e.key, "rings[1].circuit.branches[2].resistance");
     assert!(e.to_string().contains("--set"), "{e}");
+    // A rotor left with one support is blamed at the bearing that lost its stiffness.
+    let o = vec!["bearings[1].stiffness=0".to_string()];
+    let e = Problem::from_path(common::problem_path("ross-rotor-example.toml"), &o).expect_err("one support");
+    assert!(matches!(e.kind, K::RigidBody { supports: 1 }), "{e}");
+    assert_eq!(e.key, "bearings[1].stiffness", "{e}");
     let p =
         common::load("stepped-bearing-ring.toml", &["sections[1].inner_diameter=0.03", "bearings[0].stiffness=2e7"]);
     assert_eq!(p.model.shaft.sections[1].inner_diameter, 0.03);

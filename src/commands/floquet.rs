@@ -7,7 +7,7 @@ use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
-use crate::analysis::response::{checked_response, rk4_steps_per_period, ResponseResult, STIFFNESS_LIMIT};
+use crate::analysis::response::{checked_response, ResponseResult};
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
 use crate::problem::Problem;
@@ -264,14 +264,7 @@ pub fn response_cmd(
     check_point(phi, beta)?;
     bounds::flag("--periods", limits::count(periods as u64, 1, MAX_PERIODS as u64))?;
     let fs = system(problem, &budget)?;
-    let pc = PointCost::of(&fs);
-    // The steps the response takes; a stiff one (beyond STIFFNESS_LIMIT times the phase
-    // rule's steps) is refused by `checked_response` before any step, so only the phase
-    // rule's steps are counted for it.
-    let phase = cost::response_steps(&pc, phi);
-    let steps = rk4_steps_per_period(&fs, phi) as f64;
-    let steps = if steps > STIFFNESS_LIMIT * phase { phase } else { steps };
-    bounds::admit(&budget, "the response", &cost::response(&pc, phi, beta, periods, steps), &POINT)?;
+    bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
     let point = fs.point(phi, beta);
     progress.phase("response", periods as u64);

@@ -251,7 +251,13 @@ pub(super) fn supports_check(f: &ProblemFile, bearings: &[Bearing], rings: &[Rin
     }
     let stiff = bearings.iter().filter(|b| b.stiffness > 0.0).count() + rings.len();
     if stiff < 2 {
-        let key = if nodes.is_empty() { "sections".to_string() } else { key_of(0) };
+        // Blame the first bearing without stiffness (giving it stiffness is the fix);
+        // with none, the one support there is, or the shaft when there is none.
+        let key = match bearings.iter().position(|b| b.stiffness <= 0.0) {
+            Some(i) if !shorthand => format!("bearings[{i}].stiffness"),
+            _ if nodes.is_empty() => "sections".to_string(),
+            _ => key_of(0),
+        };
         return Err((key, K::RigidBody { supports: stiff }));
     }
     Ok(())

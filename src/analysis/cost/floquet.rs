@@ -200,6 +200,19 @@ pub fn response_steps(pc: &PointCost, phi: f64) -> f64 {
     }
 }
 
+/// The cost of the time response `response` runs at (φ, β) over `periods` load periods:
+/// the response's own steps per period ([`crate::analysis::response::rk4_steps_per_period`]),
+/// except that a stiff one (beyond `STIFFNESS_LIMIT` times the phase rule's steps) is
+/// refused before any step, so only the phase rule's steps are counted for it.
+pub fn response_of(fs: &crate::analysis::floquet::FloquetSystem, phi: f64, beta: f64, periods: usize) -> Estimate {
+    use crate::analysis::response::{rk4_steps_per_period, STIFFNESS_LIMIT};
+    let pc = PointCost::of(fs);
+    let phase = response_steps(&pc, phi);
+    let steps = rk4_steps_per_period(fs, phi) as f64;
+    let steps = if steps > STIFFNESS_LIMIT * phase { phase } else { steps };
+    response(&pc, phi, beta, periods, steps)
+}
+
 /// A time response of `periods` periods of `per_period` RK4 steps each (the response's
 /// own step rule, [`crate::analysis::response::rk4_steps_per_period`]) and its Floquet point.
 pub fn response(pc: &PointCost, phi: f64, beta: f64, periods: usize, per_period: f64) -> Estimate {

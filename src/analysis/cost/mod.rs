@@ -22,7 +22,7 @@ mod floquet;
 mod regions;
 
 pub use dense::{dense, model_dofs, unbalance, Dense};
-pub use floquet::{chart, floquet_point, response, response_steps, PointCost};
+pub use floquet::{chart, floquet_point, response, response_of, response_steps, PointCost};
 pub use regions::{band, catalogue, points, scan, CatalogueWork, DESIGN_BAND_EVALUATIONS};
 
 use super::floquet::{FloquetSystem, ALIAS_MARGIN, ALIAS_ORDERS};
