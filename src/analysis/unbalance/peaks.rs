@@ -1,0 +1,187 @@
+//! The peaks of a probe's amplitude: each interior local maximum of the grid refined by
+//! a golden-section search on the analytic response, and its API 684 half-power
+//! amplification factor (the module above, section **Peaks**).
+
+use super::{DynamicStiffness, Workspace};
+use crate::analysis::AnalysisError;
+use faer::c64;
+use serde::Serialize;
+
+/// Relative width (of Ω_peak) of the bracket at which the golden-section search of a peak
+/// stops: 1e-10 is a thousand times below [`UNBOUNDED_BANDWIDTH`], so every peak counted
+/// as bounded is located well inside its half-power band, and about the f64 resolution of
+/// the location of a smooth maximum (√ε ≈ 1.5e-8 of its width) for widths down to 1e-2 Ω.
+pub const PEAK_SPEED_TOLERANCE: f64 = 1e-10;
+
+/// Relative half-power bandwidth (Ω₂ − Ω₁)/Ω_peak below which a peak is reported
+/// `unbounded`: an undamped mode (η = 0 and R = 0, the paper's rotor) has a pole at its
+/// critical speed, and its refined "peak" is limited only by how close the search gets
+/// to it (a bandwidth of ~[`PEAK_SPEED_TOLERANCE`]). 1e-7, an amplification factor of 10⁷,
+/// is far beyond any damped machine (ζ = 1e-5 gives 5·10⁴) and a thousand times above
+/// what the refinement resolves.
+pub const UNBOUNDED_BANDWIDTH: f64 = 1e-7;
+
+/// Bisection steps locating a half-power speed: the bracket (at most the speed range)
+/// shrinks by 2⁻⁶⁰, far below [`PEAK_SPEED_TOLERANCE`] of any speed.
+const HALF_POWER_STEPS: usize = 60;
+
+/// Golden-section steps at most: a bracket of the whole admitted speed range shrinks by
+/// 0.618¹²⁰ ≈ 1e-25, below [`PEAK_SPEED_TOLERANCE`] of any peak.
+const GOLDEN_STEPS: usize = 120;
+
+/// Solves of the analytic response a peak may cost at most (golden section and both
+/// half-power bisections): what the cost estimate counts per peak.
+pub const SOLVES_PER_PEAK: usize = GOLDEN_STEPS + 2 * HALF_POWER_STEPS;
+
+/// A peak of a probe's amplitude.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Peak {
+    /// Speed of the refined maximum Ω_peak (rad/s).
+    pub speed: f64,
+    /// Amplitude there (m).
+    pub amplitude: f64,
+    /// Phase there (rad, convention of the module).
+    pub phase: f64,
+    /// Half-power speeds [Ω₁, Ω₂] (rad/s); absent when one lies beyond the speed range
+    /// (or beyond a neighbouring higher peak).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub half_power: Option<[f64; 2]>,
+    /// API 684 amplification factor Ω_peak/(Ω₂ − Ω₁) (−); absent with `half_power`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplification_factor: Option<f64>,
+    /// The peak is a pole of the response (half-power bandwidth below
+    /// [`UNBOUNDED_BANDWIDTH`]·Ω_peak): an undamped critical speed, whose amplitude is
+    /// limited only by the refinement, not by the physics.
+    pub unbounded: bool,
+}
+
+/// The amplitude |U_dof| (m) at speed Ω.
+fn amplitude_at(a: &DynamicStiffness, dof: usize, speed: f64, work: &mut Workspace) -> Result<c64, AnalysisError> {
+    Ok(a.solve(speed, work)?[dof])
+}
+
+/// The interior local maxima of `amp` over `speeds`, refined.
+pub(super) fn refine_peaks(
+    a: &DynamicStiffness,
+    dof: usize,
+    speeds: &[f64],
+    amp: &[f64],
+    work: &mut Workspace,
+) -> Result<Vec<Peak>, AnalysisError> {
+    let mut peaks = Vec::new();
+    for i in 1..amp.len().saturating_sub(1) {
+        // Strict on the left, not on the right: a flat top counts once.
+        if !(amp[i] > amp[i - 1] && amp[i] >= amp[i + 1]) {
+            continue;
+        }
+        let (speed, value) = golden_max(a, dof, speeds[i - 1], speeds[i + 1], (speeds[i], amp[i]), work)?;
+        let amplitude = value.norm();
+        let half = amplitude / std::f64::consts::SQRT_2;
+        let left = half_power(a, dof, speeds, amp, speed, half, Side::Below, work)?;
+        let right = half_power(a, dof, speeds, amp, speed, half, Side::Above, work)?;
+        let half_power = left.zip(right).map(|(l, r)| [l, r]);
+        let width = half_power.map(|[l, r]| r - l);
+        let unbounded = width.is_some_and(|w| w < UNBOUNDED_BANDWIDTH * speed);
+        peaks.push(Peak {
+            speed,
+            amplitude,
+            phase: value.arg(),
+            half_power,
+            amplification_factor: width.filter(|w| *w > 0.0).map(|w| speed / w),
+            unbounded,
+        });
+    }
+    Ok(peaks)
+}
+
+/// Golden-section maximisation of |U_dof| on [lo, hi], which holds the grid maximum
+/// `best` (speed, amplitude): the refined (speed, U). The grid point is kept if the search
+/// finds nothing higher (a maximum at a bracket end).
+fn golden_max(
+    a: &DynamicStiffness,
+    dof: usize,
+    lo: f64,
+    hi: f64,
+    best: (f64, f64),
+    work: &mut Workspace,
+) -> Result<(f64, c64), AnalysisError> {
+    const INV_PHI: f64 = 0.618_033_988_749_894_9;
+    let (mut lo, mut hi) = (lo, hi);
+    let mut x1 = hi - INV_PHI * (hi - lo);
+    let mut x2 = lo + INV_PHI * (hi - lo);
+    let mut f1 = amplitude_at(a, dof, x1, work)?;
+    let mut f2 = amplitude_at(a, dof, x2, work)?;
+    for _ in 0..GOLDEN_STEPS {
+        if hi - lo <= PEAK_SPEED_TOLERANCE * best.0.max(f64::MIN_POSITIVE) {
+            break;
+        }
+        if f1.norm() >= f2.norm() {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - INV_PHI * (hi - lo);
+            f1 = amplitude_at(a, dof, x1, work)?;
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + INV_PHI * (hi - lo);
+            f2 = amplitude_at(a, dof, x2, work)?;
+        }
+    }
+    let (x, f) = if f1.norm() >= f2.norm() { (x1, f1) } else { (x2, f2) };
+    if f.norm() >= best.1 {
+        Ok((x, f))
+    } else {
+        Ok((best.0, amplitude_at(a, dof, best.0, work)?))
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Side {
+    Below,
+    Above,
+}
+
+/// The nearest speed on `side` of the peak at `peak` where the amplitude falls to `half`:
+/// the first grid speed beyond the peak below `half`, then bisection between it and the
+/// last speed at or above `half`. None when the grid ends first, or rises above the peak
+/// amplitude (√2·half) first (a higher neighbouring peak).
+#[allow(clippy::too_many_arguments)]
+fn half_power(
+    a: &DynamicStiffness,
+    dof: usize,
+    speeds: &[f64],
+    amp: &[f64],
+    peak: f64,
+    half: f64,
+    side: Side,
+    work: &mut Workspace,
+) -> Result<Option<f64>, AnalysisError> {
+    let top = half * std::f64::consts::SQRT_2;
+    let order: Box<dyn Iterator<Item = usize>> = match side {
+        Side::Above => Box::new((0..speeds.len()).filter(|&i| speeds[i] > peak)),
+        Side::Below => Box::new((0..speeds.len()).rev().filter(|&i| speeds[i] < peak)),
+    };
+    let mut inside = peak;
+    for i in order {
+        if amp[i] > top {
+            return Ok(None);
+        }
+        if amp[i] < half {
+            let mut outside = speeds[i];
+            for _ in 0..HALF_POWER_STEPS {
+                let mid = 0.5 * (inside + outside);
+                if mid == inside || mid == outside {
+                    break;
+                }
+                if amplitude_at(a, dof, mid, work)?.norm() >= half {
+                    inside = mid;
+                } else {
+                    outside = mid;
+                }
+            }
+            return Ok(Some(0.5 * (inside + outside)));
+        }
+        inside = speeds[i];
+    }
+    Ok(None)
+}
