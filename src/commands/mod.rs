@@ -19,8 +19,8 @@ pub use out::{check_folder, remove_unfinished, OutDir};
 pub use regions::{band_cmd, regions_cmd, RegionsArgs};
 pub use study::{
     array_expression, case_id, merge_cmd, plan_cmd, planned_inputs, slurm_cmd, status_cmd, study_cmd, Case, CaseKind,
-    CaseResult, CaseState, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions, TaskRecord,
-    MAX_SHARDS, MAX_STUDY_CASES,
+    CaseResult, CaseState, CaseStatus, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions,
+    TaskRecord, MAX_SHARDS, MAX_STUDY_CASES,
 };
 pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 
@@ -37,37 +37,7 @@ use crate::Error;
 use serde::Serialize;
 use std::path::Path;
 
-/// Tool name and version recorded in outputs.
-pub const TOOL: &str = concat!("rotorshunt ", env!("CARGO_PKG_VERSION"));
-
-/// What produced an output, recorded in every JSON file and JSON print-out: the tool
-/// version, the problem file, the hash of its text and overrides, and the settings.
-#[derive(Debug, Clone, Serialize)]
-pub struct Provenance {
-    /// Tool name and version, e.g. `rotorshunt 0.1.0`.
-    pub tool: &'static str,
-    /// Problem file as given.
-    pub problem: String,
-    /// SHA-256 of the problem text and the overrides ([`crate::problem::input_hash`]).
-    pub input_sha256: String,
-    /// The `--set key.path=value` overrides applied, in order.
-    pub overrides: Vec<String>,
-    /// Numerical settings in force.
-    pub settings: crate::analysis::Settings,
-}
-
-impl Provenance {
-    /// The provenance of outputs computed from `p`.
-    pub fn of(p: &Problem) -> Provenance {
-        Provenance {
-            tool: TOOL,
-            problem: p.file.clone(),
-            input_sha256: p.input_sha256.clone(),
-            overrides: p.overrides.clone(),
-            settings: p.settings.clone(),
-        }
-    }
-}
+pub use crate::problem::provenance::{Provenance, TOOL};
 
 /// Begin the `files` phase that ends a command, of `count` files; the step to call after
 /// each file is written.

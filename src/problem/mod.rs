@@ -7,7 +7,9 @@ mod error;
 pub mod file;
 mod general;
 pub mod input;
+pub mod provenance;
 pub mod source;
+pub mod study;
 mod validate;
 
 pub use error::{NameOf, ProblemError, ProblemErrorKind};

@@ -31,7 +31,7 @@ pub struct BranchRow {
 pub struct DesignReport {
     /// Tool, problem, input hash, overrides and settings.
     #[serde(flatten)]
-    pub provenance: crate::commands::Provenance,
+    pub provenance: crate::problem::provenance::Provenance,
     /// Title of the problem.
     pub title: String,
     /// The circuit's branches before the design (C_f, L, R).
