@@ -7,7 +7,7 @@
 
 mod common;
 
-use rotorshunt::commands::{planned_inputs, CaseResult, Manifest, Role, TaskRecord};
+use rotorshunt::commands::{planned_inputs, CaseResult, CaseStatus, Manifest, Role, TaskRecord};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::os::unix::process::ExitStatusExt;
@@ -554,7 +554,7 @@ fn a_10000_case_plan_and_its_status_are_quick() {
             kind: c.kind,
             overrides: c.overrides.clone(),
             input_hash: hash.clone(),
-            status: "ok".into(),
+            status: CaseStatus::Ok,
             error: None,
             metrics: [("regions".to_string(), Value::from(3))].into_iter().collect(),
             seconds: 0.5,

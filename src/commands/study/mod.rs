@@ -13,7 +13,9 @@
 //! folder, e.g. as the tasks of a Slurm array ([`slurm`]); `study status` and `study merge`
 //! read the folder at any time ([`state`]).
 
+mod case;
 mod folder;
+mod lock;
 mod plan;
 mod shard;
 mod slurm;
@@ -31,106 +33,27 @@ use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
+pub use crate::problem::study::CaseKind;
+use crate::problem::study::StudyFile;
 use crate::problem::Problem;
 use crate::progress::{Progress, Silent};
+use crate::report::study::SummaryTable;
 use crate::Error;
+use case::InputHasher;
+pub use case::{case_id, CaseResult, CaseStatus};
 pub(crate) use folder::Ledger;
 use folder::{CaseFolder, Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
 pub use folder::{Manifest, Role};
+use plan::Plan;
 pub use plan::{Case, MAX_STUDY_CASES};
-use plan::{Plan, StudyFile};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
+use serde::Serialize;
 pub use shard::{array_expression, Shard, TaskRecord, MAX_SHARDS};
 pub use slurm::{slurm_cmd, SlurmOptions};
 pub use state::{merge_cmd, plan_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
-
-/// What a case runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CaseKind {
-    /// The region catalogue (and the band around `phi_op` if given).
-    Regions,
-    /// The `[design]` of the case's problem.
-    Design,
-}
-
-/// The recorded result of one case (`cases/<slug>/result.json`).
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct CaseResult {
-    /// Case name.
-    pub name: String,
-    /// Stable id: the folder name and a hash of the kind and resolved overrides
-    /// ([`case_id`]); empty in results of older versions.
-    #[serde(default)]
-    pub id: String,
-    /// Directory name.
-    pub slug: String,
-    /// Kind.
-    pub kind: CaseKind,
-    /// Overrides.
-    pub overrides: Vec<String>,
-    /// SHA-256 of the base problem text, the overrides and the study parameters.
-    pub input_hash: String,
-    /// `ok` or `failed`.
-    pub status: String,
-    /// The error of a failed case.
-    pub error: Option<String>,
-    /// Key results (regions: count, lowest onset, band; design: status, band or intrusions).
-    pub metrics: BTreeMap<String, serde_json::Value>,
-    /// Wall time of the case (s).
-    pub seconds: f64,
-    /// The task that ran the case (host, pid, shard, Slurm ids).
-    #[serde(default)]
-    pub task: TaskRecord,
-    /// Tool and version.
-    pub tool: String,
-}
-
-/// The input hashes of one study's cases: SHA-256 of the base problem text, the case's
-/// kind and overrides, the study parameters and the tool version (the base hashed once).
-#[derive(Clone)]
-pub(crate) struct InputHasher(Sha256);
-
-impl InputHasher {
-    pub(crate) fn new(base_text: &[u8]) -> InputHasher {
-        let mut h = Sha256::new();
-        h.update(base_text);
-        InputHasher(h)
-    }
-
-    pub(crate) fn of(&self, case: &Case, study: &StudyFile) -> String {
-        let mut h = self.0.clone();
-        h.update(format!(
-            "\n{:?}\n{:?}\n{:?} {:?} {:?} {:?}\n",
-            case.kind, case.overrides, study.phi, study.beta_max, study.level, study.phi_op
-        ));
-        h.update(TOOL.as_bytes());
-        format!("{:x}", h.finalize())
-    }
-}
-
-/// Hex digits of the hash in a case id: 48 bits, enough to tell apart the cases that
-/// share a folder name across edits of a plan.
-const CASE_ID_HEX: usize = 12;
-
-/// The stable id of a case: `FOLDER@HASH`, the case's folder name and the first
-/// `CASE_ID_HEX` (12) hex digits of the SHA-256 of its kind and resolved overrides (the
-/// study's `set`, then the case's). The same case gets the same id on any machine and in
-/// any plan that holds it, whatever its index.
-pub fn case_id(case: &Case) -> String {
-    let mut h = Sha256::new();
-    h.update(format!("rotorshunt case\n{:?}\n", case.kind));
-    for o in &case.overrides {
-        h.update(o.as_bytes());
-        h.update(b"\n");
-    }
-    format!("{}@{}", case.slug, &format!("{:x}", h.finalize())[..CASE_ID_HEX])
-}
 
 fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
@@ -257,7 +180,7 @@ fn finished(dir: &OutDir, hash: &str) -> Option<CaseResult> {
     }
     let bytes = crate::problem::read_input(&dir.path("result.json")).ok()?;
     let r: CaseResult = serde_json::from_slice(&bytes).ok()?;
-    (r.input_hash == hash && r.status == "ok").then_some(r)
+    (r.input_hash == hash && r.status == CaseStatus::Ok).then_some(r)
 }
 
 /// Which share of the plan a run does.
@@ -359,14 +282,14 @@ impl Run<'_> {
         let case = self.plan.case(index);
         let hash = self.hasher.of(&case, &self.plan.study);
         let t = Instant::now();
-        let row = |status: &str, error: Option<String>, metrics| CaseResult {
+        let row = |status: CaseStatus, error: Option<String>, metrics| CaseResult {
             name: case.name.clone(),
             id: case_id(&case),
             slug: case.slug.clone(),
             kind: case.kind,
             overrides: case.overrides.clone(),
             input_hash: hash.clone(),
-            status: status.into(),
+            status,
             error,
             metrics,
             seconds: t.elapsed().as_secs_f64(),
@@ -379,7 +302,7 @@ impl Run<'_> {
             Ok(CaseFolder::Held(ledger, lock)) => (OutDir::planned(&path, self.inputs).with_ledger(*ledger), lock),
             Ok(CaseFolder::Busy(holder)) => return Outcome::Busy(case.name.clone(), holder),
             // Not this study's folder: nothing is written into it, not even the result.
-            Err(e) => return Outcome::Ran(row("failed", Some(e.to_string()), BTreeMap::new())),
+            Err(e) => return Outcome::Ran(row(CaseStatus::Failed, Some(e.to_string()), BTreeMap::new())),
         };
         if !self.force {
             if let Some(r) = finished(&dir, &hash) {
@@ -387,12 +310,12 @@ impl Run<'_> {
             }
         }
         let r = match run_case(&self.plan.base, &case, &self.plan.study, &dir, &self.budget) {
-            Ok(m) => row("ok", None, m),
-            Err(e) => row("failed", Some(e.to_string()), BTreeMap::new()),
+            Ok(m) => row(CaseStatus::Ok, None, m),
+            Err(e) => row(CaseStatus::Failed, Some(e.to_string()), BTreeMap::new()),
         };
         // A failure never replaces a finished result that another task committed meanwhile
         // (on a filesystem whose locks do not reach across nodes).
-        if r.status != "ok" {
+        if r.status != CaseStatus::Ok {
             if let Some(done) = finished(&dir, &hash) {
                 return Outcome::Skipped(done);
             }
@@ -403,7 +326,7 @@ impl Run<'_> {
         match written {
             Ok(()) => Outcome::Ran(r),
             Err(e) => Outcome::Ran(CaseResult {
-                status: "failed".into(),
+                status: CaseStatus::Failed,
                 error: Some(format!("cannot write result.json: {e}")),
                 ..r
             }),
@@ -549,7 +472,7 @@ pub fn study_cmd(
         write_summary(&root, &rows)?;
     }
     drop(lock);
-    let failed = rows.iter().filter(|r| r.status != "ok").count();
+    let failed = rows.iter().filter(|r| r.status != CaseStatus::Ok).count();
     let mut text = match shard {
         None => format!(
             "study: {} cases ({} run, {} skipped as finished, {} failed) in {:.1} s; wrote summary.{{csv,json,md}} and cases/ to {}\n",
@@ -573,7 +496,7 @@ pub fn study_cmd(
             out.display()
         ),
     };
-    for r in rows.iter().filter(|r| r.status != "ok") {
+    for r in rows.iter().filter(|r| r.status != CaseStatus::Ok) {
         text += &format!("failed: {}: {}\n", r.name, r.error.clone().unwrap_or_default());
     }
     for (name, holder) in &busy {
@@ -598,6 +521,7 @@ fn cell(v: Option<&serde_json::Value>) -> String {
     }
 }
 
+/// `summary.json`, `summary.csv` and `summary.md` of the study folder `root`.
 pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
     let keys: std::collections::BTreeSet<String> = rows.iter().flat_map(|r| r.metrics.keys().cloned()).collect();
     #[derive(Serialize)]
@@ -607,29 +531,24 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
     }
     let json = json_pretty(&Summary { tool: TOOL, cases: rows }, "the JSON output")? + "\n";
     root.write("summary.json", json.as_bytes())?;
-    let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "seconds".into()];
     header.extend(keys.iter().cloned());
     header.push("error".into());
-    let csv_err = |e: csv::Error| root.error("summary.csv", e);
-    w.write_record(&header).map_err(csv_err)?;
-    let mut md = format!("# Study summary\n\n| {} |\n|{}\n", header.join(" | "), "---|".repeat(header.len()));
-    for r in rows {
-        let mut rec =
-            vec![r.name.clone(), format!("{:?}", r.kind).to_lowercase(), r.status.clone(), format!("{:.2}", r.seconds)];
-        rec.extend(keys.iter().map(|k| cell(r.metrics.get(k))));
-        rec.push(r.error.clone().unwrap_or_default());
-        w.write_record(&rec).map_err(csv_err)?;
-        // Markdown is for people: numbers to 6 significant digits (the CSV keeps all).
-        let short = |c: &String| match c.parse::<f64>() {
-            Ok(x) if c.contains('.') || c.contains('e') => {
-                format!("{}", format!("{x:.5e}").parse::<f64>().unwrap_or(x))
-            }
-            _ => c.replace('|', "\\|"),
-        };
-        md += &format!("| {} |\n", rec.iter().map(short).collect::<Vec<_>>().join(" | "));
-    }
-    let bytes = w.into_inner().map_err(|e| root.error("summary.csv", e))?;
-    root.write("summary.csv", &bytes)?;
-    root.write("summary.md", md.as_bytes())
+    let rows = rows
+        .iter()
+        .map(|r| {
+            let mut rec = vec![
+                r.name.clone(),
+                format!("{:?}", r.kind).to_lowercase(),
+                r.status.word().into(),
+                format!("{:.2}", r.seconds),
+            ];
+            rec.extend(keys.iter().map(|k| cell(r.metrics.get(k))));
+            rec.push(r.error.clone().unwrap_or_default());
+            rec
+        })
+        .collect();
+    let table = SummaryTable { header, rows };
+    root.write("summary.csv", &table.csv().map_err(|e| root.error("summary.csv", e))?)?;
+    root.write("summary.md", table.markdown().as_bytes())
 }

@@ -6,12 +6,12 @@
 use super::CaseKind;
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::problem::source::LineIndex;
+use crate::problem::study::StudyFile;
 use crate::problem::{Problem, ProblemError, ProblemErrorKind};
 use crate::Error;
 use rayon::prelude::*;
-use serde::Deserialize;
 use sha2::{Digest, Sha256};
-use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap};
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};
 
@@ -30,58 +30,6 @@ const SLUG_TEXT_MAX: usize = 64;
 /// apart (chance of any two sharing a suffix ≈ n²/2⁶⁵ ≈ 3e-8; the duplicate check in
 /// [`Plan::survey`] refuses the plan if they ever do).
 const SLUG_HASH_HEX: usize = 16;
-
-/// The study file.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct StudyFile {
-    /// Base problem file, relative to the study file.
-    pub(crate) base: String,
-    /// Default kind of the cases.
-    #[serde(default = "default_kind")]
-    pub(crate) kind: CaseKind,
-    /// φ range of regions cases (rad/s).
-    #[serde(default = "default_phi")]
-    pub(crate) phi: [f64; 2],
-    /// β_max of regions cases.
-    #[serde(default = "default_beta_max")]
-    pub(crate) beta_max: f64,
-    /// Level β_op of regions cases (default β_max).
-    #[serde(default)]
-    pub(crate) level: Option<f64>,
-    /// Operating frequency of regions cases: also report its stable band (rad/s).
-    #[serde(default)]
-    pub(crate) phi_op: Option<f64>,
-    /// Overrides for every case.
-    #[serde(default)]
-    pub(crate) set: Vec<String>,
-    /// Listed cases.
-    #[serde(default)]
-    cases: Vec<CaseFile>,
-    /// Cartesian sweep: key path → list of values.
-    #[serde(default)]
-    sweep: BTreeMap<String, Vec<toml::Value>>,
-}
-
-fn default_kind() -> CaseKind {
-    CaseKind::Regions
-}
-fn default_phi() -> [f64; 2] {
-    [100.0, 8000.0]
-}
-fn default_beta_max() -> f64 {
-    1.0
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CaseFile {
-    name: String,
-    #[serde(default)]
-    kind: Option<CaseKind>,
-    #[serde(default)]
-    set: Vec<String>,
-}
 
 /// One case to run.
 #[derive(Debug, Clone)]

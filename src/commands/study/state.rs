@@ -6,7 +6,8 @@
 use super::folder::{self, Identity, Manifest, Role, StudyLock, CASES, CASE_MANIFEST, LOCK, MANIFEST, SLURM_DIR};
 use super::plan::Plan;
 use super::shard::{self, kind_cost, Shard};
-use super::{case_id, load_study, write_summary, CaseKind, CaseResult, InputHasher, Loaded, OutDir};
+use super::write_summary;
+use super::{case_id, load_study, CaseKind, CaseResult, CaseStatus, InputHasher, Loaded, OutDir};
 use crate::commands::out::json_pretty;
 use crate::Error;
 use rayon::prelude::*;
@@ -302,7 +303,7 @@ fn survey(dir: &Path, shards: Option<u32>, owned_only: bool) -> Result<Survey, E
                     if owned_only && !owns_result(&case_dir) {
                         foreign.lock().unwrap_or_else(|e| e.into_inner()).push(format!("{CASES}/{}", case.slug));
                         (CaseState::Missing, None)
-                    } else if r.status == "ok" {
+                    } else if r.status == CaseStatus::Ok {
                         (CaseState::Done, Some(r))
                     } else {
                         (CaseState::Failed(r.error.clone().unwrap_or_default()), Some(r))
