@@ -1,0 +1,132 @@
+//! Running one case of a study: its cost admitted against the study's budget, then the
+//! catalogue (and band) or the design, and the key results recorded as metrics.
+
+use super::*;
+
+fn metric(v: impl Serialize) -> serde_json::Value {
+    serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
+}
+
+/// The names of a study's inputs in a refusal.
+const STUDY: Names<'static> = Names {
+    phi: "the study's `phi`",
+    grid: "the study's `phi` (its range)",
+    load: "the study's `beta_max` or `level`",
+    periods: "the study",
+};
+
+/// A case's budget: the cases run in parallel, so each may hold a share of the memory.
+pub(super) fn case_budget(budget: &Budget) -> Budget {
+    budget.share(rayon::current_num_threads() as f64)
+}
+
+/// The rotor and reduced system of a regions case, its work admitted within `budget`
+/// before the whirls and the search: the catalogue of the study's range and, with
+/// `phi_op`, the band.
+fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+    bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
+    let rotor = Rotor::new(&problem.model)?;
+    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
+    let level = study.level.unwrap_or(study.beta_max);
+    let range = Interval::new(study.phi[0], study.phi[1]);
+    let (s, criterion, pc) = (problem.regions.clone(), Criterion::of(&fs.settings), PointCost::of(&fs));
+    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
+    let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
+    let mut estimate = cost::catalogue(&pc, &s, &criterion, &seeds, &work);
+    if study.phi_op.is_some() {
+        estimate = estimate.then(cost::band(&pc, &s, &criterion, &seeds, range, level));
+    }
+    bounds::admit(budget, "a regions case", &estimate, &STUDY)?;
+    Ok((rotor, fs))
+}
+
+/// Admit a case of `kind` on `problem` (the study's per-case estimate).
+pub(super) fn admit_case(problem: &Problem, kind: CaseKind, study: &StudyFile, budget: &Budget) -> Result<(), Error> {
+    match kind {
+        CaseKind::Regions => regions_case_system(problem, study, budget).map(|_| ()),
+        CaseKind::Design => match problem.design.as_ref() {
+            Some(spec) => bounds::admit(budget, "a design case", &design_estimate(problem, spec, budget)?, &DESIGN),
+            // Reported by the case itself (NoDesign).
+            None => Ok(()),
+        },
+    }
+}
+
+/// Run one case into its folder; its metrics. Its estimated work is admitted within
+/// `budget` first (a case beyond it fails with the cost error).
+pub(super) fn run_case(
+    base: &Path,
+    case: &Case,
+    study: &StudyFile,
+    dir: &OutDir,
+    budget: &Budget,
+) -> Result<BTreeMap<String, serde_json::Value>, Error> {
+    let problem = Problem::from_path(base, &case.overrides)?;
+    let mut m = BTreeMap::new();
+    match case.kind {
+        CaseKind::Design => {
+            admit_case(&problem, CaseKind::Design, study, budget)?;
+            let o = design_report(&problem, dir, &Silent)?;
+            m.insert("design_status".into(), metric(o.status));
+            m.insert("verified".into(), metric(o.verified));
+            // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
+            // the smallest over the speeds.
+            let width = |v: &[crate::design::evaluate::OperatingBand]| {
+                v.iter().map(|b| b.band.band.map_or(0.0, |x| x.width())).fold(f64::INFINITY, f64::min)
+            };
+            if !o.before_bands().is_empty() {
+                m.insert("band_width_before".into(), metric(width(o.before_bands())));
+                m.insert("band_width_after".into(), metric(width(o.after_bands())));
+                if let [only] = o.after_bands() {
+                    m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
+                    m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
+                }
+            }
+            if let Some(spec) = problem.design.as_ref() {
+                if !spec.objective.bands().is_empty() {
+                    m.insert("regions_in_bands_before".into(), metric(o.before_intrusions().len()));
+                    m.insert("regions_in_bands_after".into(), metric(o.after_intrusions().len()));
+                }
+                for (v, x) in spec.variables.iter().zip(&o.after) {
+                    m.insert(format!("{} ({})", v.name(), v.parameter.unit()), metric(x));
+                }
+            }
+            m.insert("floquet_evaluations".into(), metric(o.floquet_evaluations));
+        }
+        CaseKind::Regions => {
+            let level = study.level.unwrap_or(study.beta_max);
+            let (rotor, fs) = regions_case_system(&problem, study, budget)?;
+            let speed = problem.model.speed;
+            let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
+            let s = problem.regions.clone();
+            let range = Interval::new(study.phi[0], study.phi[1]);
+            let cat =
+                catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
+            dir.write("regions.json", (json_pretty(&cat, "the JSON output")? + "\n").as_bytes())?;
+            m.insert("regions".into(), metric(cat.regions.len()));
+            let lowest = cat.regions.iter().min_by(|a, b| a.onset_beta.total_cmp(&b.onset_beta));
+            m.insert("lowest_onset".into(), metric(lowest.map(|r| r.onset_beta)));
+            m.insert("lowest_onset_region".into(), metric(lowest.map(|r| r.label.clone())));
+            m.insert("floquet_evaluations".into(), metric(cat.evaluations));
+            if let Some(p) = study.phi_op {
+                // The same band as `rotorshunt band` over the study's φ range.
+                let b = band(&fs, &full, &s, range, p, level)?.band;
+                m.insert("band_lo".into(), metric(b.map(|b| b.lo)));
+                m.insert("band_hi".into(), metric(b.map(|b| b.hi)));
+                m.insert("band_width".into(), metric(b.map(|b| b.width())));
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// A previous result of this case with the same input, if it succeeded (and the study
+/// wrote it).
+pub(super) fn finished(dir: &OutDir, hash: &str) -> Option<CaseResult> {
+    if !dir.ledger().is_some_and(|l| l.owns("result.json")) {
+        return None;
+    }
+    let bytes = crate::problem::read_input(&dir.path("result.json")).ok()?;
+    let r: CaseResult = serde_json::from_slice(&bytes).ok()?;
+    (r.input_hash == hash && r.status == CaseStatus::Ok).then_some(r)
+}
