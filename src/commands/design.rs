@@ -309,7 +309,7 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         (1..=spec.speeds.len()).flat_map(|k| [format!("charts-{k}.svg"), format!("charts-{k}.png")]).collect()
     };
     let mut files: Vec<String> =
-        vec!["report.md".into(), "report.json".into(), design_file_name(outcome.status).into()];
+        vec!["report.md".into(), "report.html".into(), "report.json".into(), design_file_name(outcome.status).into()];
     files.extend(chart_files);
     files.extend(["campbell.svg", "campbell.png", "history.svg", "history.png"].iter().map(|s| s.to_string()));
     let chart_rows = 2 * spec.speeds.len() * CHART_GRID.0;
@@ -339,6 +339,9 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     dir.write("history.svg", h.svg().map_err(|e| dir.error("history.svg", e))?.as_bytes())?;
     progress.advance(1);
     dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
+    progress.advance(1);
+    let page = crate::report::html::page(&report.title, &markdown(&report), dir);
+    dir.write("report.html", page.as_bytes())?;
     progress.advance(1);
     Ok(outcome)
 }

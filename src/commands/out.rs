@@ -314,6 +314,23 @@ impl OutDir {
         self.dir.join(name)
     }
 
+    /// A file this run has written (from the staging folder until it is committed).
+    pub fn written(&self, name: &str) -> Option<Vec<u8>> {
+        let written = match &self.staging {
+            Some(s) => s.written.lock().unwrap_or_else(|p| p.into_inner()).contains_key(name),
+            None => true,
+        };
+        let path = match &self.staging {
+            Some(s) => s.temp.join(name),
+            None => self.path(name),
+        };
+        if written {
+            std::fs::read(path).ok()
+        } else {
+            None
+        }
+    }
+
     /// An output error for a file of this directory.
     pub fn error(&self, name: &str, e: impl std::fmt::Display) -> Error {
         output_error(&self.path(name), e)
@@ -377,4 +394,15 @@ pub(crate) fn json_pretty<T: serde::Serialize + ?Sized>(value: &T, what: &str) -
 pub(crate) fn json_compact<T: serde::Serialize + ?Sized>(value: &T, what: &str) -> Result<String, Error> {
     serde_json::to_string(value)
         .map_err(|e| Error::Output { path: what.to_string(), message: format!("cannot serialise it as JSON: {e}") })
+}
+
+/// The figures this run wrote into the folder, for a page that embeds them.
+impl crate::report::html::Figures for OutDir {
+    fn svg(&self, name: &str) -> Option<String> {
+        let stem = crate::report::html::plain_name(name)?.trim_end_matches(".png");
+        self.written(&format!("{stem}.svg")).and_then(|b| String::from_utf8(b).ok())
+    }
+    fn png(&self, name: &str) -> Option<Vec<u8>> {
+        crate::report::html::plain_name(name).filter(|n| n.ends_with(".png")).and_then(|n| self.written(n))
+    }
 }

@@ -367,9 +367,32 @@ pub fn markdown(r: &DesignReport) -> String {
             );
         }
     }
+    let figures: Vec<&String> = r.files.iter().filter(|f| f.ends_with(".png")).collect();
+    if !figures.is_empty() {
+        let _ = writeln!(s, "\n## Figures\n");
+        for f in figures {
+            let _ = writeln!(s, "![{}]({f})\n", figure_caption(f));
+        }
+    }
     let _ = writeln!(s, "\n## Files\n");
     for f in &r.files {
         let _ = writeln!(s, "- `{f}`");
     }
     s
+}
+
+/// The caption of a figure of the design folder, from its file name.
+fn figure_caption(file: &str) -> String {
+    let stem = file.trim_end_matches(".png");
+    let (kind, speed) = match stem.split_once('-') {
+        Some((k, n)) => (k, format!(" (design speed {n})")),
+        None => (stem, String::new()),
+    };
+    let what = match kind {
+        "charts" => "Stability charts before and after the design (φ in rad/s, β)",
+        "campbell" => "Campbell diagram of the tuned design (whirl frequency against speed, rad/s)",
+        "history" => "Optimisation history",
+        other => other,
+    };
+    format!("{what}{speed}")
 }

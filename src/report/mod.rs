@@ -4,6 +4,7 @@
 pub mod campbell;
 pub mod chart;
 pub mod design;
+pub mod html;
 pub mod plot;
 pub mod study;
 pub mod summary;
