@@ -58,6 +58,18 @@ speed = [1000.0, 2000.0, 3000.0]
     for f in ["summary.csv", "summary.md"] {
         assert!(out_dir.join(f).exists());
     }
+    // summary.md: the flagged count, the failed case flagged, each case linked to its output.
+    let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
+    // Flagged: the failed case, and every case without a stable band around phi_op.
+    let flagged = cases.iter().filter(|c| c["status"] == "failed" || c["metrics"]["band_width"].is_null()).count();
+    assert!(md.contains(&format!("13 case(s), {flagged} flagged")), "{md}");
+    let row = md.lines().find(|l| l.starts_with("| broken")).expect("row of the failed case");
+    assert!(row.contains("| failed | failed |") && row.ends_with("|  |"), "no output linked: {row}");
+    for c in cases.iter().filter(|c| c["status"] == "ok") {
+        let slug = c["slug"].as_str().unwrap();
+        let row = md.lines().find(|l| l.contains(&format!("(cases/{slug}/regions.json)"))).expect("linked");
+        assert_eq!(row.contains("phi_op unstable"), c["metrics"]["band_width"].is_null(), "{row}");
+    }
     // Every finished case's result.json, with its modification time.
     let results: Vec<PathBuf> =
         std::fs::read_dir(out_dir.join("cases")).unwrap().map(|e| e.unwrap().path().join("result.json")).collect();

@@ -22,12 +22,23 @@ impl SummaryTable {
         w.into_inner().map_err(|e| e.into_error().into())
     }
 
-    /// The table as a Markdown page under the heading "Study summary".
-    pub fn markdown(&self) -> String {
-        let mut md =
-            format!("# Study summary\n\n| {} |\n|{}\n", self.header.join(" | "), "---|".repeat(self.header.len()));
-        for r in &self.rows {
-            md += &format!("| {} |\n", r.iter().map(|c| short(c)).collect::<Vec<_>>().join(" | "));
+    /// The table as a Markdown page under the heading "Study summary", with a last
+    /// column `output` holding `links[i]` (Markdown link text) for row i, and the count of
+    /// flagged rows (column `flags`) above the table.
+    pub fn markdown(&self, links: &[String]) -> String {
+        let flagged = match self.header.iter().position(|h| h == "flags") {
+            Some(i) => self.rows.iter().filter(|r| r.get(i).is_some_and(|c| !c.is_empty())).count(),
+            None => 0,
+        };
+        let mut md = format!(
+            "# Study summary\n\n{} case(s), {flagged} flagged (failed, infeasible, not verified or phi_op unstable).\n\n| {} | output |\n|{}\n",
+            self.rows.len(),
+            self.header.join(" | "),
+            "---|".repeat(self.header.len() + 1)
+        );
+        for (i, r) in self.rows.iter().enumerate() {
+            let link = links.get(i).map_or("", String::as_str);
+            md += &format!("| {} | {link} |\n", r.iter().map(|c| short(c)).collect::<Vec<_>>().join(" | "));
         }
         md
     }
@@ -56,6 +67,9 @@ mod tests {
             t.markdown(),
             "# Study summary\n\n| case | seconds | band |\n|---|---|---|\n| a\\|b | 1.23457 | 12 |\n"
         );
-        assert_eq!(String::from_utf8(t.csv().unwrap()).unwrap(), "case,seconds,band\na|b,1.23456789,12\n");
+        assert_eq!(
+            String::from_utf8(t.csv().unwrap()).unwrap(),
+            "case,flags,seconds,band\na|b,,1.23456789,12\nc,infeasible,2,\n"
+        );
     }
 }

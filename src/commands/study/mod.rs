@@ -395,7 +395,44 @@ fn cell(v: Option<&serde_json::Value>) -> String {
     }
 }
 
-/// `summary.json`, `summary.csv` and `summary.md` of the study folder `root`.
+/// The flags of a case's result a reader must not miss: `failed`, `infeasible`, `not
+/// verified` (a design), `phi_op unstable` (no stable band around φ_op).
+fn flags(r: &CaseResult) -> Vec<&'static str> {
+    let mut f = Vec::new();
+    if r.status == CaseStatus::Failed {
+        f.push("failed");
+    }
+    let m = |k: &str| r.metrics.get(k);
+    if m("design_status").and_then(|v| v.as_str()) == Some("infeasible") {
+        f.push("infeasible");
+    } else if m("verified").and_then(|v| v.as_bool()) == Some(false) {
+        f.push("not verified");
+    }
+    let unstable = match r.kind {
+        CaseKind::Regions => m("band_width").is_some_and(|v| v.is_null()),
+        CaseKind::Design => m("band_width_after").and_then(|v| v.as_f64()) == Some(0.0),
+    };
+    if unstable {
+        f.push("phi_op unstable");
+    }
+    f
+}
+
+/// A link to the case's main output file, relative to the study folder (none for a
+/// failed case).
+fn case_link(r: &CaseResult) -> String {
+    if r.status == CaseStatus::Failed {
+        return String::new();
+    }
+    let file = match r.kind {
+        CaseKind::Regions => "regions.json",
+        CaseKind::Design => "report.html",
+    };
+    format!("[{file}]({CASES}/{}/{file})", r.slug)
+}
+
+/// `summary.json`, `summary.csv` and `summary.md` of the study folder `root`: one row per
+/// case with its status, flags and key figures (and, in Markdown, a link to its output).
 pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
     let keys: std::collections::BTreeSet<String> = rows.iter().flat_map(|r| r.metrics.keys().cloned()).collect();
     #[derive(Serialize)]
@@ -405,16 +442,17 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
     }
     let json = json_pretty(&Summary { tool: TOOL, cases: rows }, "the JSON output")? + "\n";
     root.write("summary.json", json.as_bytes())?;
-    let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "seconds".into()];
+    let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "flags".into(), "seconds".into()];
     header.extend(keys.iter().cloned());
     header.push("error".into());
-    let rows = rows
+    let cells = rows
         .iter()
         .map(|r| {
             let mut rec = vec![
                 r.name.clone(),
                 format!("{:?}", r.kind).to_lowercase(),
                 r.status.word().into(),
+                flags(r).join("; "),
                 format!("{:.2}", r.seconds),
             ];
             rec.extend(keys.iter().map(|k| cell(r.metrics.get(k))));
@@ -422,7 +460,8 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
             rec
         })
         .collect();
-    let table = SummaryTable { header, rows };
+    let table = SummaryTable { header, rows: cells };
     root.write("summary.csv", &table.csv().map_err(|e| root.error("summary.csv", e))?)?;
-    root.write("summary.md", table.markdown().as_bytes())
+    let links: Vec<String> = rows.iter().map(|r| case_link(r)).collect();
+    root.write("summary.md", table.markdown(&links).as_bytes())
 }
