@@ -54,10 +54,14 @@ pub struct Provenance {
     pub overrides: Vec<String>,
     /// Numerical settings in force.
     pub settings: crate::analysis::Settings,
+    /// Plausibility warnings on the input ([`crate::problem::plausibility`], and those a
+    /// command finds on its ranges); absent when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::problem::Warning>,
 }
 
 impl Provenance {
-    /// The provenance of outputs computed from `p`.
+    /// The provenance of outputs computed from `p`, with its warnings.
     pub fn of(p: &Problem) -> Provenance {
         Provenance {
             tool: TOOL,
@@ -65,8 +69,42 @@ impl Provenance {
             input_sha256: p.input_sha256.clone(),
             overrides: p.overrides.clone(),
             settings: p.settings.clone(),
+            warnings: p.warnings.clone(),
         }
     }
+
+    /// The provenance with further warnings (a command's, on its ranges).
+    pub fn with(mut self, warnings: &[crate::problem::Warning]) -> Provenance {
+        self.warnings.extend_from_slice(warnings);
+        self
+    }
+}
+
+/// The warning of a φ range (the flag or key `key`) that no instability region of the
+/// problem's reduced model at its speed can reach ([`crate::analysis::warnings::phi_range`]),
+/// reported to `progress` (the command line prints it) and returned for the JSON.
+pub(crate) fn range_warning(
+    problem: &Problem,
+    fs: &crate::analysis::floquet::FloquetSystem,
+    range: crate::analysis::Interval,
+    key: &str,
+    progress: &dyn Progress,
+) -> Vec<crate::problem::Warning> {
+    let Ok((forward, backward)) = fs.whirls() else { return Vec::new() };
+    let order = problem.settings.max_tongue_order;
+    crate::analysis::warnings::phi_range(&forward, &backward, range, order, fs.speed)
+        .map(|kind| {
+            let w = crate::problem::Warning {
+                file: problem.file.clone(),
+                location: crate::problem::Location::Unknown,
+                key: key.to_string(),
+                kind,
+            };
+            progress.warning(&w);
+            w
+        })
+        .into_iter()
+        .collect()
 }
 
 /// Begin the `files` phase that ends a command, of `count` files; the step to call after
