@@ -190,7 +190,7 @@ fn a_phi_range_no_region_can_reach_is_warned_of() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("key `--phi`: the phi range [100000, 100010] rad/s lies above every whirl sum"),
+        stderr.contains("argument `--phi`: the phi range [100000, 100010] rad/s lies above every whirl sum"),
         "{stderr}"
     );
     let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("chart.json")).unwrap()).unwrap();

@@ -61,14 +61,13 @@ pub struct Warning {
 
 impl std::fmt::Display for Warning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{}{}: {}{}",
-            self.file,
-            super::error::where_(&self.location),
-            super::error::key_(&self.key),
-            self.kind
-        )
+        // A flag is named as the command line's argument errors name it.
+        let key = if self.key.starts_with("--") {
+            format!("argument `{}`: ", self.key)
+        } else {
+            super::error::key_(&self.key)
+        };
+        write!(f, "{}{}: {key}{}", self.file, super::error::where_(&self.location), self.kind)
     }
 }
 
