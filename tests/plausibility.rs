@@ -117,6 +117,8 @@ fn a_modulus_in_mpa_is_warned_of() {
 }
 
 #[test]
+// 1.0472 is 60° as a user types it in radians (4 digits), not π/3 itself.
+#[allow(clippy::approx_constant)]
 fn radians_in_angle_deg_are_refused_or_warned_of() {
     // From k_eq2, a 60° angle typed as 1.0472 makes C_p^S 9 000 times C_p^T's order:
     // physically impossible, refused at the angle's line.
