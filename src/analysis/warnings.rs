@@ -24,7 +24,7 @@ pub enum WarningKind {
         hi: f64,
     },
     /// A shaft or disk heavier than any machinery rotor.
-    #[error("the {what} weighs {mass:.4e} kg, more than any machinery rotor ({limit:e} kg): check the lengths are in m (not mm)")]
+    #[error("the {what} weighs {mass:.4e} kg, more than any machinery rotor ({limit:e} kg): check the units (kg, and lengths in m, not mm)")]
     Mass {
         /// `shaft` or `disk`.
         what: &'static str,
