@@ -491,8 +491,18 @@ fn remove_outputs_on_signals() {
 #[cfg(not(unix))]
 fn remove_outputs_on_signals() {}
 
+/// Load the problem and print its plausibility warnings on standard error.
 fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
-    Ok(Problem::from_path(&input.file, &input.set)?)
+    let problem = Problem::from_path(&input.file, &input.set)?;
+    warn(&problem);
+    Ok(problem)
+}
+
+/// Print a problem's plausibility warnings on standard error, one line each.
+fn warn(problem: &Problem) {
+    for w in &problem.warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// The configuration of `--compare FILE2` (with the main `--set` overrides) or
@@ -502,6 +512,7 @@ fn compared(
     input: &Input,
     compare: Option<&std::path::Path>,
     compare_set: &[String],
+    main: &Problem,
 ) -> Result<(String, Option<Problem>), rotorshunt::Error> {
     let other = match (compare, compare_set.is_empty()) {
         (Some(path), _) => Some(Problem::from_path(path, &input.set)?),
@@ -511,6 +522,12 @@ fn compared(
         }
         (None, true) => None,
     };
+    // The compared configuration's warnings that the main one has not printed.
+    if let Some(o) = &other {
+        for w in o.warnings.iter().filter(|w| !main.warnings.iter().any(|m| m.key == w.key && m.kind == w.kind)) {
+            eprintln!("warning: {w}");
+        }
+    }
     let label = match (compare, &other) {
         (Some(_), Some(o)) => o.data.title.clone().unwrap_or_else(|| o.file.clone()),
         (_, Some(o)) => {
@@ -550,7 +567,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
         }
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
-            let (label, other) = compared(&input, compare.as_deref(), &compare_set)?;
+            let (label, other) = compared(&input, compare.as_deref(), &compare_set, &problem)?;
             let cmp = match &other {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,
@@ -560,7 +577,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
         }
         Command::Unbalance { input, speeds, nodes, out, json, compare, compare_set } => {
             let problem = load(&input)?;
-            let (label, other) = compared(&input, compare.as_deref(), &compare_set)?;
+            let (label, other) = compared(&input, compare.as_deref(), &compare_set, &problem)?;
             let cmp = match &other {
                 Some(o) => commands::Compare::Problem(&label, o),
                 None => commands::Compare::None,

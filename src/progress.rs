@@ -21,6 +21,10 @@ pub trait Progress: Sync {
     fn extend(&self, _steps: u64) {}
     /// `steps` steps of the current phase are done.
     fn advance(&self, _steps: u64) {}
+    /// A command found an implausible input while it ran (e.g. a φ range no region can
+    /// reach); the warning is also in its JSON output. The problem file's own warnings
+    /// are in [`crate::problem::Problem::warnings`], not reported here.
+    fn warning(&self, _warning: &crate::problem::Warning) {}
 }
 
 /// Progress that nobody watches: every report is dropped.

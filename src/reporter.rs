@@ -84,6 +84,13 @@ impl Progress for Reporter {
             }
         }
     }
+    /// Warnings are not progress: printed even with `--quiet`, above the bar if one is drawn.
+    fn warning(&self, warning: &rotorshunt::problem::Warning) {
+        match self {
+            Reporter::Bar(b) => b.bar.suspend(|| eprintln!("warning: {warning}")),
+            _ => eprintln!("warning: {warning}"),
+        }
+    }
 }
 
 /// "design: verification (phase 2 of 3)".

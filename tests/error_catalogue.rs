@@ -68,6 +68,7 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::BadName { .. } => "BadName",
         K::MixedForms(..) => "MixedForms",
         K::Override { .. } => "Override",
+        K::ClampedCapacitance { .. } => "ClampedCapacitance",
     }
 }
 
@@ -175,6 +176,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::BadName { name: s(), reason: s() },
         ProblemErrorKind::MixedForms(s(), s()),
         ProblemErrorKind::Override { text: s(), reason: s() },
+        ProblemErrorKind::ClampedCapacitance { cp_s: 0.0, cp_t: 0.0, angle_deg: 0.0, from_k_eq2: None },
     ];
     let analysis = [
         AnalysisError::Linalg(LinalgError::NotPositiveDefinite { what: "stiffness" }),
@@ -240,7 +242,37 @@ fn every_kind() -> Vec<&'static str> {
     names.extend(errors.iter().map(error_kind));
     // The argument parser's own errors (clap).
     names.push("Usage");
+    names.extend(warning_kinds());
     names
+}
+
+/// Every plausibility warning kind (exhaustive, as the error kinds): their sections'
+/// examples print a `warning: ` line and exit 0.
+fn warning_kinds() -> Vec<&'static str> {
+    use rotorshunt::analysis::warnings::WarningKind as W;
+    let (x, s) = (0.0, String::new);
+    let all = [
+        W::YoungsModulus { value: x, lo: x, hi: x },
+        W::Mass { what: "shaft", mass: x, limit: x },
+        W::Slenderness { length: x, diameter: x, ratio: x, limit: x },
+        W::AngleInRadians { angle_deg: x },
+        W::PeripheralSpeed { speed: x, radius: x, peripheral: x, limit: x, rpm_key: s() },
+        W::PeripheralSpeedRpm { rpm: x, radius: x, peripheral: x, limit: x },
+        W::RangeAboveWhirls { lo: x, hi: x, largest_sum: x, speed: x },
+        W::RangeBelowWhirls { lo: x, hi: x, smallest_sum: x, order: 1, speed: x },
+    ];
+    all.iter()
+        .map(|w| match w {
+            W::YoungsModulus { .. }
+            | W::Mass { .. }
+            | W::Slenderness { .. }
+            | W::AngleInRadians { .. }
+            | W::PeripheralSpeed { .. }
+            | W::PeripheralSpeedRpm { .. }
+            | W::RangeAboveWhirls { .. }
+            | W::RangeBelowWhirls { .. } => w.name(),
+        })
+        .collect()
 }
 
 /// Section name (`### \`Name\``) → its text.
@@ -268,14 +300,18 @@ fn sections(doc: &str) -> BTreeMap<String, String> {
     out
 }
 
-/// `$ rotorshunt ARGS` lines with the `error: …` line that follows each.
+/// `$ rotorshunt ARGS` lines with the `error: …` (or, for a warning, `warning: …`) line
+/// that follows each.
 fn examples(section: &str) -> Vec<(Vec<String>, String)> {
     let lines: Vec<&str> = section.lines().collect();
     let mut out = Vec::new();
     for (i, line) in lines.iter().enumerate() {
         if let Some(cmd) = line.trim_start().strip_prefix("$ rotorshunt ") {
             let expected = lines.get(i + 1).map(|l| l.trim()).unwrap_or_default();
-            assert!(expected.starts_with("error: "), "`{line}` is not followed by an `error: ` line");
+            assert!(
+                expected.starts_with("error: ") || expected.starts_with("warning: "),
+                "`{line}` is not followed by an `error: ` or `warning: ` line"
+            );
             out.push((cmd.split_whitespace().map(String::from).collect(), expected.to_string()));
         }
     }
@@ -331,14 +367,22 @@ fn documented_messages_are_what_the_binary_prints() {
                 .output()
                 .expect("run rotorshunt");
             let stderr = String::from_utf8_lossy(&out.stderr);
-            let first = stderr.lines().next().unwrap_or_default();
+            // Warnings come before an error: compare the first line of the example's sort.
+            let sort = if expected.starts_with("warning: ") { "warning: " } else { "error: " };
+            let first = stderr.lines().find(|l| l.starts_with(sort)).unwrap_or_default();
             if first != expected {
                 failures.push(format!(
                     "`{kind}`: rotorshunt {}\n    doc:    {expected}\n    actual: {first}",
                     args.join(" ")
                 ));
             }
-            let code = if EXIT_1.contains(&kind.as_str()) { 1 } else { 2 };
+            let code = if expected.starts_with("warning: ") {
+                0
+            } else if EXIT_1.contains(&kind.as_str()) {
+                1
+            } else {
+                2
+            };
             if out.status.code() != Some(code) {
                 failures.push(format!("`{kind}`: exit status {:?}, expected {code}", out.status.code()));
             }

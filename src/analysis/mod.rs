@@ -17,6 +17,7 @@ pub mod response;
 mod rotor;
 mod settings;
 pub mod unbalance;
+pub mod warnings;
 
 pub use criterion::Criterion;
 pub use interval::Interval;

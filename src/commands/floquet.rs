@@ -128,8 +128,14 @@ fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Pro
     chart(fs, phis, betas, progress)
 }
 
-fn write_chart(dir: &OutDir, stem: &str, problem: &Problem, c: &ChartResult) -> Result<(), Error> {
-    let json = ChartJson { provenance: Provenance::of(problem), chart: c };
+fn write_chart(
+    dir: &OutDir,
+    stem: &str,
+    problem: &Problem,
+    warnings: &[crate::problem::Warning],
+    c: &ChartResult,
+) -> Result<(), Error> {
+    let json = ChartJson { provenance: Provenance::of(problem).with(warnings), chart: c };
     dir.write(&format!("{stem}.json"), json_compact(&json, "the JSON output")?.as_bytes())?;
     let csv = chart_csv(c).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
     dir.write(&format!("{stem}.csv"), csv.as_bytes())
@@ -185,6 +191,15 @@ pub fn chart_cmd(
         Compare::None => None,
     };
     bounds::admit(&budget, "the chart", &estimate, &names)?;
+    let range = crate::analysis::Interval::new(
+        phis.iter().copied().fold(f64::INFINITY, f64::min),
+        phis.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let main_warnings = super::range_warning(problem, &main_fs, range, "--phi", progress);
+    let other_warnings = match (&compare, &other_fs) {
+        (Compare::Problem(_, other), Some(fs)) => super::range_warning(other, fs, range, "--phi", progress),
+        _ => Vec::new(),
+    };
     let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
     if let Compare::Problem(_, other) = &compare {
         inputs.push((Path::new(&other.file), "the --compare file"));
@@ -201,13 +216,13 @@ pub fn chart_cmd(
         _ => None,
     };
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
-    write_chart(&dir, "chart", problem, &main)?;
+    write_chart(&dir, "chart", problem, &main_warnings, &main)?;
     let label = title(problem);
     let name = layer_name(problem);
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Some((name, other, c)) = compared {
-        write_chart(&dir, "compare", other, &c)?;
+        write_chart(&dir, "compare", other, &other_warnings, &c)?;
         written();
         written();
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());

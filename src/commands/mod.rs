@@ -39,6 +39,33 @@ use std::path::Path;
 
 pub use crate::problem::provenance::{Provenance, TOOL};
 
+/// The warning of a φ range (the flag or key `key`) that no instability region of the
+/// problem's reduced model at its speed can reach ([`crate::analysis::warnings::phi_range`]),
+/// reported to `progress` (the command line prints it) and returned for the JSON.
+pub(crate) fn range_warning(
+    problem: &Problem,
+    fs: &crate::analysis::floquet::FloquetSystem,
+    range: crate::analysis::Interval,
+    key: &str,
+    progress: &dyn Progress,
+) -> Vec<crate::problem::Warning> {
+    let Ok((forward, backward)) = fs.whirls() else { return Vec::new() };
+    let order = problem.settings.max_tongue_order;
+    crate::analysis::warnings::phi_range(&forward, &backward, range, order, fs.speed)
+        .map(|kind| {
+            let w = crate::problem::Warning {
+                file: problem.file.clone(),
+                location: crate::problem::Location::Unknown,
+                key: key.to_string(),
+                kind,
+            };
+            progress.warning(&w);
+            w
+        })
+        .into_iter()
+        .collect()
+}
+
 /// Begin the `files` phase that ends a command, of `count` files; the step to call after
 /// each file is written.
 pub(crate) fn files_phase(progress: &dyn Progress, count: u64) -> impl Fn() + '_ {

@@ -127,6 +127,7 @@ pub fn regions_cmd(
     }
     let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
     bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
+    let warnings = super::range_warning(problem, &fs, range, "--phi", progress);
     // The staging folder is made before the search: an --out that cannot be written
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
@@ -136,7 +137,7 @@ pub fn regions_cmd(
     let cat = catalogue_with(&fs, &full, &settings, &req, progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let doc = RegionsJson {
-        provenance: Provenance::of(problem),
+        provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
         region_settings: &settings,
         seconds,
@@ -245,6 +246,7 @@ pub fn band_cmd(
 ) -> Result<String, Error> {
     let phi_op = bounds::flag("--phi-op", limits::frequency(Quantity::OperatingFrequency, phi_op))?;
     let level = bounds::flag("--level", limits::level(level, limits::MAX_BETA))?;
+    let window_text = window;
     let window = match window {
         Some(text) => range_of(text)?,
         None => default_window(phi_op),
@@ -258,12 +260,14 @@ pub fn band_cmd(
     let names =
         Names { phi: "`--phi` (the window)", grid: "`--phi` (the window)", load: "`--level`", periods: "`--phi`" };
     bounds::admit(&budget, "the band search", &estimate, &names)?;
+    let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
+    let warnings = super::range_warning(problem, &fs, window, key, progress);
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
     let start = Instant::now();
     progress.phase("band", 0);
     let b = band_with(&fs, &full, &settings, window, phi_op, level, progress)?;
     let out = BandOutput {
-        provenance: Provenance::of(problem),
+        provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
         window,
         width: b.band.map(|x| x.width()),

@@ -198,6 +198,20 @@ pub enum ProblemErrorKind {
     /// The shorthand and the general form given for one topic.
     #[error("give either the shorthand `{0}` or the general form `{1}`, not both")]
     MixedForms(String, String),
+    /// C_p^S (given, or from k_eq2 by Eq. 1) not below C_p^T: physically impossible, a
+    /// piezo stack's capacitance at constant strain is always below its capacitance at
+    /// constant stress (C_p^S = C_p^T·(1 − k²), k its coupling factor).
+    #[error("C_p^S = {cp_s:.4e} F is not below C_p^T = {cp_t:e} F, which is physically impossible: a piezo stack's capacitance at constant strain is below its capacitance at constant stress (C_p^S = C_p^T (1 - k^2), k its coupling factor){}", derivation(*angle_deg, *from_k_eq2))]
+    ClampedCapacitance {
+        /// C_p^S (F).
+        cp_s: f64,
+        /// C_p^T (F).
+        cp_t: f64,
+        /// The ring's angle β (degrees, as given).
+        angle_deg: f64,
+        /// k_eq2 (N/m), when C_p^S follows from it (C_p^S = 2cot²β·θ_p²/k_eq2).
+        from_k_eq2: Option<f64>,
+    },
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,
@@ -243,7 +257,24 @@ pub struct ProblemError {
     pub kind: ProblemErrorKind,
 }
 
-fn where_(l: &Location) -> String {
+/// How C_p^S was found, and the hint for an angle that looks like radians.
+fn derivation(angle_deg: f64, from_k_eq2: Option<f64>) -> String {
+    let mut s = match from_k_eq2 {
+        Some(k) => {
+            format!("; here C_p^S = 2 cot^2(beta) theta_p^2 / k_eq2 with k_eq2 = {k:e} N/m and angle_deg = {angle_deg}")
+        }
+        None => String::new(),
+    };
+    if angle_deg <= std::f64::consts::FRAC_PI_2 {
+        s += &format!(
+            "; angle_deg is in degrees, and {angle_deg} looks like radians ({angle_deg} rad = {:.4} degrees)",
+            angle_deg.to_degrees()
+        );
+    }
+    s
+}
+
+pub(super) fn where_(l: &Location) -> String {
     match l {
         Location::Line(n) => format!(", line {n}"),
         Location::Override => ", --set".to_string(),
@@ -251,7 +282,7 @@ fn where_(l: &Location) -> String {
     }
 }
 
-fn key_(k: &str) -> String {
+pub(super) fn key_(k: &str) -> String {
     if k.is_empty() {
         String::new()
     } else {

@@ -7,14 +7,17 @@ mod error;
 pub mod file;
 mod general;
 pub mod input;
+pub mod plausibility;
 pub mod provenance;
 pub mod source;
 pub mod study;
+pub mod units;
 mod validate;
 
 pub use error::{NameOf, ProblemError, ProblemErrorKind};
 pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
+pub use plausibility::Warning;
 pub use source::Location;
 pub use validate::{MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
 
@@ -44,6 +47,8 @@ pub struct Problem {
     /// SHA-256 (hex) of the problem text followed by the overrides, one per line: what
     /// every output records to identify its input.
     pub input_sha256: String,
+    /// Values that look like unit mistakes ([`plausibility`]); empty for a plausible file.
+    pub warnings: Vec<Warning>,
 }
 
 /// SHA-256 (hex) of a problem text and its overrides.
@@ -131,11 +136,19 @@ impl Problem {
                 )
             })?;
             let key = key.trim();
+            // One of two alternative keys replaces the other when that one is the file's
+            // (an earlier --set of it stays, and giving both is refused below).
+            if let Some(other) = units::alternative_of(key) {
+                if !index.is_overridden(&other) && units::has_path(&mut table, &other) {
+                    units::remove_path(&mut table, &other);
+                }
+            }
             set_path(&mut table, key, parse_override_value(value.trim())).map_err(|reason| {
                 err(Location::Override, key, ProblemErrorKind::Override { text: o.clone(), reason })
             })?;
             index.mark_overridden(key);
         }
+        let rpm = units::convert_rpm(&mut table).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         let data: ProblemFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
             let mut key = e.path().to_string();
             let message = e.inner().message().trim().to_string();
@@ -167,6 +180,10 @@ impl Problem {
         })?;
         let design = design_keys::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         let regions = validate::regions(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let warnings = plausibility::check(&data, &model, &rpm)
+            .into_iter()
+            .map(|(key, kind)| Warning { file: name.to_string(), location: index.locate(&key), key, kind })
+            .collect();
         Ok(Problem {
             file: name.to_string(),
             data,
@@ -176,6 +193,7 @@ impl Problem {
             design,
             overrides: overrides.to_vec(),
             input_sha256: input_hash(text, overrides),
+            warnings,
         })
     }
 }
@@ -195,6 +213,10 @@ impl Problem {
         let regions = validate::regions(&data).map_err(err)?;
         // The edited data are the input: hash their TOML form.
         let input_sha256 = input_hash(&toml::to_string(&data).unwrap_or_default(), overrides);
+        let warnings = plausibility::check(&data, &model, &[])
+            .into_iter()
+            .map(|(key, kind)| Warning { file: file.to_string(), location: Location::Unknown, key, kind })
+            .collect();
         Ok(Problem {
             file: file.to_string(),
             data,
@@ -204,6 +226,7 @@ impl Problem {
             design,
             overrides: overrides.to_vec(),
             input_sha256,
+            warnings,
         })
     }
 }

@@ -21,10 +21,14 @@ pub struct Provenance {
     pub overrides: Vec<String>,
     /// Numerical settings in force.
     pub settings: crate::analysis::Settings,
+    /// Plausibility warnings on the input ([`crate::problem::plausibility`], and those a
+    /// command finds on its ranges); absent when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<crate::problem::Warning>,
 }
 
 impl Provenance {
-    /// The provenance of outputs computed from `p`.
+    /// The provenance of outputs computed from `p`, with its warnings.
     pub fn of(p: &Problem) -> Provenance {
         Provenance {
             tool: TOOL,
@@ -32,6 +36,13 @@ impl Provenance {
             input_sha256: p.input_sha256.clone(),
             overrides: p.overrides.clone(),
             settings: p.settings.clone(),
+            warnings: p.warnings.clone(),
         }
+    }
+
+    /// The provenance with further warnings (a command's, on its ranges).
+    pub fn with(mut self, warnings: &[crate::problem::Warning]) -> Provenance {
+        self.warnings.extend_from_slice(warnings);
+        self
     }
 }

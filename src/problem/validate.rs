@@ -264,7 +264,6 @@ pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring,
     let cp_s = match (cp_s, k_eq2) {
         (Some(c), _) => positive(&k("cp_s"), c)?,
         // A tiny k_eq2 can overflow C_p^S: check the derived value too.
-        // A tiny k_eq2 can overflow C_p^S: check the derived value too.
         (None, Some(k2)) => {
             let k2 = positive(&k("k_eq2"), k2)?;
             let cp_s = Ring::cp_s_from_k_eq2(angle, theta_p, k2);
@@ -276,6 +275,21 @@ pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring,
         }
         (None, None) => unreachable!("checked by one_of"),
     };
+    let cp_t = positive(&k("cp_t"), o.cp_t.unwrap_or(base.cp_t))?;
+    if cp_s >= cp_t {
+        // Blame what set C_p^S: the key itself, or k_eq2, or an angle that looks like
+        // radians (a tiny β makes cot²β, and so C_p^S, thousands of times too large).
+        let given_cp_s = k_eq2.is_none();
+        let key = if given_cp_s {
+            k("cp_s")
+        } else if angle_deg <= std::f64::consts::FRAC_PI_2 {
+            k("angle_deg")
+        } else {
+            k("k_eq2")
+        };
+        let from_k_eq2 = if given_cp_s { None } else { k_eq2 };
+        return Err((key, K::ClampedCapacitance { cp_s, cp_t, angle_deg, from_k_eq2 }));
+    }
     Ok(Ring {
         k_b: positive(&k("k_b"), o.k_b.unwrap_or(base.k_b))?,
         m_b: positive(&k("m_b"), o.m_b.unwrap_or(base.m_b))?,
@@ -284,7 +298,7 @@ pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring,
         k_2: positive(&k("k_2"), o.k_2.unwrap_or(base.k_2))?,
         angle,
         theta_p,
-        cp_t: positive(&k("cp_t"), o.cp_t.unwrap_or(base.cp_t))?,
+        cp_t,
         cp_s,
     })
 }

@@ -4,6 +4,7 @@
 pub mod campbell;
 pub mod chart;
 pub mod design;
+pub mod glossary;
 pub mod html;
 pub mod plot;
 pub mod study;

@@ -63,6 +63,7 @@ pub(super) fn run_case(
 ) -> Result<BTreeMap<String, serde_json::Value>, Error> {
     let problem = Problem::from_path(base, &case.overrides)?;
     let mut m = BTreeMap::new();
+    let mut warnings: Vec<String> = problem.warnings.iter().map(|w| format!("key `{}`: {}", w.key, w.kind)).collect();
     match case.kind {
         CaseKind::Design => {
             admit_case(&problem, CaseKind::Design, study, budget)?;
@@ -96,10 +97,13 @@ pub(super) fn run_case(
         CaseKind::Regions => {
             let level = study.level.unwrap_or(study.beta_max);
             let (rotor, fs) = regions_case_system(&problem, study, budget)?;
+            let range = Interval::new(study.phi[0], study.phi[1]);
+            for w in crate::commands::range_warning(&problem, &fs, range, "phi", &Silent) {
+                warnings.push(format!("key `{}`: {}", w.key, w.kind));
+            }
             let speed = problem.model.speed;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = problem.regions.clone();
-            let range = Interval::new(study.phi[0], study.phi[1]);
             let cat =
                 catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
             dir.write("regions.json", (json_pretty(&cat, "the JSON output")? + "\n").as_bytes())?;
@@ -116,6 +120,9 @@ pub(super) fn run_case(
                 m.insert("band_width".into(), metric(b.map(|b| b.width())));
             }
         }
+    }
+    if !warnings.is_empty() {
+        m.insert("warnings".into(), metric(warnings));
     }
     Ok(m)
 }

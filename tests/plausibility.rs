@@ -1,0 +1,211 @@
+//! Units and plausibility (issue 18): speeds in rpm give the results of the same speed
+//! in rad/s, and each unit mistake of the issue (mm for m, E in MPa, radians in
+//! `angle_deg`, rpm in `speed`) gets a warning or an error naming its key; the bundled
+//! problems get none.
+
+mod common;
+use common::{load, problem_path, rel, root};
+use rotorshunt::analysis::warnings::WarningKind;
+use rotorshunt::problem::units::RAD_PER_S_PER_RPM;
+use rotorshunt::problem::{Location, Problem, ProblemErrorKind, Warning};
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_rotorshunt");
+
+fn warnings(name: &str, overrides: &[&str]) -> Vec<Warning> {
+    load(name, overrides).warnings
+}
+
+fn run(args: &[&str]) -> std::process::Output {
+    Command::new(BIN).args(args).current_dir(root()).output().expect("run rotorshunt")
+}
+
+/// The paper's file with `speed = 2000.0` written as `speed_rpm = …`.
+fn rpm_text(rpm: f64) -> String {
+    let text = std::fs::read_to_string(problem_path("paper-closed.toml")).unwrap();
+    assert!(text.contains("\nspeed = 2000.0 "));
+    text.replace("\nspeed = 2000.0 ", &format!("\nspeed_rpm = {rpm:?} "))
+}
+
+#[test]
+fn a_speed_in_rpm_gives_the_results_of_the_same_speed_in_rad_per_s() {
+    let rpm = 2000.0 / RAD_PER_S_PER_RPM;
+    let by_rpm = Problem::from_text(&rpm_text(rpm), "rpm.toml", &[]).unwrap();
+    let by_rad = load("paper-closed.toml", &[]);
+    assert!(rel(by_rpm.model.speed, 2000.0) < 1e-15, "{}", by_rpm.model.speed);
+    let (a, b) = (by_rpm.operating_point().unwrap(), by_rad.operating_point().unwrap());
+    assert_eq!(a.modes.modes.len(), b.modes.modes.len());
+    for (x, y) in a.modes.modes.iter().zip(&b.modes.modes) {
+        assert_eq!(x.tag(), y.tag());
+        assert!(rel(x.frequency, y.frequency) < 1e-12, "{}: {} vs {}", x.tag(), x.frequency, y.frequency);
+    }
+    let (p, q) = (a.floquet.point(1230.0, 0.3), b.floquet.point(1230.0, 0.3));
+    assert!(rel(p.summary.max_multiplier, q.summary.max_multiplier) < 1e-12);
+    // The same by --set, which replaces the file's `speed`.
+    let set = load("paper-closed.toml", &[&format!("speed_rpm={rpm:?}")]);
+    assert_eq!(set.model.speed, by_rpm.model.speed);
+    // And the design speeds.
+    let d = load("design-widest-band.toml", &["design.speeds_rpm=[9549.296585513721, 19098.593171027442]"]);
+    let speeds = &d.design.as_ref().unwrap().speeds;
+    assert!(rel(speeds[0], 1000.0) < 1e-15 && rel(speeds[1], 2000.0) < 1e-15, "{speeds:?}");
+}
+
+#[test]
+fn a_speed_given_both_ways_is_refused_at_its_line() {
+    let mut text = rpm_text(19098.6);
+    text = text.replacen("\nspeed_rpm", "\nspeed = 2000.0\nspeed_rpm", 1);
+    let e = Problem::from_text(&text, "both.toml", &[]).unwrap_err();
+    assert_eq!(e.key, "speed_rpm");
+    assert_eq!(e.kind, ProblemErrorKind::BothGiven("speed".into(), "speed_rpm".into()));
+    assert_eq!(e.location, Location::Line(7));
+    let e = Problem::from_text(&rpm_text(-5.0), "neg.toml", &[]).unwrap_err();
+    assert_eq!((e.key.as_str(), e.kind), ("speed_rpm", ProblemErrorKind::Negative(-5.0)));
+}
+
+#[test]
+fn the_bundled_problems_and_good_fixtures_have_no_warning() {
+    let mut files: Vec<_> = ["problems", "tests/fixtures/good"]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(root().join(d)).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 17);
+    for f in files {
+        let p = Problem::from_path(&f, &[]).unwrap();
+        assert!(p.warnings.is_empty(), "{}: {:?}", f.display(), p.warnings);
+    }
+    // Nor the speeds of the bundled study (up to 3000 rad/s).
+    assert!(warnings("fig11-closed-2000.toml", &["speed=3000"]).is_empty());
+}
+
+#[test]
+fn lengths_in_mm_are_warned_of() {
+    // The paper's shaft (L = 0.7 m, r = 15 mm) with both typed in mm.
+    let w = warnings("paper-closed.toml", &["shaft.length=700", "shaft.radius=15"]);
+    let mass = w.iter().find(|w| w.key == "shaft").expect("a mass warning");
+    match &mass.kind {
+        WarningKind::Mass { mass, .. } => assert!(rel(*mass, 7900.0 * std::f64::consts::PI * 225.0 * 700.0) < 1e-12),
+        other => panic!("{other:?}"),
+    }
+    assert!(mass.to_string().contains("3.9089e9 kg"), "{mass}");
+    // The length alone in mm: a 700 m shaft of 30 mm.
+    let w = warnings("paper-closed.toml", &["shaft.length=700"]);
+    assert!(
+        w.iter().any(|w| w.key == "shaft.length" && matches!(w.kind, WarningKind::Slenderness { ratio, .. } if ratio > 2e4)),
+        "{w:?}"
+    );
+    // The general form: sections in mm.
+    let w = warnings("stepped-bearing-ring.toml", &["sections[2].length=150", "rings[0].node=28"]);
+    assert!(w.iter().any(|w| w.key == "sections" && matches!(w.kind, WarningKind::Slenderness { .. })), "{w:?}");
+}
+
+#[test]
+fn a_modulus_in_mpa_is_warned_of() {
+    let p = load("paper-open.toml", &["shaft.youngs_modulus=206e3"]);
+    let w = &p.warnings;
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].key, "shaft.youngs_modulus");
+    assert!(matches!(w[0].kind, WarningKind::YoungsModulus { value, .. } if value == 206e3));
+    assert_eq!(w[0].location, Location::Override);
+    // What it does: P_cr of 0.16 N instead of 1.65e5 N.
+    let p_cr = p.rotor().unwrap().critical_load;
+    assert!(p_cr < 0.2, "{p_cr}");
+    let w = warnings("stepped-bearing-ring.toml", &["materials[0].youngs_modulus=211"]);
+    assert!(w.iter().any(|w| w.key == "materials[0].youngs_modulus"), "{w:?}");
+}
+
+#[test]
+// 1.0472 is 60° as a user types it in radians (4 digits), not π/3 itself.
+#[allow(clippy::approx_constant)]
+fn radians_in_angle_deg_are_refused_or_warned_of() {
+    // From k_eq2, a 60° angle typed as 1.0472 makes C_p^S 9 000 times C_p^T's order:
+    // physically impossible, refused at the angle's line.
+    let path = root().join("tests/fixtures/bad/ring_angle_in_radians.toml");
+    let e = Problem::from_path(&path, &[]).unwrap_err();
+    assert_eq!(e.key, "ring.angle_deg");
+    assert_eq!(e.location, Location::Line(29));
+    match e.kind {
+        ProblemErrorKind::ClampedCapacitance { cp_s, cp_t, angle_deg, from_k_eq2 } => {
+            assert!(cp_s > 1000.0 * cp_t, "{cp_s} vs {cp_t}");
+            assert_eq!((angle_deg, from_k_eq2), (1.0472, Some(2.444e7)));
+        }
+        other => panic!("{other:?}"),
+    }
+    // C_p^S given directly: nothing impossible, but the angle is warned of.
+    let w = warnings("paper-closed.toml", &["ring.angle_deg=1.0472", "ring.cp_s=1.35e-6"]);
+    assert!(
+        w.iter().any(|w| w.key == "ring.angle_deg" && w.kind == WarningKind::AngleInRadians { angle_deg: 1.0472 }),
+        "{w:?}"
+    );
+    // C_p^S at or above C_p^T, given, is refused at cp_s.
+    let e = Problem::from_path(problem_path("paper-closed.toml"), &["ring.cp_s=1.8e-6".into()]).unwrap_err();
+    assert_eq!(e.key, "ring.cp_s");
+    assert!(matches!(e.kind, ProblemErrorKind::ClampedCapacitance { from_k_eq2: None, .. }), "{e}");
+}
+
+#[test]
+fn rpm_in_speed_is_warned_of_naming_speed_rpm() {
+    // 2000 rad/s is 19 099 rpm; typed into `speed`, the disk's rim (r = √(2J_p/m) ≈ 0.101 m)
+    // would run at 1 930 m/s.
+    let w = warnings("paper-closed.toml", &["speed=19099"]);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].key, "speed");
+    match &w[0].kind {
+        WarningKind::PeripheralSpeed { peripheral, radius, rpm_key, .. } => {
+            assert!(rel(*radius, (2.0 * 0.0248f64 / 4.85).sqrt()) < 1e-12);
+            assert!(rel(*peripheral, 19099.0 * radius) < 1e-12);
+            assert_eq!(rpm_key, "speed_rpm");
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(w[0].to_string().contains("`speed_rpm`"), "{}", w[0]);
+    let w = warnings("design-widest-band.toml", &["design.speeds=[2000.0, 19099.0]"]);
+    assert!(w.iter().any(|w| w.key == "design.speeds[1]"), "{w:?}");
+    // The binary prints it on stderr and puts it in the JSON; the result is unchanged.
+    let out = run(&["modes", "problems/paper-closed.toml", "--set", "speed=19099", "--json", "--count", "1"]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.starts_with("warning: problems/paper-closed.toml, --set: key `speed`: 19099 rad/s"), "{stderr}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let w = &json["warnings"][0];
+    assert_eq!(
+        (w["kind"].as_str(), w["key"].as_str(), w["set"].as_bool()),
+        (Some("PeripheralSpeed"), Some("speed"), Some(true))
+    );
+    // A plausible run has no `warnings` field at all.
+    let out = run(&["modes", "problems/paper-closed.toml", "--json", "--count", "1"]);
+    assert!(out.stderr.is_empty());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(json.get("warnings").is_none());
+}
+
+#[test]
+fn a_phi_range_no_region_can_reach_is_warned_of() {
+    let dir = root().join("out").join("test-plausibility");
+    let _ = std::fs::remove_dir_all(&dir);
+    // paper-open at rest (M = 8): whirl sums from 2·350.5 to 2·ω_8; none reaches 1e5 rad/s.
+    let out_dir = dir.join("above");
+    let args = ["chart", "problems/paper-open.toml", "--phi", "100000:100010:10", "--beta", "0:0.1:0.1"];
+    let out = run(&[&args[..], &["--out", out_dir.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("argument `--phi`: the phi range [100000, 100010] rad/s lies above every whirl sum"),
+        "{stderr}"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(out_dir.join("chart.json")).unwrap()).unwrap();
+    assert_eq!(json["warnings"][0]["kind"], "RangeAboveWhirls");
+    // Below: the smallest sum 701 rad/s over order 8 is 87.6 rad/s.
+    let out = run(&["regions", "problems/paper-open.toml", "--phi", "10:80", "--beta-max", "0.1", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["warnings"][0]["kind"], "RangeBelowWhirls", "{json}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("lies below every instability tongue of order <= 8"));
+    // A range with regions in it has none.
+    let out = run(&["regions", "problems/paper-open.toml", "--phi", "600:800", "--beta-max", "0.1", "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(json.get("warnings").is_none());
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+}
