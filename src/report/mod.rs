@@ -5,6 +5,7 @@ pub mod campbell;
 pub mod chart;
 pub mod design;
 pub mod plot;
+pub mod style;
 pub mod summary;
 pub mod unbalance;
 
