@@ -203,7 +203,8 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
         }
         for s in s0..n.saturating_sub(1) {
             let Some(from) = cols[s] else { break };
-            let Some(&(_, c, score)) = assign(&solved[s], &solved[s + 1], &[(0, from)], &free_at(s + 1, &owner)).first()
+            let Some(&(_, c, score)) =
+                assign(&solved[s], &solved[s + 1], &[(0, from)], &free_at(s + 1, &owner)).first()
             else {
                 break;
             };

@@ -8,12 +8,12 @@ use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
 use crate::analysis::response::{checked_response, ResponseResult};
+use crate::analysis::unbalance::Probe;
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
 use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
-use crate::analysis::unbalance::Probe;
 use crate::report::plot::{envelope, Curve, CurvePlot};
 use crate::report::style::{self, Dash};
 use crate::Error;
@@ -342,7 +342,8 @@ pub fn response_cmd(
     }
     dir.write("response.csv", csv.as_bytes())?;
     written();
-    let ymax = physical.iter().flat_map(|p| p.displacement_m.iter().map(|u| u[0].abs())).fold(0.0, f64::max).max(1e-300);
+    let ymax =
+        physical.iter().flat_map(|p| p.displacement_m.iter().map(|u| u[0].abs())).fold(0.0, f64::max).max(1e-300);
     let curves: Vec<Curve> = physical
         .iter()
         .enumerate()

@@ -9,9 +9,7 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::limits::{self, Quantity};
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{
-    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, RegionSettings,
-};
+use crate::analysis::regions::{band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, RegionSettings};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
@@ -71,7 +69,7 @@ fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progres
         })
         .collect();
     let layer = Layer {
-        name: format!("grid points ({} φ × {} β), {}", phis.len(), betas.len(), super::plot_title(problem)),
+        name: format!("grid points ({} φ × {} β)", phis.len(), betas.len()),
         color: GRID_LAYER_COLOR,
         chart: c,
     };

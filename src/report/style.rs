@@ -248,10 +248,7 @@ pub const MAX_LEGEND_WIDTH: u32 = 300;
 
 /// The width (px) of a legend panel for `entries` (0 for none), at most
 /// [`MAX_LEGEND_WIDTH`].
-pub fn legend_width<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    entries: &[Entry],
-) -> Result<u32, PlotError> {
+pub fn legend_width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> Result<u32, PlotError> {
     if entries.is_empty() {
         return Ok(0);
     }
@@ -264,12 +261,7 @@ pub fn legend_width<DB: DrawingBackend>(
 }
 
 /// Draw a key of size `KEY_WIDTH` × 12 px with its left centre at (x, y) on `area`.
-pub fn draw_key<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    key: &Key,
-    x: i32,
-    y: i32,
-) -> Result<(), PlotError> {
+pub fn draw_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, key: &Key, x: i32, y: i32) -> Result<(), PlotError> {
     match key {
         Key::Line(c, dash, m) => {
             let style = ShapeStyle::from(&rgb(*c)).stroke_width(LINE_WIDTH);
@@ -308,10 +300,9 @@ pub fn draw_marker<DB: DrawingBackend>(
     match m {
         Marker::None => {}
         Marker::Circle => area.draw(&Circle::new(at, 4, color.filled())).map_err(err)?,
-        Marker::Square => {
-            area.draw(&Rectangle::new([(at.0 - 4, at.1 - 4), (at.0 + 4, at.1 + 4)], color.stroke_width(2)))
-                .map_err(err)?
-        }
+        Marker::Square => area
+            .draw(&Rectangle::new([(at.0 - 4, at.1 - 4), (at.0 + 4, at.1 + 4)], color.stroke_width(2)))
+            .map_err(err)?,
         Marker::Cross => area.draw(&Cross::new(at, 4, color.stroke_width(2))).map_err(err)?,
         Marker::Triangle => area.draw(&TriangleMarker::new(at, 5, color.filled())).map_err(err)?,
     }
@@ -343,9 +334,13 @@ pub fn draw_legend_panel<DB: DrawingBackend>(
         let y = top + PANEL_PAD + 7 + i as i32 * ENTRY_HEIGHT;
         let x = x0 + PANEL_PAD;
         draw_key(area, &e.key, x, y)?;
-        let mut text =
-            if i + 1 == shown && shown < entries.len() { format!("… {} more", entries.len() - i) } else { e.text.clone() };
-        while area.estimate_text_size(&text, &TextStyle::from((FONT, LEGEND_SIZE).into_font())).map_err(err)?.0 as i32 > room
+        let mut text = if i + 1 == shown && shown < entries.len() {
+            format!("… {} more", entries.len() - i)
+        } else {
+            e.text.clone()
+        };
+        while area.estimate_text_size(&text, &TextStyle::from((FONT, LEGEND_SIZE).into_font())).map_err(err)?.0 as i32
+            > room
             && text.chars().count() > 2
         {
             text.pop();
@@ -515,8 +510,7 @@ mod tests {
 
     #[test]
     fn palette_and_markers_tell_48_series_apart() {
-        let styles: std::collections::HashSet<_> =
-            (0..48).map(|k| (color(k), format!("{:?}", marker(k)))).collect();
+        let styles: std::collections::HashSet<_> = (0..48).map(|k| (color(k), format!("{:?}", marker(k)))).collect();
         assert_eq!(styles.len(), 48);
         let distinct: std::collections::HashSet<_> = PALETTE.iter().collect();
         assert_eq!(distinct.len(), PALETTE.len());

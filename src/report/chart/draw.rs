@@ -115,11 +115,17 @@ pub(super) fn draw_spans<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>, spans: 
         if !(lo < hi) {
             continue;
         }
-        plot.draw_series(std::iter::once(Rectangle::new([(lo, y.start), (hi, y.end)], rgb(span_fill(s.color)).filled())))
-            .map_err(err)?;
+        plot.draw_series(std::iter::once(Rectangle::new(
+            [(lo, y.start), (hi, y.end)],
+            rgb(span_fill(s.color)).filled(),
+        )))
+        .map_err(err)?;
         for e in [s.lo, s.hi].into_iter().filter(|e| *e >= x.start && *e <= x.end) {
-            plot.draw_series(std::iter::once(PathElement::new(vec![(e, y.start), (e, y.end)], rgb(s.color).stroke_width(style::THIN))))
-                .map_err(err)?;
+            plot.draw_series(std::iter::once(PathElement::new(
+                vec![(e, y.start), (e, y.end)],
+                rgb(s.color).stroke_width(style::THIN),
+            )))
+            .map_err(err)?;
         }
     }
     Ok(())
@@ -207,4 +213,3 @@ pub(super) fn draw_frame<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>) -> Resu
         .map_err(err)?;
     Ok(())
 }
-

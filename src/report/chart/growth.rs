@@ -31,7 +31,10 @@ impl GrowthMap {
         let failed = failed_count(&self.chart);
         let (legend_area, area) = area.split_vertically(if failed > 0 { 34 } else { 0 });
         if failed > 0 {
-            let font = (style::FONT, style::LEGEND_SIZE).into_font().into_text_style(&legend_area).pos(Pos::new(HPos::Left, VPos::Center));
+            let font = (style::FONT, style::LEGEND_SIZE)
+                .into_font()
+                .into_text_style(&legend_area)
+                .pos(Pos::new(HPos::Left, VPos::Center));
             let yc = legend_area.dim_in_pixel().1 as i32 / 2;
             style::draw_key(&legend_area, &Key::Cross, 90, yc)?;
             legend_area.draw(&Text::new(failed_label(failed), (124, yc), font)).map_err(err)?;

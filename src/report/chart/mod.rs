@@ -12,7 +12,6 @@
 
 use super::plot::{area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, Layout, PlotError};
 use super::style::{self, err, Dash, Entry, Key, Marker};
-use std::cell::Cell;
 use crate::analysis::chart::{ChartPoint, ChartResult};
 use crate::analysis::floquet::PointStatus;
 use plotters::coord::types::RangedCoordf64;
@@ -20,6 +19,7 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::hash::Hash;
 use std::ops::Range;
@@ -228,7 +228,10 @@ impl StabilityPlot {
             .map(|(i, l)| Entry { key: Key::Fill(triple(self.shown_color(i))), text: format!("unstable: {}", l.name) })
             .collect();
         if let [a, b] = &self.layers[..] {
-            entries.push(Entry { key: Key::Fill(triple(blend(b.color, a.color, OVERLAY_ALPHA))), text: "unstable: both".into() });
+            entries.push(Entry {
+                key: Key::Fill(triple(blend(b.color, a.color, OVERLAY_ALPHA))),
+                text: "unstable: both".into(),
+            });
         }
         if !self.layers.is_empty() {
             entries.push(Entry { key: Key::Fill((255, 255, 255)), text: "stable".into() });
@@ -252,7 +255,10 @@ impl StabilityPlot {
             entries.push(Entry { key: Key::Line(l.color, dash, Marker::None), text: l.name.clone() });
         }
         if self.markers.iter().any(|(_, t)| !t.is_empty()) {
-            entries.push(Entry { key: Key::Line(triple(MARKER_COLOR), Dash::Dashed, Marker::None), text: "φ markers (labelled at the top)".into() });
+            entries.push(Entry {
+                key: Key::Line(triple(MARKER_COLOR), Dash::Dashed, Marker::None),
+                text: "φ markers (labelled at the top)".into(),
+            });
         }
         let failed: usize = self.layers.iter().map(|l| failed_count(&l.chart)).sum();
         if failed > 0 {
