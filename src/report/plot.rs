@@ -132,11 +132,14 @@ fn entries(curves: &[Curve]) -> Vec<Entry> {
         .collect()
 }
 
+/// A plotting area and the legend column beside it (none without legend entries).
+pub(crate) type PlotAndLegend<DB> = (DrawingArea<DB, Shift>, Option<DrawingArea<DB, Shift>>);
+
 /// Split `area` into the plotting part and a legend column on its right for `entries`.
 pub(crate) fn with_legend_column<DB: DrawingBackend>(
     area: DrawingArea<DB, Shift>,
     entries: &[Entry],
-) -> Result<(DrawingArea<DB, Shift>, Option<DrawingArea<DB, Shift>>), PlotError> {
+) -> Result<PlotAndLegend<DB>, PlotError> {
     let w = style::legend_width(&area, entries)?;
     if w == 0 {
         return Ok((area, None));
@@ -315,7 +318,7 @@ impl LinePlot {
 pub fn envelope(points: &[(f64, f64)], columns: usize) -> Vec<(f64, f64)> {
     let (Some(first), Some(last)) = (points.first(), points.last()) else { return Vec::new() };
     let span = last.0 - first.0;
-    if columns == 0 || points.len() <= 2 * columns || !(span > 0.0) {
+    if columns == 0 || points.len() <= 2 * columns || span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return points.to_vec();
     }
     let bin = |x: f64| (((x - first.0) / span * columns as f64) as usize).min(columns - 1);

@@ -386,7 +386,7 @@ pub fn clip_segment(a: (f64, f64), b: (f64, f64), x: (f64, f64), y: (f64, f64)) 
             }
         }
     }
-    if !(t0 <= t1) {
+    if t0.partial_cmp(&t1) == Some(std::cmp::Ordering::Greater) || t0.is_nan() || t1.is_nan() {
         return None;
     }
     Some(((a.0 + t0 * dx, a.1 + t0 * dy), (a.0 + t1 * dx, a.1 + t1 * dy)))
@@ -438,16 +438,20 @@ pub fn clip_polyline(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec
 /// A polygon clipped to the box (Sutherland–Hodgman; the box is convex).
 pub fn clip_polygon(points: &[(f64, f64)], x: (f64, f64), y: (f64, f64)) -> Vec<(f64, f64)> {
     let mut poly: Vec<(f64, f64)> = points.to_vec();
-    let edges: [(Box<dyn Fn((f64, f64)) -> bool>, Box<dyn Fn((f64, f64), (f64, f64)) -> (f64, f64)>); 4] = [
-        (Box::new(move |p| p.0 >= x.0), Box::new(move |a, b| at_x(a, b, x.0))),
-        (Box::new(move |p| p.0 <= x.1), Box::new(move |a, b| at_x(a, b, x.1))),
-        (Box::new(move |p| p.1 >= y.0), Box::new(move |a, b| at_y(a, b, y.0))),
-        (Box::new(move |p| p.1 <= y.1), Box::new(move |a, b| at_y(a, b, y.1))),
-    ];
-    for (inside, cut) in &edges {
+    // The four half-planes of the box: (axis 0 = x / 1 = y, bound, keep the side above).
+    for (axis, bound, above) in [(0, x.0, true), (0, x.1, false), (1, y.0, true), (1, y.1, false)] {
         if poly.is_empty() {
             break;
         }
+        let inside = |p: (f64, f64)| {
+            let v = if axis == 0 { p.0 } else { p.1 };
+            if above {
+                v >= bound
+            } else {
+                v <= bound
+            }
+        };
+        let cut = |a: (f64, f64), b: (f64, f64)| if axis == 0 { at_x(a, b, bound) } else { at_y(a, b, bound) };
         let input = std::mem::take(&mut poly);
         for i in 0..input.len() {
             let (cur, prev) = (input[i], input[(i + input.len() - 1) % input.len()]);

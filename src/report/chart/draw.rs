@@ -112,7 +112,7 @@ pub(super) fn draw_spans<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>, spans: 
     let (x, y) = (plot.x_range(), plot.y_range());
     for s in spans {
         let (lo, hi) = (s.lo.max(x.start), s.hi.min(x.end));
-        if !(lo < hi) {
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             continue;
         }
         plot.draw_series(std::iter::once(Rectangle::new(
