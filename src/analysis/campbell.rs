@@ -149,8 +149,9 @@ fn assign(
 /// The tracks of one whirl direction and their number of flagged steps. First the lowest
 /// `count` at the first speed, followed speed by speed among the lowest
 /// `count + TRACKING_MARGIN`; then, while a mode among the lowest `count` at some speed
-/// belongs to no track, a new track from it, followed back to the first speed and on to
-/// the last among the modes no track holds, so that a mode entering the window gets its
+/// belongs to no track, a new track from it, followed back towards the first speed (as
+/// long as the MAC stays above `threshold`) and on to the last among the modes no track
+/// holds within the lowest `count + TRACKING_MARGIN`, so that a mode entering the window gets its
 /// own track and label instead of continuing another's.
 fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold: f64) -> (Vec<Track>, usize) {
     if solved.is_empty() {
@@ -189,7 +190,7 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
         cols[s0] = Some(c0);
         let mut macs = vec![1.0; n];
         let free_at = |s: usize, owner: &Vec<Vec<bool>>| -> Vec<usize> {
-            of_whirl[s].iter().copied().filter(|&c| !owner[s][c]).collect()
+            of_whirl[s].iter().copied().take(count + TRACKING_MARGIN).filter(|&c| !owner[s][c]).collect()
         };
         for s in (0..s0).rev() {
             let Some(from) = cols[s + 1] else { break };
@@ -197,6 +198,11 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
             else {
                 break;
             };
+            // No credible predecessor: the mode starts here (e.g. an overdamped pair
+            // becoming a whirl), rather than continuing an unrelated mode.
+            if score < threshold {
+                break;
+            }
             cols[s] = Some(c);
             macs[s + 1] = score;
             owner[s][c] = true;

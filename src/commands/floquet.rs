@@ -15,7 +15,7 @@ use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use crate::report::plot::{envelope, Curve, CurvePlot};
-use crate::report::style::{self, Dash};
+use crate::report::style;
 use crate::Error;
 use serde::Serialize;
 use std::path::Path;
@@ -349,9 +349,10 @@ pub fn response_cmd(
         .enumerate()
         .map(|(k, p)| {
             let points: Vec<(f64, f64)> = r.time.iter().zip(&p.displacement_m).map(|(t, u)| (*t, u[0])).collect();
+            // Solid lines: a dash pattern over thousands of oscillations costs more to
+            // draw than the response to compute, and colour tells the probes apart.
             Curve {
-                dash: if k == 0 { Dash::Solid } else { Dash::Dashed },
-                width: if k == 0 { style::LINE_WIDTH } else { style::THIN + 1 },
+                width: if k == 0 { style::LINE_WIDTH } else { style::THIN },
                 ..Curve::new(format!("{}: v", p.probe.name), style::color(k), envelope(&points, RESPONSE_COLUMNS))
             }
         })
