@@ -329,7 +329,7 @@ fn the_command_writes_its_files_and_compares_two_configurations() {
     assert_eq!(probes[0]["amplitude"].as_array().unwrap().len(), 301);
     let text = std::fs::read_to_string(dir.join("bode.svg")).unwrap();
     assert!(
-        text.contains("amplitude |U| (m)") && text.contains("phase arg U (rad)") && text.contains("speed Ω (rad/s)")
+        text.contains("amplitude |U| (m)") && text.contains("phase arg U (deg)") && text.contains("speed Ω (rad/s)")
     );
     assert!(text.contains("open circuit"), "the legend names the compared configuration");
     let csv = std::fs::read_to_string(dir.join("unbalance.csv")).unwrap();

@@ -1,7 +1,7 @@
 //! Campbell diagram: whirl frequencies over a speed range, modes tracked from speed to
 //! speed by the modal assurance criterion (Figs. 6 and 7).
 
-use super::modes::{whirl_modes_of, ModeKind, ModesResult, Whirl};
+use super::modes::{whirl_modes_of, ModeKind, ModesResult, Whirl, WhirlMode};
 use super::{AnalysisError, Rotor, Settings};
 use crate::progress::Progress;
 use faer::{c64, ColRef};
@@ -26,13 +26,23 @@ pub struct TrackPoint {
 /// One mode followed over the speed range.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Track {
-    /// Tag at the first speed (e.g. `f1`, `br2`).
+    /// Tag at the track's first point (e.g. `f1`, `br2`): the mode's identity, which the
+    /// track keeps over the whole range whatever its rank among the whirls.
     pub tag: String,
     /// Forward or backward whirl.
     pub whirl: Whirl,
-    /// Mechanical or electrical at the first speed.
+    /// Mechanical or electrical at the first point.
     pub kind: ModeKind,
-    /// The points, one per speed.
+    /// Tag of the mode at the track's last point: differs from `tag` where the mode
+    /// changes character along the range (a veering, e.g. `bs1` becoming `b3`).
+    pub last_tag: String,
+    /// Speed Ω (rad/s) at which the mode first counts among the lowest `count` whirls of
+    /// its direction, when that is not the first speed (a mode entering the window from
+    /// above, tracked back to the first speed); absent for the modes tracked from the
+    /// first speed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub enters: Option<f64>,
+    /// The points, one per speed from the first speed the mode could be followed to.
     pub points: Vec<TrackPoint>,
 }
 
@@ -41,7 +51,9 @@ pub struct Track {
 pub struct CampbellResult {
     /// Speeds Ω (rad/s).
     pub speeds: Vec<f64>,
-    /// Tracked modes: the lowest `count` forward and backward at the first speed.
+    /// Tracked modes: the lowest `count` forward and backward at the first speed, then
+    /// every mode that enters the lowest `count` of its direction at a later speed
+    /// ([`Track::enters`]), sorted by their first frequency.
     pub tracks: Vec<Track>,
     /// MAC threshold used (−).
     pub mac_threshold: f64,
@@ -86,68 +98,163 @@ pub fn campbell(
     let mut tracks = Vec::new();
     let mut flagged = 0;
     for whirl in [Whirl::Forward, Whirl::Backward] {
-        let pick = |r: &ModesResult, n: usize| -> Vec<usize> {
-            (0..r.modes.len()).filter(|&i| r.modes[i].whirl == whirl).take(n).collect()
+        let (found, steps) = track_direction(&solved, whirl, count, settings.mac_threshold);
+        tracks.extend(found);
+        flagged += steps;
+    }
+    tracks.sort_by(|a, b| {
+        let first = |t: &Track| t.points.first().map_or((f64::INFINITY, f64::INFINITY), |p| (p.speed, p.frequency));
+        let (fa, fb) = (first(a), first(b));
+        fa.1.total_cmp(&fb.1).then(fa.0.total_cmp(&fb.0))
+    });
+    Ok(CampbellResult { speeds: speeds.to_vec(), tracks, mac_threshold: settings.mac_threshold, flagged })
+}
+
+/// A track being built: the column of its mode at each speed (`None` where it is not
+/// followed) and the MAC of each point with the previous one.
+struct Chain {
+    cols: Vec<Option<usize>>,
+    macs: Vec<f64>,
+    enters: Option<usize>,
+}
+
+/// Greedy MAC assignment of `sources` (chain, column at `from`) to the `free` columns of
+/// `to`, by descending MAC, ties broken by index: deterministic.
+fn assign(
+    from: &ModesResult,
+    to: &ModesResult,
+    sources: &[(usize, usize)],
+    free: &[usize],
+) -> Vec<(usize, usize, f64)> {
+    let mut scores = Vec::new();
+    for &(t, pc) in sources {
+        for &c in free {
+            scores.push((mac(from.shapes.col(pc), to.shapes.col(c)), t, c));
+        }
+    }
+    scores.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut taken_t = std::collections::BTreeSet::new();
+    let mut taken_c = std::collections::BTreeSet::new();
+    let mut out = Vec::new();
+    for (score, t, c) in scores {
+        if !taken_t.contains(&t) && !taken_c.contains(&c) {
+            taken_t.insert(t);
+            taken_c.insert(c);
+            out.push((t, c, score));
+        }
+    }
+    out
+}
+
+/// The tracks of one whirl direction and their number of flagged steps. First the lowest
+/// `count` at the first speed, followed speed by speed among the lowest
+/// `count + TRACKING_MARGIN`; then, while a mode among the lowest `count` at some speed
+/// belongs to no track, a new track from it, followed back towards the first speed (as
+/// long as the MAC stays above `threshold`) and on to the last among the modes no track
+/// holds within the lowest `count + TRACKING_MARGIN`, so that a mode entering the window gets its
+/// own track and label instead of continuing another's.
+fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold: f64) -> (Vec<Track>, usize) {
+    if solved.is_empty() {
+        return (Vec::new(), 0);
+    }
+    let n = solved.len();
+    let of_whirl: Vec<Vec<usize>> =
+        solved.iter().map(|r| (0..r.modes.len()).filter(|&i| r.modes[i].whirl == whirl).collect()).collect();
+    let mut owner: Vec<Vec<bool>> = solved.iter().map(|r| vec![false; r.modes.len()]).collect();
+    let mut chains: Vec<Chain> = of_whirl[0]
+        .iter()
+        .take(count)
+        .map(|&c| {
+            owner[0][c] = true;
+            let mut cols = vec![None; n];
+            cols[0] = Some(c);
+            Chain { cols, macs: vec![1.0; n], enters: None }
+        })
+        .collect();
+    for s in 0..n.saturating_sub(1) {
+        let sources: Vec<(usize, usize)> =
+            chains.iter().enumerate().filter_map(|(t, ch)| ch.cols[s].map(|c| (t, c))).collect();
+        let free: Vec<usize> = of_whirl[s + 1].iter().copied().take(count + TRACKING_MARGIN).collect();
+        for (t, c, score) in assign(&solved[s], &solved[s + 1], &sources, &free) {
+            chains[t].cols[s + 1] = Some(c);
+            chains[t].macs[s + 1] = score;
+            owner[s + 1][c] = true;
+        }
+    }
+    // Modes entering the window that no track holds: a track of their own each.
+    loop {
+        let unowned = (0..n).find_map(|s| of_whirl[s].iter().take(count).find(|&&c| !owner[s][c]).map(|&c| (s, c)));
+        let Some((s0, c0)) = unowned else { break };
+        owner[s0][c0] = true;
+        let mut cols = vec![None; n];
+        cols[s0] = Some(c0);
+        let mut macs = vec![1.0; n];
+        let free_at = |s: usize, owner: &Vec<Vec<bool>>| -> Vec<usize> {
+            of_whirl[s].iter().copied().take(count + TRACKING_MARGIN).filter(|&c| !owner[s][c]).collect()
         };
-        let Some(first) = solved.first() else { break };
-        // (track, column of its shape in the current speed's result)
-        // A track whose mode has no partner left (e.g. it became overdamped) ends there.
-        let mut current: Vec<(Track, Option<usize>)> = pick(first, count)
-            .into_iter()
-            .map(|i| {
-                let m = &first.modes[i];
-                let p = TrackPoint {
-                    speed: first.speed,
-                    frequency: m.frequency,
-                    damping_ratio: m.damping_ratio,
-                    mac: 1.0,
-                    flagged: false,
-                };
-                (Track { tag: m.tag(), whirl, kind: m.kind, points: vec![p] }, Some(i))
-            })
-            .collect();
-        for pair in solved.windows(2) {
-            let (prev, next) = (&pair[0], &pair[1]);
-            let candidates = pick(next, count + TRACKING_MARGIN);
-            let mut scores = Vec::new();
-            for (t, (_, pc)) in current.iter().enumerate() {
-                let Some(pc) = *pc else { continue };
-                for &c in &candidates {
-                    scores.push((mac(prev.shapes.col(pc), next.shapes.col(c)), t, c));
-                }
+        for s in (0..s0).rev() {
+            let Some(from) = cols[s + 1] else { break };
+            let Some(&(_, c, score)) = assign(&solved[s + 1], &solved[s], &[(0, from)], &free_at(s, &owner)).first()
+            else {
+                break;
+            };
+            // No credible predecessor: the mode starts here (e.g. an overdamped pair
+            // becoming a whirl), rather than continuing an unrelated mode.
+            if score < threshold {
+                break;
             }
-            // Greedy assignment by descending MAC, ties broken by index: deterministic.
-            scores.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
-            let mut taken_t = vec![false; current.len()];
-            let mut taken_c = vec![false; next.modes.len()];
-            let mut assigned = vec![None; current.len()];
-            for (score, t, c) in scores {
-                if !taken_t[t] && !taken_c[c] {
-                    taken_t[t] = true;
-                    taken_c[c] = true;
-                    assigned[t] = Some((score, c));
-                }
-            }
-            for (t, (track, col)) in current.iter_mut().enumerate() {
-                let Some((score, c)) = assigned[t] else {
-                    *col = None;
-                    continue;
-                };
-                let m = &next.modes[c];
-                let bad = score < settings.mac_threshold;
+            cols[s] = Some(c);
+            macs[s + 1] = score;
+            owner[s][c] = true;
+        }
+        for s in s0..n.saturating_sub(1) {
+            let Some(from) = cols[s] else { break };
+            let Some(&(_, c, score)) =
+                assign(&solved[s], &solved[s + 1], &[(0, from)], &free_at(s + 1, &owner)).first()
+            else {
+                break;
+            };
+            cols[s + 1] = Some(c);
+            macs[s + 1] = score;
+            owner[s + 1][c] = true;
+        }
+        if let Some(start) = cols.iter().position(Option::is_some) {
+            macs[start] = 1.0;
+        }
+        chains.push(Chain { cols, macs, enters: Some(s0) });
+    }
+    let mut flagged = 0;
+    let tracks = chains
+        .into_iter()
+        .filter_map(|ch| {
+            let mut points = Vec::new();
+            let mut ends = None;
+            for (s, col) in ch.cols.iter().enumerate() {
+                let Some(c) = *col else { continue };
+                let m = &solved[s].modes[c];
+                let first_point = points.is_empty();
+                let bad = !first_point && ch.macs[s] < threshold;
                 flagged += usize::from(bad);
-                track.points.push(TrackPoint {
-                    speed: next.speed,
+                points.push(TrackPoint {
+                    speed: solved[s].speed,
                     frequency: m.frequency,
                     damping_ratio: m.damping_ratio,
-                    mac: score,
+                    mac: if first_point { 1.0 } else { ch.macs[s] },
                     flagged: bad,
                 });
-                *col = Some(c);
+                let first_mode = ends.map_or(m, |(f, _): (&WhirlMode, &WhirlMode)| f);
+                ends = Some((first_mode, m));
             }
-        }
-        tracks.extend(current.into_iter().map(|(t, _)| t));
-    }
-    tracks.sort_by(|a, b| a.points[0].frequency.total_cmp(&b.points[0].frequency));
-    Ok(CampbellResult { speeds: speeds.to_vec(), tracks, mac_threshold: settings.mac_threshold, flagged })
+            let (head, tail) = ends?;
+            Some(Track {
+                tag: head.tag(),
+                whirl,
+                kind: head.kind,
+                last_tag: tail.tag(),
+                enters: ch.enters.map(|s| solved[s].speed),
+                points,
+            })
+        })
+        .collect();
+    (tracks, flagged)
 }

@@ -74,10 +74,12 @@ pub fn mode_damping(
     let mut out = Vec::with_capacity(tags.len());
     for tag in tags {
         let track =
-            diagram.tracks.iter().find(|t| &t.tag == tag).cloned().ok_or_else(|| AnalysisError::UnknownMode {
-                label: tag.clone(),
-                speed: speeds[0],
-                available: diagram.tracks.iter().map(|t| t.tag.clone()).collect(),
+            diagram.tracks.iter().filter(|t| t.enters.is_none()).find(|t| &t.tag == tag).cloned().ok_or_else(|| {
+                AnalysisError::UnknownMode {
+                    label: tag.clone(),
+                    speed: speeds[0],
+                    available: diagram.tracks.iter().map(|t| t.tag.clone()).collect(),
+                }
             })?;
         out.push(ModeDamping::of(track));
     }
@@ -95,5 +97,5 @@ pub fn lowest_damping(
 ) -> Result<Vec<ModeDamping>, AnalysisError> {
     check_speeds(speeds)?;
     let diagram = campbell(rotor, settings, speeds, count, progress)?;
-    Ok(diagram.tracks.into_iter().map(ModeDamping::of).collect())
+    Ok(diagram.tracks.into_iter().filter(|t| t.enters.is_none()).map(ModeDamping::of).collect())
 }

@@ -44,9 +44,29 @@ pub struct ResponseResult {
     /// whole interval was integrated.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stopped_at: Option<f64>,
+    /// Every modal coordinate q (M values) at each sample time, for the physical
+    /// displacements ([`ResponseResult::displacement`]); not serialised.
+    #[serde(skip)]
+    pub modal: Vec<Vec<c64>>,
 }
 
 impl ResponseResult {
+    /// The physical displacement u = Φ·q (m) of the global DOF `dof` at each sample time,
+    /// as [v, w] = [Re u, Im u] (vertical, horizontal), from the reduced basis Φ
+    /// (`basis`, n × M, of the same model); zeros for a DOF beyond the basis.
+    pub fn displacement(&self, basis: faer::MatRef<'_, f64>, dof: usize) -> Vec<[f64; 2]> {
+        self.modal
+            .iter()
+            .map(|q| {
+                if dof >= basis.nrows() {
+                    return [0.0, 0.0];
+                }
+                let u: c64 = q.iter().enumerate().map(|(j, qj)| qj * basis[(dof, j)]).sum();
+                [u.re, u.im]
+            })
+            .collect()
+    }
+
     /// last/first period peak ratio: ≫ 1 for a point inside an instability region.
     pub fn growth_ratio(&self) -> f64 {
         self.last_period_peak / self.first_period_peak.max(f64::MIN_POSITIVE)
@@ -150,6 +170,7 @@ pub fn response_reporting(
     let (mut k1, mut k2, mut k3, mut k4, mut tmp) = (y.clone(), y.clone(), y.clone(), y.clone(), y.clone());
     let mut time = vec![0.0];
     let mut q1 = vec![[0.0, 0.0]];
+    let mut modal = vec![vec![c64::new(0.0, 0.0); m]];
     let (mut first, mut last) = (0.0f64, 0.0f64);
     let mut stopped_at = None;
     for s in 0..total {
@@ -184,6 +205,7 @@ pub fn response_reporting(
         if (s + 1) % stride == 0 {
             time.push(t + h);
             q1.push([y[m].re, y[m].im]);
+            modal.push(y[m..].to_vec());
         }
         if (s + 1) % steps_per_period.max(1) == 0 {
             progress.advance(1);
@@ -199,5 +221,6 @@ pub fn response_reporting(
         last_period_peak: last,
         step: h,
         stopped_at,
+        modal,
     }
 }

@@ -2,18 +2,20 @@
 //! a second configuration) and `response` (time response at one point).
 
 use super::bounds::{self, Names};
-use super::{files_phase, parse_range, title, OutDir, Provenance};
+use super::{files_phase, parse_range, OutDir, Provenance};
 use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
 use crate::analysis::response::{checked_response, ResponseResult};
+use crate::analysis::unbalance::Probe;
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
 use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
-use crate::report::plot::{LinePlot, Series};
+use crate::report::plot::{envelope, Curve, CurvePlot};
+use crate::report::style;
 use crate::Error;
 use serde::Serialize;
 use std::path::Path;
@@ -42,10 +44,42 @@ const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`-
 
 /// The reduced system of `problem`, its dense stages admitted within `budget` first.
 fn system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
+    Ok(rotor_and_system(problem, budget)?.1)
+}
+
+/// The rotor and its reduced system, the dense stages admitted within `budget` first.
+fn rotor_and_system(problem: &Problem, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
     bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
     let rotor = Rotor::new(&problem.model)?;
-    Ok(FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?)
+    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
+    Ok((rotor, fs))
 }
+
+/// A probe's physical displacement over a response, as written to `response.json`.
+#[derive(Serialize)]
+struct PhysicalSeries<'a> {
+    /// The probe (name, kind, node, global DOF).
+    #[serde(flatten)]
+    probe: &'a Probe,
+    /// u = Φ·q at each sample time (m), as [v, w] = [Re u, Im u].
+    displacement_m: Vec<[f64; 2]>,
+}
+
+/// A probe name as a CSV column stem: lower case, runs of other characters as `_`.
+fn column_stem(name: &str) -> String {
+    let mut out = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            out.push(c.to_ascii_lowercase());
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.trim_matches('_').to_string()
+}
+
+/// Columns of a pixel-wide envelope of the response plot (about the plotting width).
+const RESPONSE_COLUMNS: usize = 900;
 
 /// JSON of `floquet`.
 #[derive(Debug, Serialize)]
@@ -209,6 +243,9 @@ pub fn chart_cmd(
     let start = Instant::now();
     let main = run_chart(&main_fs, &phis, &betas, progress, "chart");
     let elapsed = start.elapsed().as_secs_f64();
+    // Both layers are named alike: by their file and overrides when a second file is
+    // compared, by circuit state and overrides when the same file is.
+    let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
     let compared = match (compare, &other_fs) {
         (Compare::Problem(name, other), Some(fs)) => {
             Some((name, other, run_chart(fs, &phis, &betas, progress, "compare")))
@@ -217,8 +254,8 @@ pub fn chart_cmd(
     };
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main_warnings, &main)?;
-    let label = title(problem);
-    let name = layer_name(problem);
+    let label = super::plot_title(problem);
+    let name = if by_file { label.clone() } else { layer_name(problem) };
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Some((name, other, c)) = compared {
@@ -226,7 +263,8 @@ pub fn chart_cmd(
         written();
         written();
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
-        layers.push(Layer { name: name.to_string(), color: (214, 39, 40), chart: c });
+        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        layers.push(Layer { name: shown, color: (214, 39, 40), chart: c });
     }
     written();
     written();
@@ -278,7 +316,7 @@ pub fn response_cmd(
 ) -> Result<String, Error> {
     check_point(phi, beta)?;
     bounds::flag("--periods", limits::count(periods as u64, 1, MAX_PERIODS as u64))?;
-    let fs = system(problem, &budget)?;
+    let (rotor, fs) = rotor_and_system(problem, &budget)?;
     bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
     let point = fs.point(phi, beta);
@@ -292,33 +330,61 @@ pub fn response_cmd(
         provenance: Provenance,
         floquet: &'a FloquetPoint,
         response: &'a ResponseResult,
+        /// The disks' and supports' physical displacements (m).
+        physical: &'a [PhysicalSeries<'a>],
     }
-    let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r };
+    let probes = crate::analysis::unbalance::probes(&rotor, &[])?;
+    let physical: Vec<PhysicalSeries<'_>> = probes
+        .iter()
+        .map(|p| PhysicalSeries { probe: p, displacement_m: r.displacement(fs.reduced.basis.as_ref(), p.dof) })
+        .collect();
+    let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r, physical: &physical };
     dir.write("response.json", json_compact(&json, "the JSON output")?.as_bytes())?;
     written();
-    let mut csv = String::from("time_s,q1_re,q1_im\n");
-    for (t, q) in r.time.iter().zip(&r.q1) {
-        csv += &format!("{t},{},{}\n", q[0], q[1]);
+    let mut csv = String::from("time_s,q1_re,q1_im");
+    for p in &physical {
+        let stem = column_stem(&p.probe.name);
+        csv += &format!(",{stem}_v_m,{stem}_w_m");
+    }
+    csv.push('\n');
+    for (i, (t, q)) in r.time.iter().zip(&r.q1).enumerate() {
+        csv += &format!("{t},{},{}", q[0], q[1]);
+        for p in &physical {
+            let u = p.displacement_m.get(i).copied().unwrap_or([f64::NAN, f64::NAN]);
+            csv += &format!(",{},{}", u[0], u[1]);
+        }
+        csv.push('\n');
     }
     dir.write("response.csv", csv.as_bytes())?;
     written();
-    let ymax = r.q1.iter().map(|q| q[0].abs()).fold(0.0, f64::max).max(1e-300);
-    let plot = LinePlot {
+    let ymax =
+        physical.iter().flat_map(|p| p.displacement_m.iter().map(|u| u[0].abs())).fold(0.0, f64::max).max(1e-300);
+    let curves: Vec<Curve> = physical
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let points: Vec<(f64, f64)> = r.time.iter().zip(&p.displacement_m).map(|(t, u)| (*t, u[0])).collect();
+            // Solid lines: a dash pattern over thousands of oscillations costs more to
+            // draw than the response to compute, and colour tells the probes apart.
+            Curve {
+                width: if k == 0 { style::LINE_WIDTH } else { style::THIN },
+                ..Curve::new(format!("{}: v", p.probe.name), style::color(k), envelope(&points, RESPONSE_COLUMNS))
+            }
+        })
+        .collect();
+    let plot = CurvePlot {
         title: format!(
-            "q1 response at φ = {phi} rad/s, β = {beta}: {} (max|μ| = {:.5})",
+            "Response at φ = {phi} rad/s, β = {beta}: {} (max|μ| = {:.5}), {}",
             if point.summary.stable { "stable" } else { "unstable" },
-            point.summary.max_multiplier
+            point.summary.max_multiplier,
+            super::plot_title(problem)
         ),
-        x_label: "time t (s)".into(),
-        y_label: "Re q1 (vertical, modal)".into(),
+        x_label: style::axis_label("time", "t", "s"),
+        y_label: style::axis_label("vertical displacement", "v = Re u", "m"),
         x_range: (0.0, *r.time.last().unwrap_or(&1.0)),
         y_range: (-ymax * 1.05, ymax * 1.05),
-        series: vec![Series {
-            name: String::new(),
-            color: (31, 119, 180),
-            dashed: false,
-            points: r.time.iter().zip(&r.q1).map(|(t, q)| (*t, q[0])).collect(),
-        }],
+        log_y: false,
+        curves,
     };
     dir.write("response.svg", plot.svg().map_err(|e| dir.error("response.svg", e))?.as_bytes())?;
     written();

@@ -77,6 +77,15 @@ pub(crate) fn title(p: &Problem) -> String {
     p.data.title.clone().unwrap_or_else(|| p.file.clone())
 }
 
+/// The configuration a plot shows: the file's title and, in brackets, the `--set`
+/// overrides applied to it, e.g. `Fig. 9 … [circuit.state=closed]`.
+pub fn plot_title(p: &Problem) -> String {
+    match p.overrides.as_slice() {
+        [] => title(p),
+        o => format!("{} [{}]", title(p), o.join(", ")),
+    }
+}
+
 /// `rotorshunt check FILE`: the model summary. Refused before assembly when the model's
 /// dense matrices are beyond `budget`.
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
@@ -160,7 +169,7 @@ pub fn campbell_cmd(
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
     progress.advance(1);
-    let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", title(problem)));
+    let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", plot_title(problem)));
     dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
     progress.advance(1);
     dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;

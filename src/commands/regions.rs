@@ -9,17 +9,14 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::limits::{self, Quantity};
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{
-    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, RegionSettings,
-};
+use crate::analysis::regions::{band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, RegionSettings};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::problem::Problem;
 use crate::progress::Progress;
-use crate::report::chart::{Layer, StabilityPlot};
-use crate::report::plot::Series;
+use crate::report::chart::{Layer, RegionShape, StabilityPlot};
 use crate::Error;
 use serde::Serialize;
 use std::path::Path;
@@ -54,25 +51,40 @@ fn plot_grid(range: Interval, beta_max: f64) -> (Vec<f64>, Vec<f64>) {
     (phis, betas)
 }
 
-/// The tracked boundaries (black) over a chart of the same problem (600 × 41 grid), the
-/// `chart` phase of `progress`.
+/// The tracked regions at their true width (filled, 1 px outline, labelled) over a chart
+/// of the same problem (600 × 41 grid), the `chart` phase of `progress`.
 fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progress: &dyn Progress) -> StabilityPlot {
     let (phis, betas) = plot_grid(cat.range, cat.beta_max);
     progress.phase("chart", phis.len() as u64);
     let c = chart(fs, &phis, &betas, progress);
-    let mut lines = Vec::new();
-    for r in cat.regions.iter().filter(|r| r.resolved) {
-        let side = |f: &dyn Fn(&Edges) -> f64| -> Series {
-            let mut points = vec![(r.start, r.onset_beta)];
-            points.extend(r.boundary.iter().map(|e| (f(e), e.beta)));
-            Series { name: String::new(), color: (0, 0, 0), dashed: false, points }
-        };
-        lines.push(side(&|e| e.phi.lo));
-        lines.push(side(&|e| e.phi.hi));
+    let regions = cat
+        .regions
+        .iter()
+        .filter(|r| r.resolved)
+        .map(|r| {
+            let mut outline = vec![(r.start, r.onset_beta)];
+            outline.extend(r.boundary.iter().map(|e| (e.phi.lo, e.beta)));
+            outline.extend(r.boundary.iter().rev().map(|e| (e.phi.hi, e.beta)));
+            RegionShape { label: r.label.clone(), outline }
+        })
+        .collect();
+    let layer = Layer {
+        name: format!("grid points ({} φ × {} β)", phis.len(), betas.len()),
+        color: GRID_LAYER_COLOR,
+        chart: c,
+    };
+    let mut levels = Vec::new();
+    if cat.level < cat.beta_max {
+        levels.push((cat.level, format!("edges and bands at β = {}", cat.level)));
     }
-    let layer = Layer { name: format!("{} circuit", problem.model.state_text()), color: (31, 119, 180), chart: c };
-    StabilityPlot::new(&format!("Tracked region boundaries: {}", super::title(problem)), vec![layer]).with_lines(lines)
+    StabilityPlot::new(&format!("Instability regions: {}", super::plot_title(problem)), vec![layer])
+        .with_regions(regions)
+        .with_levels(levels)
 }
+
+/// Colour of the grid chart under the tracked regions: light, so the tracked outlines
+/// (the true widths) stand out from the grid's cells.
+const GRID_LAYER_COLOR: (u8, u8, u8) = (160, 190, 225);
 
 #[derive(Serialize)]
 struct RegionsJson<'a> {

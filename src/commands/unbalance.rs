@@ -161,13 +161,20 @@ pub fn unbalance_cmd(
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&UNBALANCE_FILES)?;
     let main = respond(problem, &speeds, &nodes, progress, "unbalance")?;
+    // Both layers are named alike: by file and overrides when a second file is compared,
+    // by circuit state and overrides when the same file is.
+    let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
     let compared = match compare {
         Compare::Problem(name, other) => Some((name, other, respond(other, &speeds, &nodes, progress, "compare")?)),
         Compare::None => None,
     };
     let main_json = write_layer(&dir, "unbalance", problem, &main)?;
     let mut layers = vec![BodeLayer {
-        name: if compared.is_some() { super::layer_name(problem) } else { String::new() },
+        name: match (&compared, by_file) {
+            (None, _) => String::new(),
+            (Some(_), true) => super::plot_title(problem),
+            (Some(_), false) => super::layer_name(problem),
+        },
         dashed: false,
         result: &main,
     }];
@@ -175,9 +182,10 @@ pub fn unbalance_cmd(
     if let Some((name, other, r)) = &compared {
         write_layer(&dir, "compare", other, r)?;
         text += &peaks_text(r, &format!("compare ({name}):"));
-        layers.push(BodeLayer { name: name.to_string(), dashed: true, result: r });
+        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        layers.push(BodeLayer { name: shown, dashed: true, result: r });
     }
-    let plot = BodePlot { title: format!("Unbalance response: {}", title(problem)), layers };
+    let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers };
     dir.write("bode.svg", plot.svg().map_err(|e| dir.error("bode.svg", e))?.as_bytes())?;
     dir.write("bode.png", &plot.png().map_err(|e| dir.error("bode.png", e))?)?;
     dir.commit("unbalance")?;

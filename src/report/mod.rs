@@ -8,6 +8,7 @@ pub mod glossary;
 pub mod html;
 pub mod plot;
 pub mod study;
+pub mod style;
 pub mod summary;
 pub mod unbalance;
 

@@ -1,12 +1,21 @@
 //! Line plots rendered to SVG text and PNG bytes (plotters with an embedded DejaVu font,
 //! so no system font libraries are needed). Rendering only: no file I/O here.
+//!
+//! Placement rule of every legend: a panel to the right of the plotting area, outside
+//! it, so it never covers data ([`Layout`] reports both boxes, and the tests check them).
 
+use super::style::{self, err, Dash, Entry, Key, Marker};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use std::cell::Cell;
 use std::sync::Once;
 
 /// Plot size in pixels.
 pub const SIZE: (u32, u32) = (1000, 700);
+
+/// Points between two markers on a marked curve.
+const MARKER_EVERY: usize = 8;
 
 /// One polyline of a plot.
 #[derive(Debug, Clone)]
@@ -38,6 +47,68 @@ pub struct LinePlot {
     pub series: Vec<Series>,
 }
 
+/// One styled polyline of a [`CurvePlot`].
+#[derive(Debug, Clone)]
+pub struct Curve {
+    /// Legend text; empty for no legend entry.
+    pub name: String,
+    /// RGB colour.
+    pub color: (u8, u8, u8),
+    /// Line pattern.
+    pub dash: Dash,
+    /// Marker drawn every few points.
+    pub marker: Marker,
+    /// Line width (px).
+    pub width: u32,
+    /// (x, y) points in the axes' units.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl Curve {
+    /// A solid curve of width [`style::LINE_WIDTH`] without marker.
+    pub fn new(name: impl Into<String>, color: (u8, u8, u8), points: Vec<(f64, f64)>) -> Curve {
+        Curve { name: name.into(), color, dash: Dash::Solid, marker: Marker::None, width: style::LINE_WIDTH, points }
+    }
+}
+
+/// A plot of styled polylines, with the legend beside the plotting area.
+#[derive(Debug, Clone)]
+pub struct CurvePlot {
+    /// Caption drawn above the plot (fitted: shrunk or wrapped, never clipped).
+    pub title: String,
+    /// x-axis label with unit.
+    pub x_label: String,
+    /// y-axis label with unit.
+    pub y_label: String,
+    /// x axis range, in the x label's unit.
+    pub x_range: (f64, f64),
+    /// y axis range, in the y label's unit.
+    pub y_range: (f64, f64),
+    /// A logarithmic y axis (the range must then be positive).
+    pub log_y: bool,
+    /// The curves, drawn in order; each is clipped to the plotting area.
+    pub curves: Vec<Curve>,
+}
+
+/// Where a plot's parts landed, in pixels of the whole image ([x0, y0], [x1, y1]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Layout {
+    /// The plotting area (inside the axes).
+    pub plot: [(i32, i32); 2],
+    /// The legend panel, if there is a legend.
+    pub legend: Option<[(i32, i32); 2]>,
+}
+
+impl Layout {
+    /// Whether the legend box and the plotting area overlap.
+    pub fn legend_overlaps_plot(&self) -> bool {
+        self.legend.is_some_and(|l| {
+            let p = self.plot;
+            l[0].0 < p[1].0 && p[0].0 < l[1].0 && l[0].1 < p[1].1 && p[0].1 < l[1].1
+        })
+    }
+}
+
 /// A failure while drawing (a plotters backend error, as text).
 #[derive(Debug, thiserror::Error)]
 #[error("plot rendering failed: {0}")]
@@ -52,64 +123,228 @@ fn register_font() {
     });
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> PlotError {
-    PlotError(format!("{e:?}"))
+/// Legend entries of `curves` (named ones, in order).
+fn entries(curves: &[Curve]) -> Vec<Entry> {
+    curves
+        .iter()
+        .filter(|c| !c.name.is_empty())
+        .map(|c| Entry { key: Key::Line(c.color, c.dash, c.marker), text: c.name.clone() })
+        .collect()
 }
 
-impl LinePlot {
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+/// A plotting area and the legend column beside it (none without legend entries).
+pub(crate) type PlotAndLegend<DB> = (DrawingArea<DB, Shift>, Option<DrawingArea<DB, Shift>>);
+
+/// Split `area` into the plotting part and a legend column on its right for `entries`.
+pub(crate) fn with_legend_column<DB: DrawingBackend>(
+    area: DrawingArea<DB, Shift>,
+    entries: &[Entry],
+) -> Result<PlotAndLegend<DB>, PlotError> {
+    let w = style::legend_width(&area, entries)?;
+    if w == 0 {
+        return Ok((area, None));
+    }
+    let total = area.dim_in_pixel().0;
+    let (main, legend) = area.split_horizontally(total.saturating_sub(w));
+    Ok((main, Some(legend)))
+}
+
+/// The pixel box of a drawing area in the whole image.
+pub(crate) fn area_box<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
+    a: &DrawingArea<DB, CT>,
+) -> [(i32, i32); 2] {
+    let (x, y) = a.get_base_pixel();
+    let (w, h) = a.dim_in_pixel();
+    [(x, y), (x + w as i32, y + h as i32)]
+}
+
+impl CurvePlot {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&self.title, ("sans-serif", 24))
-            .margin(15)
-            .x_label_area_size(50)
-            .y_label_area_size(80)
-            .build_cartesian_2d(self.x_range.0..self.x_range.1, self.y_range.0..self.y_range.1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc(&self.x_label)
-            .y_desc(&self.y_label)
-            .label_style(("sans-serif", 16))
-            .axis_desc_style(("sans-serif", 18))
-            .draw()
-            .map_err(err)?;
-        let mut legend = false;
-        for s in &self.series {
-            let color = RGBColor(s.color.0, s.color.1, s.color.2);
-            let style = ShapeStyle::from(&color).stroke_width(2);
-            let drawn = if s.dashed {
-                chart.draw_series(DashedLineSeries::new(s.points.iter().copied(), 6, 4, style)).map_err(err)?
-            } else {
-                chart.draw_series(LineSeries::new(s.points.iter().copied(), style)).map_err(err)?
-            };
-            if !s.name.is_empty() {
-                legend = true;
-                drawn.label(s.name.clone()).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-            }
-        }
-        if legend {
+        let area = style::titled(&root, &self.title)?;
+        let legend = entries(&self.curves);
+        let (main, legend_area) = with_legend_column(area, &legend)?;
+        let (x0, x1) = self.x_range;
+        let (y0, y1) = self.y_range;
+        let mut builder = ChartBuilder::on(&main);
+        builder.margin(style::MARGIN).x_label_area_size(50).y_label_area_size(85);
+        let plot_box;
+        if self.log_y {
+            let mut chart = builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(err)?;
             chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::UpperLeft)
+                .configure_mesh()
+                .x_desc(&self.x_label)
+                .y_desc(&self.y_label)
+                .x_label_formatter(&style::tick)
+                .y_label_formatter(&style::log_tick)
+                .label_style((style::FONT, style::TICK_SIZE))
+                .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
                 .draw()
                 .map_err(err)?;
+            plot_box = area_box(chart.plotting_area());
+            for c in &self.curves {
+                let pts: Vec<(f64, f64)> = c.points.iter().copied().filter(|p| p.1 > 0.0).collect();
+                let clip = style::clip_polyline(&pts, (x0, x1), (y0, y1));
+                draw_pieces(&mut chart, c, clip)?;
+            }
+        } else {
+            let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc(&self.x_label)
+                .y_desc(&self.y_label)
+                .x_label_formatter(&style::tick)
+                .y_label_formatter(&style::tick)
+                .label_style((style::FONT, style::TICK_SIZE))
+                .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
+                .draw()
+                .map_err(err)?;
+            plot_box = area_box(chart.plotting_area());
+            for c in &self.curves {
+                let clip = style::clip_polyline(&c.points, (x0, x1), (y0, y1));
+                draw_pieces(&mut chart, c, clip)?;
+            }
         }
+        let mut legend_box = None;
+        if let Some(l) = legend_area {
+            let off = area_box(&l)[0];
+            let top = plot_box[0].1 - off.1;
+            legend_box = style::draw_legend_panel(&l, &legend, top.max(0))?
+                .map(|b| [(b[0].0 + off.0, b[0].1 + off.1), (b[1].0 + off.0, b[1].1 + off.1)]);
+        }
+        layout.set(Layout { plot: plot_box, legend: legend_box });
         root.present().map_err(err)
     }
 
     /// Render as SVG text.
     pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root))
+        render_svg(|root| self.draw(root, &Cell::default()))
     }
 
     /// Render as PNG bytes.
     pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root))
+        render_png(|root| self.draw(root, &Cell::default()))
     }
+
+    /// Where the plotting area and the legend land (pixels), from a rendering.
+    pub fn layout(&self) -> Result<Layout, PlotError> {
+        let cell = Cell::default();
+        render_svg(|root| self.draw(root, &cell))?;
+        Ok(cell.get())
+    }
+
+    /// The pixel position of the data point `p` in the plot (linear axes), given its layout.
+    pub fn to_pixel(&self, layout: &Layout, p: (f64, f64)) -> (f64, f64) {
+        let [(px0, py0), (px1, py1)] = layout.plot;
+        let fx = (p.0 - self.x_range.0) / (self.x_range.1 - self.x_range.0);
+        let fy = if self.log_y {
+            (p.1.ln() - self.y_range.0.ln()) / (self.y_range.1.ln() - self.y_range.0.ln())
+        } else {
+            (p.1 - self.y_range.0) / (self.y_range.1 - self.y_range.0)
+        };
+        (px0 as f64 + fx * (px1 - px0) as f64, py1 as f64 - fy * (py1 - py0) as f64)
+    }
+}
+
+/// Draw the clipped pieces of `c` on `chart`, with its markers.
+pub(crate) fn draw_pieces<DB: DrawingBackend, CT>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    c: &Curve,
+    pieces: Vec<Vec<(f64, f64)>>,
+) -> Result<(), PlotError>
+where
+    CT: plotters::coord::CoordTranslate<From = (f64, f64)>,
+{
+    let style = ShapeStyle::from(&style::rgb(c.color)).stroke_width(c.width);
+    for piece in pieces {
+        match c.dash.pattern() {
+            None => chart.draw_series(std::iter::once(PathElement::new(piece.clone(), style))).map_err(err)?,
+            Some((d, g)) => {
+                chart.draw_series(std::iter::once(DashedPathElement::new(piece.clone(), d, g, style))).map_err(err)?
+            }
+        };
+        if c.marker != Marker::None {
+            let area = chart.plotting_area();
+            for p in piece.iter().step_by(MARKER_EVERY) {
+                let at = area.map_coordinate(p);
+                let strip = area.strip_coord_spec();
+                style::draw_marker(&strip, c.marker, c.color, at)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+impl LinePlot {
+    fn curves(&self) -> CurvePlot {
+        CurvePlot {
+            title: self.title.clone(),
+            x_label: self.x_label.clone(),
+            y_label: self.y_label.clone(),
+            x_range: self.x_range,
+            y_range: self.y_range,
+            log_y: false,
+            curves: self
+                .series
+                .iter()
+                .map(|s| Curve {
+                    dash: if s.dashed { Dash::Dashed } else { Dash::Solid },
+                    ..Curve::new(s.name.clone(), s.color, s.points.clone())
+                })
+                .collect(),
+        }
+    }
+
+    /// Render as SVG text.
+    pub fn svg(&self) -> Result<String, PlotError> {
+        self.curves().svg()
+    }
+
+    /// Render as PNG bytes.
+    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
+        self.curves().png()
+    }
+
+    /// Where the plotting area and the legend land (pixels), from a rendering.
+    pub fn layout(&self) -> Result<Layout, PlotError> {
+        self.curves().layout()
+    }
+}
+
+/// `points` (ascending x) thinned to at most two per column of `columns` equal x bins:
+/// each bin keeps its smallest and largest y in their order, so a line through the result
+/// covers exactly the range the full line covers in that pixel column (an envelope, not a
+/// staircase of aliased samples). Bins of one or two points keep them as they are.
+pub fn envelope(points: &[(f64, f64)], columns: usize) -> Vec<(f64, f64)> {
+    let (Some(first), Some(last)) = (points.first(), points.last()) else { return Vec::new() };
+    let span = last.0 - first.0;
+    if columns == 0 || points.len() <= 2 * columns || span.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return points.to_vec();
+    }
+    let bin = |x: f64| (((x - first.0) / span * columns as f64) as usize).min(columns - 1);
+    let mut out = Vec::with_capacity(2 * columns);
+    let mut i = 0;
+    while i < points.len() {
+        let b = bin(points[i].0);
+        let mut j = i;
+        while j < points.len() && bin(points[j].0) == b {
+            j += 1;
+        }
+        let chunk = &points[i..j];
+        if chunk.len() <= 2 {
+            out.extend_from_slice(chunk);
+        } else {
+            let lo = chunk.iter().enumerate().min_by(|a, b| a.1 .1.total_cmp(&b.1 .1)).map_or(0, |(k, _)| k);
+            let hi = chunk.iter().enumerate().max_by(|a, b| a.1 .1.total_cmp(&b.1 .1)).map_or(0, |(k, _)| k);
+            let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+            out.push(chunk[a]);
+            if b != a {
+                out.push(chunk[b]);
+            }
+        }
+        i = j;
+    }
+    out
 }
 
 /// Render `draw` to SVG text at [`SIZE`], with the embedded font registered.

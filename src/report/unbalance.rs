@@ -1,25 +1,15 @@
 //! Unbalance response rendering: the Bode plot (amplitude on a log scale over the phase),
-//! the CSV, the text table of peaks, and the damping table.
+//! the Pareto plot of designs, the CSV, the text table of peaks, and the damping table.
 
-use super::plot::{render_png, render_svg, PlotError};
+use super::plot::{
+    area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, CurvePlot, Layout, PlotError,
+};
+use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::damping::ModeDamping;
-use crate::analysis::unbalance::{ProbeResponse, UnbalanceResult};
+use crate::analysis::unbalance::UnbalanceResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// Colours of the probes, in order (matplotlib's tab10).
-const COLORS: [(u8, u8, u8); 10] = [
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
-    (188, 189, 34),
-    (23, 190, 207),
-];
+use std::cell::Cell;
 
 /// Smallest amplitude drawn, relative to the largest: the log axis spans at most eight
 /// decades (the response vanishes like Ω² at rest, and an exact zero has no logarithm).
@@ -63,15 +53,39 @@ pub fn unwrapped(phase: &[f64]) -> Vec<f64> {
     out
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> PlotError {
-    PlotError(format!("{e:?}"))
-}
-
 impl BodePlot<'_> {
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    /// Legend: a colour per probe (the first layer's names), a line style per
+    /// configuration when there are two.
+    fn legend(&self) -> Vec<Entry> {
+        let mut entries = Vec::new();
+        if let Some(first) = self.layers.first() {
+            for (k, p) in first.result.probes.iter().enumerate() {
+                entries.push(Entry {
+                    key: Key::Line(style::color(k), Dash::Solid, style::marker(k)),
+                    text: p.probe.name.clone(),
+                });
+            }
+        }
+        if self.layers.len() > 1 {
+            for layer in &self.layers {
+                let dash = if layer.dashed { Dash::Dashed } else { Dash::Solid };
+                let what = if layer.dashed { "dashed" } else { "solid" };
+                entries.push(Entry {
+                    key: Key::Line((0, 0, 0), dash, Marker::None),
+                    text: format!("{what}: {}", layer.name),
+                });
+            }
+        }
+        entries.push(Entry { key: Key::Line((0, 0, 0), Dash::Solid, Marker::Circle), text: "peak".into() });
+        entries
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
-        let root = root.titled(&self.title, ("sans-serif", 24)).map_err(err)?;
-        let (top, bottom) = root.split_vertically((root.dim_in_pixel().1 as f64 * 0.62) as u32);
+        let area = style::titled(&root, &self.title)?;
+        let entries = self.legend();
+        let (area, legend_area) = with_legend_column(area, &entries)?;
+        let (top, bottom) = area.split_vertically((area.dim_in_pixel().1 as f64 * 0.6) as u32);
         let all = || self.layers.iter().flat_map(|l| l.result.probes.iter().map(move |p| (l, p)));
         let speeds = || self.layers.iter().flat_map(|l| l.result.speeds.iter().copied());
         let x0 = speeds().fold(f64::INFINITY, f64::min);
@@ -80,28 +94,28 @@ impl BodePlot<'_> {
         let amax = all().flat_map(|(_, p)| p.amplitude.iter().copied()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
         let floor = amax * AMPLITUDE_DECADES;
         let amin = all().flat_map(|(_, p)| p.amplitude.iter().copied()).filter(|a| *a >= floor).fold(amax, f64::min);
-        // Two decades above the largest amplitude: room for the legend above the curves.
-        let (ylo, yhi) = if amin < amax { (amin / 1.5, amax * 100.0) } else { (amax / 10.0, amax * 100.0) };
+        let (ylo, yhi) = if amin < amax { (amin / 1.5, amax * 1.5) } else { (amax / 10.0, amax * 10.0) };
+        let curve = |k: usize, layer: &BodeLayer<'_>, points: Vec<(f64, f64)>| Curve {
+            dash: if layer.dashed { Dash::Dashed } else { Dash::Solid },
+            marker: style::marker(k),
+            ..Curve::new("", style::color(k), points)
+        };
         let mut amp = ChartBuilder::on(&top)
-            .margin(15)
+            .margin(style::MARGIN)
             .x_label_area_size(30)
-            .y_label_area_size(90)
+            .y_label_area_size(85)
             .build_cartesian_2d(x0..x1, (ylo..yhi).log_scale())
             .map_err(err)?;
         amp.configure_mesh()
-            .y_desc("amplitude |U| (m)")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .label_style(("sans-serif", 15))
-            .axis_desc_style(("sans-serif", 17))
+            .y_desc(style::axis_label("amplitude", "|U|", "m"))
+            .x_label_formatter(&style::tick)
+            .y_label_formatter(&style::log_tick)
+            .label_style((style::FONT, style::TICK_SIZE))
+            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .draw()
             .map_err(err)?;
-        let style_of = |k: usize, dashed: bool| {
-            let c = COLORS[k % COLORS.len()];
-            (ShapeStyle::from(&RGBColor(c.0, c.1, c.2)).stroke_width(2), dashed)
-        };
         for layer in &self.layers {
             for (k, p) in layer.result.probes.iter().enumerate() {
-                let (style, dashed) = style_of(k, layer.dashed);
                 let points: Vec<(f64, f64)> = layer
                     .result
                     .speeds
@@ -110,97 +124,118 @@ impl BodePlot<'_> {
                     .filter(|(_, a)| **a >= floor)
                     .map(|(w, a)| (*w, *a))
                     .collect();
-                if dashed {
-                    amp.draw_series(DashedLineSeries::new(points, 6, 4, style)).map_err(err)?;
-                } else {
-                    amp.draw_series(LineSeries::new(points, style)).map_err(err)?;
-                }
+                let pieces = style::clip_polyline(&points, (x0, x1), (ylo, yhi));
+                draw_pieces(&mut amp, &curve(k, layer, Vec::new()), pieces)?;
+                let c = style::rgb(style::color(k));
                 amp.draw_series(
                     p.peaks
                         .iter()
-                        .filter(|k| k.amplitude >= floor && k.amplitude <= yhi)
-                        .map(|k| Circle::new((k.speed, k.amplitude), 4, style)),
+                        .filter(|k| k.amplitude >= ylo && k.amplitude <= yhi)
+                        .map(|k| Circle::new((k.speed, k.amplitude), 4, c.stroke_width(2))),
                 )
                 .map_err(err)?;
             }
         }
-        // The legend: a colour per probe (the first layer's names), a line style per
-        // configuration when there are two.
-        if let Some(first) = self.layers.first() {
-            for (k, p) in first.result.probes.iter().enumerate() {
-                let (style, _) = style_of(k, false);
-                amp.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(err)?
-                    .label(p.probe.name.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
-            }
-        }
-        if self.layers.len() > 1 {
-            for layer in &self.layers {
-                let style = ShapeStyle::from(&BLACK).stroke_width(2);
-                let dashed = layer.dashed;
-                let what = if dashed { "dashed" } else { "solid" };
-                amp.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(err)?
-                    .label(format!("{what}: {}", layer.name))
-                    .legend(move |(x, y)| {
-                        // Two segments: a gap between them for the dashed configuration.
-                        let (end, start) = if dashed { (7, 13) } else { (10, 10) };
-                        EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (end, 0)], style)
-                            + PathElement::new(vec![(start, 0), (20, 0)], style)
-                    });
-            }
-        }
-        amp.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        let amp_box = area_box(amp.plotting_area());
 
-        let phases: Vec<(usize, &BodeLayer<'_>, &ProbeResponse, Vec<f64>)> = self
+        let phases: Vec<(usize, &BodeLayer<'_>, Vec<f64>)> = self
             .layers
             .iter()
-            .flat_map(|l| l.result.probes.iter().enumerate().map(move |(k, p)| (k, l, p, unwrapped(&p.phase))))
+            .flat_map(|l| {
+                l.result
+                    .probes
+                    .iter()
+                    .enumerate()
+                    .map(move |(k, p)| (k, l, unwrapped(&p.phase).iter().map(|v| v.to_degrees()).collect()))
+            })
             .collect();
-        let plo = phases.iter().flat_map(|x| x.3.iter().copied()).fold(f64::INFINITY, f64::min);
-        let phi = phases.iter().flat_map(|x| x.3.iter().copied()).fold(f64::NEG_INFINITY, f64::max);
-        let (plo, phi) = if phi > plo { (plo - 0.2, phi + 0.2) } else { (-std::f64::consts::PI, 0.5) };
+        let plo = phases.iter().flat_map(|x| x.2.iter().copied()).fold(f64::INFINITY, f64::min);
+        let phi = phases.iter().flat_map(|x| x.2.iter().copied()).fold(f64::NEG_INFINITY, f64::max);
+        let (plo, phi) = if phi > plo { (plo - 10.0, phi + 10.0) } else { (-180.0, 30.0) };
         let mut ph = ChartBuilder::on(&bottom)
-            .margin(15)
+            .margin(style::MARGIN)
             .x_label_area_size(50)
-            .y_label_area_size(90)
+            .y_label_area_size(85)
             .build_cartesian_2d(x0..x1, plo..phi)
             .map_err(err)?;
         ph.configure_mesh()
-            .x_desc("speed Ω (rad/s)")
-            .y_desc("phase arg U (rad)")
-            .label_style(("sans-serif", 15))
-            .axis_desc_style(("sans-serif", 17))
+            .x_desc(style::axis_label("speed", "Ω", "rad/s"))
+            .y_desc(style::axis_label("phase", "arg U", "deg"))
+            .x_label_formatter(&style::tick)
+            .y_label_formatter(&style::tick)
+            .label_style((style::FONT, style::TICK_SIZE))
+            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .draw()
             .map_err(err)?;
-        for (k, layer, _, values) in &phases {
-            let (style, dashed) = style_of(*k, layer.dashed);
+        for (k, layer, values) in &phases {
             let points: Vec<(f64, f64)> = layer.result.speeds.iter().copied().zip(values.iter().copied()).collect();
-            if dashed {
-                ph.draw_series(DashedLineSeries::new(points, 6, 4, style)).map_err(err)?;
-            } else {
-                ph.draw_series(LineSeries::new(points, style)).map_err(err)?;
-            }
+            let pieces = style::clip_polyline(&points, (x0, x1), (plo, phi));
+            draw_pieces(&mut ph, &curve(*k, layer, Vec::new()), pieces)?;
         }
+        let ph_box = area_box(ph.plotting_area());
+        let mut legend_box = None;
+        if let Some(l) = legend_area {
+            let off = area_box(&l)[0];
+            legend_box = style::draw_legend_panel(&l, &entries, (amp_box[0].1 - off.1).max(0))?
+                .map(|b| [(b[0].0 + off.0, b[0].1 + off.1), (b[1].0 + off.0, b[1].1 + off.1)]);
+        }
+        layout.set(Layout { plot: [amp_box[0], (amp_box[1].0.max(ph_box[1].0), ph_box[1].1)], legend: legend_box });
         root.present().map_err(err)
     }
 
     /// Render as SVG text.
     pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root))
+        render_svg(|root| self.draw(root, &Cell::default()))
     }
 
     /// Render as PNG bytes.
     pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root))
+        render_png(|root| self.draw(root, &Cell::default()))
+    }
+
+    /// Where the plotting areas (amplitude and phase, as one box) and the legend land.
+    pub fn layout(&self) -> Result<Layout, PlotError> {
+        let cell = Cell::default();
+        render_svg(|root| self.draw(root, &cell))?;
+        Ok(cell.get())
+    }
+}
+
+/// A Pareto plot of designs: peak unbalance response (m, log scale) against the width of
+/// the stable band (rad/s), one marker per design with its label beside the legend.
+/// `points` are (peak response m, stable band width rad/s); `labels` name them (missing
+/// labels: `design k`).
+pub fn plot_pareto(points: &[(f64, f64)], labels: &[String], title: &str) -> CurvePlot {
+    let xs = || points.iter().map(|p| p.1).filter(|v| v.is_finite());
+    let ys = || points.iter().map(|p| p.0).filter(|v| v.is_finite() && *v > 0.0);
+    let (x0, x1) = (xs().fold(f64::INFINITY, f64::min), xs().fold(f64::NEG_INFINITY, f64::max));
+    let (y0, y1) = (ys().fold(f64::INFINITY, f64::min), ys().fold(f64::NEG_INFINITY, f64::max));
+    let pad = ((x1 - x0) * 0.05).max(1.0);
+    let (x0, x1) = if x0.is_finite() { (x0 - pad, x1 + pad) } else { (0.0, 1.0) };
+    let (y0, y1) = if y0.is_finite() { (y0 / 1.5, y1 * 1.5) } else { (1e-6, 1.0) };
+    let curves = points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| Curve {
+            marker: match style::marker(k) {
+                Marker::None => Marker::Circle,
+                m => m,
+            },
+            ..Curve::new(
+                labels.get(k).cloned().unwrap_or_else(|| format!("design {}", k + 1)),
+                style::color(k),
+                vec![(p.1, p.0)],
+            )
+        })
+        .collect();
+    CurvePlot {
+        title: title.to_string(),
+        x_label: style::axis_label("stable band width", "", "rad/s"),
+        y_label: style::axis_label("peak response", "", "m"),
+        x_range: (x0, x1),
+        y_range: (y0, y1),
+        log_y: true,
+        curves,
     }
 }
 

@@ -22,8 +22,9 @@ pub(super) fn axes<'a, DB: DrawingBackend>(
         .x_desc(X_LABEL)
         .y_desc(Y_LABEL)
         .x_label_formatter(&tick)
-        .label_style(("sans-serif", 16))
-        .axis_desc_style(("sans-serif", 18))
+        .y_label_formatter(&tick)
+        .label_style((style::FONT, style::TICK_SIZE))
+        .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
         .bold_line_style(GRID_COLOR)
         .light_line_style(TRANSPARENT)
         .draw()
@@ -57,25 +58,29 @@ pub(super) fn draw_failed<DB: DrawingBackend>(
     Ok(failed.len())
 }
 
-/// Dashed grey vertical lines with labels at the top, labels staggered downwards when
-/// they would overlap. Markers outside the x range are not drawn.
+/// Dashed grey vertical lines (1 px) with labels at the top, staggered downwards when
+/// they would overlap and skipped when three lines of labels are not enough. Markers
+/// outside the x range are not drawn.
 pub(super) fn draw_markers<DB: DrawingBackend>(
     plot: &mut Chart2d<'_, DB>,
     markers: &[(f64, String)],
+    occupied: &mut style::Occupied,
 ) -> Result<(), PlotError> {
+    const LABEL_LINES: i32 = 3;
     let x = plot.x_range();
     let y = plot.y_range();
     let mut visible: Vec<&(f64, String)> =
         markers.iter().filter(|(m, _)| m.is_finite() && *m >= x.start && *m <= x.end).collect();
     visible.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let style = ShapeStyle::from(&MARKER_COLOR).stroke_width(1);
-    let font = ("sans-serif", 13).into_font().color(&RGBColor(60, 60, 60));
+    let style = ShapeStyle::from(&MARKER_COLOR).stroke_width(style::THIN);
+    let font = (style::FONT, style::ANNOTATION_SIZE + 1).into_font().color(&RGBColor(40, 40, 40));
     let right_px = plot.backend_coord(&(x.end, y.end)).0;
-    // Right end (pixels) of the last label on each text line.
-    let mut lines: Vec<i32> = Vec::new();
-    for (m, label) in visible {
+    let origin = area_box(plot.plotting_area())[0];
+    for (m, _) in &visible {
         plot.draw_series(std::iter::once(DashedPathElement::new(vec![(*m, y.start), (*m, y.end)], 5, 4, style)))
             .map_err(err)?;
+    }
+    for (m, label) in visible {
         if label.is_empty() {
             continue;
         }
@@ -84,21 +89,118 @@ pub(super) fn draw_markers<DB: DrawingBackend>(
         let px = plot.backend_coord(&(*m, y.end)).0;
         // Label to the right of the line, or to the left near the right edge.
         let dx = if px + w + 8 > right_px { -w - 6 } else { 4 };
-        let (left, right) = (px + dx - 2, px + dx + w + 2);
-        let line = match lines.iter().position(|&end| end + 4 < left) {
-            Some(i) => {
-                lines[i] = right;
-                i
+        for line in 0..LABEL_LINES {
+            let dy = 4 + line * (h + 4);
+            let py = plot.backend_coord(&(*m, y.end)).1;
+            let b = [(px + dx - 2, py + dy - 1), (px + dx + w + 2, py + dy + h + 1)];
+            if !occupied.claim(b) {
+                continue;
             }
-            None => {
-                lines.push(right);
-                lines.len() - 1
+            let _ = origin;
+            let anchor = EmptyElement::at((*m, y.end))
+                + Rectangle::new([(dx - 2, dy - 1), (dx + w + 2, dy + h + 1)], WHITE.mix(0.85).filled())
+                + Text::new(label.clone(), (dx, dy), font.clone());
+            plot.plotting_area().draw(&anchor).map_err(err)?;
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// Shaded φ spans over the whole β range, with 1 px edges, clipped to the x range.
+pub(super) fn draw_spans<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>, spans: &[Span]) -> Result<(), PlotError> {
+    let (x, y) = (plot.x_range(), plot.y_range());
+    for s in spans {
+        let (lo, hi) = (s.lo.max(x.start), s.hi.min(x.end));
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+            continue;
+        }
+        plot.draw_series(std::iter::once(Rectangle::new(
+            [(lo, y.start), (hi, y.end)],
+            rgb(span_fill(s.color)).filled(),
+        )))
+        .map_err(err)?;
+        for e in [s.lo, s.hi].into_iter().filter(|e| *e >= x.start && *e <= x.end) {
+            plot.draw_series(std::iter::once(PathElement::new(
+                vec![(e, y.start), (e, y.end)],
+                rgb(s.color).stroke_width(style::THIN),
+            )))
+            .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+/// Regions as filled polygons at their true width, clipped to the plotting area, with a
+/// 1 px outline; a region thinner than a pixel is still drawn as a 1 px line.
+pub(super) fn draw_regions<DB: DrawingBackend>(
+    plot: &mut Chart2d<'_, DB>,
+    regions: &[RegionShape],
+) -> Result<(), PlotError> {
+    let (x, y) = (plot.x_range(), plot.y_range());
+    let (x, y) = ((x.start, x.end), (y.start, y.end));
+    for r in regions {
+        let poly = style::clip_polygon(&r.outline, x, y);
+        if poly.len() < 3 {
+            continue;
+        }
+        plot.draw_series(std::iter::once(Polygon::new(poly.clone(), rgb(REGION_FILL).mix(0.55).filled())))
+            .map_err(err)?;
+        let mut closed = r.outline.clone();
+        if let Some(&first) = r.outline.first() {
+            closed.push(first);
+        }
+        for piece in style::clip_polyline(&closed, x, y) {
+            plot.draw_series(std::iter::once(PathElement::new(piece, rgb(REGION_LINE).stroke_width(style::THIN))))
+                .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+/// Region labels at the top of each region (centred on its φ at the highest β inside
+/// the plot), skipped where they would collide with a label already drawn.
+pub(super) fn draw_region_labels<DB: DrawingBackend>(
+    plot: &mut Chart2d<'_, DB>,
+    regions: &[RegionShape],
+    occupied: &mut style::Occupied,
+) -> Result<(), PlotError> {
+    let (x, y) = (plot.x_range(), plot.y_range());
+    let font = (style::FONT, style::ANNOTATION_SIZE).into_font().color(&BLACK);
+    let mut order: Vec<(&RegionShape, (f64, f64))> = regions
+        .iter()
+        .filter(|r| !r.label.is_empty())
+        .filter_map(|r| {
+            let inside: Vec<(f64, f64)> = style::clip_polygon(&r.outline, (x.start, x.end), (y.start, y.end));
+            let top = inside.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+            if !top.is_finite() {
+                return None;
             }
-        };
-        let dy = 4 + line as i32 * (h + 4);
-        let anchor = EmptyElement::at((*m, y.end))
-            + Rectangle::new([(dx - 2, dy - 1), (dx + w + 2, dy + h + 1)], WHITE.mix(0.85).filled())
-            + Text::new(label.clone(), (dx, dy), font.clone());
+            let at_top: Vec<f64> = inside.iter().filter(|p| p.1 >= top - 1e-12).map(|p| p.0).collect();
+            let cx = at_top.iter().sum::<f64>() / at_top.len() as f64;
+            Some((r, (cx, top)))
+        })
+        .collect();
+    // Lowest onset first: the regions that reach furthest down are the ones that matter.
+    order.sort_by(|a, b| {
+        let onset = |r: &RegionShape| r.outline.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        onset(a.0).total_cmp(&onset(b.0))
+    });
+    for (r, (cx, top)) in order {
+        let (w, h) = plot.plotting_area().estimate_text_size(&r.label, &font).map_err(err)?;
+        let (w, h) = (w as i32, h as i32);
+        let (px, py) = plot.backend_coord(&(cx, top));
+        let top_px = plot.backend_coord(&(cx, y.end)).1;
+        // Just above the region's top, or inside the plot's top edge.
+        let ly = (py - h - 3).max(top_px + 2);
+        let b = [(px - w / 2 - 2, ly - 1), (px + w / 2 + 2, ly + h + 1)];
+        if !occupied.claim(b) {
+            continue;
+        }
+        let dy = ly - py;
+        let anchor = EmptyElement::at((cx, top))
+            + Rectangle::new([(-w / 2 - 2, dy - 1), (w / 2 + 2, dy + h + 1)], WHITE.mix(0.8).filled())
+            + Text::new(r.label.clone(), (-w / 2, dy), font.clone());
         plot.plotting_area().draw(&anchor).map_err(err)?;
     }
     Ok(())
@@ -109,46 +211,5 @@ pub(super) fn draw_frame<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>) -> Resu
     let (x, y) = (plot.x_range(), plot.y_range());
     plot.draw_series(std::iter::once(Rectangle::new([(x.start, y.start), (x.end, y.end)], BLACK.stroke_width(1))))
         .map_err(err)?;
-    Ok(())
-}
-
-/// Legend swatch.
-pub(super) enum Swatch {
-    Fill(RGBColor),
-    Cross,
-}
-
-/// Horizontal legend, centred in `area`.
-pub(super) fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    entries: &[(Swatch, String)],
-) -> Result<(), PlotError> {
-    const BOX: i32 = 14;
-    const GAP: i32 = 6;
-    const SPACING: i32 = 26;
-    let font = ("sans-serif", 15).into_font().into_text_style(area).pos(Pos::new(HPos::Left, VPos::Center));
-    let widths = entries
-        .iter()
-        .map(|(_, text)| area.estimate_text_size(text, &font).map(|(w, _)| w as i32))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(err)?;
-    let total: i32 = widths.iter().map(|w| BOX + GAP + w).sum::<i32>() + SPACING * (entries.len() as i32 - 1);
-    let (aw, ah) = area.dim_in_pixel();
-    let mut x = ((aw as i32 - total) / 2).max(5);
-    let yc = ah as i32 / 2;
-    for ((swatch, text), w) in entries.iter().zip(widths) {
-        let r = [(x, yc - BOX / 2), (x + BOX, yc + BOX / 2)];
-        match swatch {
-            Swatch::Fill(c) => {
-                area.draw(&Rectangle::new(r, c.filled())).map_err(err)?;
-                area.draw(&Rectangle::new(r, RGBColor(120, 120, 120).stroke_width(1))).map_err(err)?;
-            }
-            Swatch::Cross => {
-                area.draw(&Cross::new((x + BOX / 2, yc), CROSS_SIZE + 1, FAILED_COLOR.stroke_width(2))).map_err(err)?
-            }
-        }
-        area.draw(&Text::new(text.clone(), (x + BOX + GAP, yc), font.clone())).map_err(err)?;
-        x += BOX + GAP + w + SPACING;
-    }
     Ok(())
 }

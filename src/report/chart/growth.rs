@@ -27,11 +27,17 @@ impl GrowthMap {
 
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
-        let area = root.titled(&self.title, ("sans-serif", 24)).map_err(err)?;
+        let area = style::titled(&root, &self.title)?;
         let failed = failed_count(&self.chart);
         let (legend_area, area) = area.split_vertically(if failed > 0 { 34 } else { 0 });
         if failed > 0 {
-            draw_legend(&legend_area, &[(Swatch::Cross, failed_label(failed))])?;
+            let font = (style::FONT, style::LEGEND_SIZE)
+                .into_font()
+                .into_text_style(&legend_area)
+                .pos(Pos::new(HPos::Left, VPos::Center));
+            let yc = legend_area.dim_in_pixel().1 as i32 / 2;
+            style::draw_key(&legend_area, &Key::Cross, 90, yc)?;
+            legend_area.draw(&Text::new(failed_label(failed), (124, yc), font)).map_err(err)?;
         }
         let width = area.dim_in_pixel().0;
         let (main, bar) = area.split_horizontally(width.saturating_sub(135));
@@ -58,7 +64,7 @@ impl GrowthMap {
         let cells = blocks(&self.chart, |p| unstable(p).then(|| level(p.growth_rate)));
         draw_blocks(&mut plot, &self.chart, &cells, |&k| color(k))?;
         draw_failed(&mut plot, &self.chart)?;
-        draw_markers(&mut plot, &self.markers)?;
+        draw_markers(&mut plot, &self.markers, &mut style::Occupied::default())?;
         draw_frame(&mut plot)?;
 
         // Colour bar, aligned with the main plotting area (same margins and x-label area).
@@ -78,8 +84,8 @@ impl GrowthMap {
             .x_labels(0)
             .y_label_formatter(&tick)
             .y_desc(GROWTH_LABEL)
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
+            .label_style((style::FONT, style::TICK_SIZE - 1))
+            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE - 2))
             .draw()
             .map_err(err)?;
         if range.is_some() {

@@ -10,7 +10,8 @@
 //! half-open pixel ranges, so semi-transparent neighbours never double-blend a seam.
 //! Failed points (no verdict) are drawn as black crosses, never dropped.
 
-use super::plot::{render_png, render_svg, PlotError};
+use super::plot::{area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, Layout, PlotError};
+use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::chart::{ChartPoint, ChartResult};
 use crate::analysis::floquet::PointStatus;
 use plotters::coord::types::RangedCoordf64;
@@ -18,6 +19,7 @@ use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::hash::Hash;
 use std::ops::Range;
@@ -30,8 +32,8 @@ pub const CLOSED_CIRCUIT_COLOR: (u8, u8, u8) = (214, 39, 40);
 pub const OVERLAY_ALPHA: f64 = 0.6;
 /// x-axis label of every chart.
 pub const X_LABEL: &str = "excitation frequency φ (rad/s)";
-/// y-axis label of every chart.
-pub const Y_LABEL: &str = "dynamic load β";
+/// y-axis label of every chart (β is a ratio to P_cr: no unit).
+pub const Y_LABEL: &str = "dynamic load β (−)";
 /// Colour-bar label of the growth map.
 pub const GROWTH_LABEL: &str = "growth rate ln(max|μ|)/T (1/s)";
 
@@ -43,22 +45,28 @@ const FAILED_COLOR: RGBColor = BLACK;
 const CROSS_SIZE: i32 = 3;
 /// Marker line colour.
 const MARKER_COLOR: RGBColor = RGBColor(110, 110, 110);
+/// Colour of the β levels (β_op).
+const LEVEL_COLOR: (u8, u8, u8) = (0, 0, 0);
+/// Fill of a tracked region drawn at true width.
+const REGION_FILL: (u8, u8, u8) = (20, 40, 90);
+/// Outline of a tracked region.
+const REGION_LINE: (u8, u8, u8) = (0, 0, 0);
+/// Opacity of a span's shading.
+const SPAN_ALPHA: f64 = 0.18;
 /// Grid line colour.
 const GRID_COLOR: RGBColor = RGBColor(225, 225, 225);
 
 type Chart2d<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
-fn err<E: std::fmt::Debug>(e: E) -> PlotError {
-    PlotError(format!("{e:?}"))
+use style::tick;
+
+/// A span's shading on white.
+fn span_fill(c: (u8, u8, u8)) -> (u8, u8, u8) {
+    style::blend(c, (255, 255, 255), SPAN_ALPHA)
 }
 
-/// Tick label: integers without a decimal point, others rounded to 6 decimals.
-fn tick(v: &f64) -> String {
-    if v.is_finite() && v.abs() < 1e15 && (v - v.round()).abs() <= 1e-9 * v.abs().max(1.0) {
-        format!("{:.0}", v.round())
-    } else {
-        ((v * 1e6).round() / 1e6).to_string()
-    }
+fn triple(c: RGBColor) -> (u8, u8, u8) {
+    (c.0, c.1, c.2)
 }
 
 fn rgb(c: (u8, u8, u8)) -> RGBColor {
@@ -93,8 +101,38 @@ pub struct StabilityPlot {
     pub layers: Vec<Layer>,
     /// Vertical dashed marker lines at φ (rad/s) with a label at the top.
     pub markers: Vec<(f64, String)>,
-    /// Polylines drawn over the chart in (φ, β), e.g. tracked region boundaries.
+    /// Polylines drawn over the chart in (φ, β), e.g. tracked region boundaries (1 px,
+    /// clipped to the plotting area; named ones get a legend entry).
     pub lines: Vec<super::plot::Series>,
+    /// Shaded φ spans (operating bands, clearances) with a legend entry each.
+    pub spans: Vec<Span>,
+    /// Horizontal lines at a β (the operating level β_op) with a legend entry each.
+    pub levels: Vec<(f64, String)>,
+    /// Regions drawn at their true width (filled polygons in (φ, β), 1 px outline),
+    /// labelled like the paper's figures where the label does not collide.
+    pub regions: Vec<RegionShape>,
+}
+
+/// A shaded span of φ over the whole β range.
+#[derive(Debug, Clone)]
+pub struct Span {
+    /// Lower and upper φ (rad/s).
+    pub lo: f64,
+    /// See `lo`.
+    pub hi: f64,
+    /// Legend text (entries with equal text share one legend line).
+    pub name: String,
+    /// RGB colour (drawn translucent, under the unstable cells).
+    pub color: (u8, u8, u8),
+}
+
+/// An instability region drawn at its true width.
+#[derive(Debug, Clone)]
+pub struct RegionShape {
+    /// The label drawn at its top (e.g. `f1+b1`, `2 n1`); empty for none.
+    pub label: String,
+    /// The closed outline in (φ rad/s, β): the tip, then one edge up and the other down.
+    pub outline: Vec<(f64, f64)>,
 }
 
 /// Growth-rate map (Fig. 12): unstable cells coloured by growth rate (viridis), stable
@@ -130,7 +168,33 @@ fn failed_label(n: usize) -> String {
 impl StabilityPlot {
     /// A plot of `layers` (first opaque, later ones semi-transparent), no markers.
     pub fn new(title: &str, layers: Vec<Layer>) -> StabilityPlot {
-        StabilityPlot { title: title.to_string(), layers, markers: Vec::new(), lines: Vec::new() }
+        StabilityPlot {
+            title: title.to_string(),
+            layers,
+            markers: Vec::new(),
+            lines: Vec::new(),
+            spans: Vec::new(),
+            levels: Vec::new(),
+            regions: Vec::new(),
+        }
+    }
+
+    /// With shaded φ spans (operating bands, clearances), each in the legend.
+    pub fn with_spans(mut self, spans: Vec<Span>) -> StabilityPlot {
+        self.spans = spans;
+        self
+    }
+
+    /// With horizontal lines at β (e.g. β_op), each in the legend.
+    pub fn with_levels(mut self, levels: Vec<(f64, String)>) -> StabilityPlot {
+        self.levels = levels;
+        self
+    }
+
+    /// With regions drawn at their true width and labelled.
+    pub fn with_regions(mut self, regions: Vec<RegionShape>) -> StabilityPlot {
+        self.regions = regions;
+        self
     }
 
     /// With polylines in (φ, β) drawn over the chart (e.g. tracked region boundaries).
@@ -155,34 +219,62 @@ impl StabilityPlot {
         }
     }
 
-    fn legend(&self) -> Vec<(Swatch, String)> {
-        let mut entries: Vec<(Swatch, String)> = self
+    fn legend(&self) -> Vec<Entry> {
+        let mut entries: Vec<Entry> = self
             .layers
             .iter()
             .enumerate()
             .filter(|(_, l)| !l.name.is_empty())
-            .map(|(i, l)| (Swatch::Fill(self.shown_color(i)), l.name.clone()))
+            .map(|(i, l)| Entry { key: Key::Fill(triple(self.shown_color(i))), text: format!("unstable: {}", l.name) })
             .collect();
         if let [a, b] = &self.layers[..] {
-            entries.push((Swatch::Fill(blend(b.color, a.color, OVERLAY_ALPHA)), "both".to_string()));
+            entries.push(Entry {
+                key: Key::Fill(triple(blend(b.color, a.color, OVERLAY_ALPHA))),
+                text: "unstable: both".into(),
+            });
         }
         if !self.layers.is_empty() {
-            entries.push((Swatch::Fill(WHITE), "stable".to_string()));
+            entries.push(Entry { key: Key::Fill((255, 255, 255)), text: "stable".into() });
+        }
+        if !self.regions.is_empty() {
+            entries.push(Entry {
+                key: Key::Outlined(REGION_FILL, REGION_LINE),
+                text: "tracked region (true width)".into(),
+            });
+        }
+        for s in &self.spans {
+            if !entries.iter().any(|e| e.text == s.name) {
+                entries.push(Entry { key: Key::Outlined(span_fill(s.color), s.color), text: s.name.clone() });
+            }
+        }
+        for (_, name) in &self.levels {
+            entries.push(Entry { key: Key::Line(LEVEL_COLOR, Dash::Dashed, Marker::None), text: name.clone() });
+        }
+        for l in self.lines.iter().filter(|l| !l.name.is_empty()) {
+            let dash = if l.dashed { Dash::Dashed } else { Dash::Solid };
+            entries.push(Entry { key: Key::Line(l.color, dash, Marker::None), text: l.name.clone() });
+        }
+        if self.markers.iter().any(|(_, t)| !t.is_empty()) {
+            entries.push(Entry {
+                key: Key::Line(triple(MARKER_COLOR), Dash::Dashed, Marker::None),
+                text: "φ markers (labelled at the top)".into(),
+            });
         }
         let failed: usize = self.layers.iter().map(|l| failed_count(&l.chart)).sum();
         if failed > 0 {
-            entries.push((Swatch::Cross, failed_label(failed)));
+            entries.push(Entry { key: Key::Cross, text: failed_label(failed) });
         }
         entries
     }
 
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
-        let area = root.titled(&self.title, ("sans-serif", 24)).map_err(err)?;
-        let (legend_area, plot_area) = area.split_vertically(34);
-        draw_legend(&legend_area, &self.legend())?;
+        let area = style::titled(&root, &self.title)?;
+        let entries = self.legend();
+        let (plot_area, legend_area) = with_legend_column(area, &entries)?;
         let (x, y) = ranges(self.layers.iter().map(|l| &l.chart));
         let mut plot = axes(&plot_area, x, y, 25)?;
+        draw_spans(&mut plot, &self.spans)?;
         for (i, layer) in self.layers.iter().enumerate() {
             let alpha = if i == 0 { 1.0 } else { OVERLAY_ALPHA };
             let color = rgb(layer.color).mix(alpha);
@@ -192,23 +284,51 @@ impl StabilityPlot {
         for layer in &self.layers {
             draw_failed(&mut plot, &layer.chart)?;
         }
-        draw_markers(&mut plot, &self.markers)?;
+        draw_regions(&mut plot, &self.regions)?;
         for line in &self.lines {
-            let style = ShapeStyle::from(&rgb(line.color)).stroke_width(2);
-            plot.draw_series(LineSeries::new(line.points.iter().copied(), style)).map_err(err)?;
+            let c = Curve {
+                dash: if line.dashed { Dash::Dashed } else { Dash::Solid },
+                width: style::THIN,
+                ..Curve::new(line.name.clone(), line.color, Vec::new())
+            };
+            let pieces = style::clip_polyline(&line.points, (x.0, x.1), (y.0, y.1));
+            draw_pieces(&mut plot, &c, pieces)?;
         }
+        for (beta, _) in &self.levels {
+            let c = Curve { dash: Dash::Dashed, width: style::THIN, ..Curve::new("", LEVEL_COLOR, Vec::new()) };
+            let pieces = style::clip_polyline(&[(x.0, *beta), (x.1, *beta)], (x.0, x.1), (y.0, y.1));
+            draw_pieces(&mut plot, &c, pieces)?;
+        }
+        let mut occupied = style::Occupied::default();
+        draw_markers(&mut plot, &self.markers, &mut occupied)?;
+        draw_region_labels(&mut plot, &self.regions, &mut occupied)?;
         draw_frame(&mut plot)?;
+        let plot_box = area_box(plot.plotting_area());
+        let mut legend_box = None;
+        if let Some(l) = legend_area {
+            let off = area_box(&l)[0];
+            legend_box = style::draw_legend_panel(&l, &entries, (plot_box[0].1 - off.1).max(0))?
+                .map(|b| [(b[0].0 + off.0, b[0].1 + off.1), (b[1].0 + off.0, b[1].1 + off.1)]);
+        }
+        layout.set(Layout { plot: plot_box, legend: legend_box });
         root.present().map_err(err)
+    }
+
+    /// Where the plotting area and the legend land (pixels), from a rendering.
+    pub fn layout(&self) -> Result<Layout, PlotError> {
+        let cell = Cell::default();
+        render_svg(|root| self.draw(root, &cell))?;
+        Ok(cell.get())
     }
 
     /// Render as SVG text.
     pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root))
+        render_svg(|root| self.draw(root, &Cell::default()))
     }
 
     /// Render as PNG bytes.
     pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root))
+        render_png(|root| self.draw(root, &Cell::default()))
     }
 }
 
