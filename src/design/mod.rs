@@ -23,6 +23,7 @@ pub mod optimise;
 pub mod qp;
 pub mod spec;
 pub mod verify;
+pub mod vibration;
 
 pub use optimise::{run, DesignOutcome, Status};
 pub use spec::DesignSpec;
@@ -53,6 +54,10 @@ pub enum DesignError {
     /// The optimiser failed.
     #[error("the Nelder-Mead optimiser failed: {0}")]
     Optimiser(String),
+    /// The min-peak-response objective or a peak constraint without a response to judge
+    /// (a spec built in code; the file layer asks for `[design.response]`).
+    #[error("the design judges an unbalance response but has none: add [design.response] (node, speeds)")]
+    NoResponse,
     /// The convex step failed to solve.
     #[error("the convex tuning step failed: {0}")]
     Qp(String),

@@ -198,6 +198,20 @@ pub enum ProblemErrorKind {
     /// The shorthand and the general form given for one topic.
     #[error("give either the shorthand `{0}` or the general form `{1}`, not both")]
     MixedForms(String, String),
+    /// A design constraint on a whirl tag the model does not have at the lowest operating
+    /// speed.
+    #[error(
+        "the model has no whirl mode `{mode}` at speed {speed} rad/s; its lowest modes there are {}",
+        crate::analysis::tag_list(available)
+    )]
+    UnknownMode {
+        /// The tag given.
+        mode: String,
+        /// The speed the tags are taken at (rad/s).
+        speed: f64,
+        /// The model's tags there, forward then backward, lowest first.
+        available: Box<[String]>,
+    },
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,
