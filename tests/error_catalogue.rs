@@ -68,6 +68,7 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::BadName { .. } => "BadName",
         K::MixedForms(..) => "MixedForms",
         K::Override { .. } => "Override",
+        K::UnknownMode { .. } => "UnknownMode",
     }
 }
 
@@ -101,6 +102,7 @@ fn design_kind(e: &DesignError) -> &'static str {
         DesignError::Analysis(a) => analysis_kind(a),
         DesignError::Optimiser(_) => "Optimiser",
         DesignError::Qp(_) => "Qp",
+        DesignError::NoResponse => "NoResponse",
         DesignError::Spec { error, .. } => problem_kind(&ProblemErrorKind::from(error)),
     }
 }
@@ -174,6 +176,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::UnknownName { what: rotorshunt::problem::NameOf::Ring, name: s(), known: Box::new([]) },
         ProblemErrorKind::BadName { name: s(), reason: s() },
         ProblemErrorKind::MixedForms(s(), s()),
+        ProblemErrorKind::UnknownMode { mode: s(), speed: 0.0, available: Box::new([]) },
         ProblemErrorKind::Override { text: s(), reason: s() },
     ];
     let analysis = [
@@ -234,6 +237,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
+        Error::Design(DesignError::NoResponse),
     ];
     let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
     names.extend(analysis.iter().map(analysis_kind));

@@ -2,15 +2,22 @@
 //! min-peak-response objective), the constraints any objective may carry, and the classic
 //! single-mode RL shunt tuning that seeds the optimiser.
 //!
-//! **Classic tuning.** Hagood & von Flotow, "Damping of structural vibrations with
-//! piezoelectric materials and passive electrical networks", J. Sound Vib. 146(2),
-//! 243–268 (1991), give for a series R–L shunt on a piezoelectric element with effective
-//! coupling K² = (ω_D² − ω_E²)/ω_E² (ω_D, ω_E the mode's open- and short-circuit
-//! frequencies) the equal-peak optimum of the mechanical transfer function
+//! **Classic tuning.** For a series R–L shunt on a piezoelectric element whose mode has
+//! the effective coupling K² = (ω_D² − ω_E²)/ω_E² (ω_D, ω_E the mode's open- and
+//! short-circuit frequencies), the equal-peak (fixed-point, Den Hartog type) optimum of
+//! the mechanical response is
 //!
 //! ```text
-//! δ_opt = ω_e/ω_E = √(1 + K²)   (so ω_e = ω_D),      r_opt = R·C·ω_E = √2·K/(1 + K²),
+//! δ_opt = ω_e/ω_E = √(1 + K²)   (so ω_e = ω_D),      r_opt = R·C·ω_E = √(3/2)·K,
 //! ```
+//!
+//! the tuning of Hagood & von Flotow, "Damping of structural vibrations with
+//! piezoelectric materials and passive electrical networks", J. Sound Vib. 146(2),
+//! 243–268 (1991), and the resistance of Thomas, Ducarne & Deü, "Performance of
+//! piezoelectric shunts for vibration reduction", Smart Mater. Struct. 21, 015008 (2012)
+//! (their electrical damping ratio ξ_e = √(3/8)·k, r = 2ξ_e). Hagood & von Flotow's own
+//! resistance √2·K/(1 + K²) lies 15 % above the min–max optimum of their two-mode model
+//! (`docs/decisions.md`, "Classic RL tuning"), so the fixed-point value is used.
 //!
 //! with ω_e = 1/√(L·C) the electrical frequency of the loop and C its capacitance. In this
 //! model a branch is the loop C_p^S – C_f – L – R (Eq. A8: charge mass γL, damping γR,
@@ -23,7 +30,7 @@
 //! C_p^S·C_f/(C_p^S + C_f) and the free one of Eq. 4): at a trial L with R = 0 the two
 //! coupled forward frequencies ω₁, ω₂ nearest ω_D obey ω₁²ω₂² = ω_e²ω_E² in the two-mode
 //! model, which gives ω_e and C = 1/(L·ω_e²). Then L_opt = 1/(ω_D²·C) and
-//! R_opt = √2·K/((1 + K²)·C·ω_E); Eq. (4) (with C_p^T) converts L to the branch's
+//! R_opt = √(3/2)·K/(C·ω_E); Eq. (4) (with C_p^T) converts L to the branch's
 //! `tuning_frequency`.
 
 use super::evaluate::{intrusions, operating_bands, problem_at, Candidate};
@@ -333,8 +340,7 @@ pub fn classic_tuning(base: &Problem, spec: &DesignSpec) -> Result<Option<Classi
         _ => clamped_c,
     };
     let inductance = 1.0 / (omega_open * omega_open * capacitance);
-    let k = coupling.sqrt();
-    let resistance = std::f64::consts::SQRT_2 * k / ((1.0 + coupling) * capacitance * omega_short);
+    let resistance = (1.5 * coupling).sqrt() / (capacitance * omega_short);
     let tuning_frequency =
         crate::model::Branch { c_f: b.c_f, inductance, resistance: 0.0 }.tuning_frequency(ring.ring.cp_t);
     let mut clamped = false;

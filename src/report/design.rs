@@ -418,7 +418,7 @@ fn peak_section(s: &mut String, o: &DesignOutcome) {
     if let Some(c) = &f.classic {
         let _ = writeln!(
             s,
-            "\nClassic single-mode tuning (Hagood & von Flotow 1991, series R–L shunt, equal-peak optimum) of {} on branch {}: ω_open = {:.3} rad/s (branch removed), ω_short = {:.3} rad/s (branch with L = R = 0), K² = (ω_open² − ω_short²)/ω_short² = {:.5}; loop capacitance C = {:.5e} F; L_opt = 1/(ω_open²·C) = {:.5} H (tuning frequency by Eq. 4: {:.3} rad/s), R_opt = √2·K/((1 + K²)·C·ω_short) = {:.4} Ω{}.",
+            "\nClassic single-mode tuning of {} on branch {} (series R–L shunt, equal-peak optimum: ω_e = ω_open, Hagood & von Flotow 1991; r = √(3/2)·K, Thomas, Ducarne & Deü 2012): ω_open = {:.3} rad/s (branch removed), ω_short = {:.3} rad/s (branch with L = R = 0), K² = (ω_open² − ω_short²)/ω_short² = {:.5}; loop capacitance C = {:.5e} F; L_opt = 1/(ω_open²·C) = {:.5} H (tuning frequency by Eq. 4: {:.3} rad/s), R_opt = √(3/2)·K/(C·ω_short) = {:.4} Ω{}.",
             c.mode,
             c.branch + 1,
             c.omega_open,

@@ -198,13 +198,16 @@ impl CostFunction for PeakCost<'_, '_> {
     }
 }
 
+/// One start's report, history and best design.
+type PeakRun = (StartReport, Vec<HistoryPoint>, Option<Judged>);
+
 /// Nelder–Mead from each of `starts` in parallel: their reports, histories and best points.
 fn nelder_mead(
     ctx: &Context<'_>,
     starts: &[(String, Vec<f64>)],
     constrained: bool,
     first: usize,
-) -> Result<Vec<(StartReport, Vec<HistoryPoint>, Option<Judged>)>, DesignError> {
+) -> Result<Vec<PeakRun>, DesignError> {
     let n = ctx.spec.variables.len();
     starts
         .par_iter()
