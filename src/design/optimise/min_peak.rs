@@ -41,7 +41,11 @@ const MARGIN: f64 = 1e-3;
 /// One design judged: its scaled point, peak and constraints.
 #[derive(Debug, Clone)]
 struct Judged {
+    /// Scaled point, in [0, 1].
     u: Vec<f64>,
+    /// Its values (SI units): `u`'s, or the reference design's own where they lie
+    /// outside the bounds.
+    values: Vec<f64>,
     peak: PeakValue,
     checks: Vec<ConstraintCheck>,
 }
@@ -124,19 +128,24 @@ pub struct PeakFindings {
 impl Context<'_> {
     /// The peak and (when `constrained`) the constraints of the design at `u` (scaled).
     fn judge(&self, u: &[f64], constrained: bool) -> Result<Judged, DesignError> {
+        self.judge_values(u, &self.values(u), constrained)
+    }
+
+    /// [`Context::judge`] of the design with `values` (SI units) at the scaled point `u`.
+    fn judge_values(&self, u: &[f64], values: &[f64], constrained: bool) -> Result<Judged, DesignError> {
         self.candidates.fetch_add(1, Ordering::Relaxed);
         self.progress.advance(1);
-        let r = self.judge_quietly(u, constrained);
+        let r = self.judge_quietly(u, values, constrained);
         if let Err(e) = &r {
             self.note_failure(e);
         }
         r
     }
 
-    fn judge_quietly(&self, u: &[f64], constrained: bool) -> Result<Judged, DesignError> {
+    fn judge_quietly(&self, u: &[f64], values: &[f64], constrained: bool) -> Result<Judged, DesignError> {
         let spec = self.spec;
         let response = spec.response().ok_or(DesignError::NoResponse)?;
-        let (problem, rotor) = rotor_at(self.base, spec, &self.values(u))?;
+        let (problem, rotor) = rotor_at(self.base, spec, values)?;
         let peak = peak_of(&rotor, response)?;
         let checks = if constrained && !spec.constraints.is_empty() {
             let c = Candidate::from_parts(problem, rotor, spec, spec.constraints.needs_stability())?;
@@ -144,11 +153,11 @@ impl Context<'_> {
         } else {
             Vec::new()
         };
-        Ok(Judged { u: u.iter().map(|x| x.clamp(0.0, 1.0)).collect(), peak, checks })
+        Ok(Judged { u: u.iter().map(|x| x.clamp(0.0, 1.0)).collect(), values: values.to_vec(), peak, checks })
     }
 
     fn report(&self, j: &Judged) -> JudgedDesign {
-        JudgedDesign { values: self.values(&j.u), peak: j.peak, constraints: j.checks.clone(), feasible: j.feasible() }
+        JudgedDesign { values: j.values.clone(), peak: j.peak, constraints: j.checks.clone(), feasible: j.feasible() }
     }
 }
 
@@ -238,11 +247,10 @@ fn nelder_mead(
                 Some(c) => (c.history.borrow().clone(), c.best.borrow().clone()),
                 None => (Vec::new(), None),
             };
-            let best_u = best.as_ref().map_or_else(|| u0.clone(), |b| b.u.clone());
             let report = StartReport {
                 origin: format!("{}{origin}", if constrained { "constrained, " } else { "" }),
                 initial: ctx.values(u0),
-                best: ctx.values(&best_u),
+                best: best.as_ref().map_or_else(|| ctx.values(u0), |b| b.values.clone()),
                 objective: best.as_ref().map_or(f64::NAN, |b| b.peak.amplitude),
                 evaluations: history.len(),
                 iterations: state.get_iter(),
@@ -373,7 +381,8 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         first.push(("classic tuning".to_string(), to_unit(spec, &c.values)));
     }
     let constrained = !spec.constraints.is_empty();
-    let before = ctx.judge(&reference, true)?;
+    // The reference at its own values (they may lie outside the bounds).
+    let before = ctx.judge_values(&reference, &out.before, true)?;
     let classic_design = match &classic {
         Some(c) => Some(ctx.judge(&to_unit(spec, &c.values), true)?),
         None => None,
@@ -426,7 +435,7 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         best = before.clone();
         Status::Unchanged
     };
-    out.after = ctx.values(&best.u);
+    out.after = best.values.clone();
     let price = constrained.then(|| {
         let metres = best.peak.amplitude - free.peak.amplitude;
         Price { metres, percent: 100.0 * metres / free.peak.amplitude }
