@@ -121,7 +121,8 @@ fn constraints(
         let key = "design.constraints.min_band_width";
         let width = positive(key, w)?;
         let Some(phi_op) = phi_op else {
-            return Err((key.into(), K::Schema("a band-width constraint needs `design.phi_op` (rad/s)".into())));
+            let message = "the band-width constraint `design.constraints.min_band_width` needs `phi_op` (rad/s)";
+            return Err(("design.phi_op".into(), K::Schema(message.into())));
         };
         out.min_band_width = Some(BandWidth { phi_op, width });
     }
@@ -232,9 +233,10 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         }
         ObjectiveKind::MinPeakResponse => {
             if phi_op.is_some() && !width_constraint {
+                // `phi_op` is the band-width constraint's: the missing key is that constraint.
                 return Err((
-                    "design.phi_op".into(),
-                    K::Schema("`phi_op` of min-peak-response is the band-width constraint's: add `design.constraints.min_band_width`".into()),
+                    "design.constraints.min_band_width".into(),
+                    K::Schema("`design.phi_op` of min-peak-response belongs to a band-width constraint: add `min_band_width` (rad/s) or drop `phi_op`".into()),
                 ));
             }
             let Some(response) = response.clone() else {
