@@ -69,6 +69,7 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::MixedForms(..) => "MixedForms",
         K::Override { .. } => "Override",
         K::ClampedCapacitance { .. } => "ClampedCapacitance",
+        K::UnknownMode { .. } => "UnknownMode",
     }
 }
 
@@ -102,6 +103,7 @@ fn design_kind(e: &DesignError) -> &'static str {
         DesignError::Analysis(a) => analysis_kind(a),
         DesignError::Optimiser(_) => "Optimiser",
         DesignError::Qp(_) => "Qp",
+        DesignError::NoResponse => "NoResponse",
         DesignError::Spec { error, .. } => problem_kind(&ProblemErrorKind::from(error)),
     }
 }
@@ -175,6 +177,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::UnknownName { what: rotorshunt::problem::NameOf::Ring, name: s(), known: Box::new([]) },
         ProblemErrorKind::BadName { name: s(), reason: s() },
         ProblemErrorKind::MixedForms(s(), s()),
+        ProblemErrorKind::UnknownMode { mode: s(), speed: 0.0, available: Box::new([]) },
         ProblemErrorKind::Override { text: s(), reason: s() },
         ProblemErrorKind::ClampedCapacitance { cp_s: 0.0, cp_t: 0.0, angle_deg: 0.0, from_k_eq2: None },
     ];
@@ -236,6 +239,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
+        Error::Design(DesignError::NoResponse),
     ];
     let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
     names.extend(analysis.iter().map(analysis_kind));

@@ -63,6 +63,8 @@ pub enum Quantity {
     Count,
     /// The `--max-cost` factor (−).
     CostFactor,
+    /// A design constraint's limit, in its own unit (m, rad/s or −).
+    Limit,
 }
 
 /// The rule a value breaks.

@@ -171,7 +171,7 @@ pub enum AnalysisError {
 
 /// The first [`TAGS_LISTED`] tags of each whirl direction of `tags` (forward tags start
 /// with `f`, backward with `b`), and how many more there are.
-fn tag_list(tags: &[String]) -> String {
+pub fn tag_list(tags: &[String]) -> String {
     let mut shown = Vec::new();
     let mut more = 0;
     for prefix in ["f", "b"] {
@@ -213,5 +213,6 @@ fn quantity_name(q: limits::Quantity) -> &'static str {
         Q::Speed => "speed",
         Q::Count => "count",
         Q::CostFactor => "cost factor",
+        Q::Limit => "limit",
     }
 }

@@ -20,6 +20,7 @@ use crate::report::campbell::campbell_plot;
 use crate::report::chart::{Layer, StabilityPlot};
 use crate::report::design::{markdown, BranchRow, DesignReport};
 use crate::report::plot::{LinePlot, Series};
+use crate::report::unbalance::{BodeLayer, BodePlot};
 use crate::Error;
 use std::path::Path;
 
@@ -58,13 +59,22 @@ fn chart_window(spec: &DesignSpec) -> (f64, f64) {
             let p = spec.objective.phi_op().unwrap_or(spec.phi_range.0);
             (p * 0.5, p * 1.5)
         }
-        Objective::ClearBands { .. } => {
-            let lo = spec.objective.bands().iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
-            let hi = spec.objective.bands().iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
-            (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
-        }
+        Objective::ClearBands { .. } => band_window(spec.kept_clear()),
+        // The bands kept clear, else φ_op's, else the whole range.
+        Objective::MinPeakResponse { .. } => match spec.phi_op() {
+            _ if !spec.kept_clear().is_empty() => band_window(spec.kept_clear()),
+            Some(p) => (p * 0.5, p * 1.5),
+            None => spec.phi_range,
+        },
     };
     (lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
+}
+
+/// The window around operating bands: their widened span and a quarter of it each side.
+fn band_window(bands: &[crate::design::spec::Band]) -> (f64, f64) {
+    let lo = bands.iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
+    let hi = bands.iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
+    (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
 }
 
 /// The before/after charts at each speed; a step of `progress` per φ row and per file.
@@ -80,10 +90,10 @@ fn charts(
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
     let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
     let mut markers = Vec::new();
-    if let Some(p) = spec.objective.phi_op() {
+    if let Some(p) = spec.phi_op() {
         markers.push((p, "φ_op".to_string()));
     }
-    for (i, b) in spec.objective.bands().iter().enumerate() {
+    for (i, b) in spec.kept_clear().iter().enumerate() {
         markers.push((b.lo, format!("band {} lo", i + 1)));
         markers.push((b.hi, format!("band {} hi", i + 1)));
     }
@@ -129,6 +139,7 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
                         "from the best global point".into()
                     }
                 }
+                Objective::MinPeakResponse { .. } => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
             },
             color: colors[k % colors.len()],
             dashed: false,
@@ -144,10 +155,12 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
         x_label: match o.spec.objective {
             Objective::WidestStableBand { .. } => "candidate evaluations of the start".into(),
             Objective::ClearBands { .. } => "convex step".into(),
+            Objective::MinPeakResponse { .. } => "candidate evaluations of the start".into(),
         },
         y_label: match o.spec.objective {
             Objective::WidestStableBand { .. } => "smallest band width over the speeds (rad/s)".into(),
             Objective::ClearBands { .. } => "total intrusion into the bands (rad/s)".into(),
+            Objective::MinPeakResponse { .. } => "peak response, with the constraints' penalty (m)".into(),
         },
         x_range: (0.0, x1),
         y_range: (y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0)),
@@ -227,10 +240,15 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
                 let phi_op = spec.objective.phi_op().unwrap_or(range.lo);
                 cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
             }
-            Objective::ClearBands { .. } => {
+            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
                 let windows: Vec<Interval> =
-                    spec.objective.bands().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
-                cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level)
+                    spec.kept_clear().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
+                let mut work = cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level);
+                if let Some(b) = spec.constraints.min_band_width {
+                    let band = cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * b.phi_op).max(range.lo), spec.level);
+                    work = work.then(band);
+                }
+                work
             }
         };
         per_candidate = per_candidate.then(work);
@@ -243,8 +261,13 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
                 let (lo, hi) = chart_window(spec);
                 vec![Interval::new(lo, hi)]
             }
-            Objective::ClearBands { .. } => {
-                spec.objective.bands().iter().map(|b| b.guarded().clipped(&range)).collect()
+            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
+                let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded().clipped(&range)).collect();
+                if spec.constraints.min_band_width.is_some() {
+                    let (lo, hi) = chart_window(spec);
+                    w.push(Interval::new(lo, hi));
+                }
+                w
             }
         };
         let mut grids = Estimate::zero();
@@ -312,6 +335,9 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         vec!["report.md".into(), "report.html".into(), "report.json".into(), design_file_name(outcome.status).into()];
     files.extend(chart_files);
     files.extend(["campbell.svg", "campbell.png", "history.svg", "history.png"].iter().map(|s| s.to_string()));
+    if outcome.vibration.is_some() {
+        files.extend(["bode.svg", "bode.png"].iter().map(|s| s.to_string()));
+    }
     let chart_rows = 2 * spec.speeds.len() * CHART_GRID.0;
     progress.phase("report", (chart_rows + CAMPBELL_SPEEDS + files.len()) as u64);
     let report = DesignReport {
@@ -340,6 +366,18 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     progress.advance(1);
     dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
     progress.advance(1);
+    if let Some(v) = &outcome.vibration {
+        let layers = vec![
+            BodeLayer { name: "reference circuit".into(), dashed: false, result: &v.before },
+            BodeLayer { name: "tuned circuit".into(), dashed: true, result: &v.after },
+        ];
+        let plot =
+            BodePlot { title: format!("Unbalance response before and after the design: {}", title(problem)), layers };
+        dir.write("bode.svg", plot.svg().map_err(|e| dir.error("bode.svg", e))?.as_bytes())?;
+        progress.advance(1);
+        dir.write("bode.png", &plot.png().map_err(|e| dir.error("bode.png", e))?)?;
+        progress.advance(1);
+    }
     let page = crate::report::html::page(&report.title, &markdown(&report), dir);
     dir.write("report.html", page.as_bytes())?;
     progress.advance(1);
@@ -396,6 +434,27 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
                 }
             }
         }
+        Objective::MinPeakResponse { .. } => {}
+    }
+    if let Some(f) = o.peak_findings() {
+        let p = |d: &crate::design::optimise::JudgedDesign| {
+            format!("{:.4e} m at {:.2} rad/s", d.peak.amplitude, d.peak.speed)
+        };
+        s += &format!(
+            "\npeak response: before {}; after {}; unconstrained optimum {}",
+            p(&f.before),
+            p(&f.after),
+            p(&f.unconstrained)
+        );
+        if let Some(c) = &f.classic_design {
+            s += &format!("; classic tuning {}", p(c));
+        }
+        if let Some(price) = f.price {
+            s += &format!("\nprice of the constraints: {:+.4e} m ({:+.2} %)", price.metres, price.percent);
+        }
+    }
+    for c in &o.constraints_after {
+        s += &format!("\nconstraint {}: {:.6e} ({})", c.name, c.value, if c.met { "met" } else { "NOT met" });
     }
     s += &format!("\nverification: {}", if o.verified { "passed" } else { "FAILED" });
     for d in &o.after_speeds {

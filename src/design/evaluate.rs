@@ -90,6 +90,26 @@ impl Candidate {
         Ok(Candidate { problem, rotor, systems })
     }
 
+    /// A candidate from a problem and its rotor already built; the reduced systems at the
+    /// spec's speeds only when `stability` (a design judged on the response alone needs
+    /// none).
+    pub fn from_parts(
+        problem: Problem,
+        rotor: Rotor,
+        spec: &DesignSpec,
+        stability: bool,
+    ) -> Result<Candidate, DesignError> {
+        let systems = if stability {
+            spec.speeds
+                .iter()
+                .map(|&w| Ok((w, FloquetSystem::new(&rotor, &problem.settings, w)?)))
+                .collect::<Result<Vec<_>, DesignError>>()?
+        } else {
+            Vec::new()
+        };
+        Ok(Candidate { problem, rotor, systems })
+    }
+
     /// The declared criterion of the candidate (that of the problem file).
     pub fn criterion(&self) -> Criterion {
         Criterion::of(&self.problem.settings)
@@ -239,7 +259,7 @@ pub fn intrusions(
         let seeds = c.seeds(k, spec)?;
         let probe = Probe::new(fs, s);
         let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
-        for (i, band) in spec.objective.bands().iter().enumerate() {
+        for (i, band) in spec.kept_clear().iter().enumerate() {
             let near = neighbourhood(band).clipped(&spec.range());
             for t in level.scan(&seeds, near) {
                 let point = t.seeds.first().map_or(t.inside, |(_, p)| *p);

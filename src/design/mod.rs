@@ -1,7 +1,7 @@
 //! Shunt design: choose C_f, L (or the tuning frequency of Eq. 4) and R of the branches so
 //! that instability regions stay out of the operating bands.
 //!
-//! Two objectives (see [`spec::Objective`]):
+//! Three objectives (see [`spec::Objective`]):
 //! - **widest stable band**: an outer Nelder–Mead (argmin) over the variables scaled to
 //!   [0, 1] (log for C_f, L, ω), maximising the smallest width over the speeds of the
 //!   stable band at β_op containing φ_op, by the same function as `rotorshunt band`
@@ -15,6 +15,14 @@
 //!   change that moves each one out (clarabel QP, [`qp`]) inside a trust region and the
 //!   bounds; the step is accepted when the total intrusion decreases. A problem with no
 //!   feasible step is reported infeasible with the violated bands.
+//! - **least peak response**: the largest unbalance amplitude at a node over a speed
+//!   range ([`vibration`]); Nelder–Mead without constraints (the design that damps best,
+//!   always reported), then with the constraints ([`spec::Constraints`]: bands kept
+//!   clear, a least band width around φ_op, a peak limit, damping floors) as an exact
+//!   penalty, then clarabel steps on the constraints linearised by differences. One
+//!   start is the classic single-mode R–L tuning ([`vibration::classic_tuning`]).
+//!
+//! Constraints are judged afresh on the tuned design, whatever the objective.
 //!
 //! Every result is checked independently on a 1 rad/s grid at β_op.
 
@@ -23,6 +31,7 @@ pub mod optimise;
 pub mod qp;
 pub mod spec;
 pub mod verify;
+pub mod vibration;
 
 pub use optimise::{run, DesignOutcome, Status};
 pub use spec::DesignSpec;
@@ -53,6 +62,10 @@ pub enum DesignError {
     /// The optimiser failed.
     #[error("the Nelder-Mead optimiser failed: {0}")]
     Optimiser(String),
+    /// The min-peak-response objective or a peak constraint without a response to judge
+    /// (a spec built in code; the file layer asks for `[design.response]`).
+    #[error("the design judges an unbalance response but has none: add [design.response] (node, speeds)")]
+    NoResponse,
     /// The convex step failed to solve.
     #[error("the convex tuning step failed: {0}")]
     Qp(String),

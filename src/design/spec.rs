@@ -13,6 +13,8 @@ pub enum ObjectiveKind {
     WidestStableBand,
     /// `clear-bands`: see [`Objective::ClearBands`].
     ClearBands,
+    /// `min-peak-response`: see [`Objective::MinPeakResponse`].
+    MinPeakResponse,
 }
 
 /// What the optimiser is asked to do, with the data the objective needs.
@@ -30,6 +32,12 @@ pub enum Objective {
         /// The operating bands (at least one).
         bands: Vec<Band>,
     },
+    /// Minimise the largest unbalance amplitude (m) at a shaft node over a speed range
+    /// (the steady-state response of [`crate::analysis::unbalance`], peaks refined).
+    MinPeakResponse {
+        /// Where and over which speeds the response is minimised.
+        response: Response,
+    },
 }
 
 impl Objective {
@@ -38,6 +46,7 @@ impl Objective {
         match self {
             Objective::WidestStableBand { .. } => ObjectiveKind::WidestStableBand,
             Objective::ClearBands { .. } => ObjectiveKind::ClearBands,
+            Objective::MinPeakResponse { .. } => ObjectiveKind::MinPeakResponse,
         }
     }
 
@@ -45,16 +54,87 @@ impl Objective {
     pub fn phi_op(&self) -> Option<f64> {
         match self {
             Objective::WidestStableBand { phi_op } => Some(*phi_op),
-            Objective::ClearBands { .. } => None,
+            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => None,
         }
     }
 
     /// The operating bands of the clear-bands objective (empty for the others).
     pub fn bands(&self) -> &[Band] {
         match self {
-            Objective::WidestStableBand { .. } => &[],
+            Objective::WidestStableBand { .. } | Objective::MinPeakResponse { .. } => &[],
             Objective::ClearBands { bands } => bands,
         }
+    }
+}
+
+/// Where and over which speeds an unbalance response is judged (`[design.response]`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Response {
+    /// The shaft node whose amplitude counts (0 to the number of shaft elements).
+    pub node: usize,
+    /// The speed range [lo, hi] (rad/s), lo < hi.
+    pub speeds: Interval,
+    /// Grid speeds over the range, ends included (≥ 3); the peaks between grid speeds are
+    /// refined on the analytic response.
+    pub points: usize,
+}
+
+impl Response {
+    /// The speed grid (rad/s): `points` equally spaced speeds from lo to hi.
+    pub fn grid(&self) -> Vec<f64> {
+        let n = self.points.max(2);
+        (0..n).map(|i| self.speeds.lo + (self.speeds.hi - self.speeds.lo) * i as f64 / (n - 1) as f64).collect()
+    }
+}
+
+/// A stable band around φ_op at β_op at least `width` wide at every operating speed.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BandWidth {
+    /// φ_op (rad/s).
+    pub phi_op: f64,
+    /// The least width (rad/s), > 0.
+    pub width: f64,
+}
+
+/// A damping-ratio floor: ζ = −Re λ/|λ| of the whirl tagged `mode` (as `rotorshunt modes`
+/// and `damping` tag it at the first operating speed) at least `min` at every operating
+/// speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DampingFloor {
+    /// The whirl's tag, e.g. `f1`, `br1`.
+    pub mode: String,
+    /// The least ζ (−), in [0, 1).
+    pub min: f64,
+}
+
+/// Constraints a design of any objective must meet (`[design.constraints]`, and
+/// `[[design.bands]]` for the objectives other than clear-bands).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Constraints {
+    /// Operating bands kept clear at β_op by their clearance (the true unstable set).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bands: Vec<Band>,
+    /// A stable band around φ_op of at least a width.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_band_width: Option<BandWidth>,
+    /// The largest unbalance amplitude (m) at the response node over the response speeds
+    /// at most this; needs [`DesignSpec::response`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_peak: Option<f64>,
+    /// Damping-ratio floors of named whirls.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub damping: Vec<DampingFloor>,
+}
+
+impl Constraints {
+    /// Whether there is no constraint.
+    pub fn is_empty(&self) -> bool {
+        self.bands.is_empty() && self.min_band_width.is_none() && self.max_peak.is_none() && self.damping.is_empty()
+    }
+
+    /// Whether a constraint needs the Floquet analysis (bands or a band width).
+    pub fn needs_stability(&self) -> bool {
+        !self.bands.is_empty() || self.min_band_width.is_some()
     }
 }
 
@@ -185,6 +265,12 @@ pub struct DesignSpec {
     pub starts: usize,
     /// Nelder–Mead iterations per start, or sequential convex steps.
     pub max_iterations: usize,
+    /// `[design.response]` of an objective other than min-peak-response (which carries
+    /// its own): judged by the peak constraint and reported before and after; see
+    /// [`DesignSpec::response`].
+    pub response: Option<Response>,
+    /// Constraints on the result, whatever the objective.
+    pub constraints: Constraints,
 }
 
 /// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys
@@ -201,6 +287,10 @@ struct SpecJson<'a> {
     variables: &'a [Variable],
     starts: usize,
     max_iterations: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    response: Option<&'a Response>,
+    #[serde(skip_serializing_if = "Constraints::is_empty")]
+    constraints: &'a Constraints,
 }
 
 impl Serialize for DesignSpec {
@@ -216,6 +306,8 @@ impl Serialize for DesignSpec {
             variables: &self.variables,
             starts: self.starts,
             max_iterations: self.max_iterations,
+            response: self.response(),
+            constraints: &self.constraints,
         }
         .serialize(serializer)
     }
@@ -226,8 +318,36 @@ impl Serialize for DesignSpec {
 pub const MAX_STARTS: u64 = 64;
 /// See [`MAX_STARTS`].
 pub const MAX_ITERATIONS: u64 = 10_000;
+/// Fewest grid speeds of a `[design.response]`: a peak is an interior grid maximum, so
+/// the grid needs an interior point.
+pub const MIN_RESPONSE_POINTS: u64 = 3;
+/// Most grid speeds of a `[design.response]` (one sparse solve each per candidate).
+pub const MAX_RESPONSE_POINTS: u64 = 100_000;
 
 impl DesignSpec {
+    /// The operating bands kept clear at β_op: the clear-bands objective's, or the band
+    /// constraints of the other objectives.
+    pub fn kept_clear(&self) -> &[Band] {
+        match &self.objective {
+            Objective::ClearBands { bands } => bands,
+            _ => &self.constraints.bands,
+        }
+    }
+
+    /// The unbalance response of the design: the min-peak-response objective's, else the
+    /// `[design.response]` of the others (for the peak constraint and the report).
+    pub fn response(&self) -> Option<&Response> {
+        match &self.objective {
+            Objective::MinPeakResponse { response } => Some(response),
+            _ => self.response.as_ref(),
+        }
+    }
+
+    /// φ_op (rad/s): the widest-stable-band objective's, or the band-width constraint's.
+    pub fn phi_op(&self) -> Option<f64> {
+        self.objective.phi_op().or(self.constraints.min_band_width.map(|b| b.phi_op))
+    }
+
     /// The φ range of the catalogues and band searches (rad/s).
     pub fn range(&self) -> Interval {
         Interval::new(self.phi_range.0, self.phi_range.1)
@@ -259,9 +379,35 @@ impl DesignSpec {
         if let Objective::ClearBands { bands } = &self.objective {
             limits::count(bands.len() as u64, 1, u64::MAX).map_err(at("bands"))?;
         }
-        for (i, b) in self.objective.bands().iter().enumerate() {
+        for (i, b) in self.kept_clear().iter().enumerate() {
             limits::band(b.lo, b.hi).map_err(at(&format!("bands[{i}]")))?;
             limits::span(b.clearance).map_err(at(&format!("bands[{i}].clearance")))?;
+        }
+        if let Some(r) = self.response() {
+            limits::speed(r.speeds.lo).map_err(at("response.speeds[0]"))?;
+            limits::speed(r.speeds.hi).map_err(at("response.speeds[1]"))?;
+            if r.speeds.hi <= r.speeds.lo {
+                let rule = limits::Rule::NotAboveLow { low: r.speeds.lo };
+                return Err((
+                    "response.speeds[1]".into(),
+                    ParamError { quantity: Quantity::RangeHigh, value: r.speeds.hi, rule },
+                ));
+            }
+            limits::count(r.points as u64, MIN_RESPONSE_POINTS, MAX_RESPONSE_POINTS).map_err(at("response.points"))?;
+        }
+        if self.constraints.max_peak.is_some() {
+            // The peak constraint is judged on the response: a `[design.response]` is needed.
+            limits::count(self.response().is_some() as u64, 1, 1).map_err(at("response"))?;
+        }
+        if let Some(p) = self.constraints.max_peak {
+            limits::positive(Quantity::Limit, p).map_err(at("constraints.max_peak"))?;
+        }
+        if let Some(b) = self.constraints.min_band_width {
+            limits::phi_op(b.phi_op, self.range()).map_err(at("phi_op"))?;
+            limits::positive(Quantity::Limit, b.width).map_err(at("constraints.min_band_width"))?;
+        }
+        for (i, d) in self.constraints.damping.iter().enumerate() {
+            limits::non_negative(Quantity::Limit, d.min).map_err(at(&format!("constraints.damping[{i}].min")))?;
         }
         limits::count(self.starts as u64, 1, MAX_STARTS).map_err(at("starts"))?;
         limits::count(self.max_iterations as u64, 1, MAX_ITERATIONS).map_err(at("max_iterations"))?;

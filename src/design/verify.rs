@@ -126,8 +126,8 @@ pub fn describe(
                         .map(|m| WhirlRow { tag: m.tag(), frequency: m.frequency }),
                 );
             }
-            let catalogue_band = spec.objective.phi_op().and_then(|p| cat.band_containing(p));
-            let band = match spec.objective.phi_op() {
+            let catalogue_band = spec.phi_op().and_then(|p| cat.band_containing(p));
+            let band = match spec.phi_op() {
                 Some(p) => {
                     let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
                     let probe = Probe::reporting(fs, s, progress);
@@ -223,9 +223,24 @@ pub fn verify(
                         d.catalogue_band, b
                     ));
                 }
-                b.into_iter().collect()
+                let mut w: Vec<Interval> = b.into_iter().collect();
+                w.extend(spec.constraints.bands.iter().map(|b| b.guarded()));
+                w
             }
-            Objective::ClearBands { .. } => spec.objective.bands().iter().map(|b| b.guarded()).collect(),
+            Objective::ClearBands { .. } => spec.kept_clear().iter().map(|b| b.guarded()).collect(),
+            Objective::MinPeakResponse { .. } => {
+                let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded()).collect();
+                if let Some(min) = spec.constraints.min_band_width {
+                    match d.catalogue_band {
+                        Some(cb) if cb.width() >= min.width => w.push(cb),
+                        other => d.failures.push(format!(
+                            "the catalogue's stable band around {} rad/s ({other:?}) is not {} rad/s wide",
+                            min.phi_op, min.width
+                        )),
+                    }
+                }
+                w
+            }
         };
         let all = tongues(&d.catalogue);
         for w in &windows {

@@ -8,9 +8,10 @@ use super::{NameOf, ProblemErrorKind as K};
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use crate::design::spec::{
-    Band, DesignSpec, Objective, ObjectiveKind, Parameter, Variable, MAX_ITERATIONS, MAX_STARTS,
+    Band, BandWidth, Constraints, DampingFloor, DesignSpec, Objective, ObjectiveKind, Parameter, Response, Variable,
+    MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_RESPONSE_POINTS,
 };
-use crate::model::CircuitState;
+use crate::model::{CircuitState, Model};
 
 /// The circuit file of each ring, in model order (the shorthand: `[circuit]` for both).
 fn circuits(f: &ProblemFile) -> Vec<&CircuitFile> {
@@ -75,8 +76,102 @@ const DEFAULT_PHI_RANGE: [f64; 2] = [100.0, 8000.0];
 const DEFAULT_STARTS: i64 = 4;
 const DEFAULT_ITERATIONS: i64 = 40;
 
-/// Check `[design]` against the rest of the file.
-pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
+/// Default grid speeds of a `[design.response]`.
+const DEFAULT_RESPONSE_POINTS: i64 = 201;
+
+/// `[design.response]` against the model: a node on the shaft, a speed range lo < hi of
+/// admitted speeds, and a grid of at least [`MIN_RESPONSE_POINTS`] speeds.
+fn response(r: &ResponseFile, model: &Model) -> Result<Response, Failure> {
+    let last = model.shaft.last_node();
+    let node = usize::try_from(r.node).ok().filter(|&n| n <= last);
+    let Some(node) = node else {
+        return Err(("design.response.node".into(), K::NodeOffShaft { node: r.node, last }));
+    };
+    let [lo, hi] = r.speeds[..] else {
+        let message = format!("needs two speeds [lo, hi] (rad/s), found {}", r.speeds.len());
+        return Err(("design.response.speeds".into(), K::Schema(message)));
+    };
+    let lo = rule("design.response.speeds[0]", limits::speed(lo))?;
+    let hi = rule("design.response.speeds[1]", limits::speed(hi))?;
+    if hi <= lo {
+        let range = format!("above the low end {lo} rad/s (an empty speed range)");
+        return Err(("design.response.speeds[1]".into(), K::OutOfRange { value: hi, range }));
+    }
+    let points = r.points.unwrap_or(DEFAULT_RESPONSE_POINTS);
+    let n = u64::try_from(points).unwrap_or(0);
+    let points = rule(
+        "design.response.points",
+        limits::count(n, MIN_RESPONSE_POINTS, MAX_RESPONSE_POINTS)
+            .map_err(|e| ParamError { value: points as f64, ..e }),
+    )?;
+    Ok(Response { node, speeds: Interval::new(lo, hi), points: points as usize })
+}
+
+/// `[design.constraints]` and the band constraints, each limit checked: a band width and
+/// a peak positive, a damping ratio in [0, 1).
+fn constraints(
+    d: &DesignFile,
+    bands: Vec<Band>,
+    phi_op: Option<f64>,
+    response: Option<&Response>,
+) -> Result<Constraints, Failure> {
+    let mut out = Constraints { bands, ..Constraints::default() };
+    let Some(c) = &d.constraints else { return Ok(out) };
+    if let Some(w) = c.min_band_width {
+        let key = "design.constraints.min_band_width";
+        let width = positive(key, w)?;
+        let Some(phi_op) = phi_op else {
+            let message = "the band-width constraint `design.constraints.min_band_width` needs `phi_op` (rad/s)";
+            return Err(("design.phi_op".into(), K::Schema(message.into())));
+        };
+        out.min_band_width = Some(BandWidth { phi_op, width });
+    }
+    if let Some(p) = c.max_peak {
+        let key = "design.constraints.max_peak";
+        let peak = positive(key, p)?;
+        if response.is_none() {
+            let message = "a peak constraint needs [design.response] (node and speeds)";
+            return Err((key.into(), K::Schema(message.into())));
+        }
+        out.max_peak = Some(peak);
+    }
+    for (i, z) in c.damping.iter().enumerate() {
+        let key = format!("design.constraints.damping[{i}]");
+        let min = non_negative(&format!("{key}.min"), z.min)?;
+        if min >= 1.0 {
+            return Err((format!("{key}.min"), K::OutOfRange { value: min, range: "below 1".into() }));
+        }
+        if z.mode.trim().is_empty() {
+            return Err((format!("{key}.mode"), K::Schema("a whirl tag is needed, e.g. `f1`".into())));
+        }
+        out.damping.push(DampingFloor { mode: z.mode.clone(), min });
+    }
+    Ok(out)
+}
+
+/// The damping constraints' whirl tags against the model's whirls at the lowest
+/// operating speed (the tags of `rotorshunt modes` there). Skipped when the model's
+/// whirls cannot be computed: the design run reports that analysis failure itself.
+pub fn modes_exist(spec: &DesignSpec, model: &Model, settings: &crate::analysis::Settings) -> Result<(), Failure> {
+    if spec.constraints.damping.is_empty() {
+        return Ok(());
+    }
+    let speed = spec.speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let Ok(modes) = crate::analysis::modes::whirl_modes(model, settings, speed) else { return Ok(()) };
+    let tags: Vec<String> = modes.forward().chain(modes.backward()).map(|m| m.tag()).collect();
+    for (i, z) in spec.constraints.damping.iter().enumerate() {
+        if !tags.contains(&z.mode) {
+            return Err((
+                format!("design.constraints.damping[{i}].mode"),
+                K::UnknownMode { mode: z.mode.clone(), speed, available: tags.into_boxed_slice() },
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Check `[design]` against the rest of the file and the model built from it.
+pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Failure> {
     let Some(d) = &f.design else { return Ok(None) };
     let range = d.phi_range.unwrap_or(DEFAULT_PHI_RANGE);
     let range = range_rule("design.phi_range", range[0], range[1])?;
@@ -108,25 +203,21 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
             Ok(Band { lo, hi, clearance })
         })
         .collect::<Result<Vec<_>, Failure>>()?;
-    // Each objective takes its own data; a key of the other one is a mistake, not a hint.
-    let objective = match d.objective {
+    let response = d.response.as_ref().map(|r| response(r, model)).transpose()?;
+    let width_constraint = d.constraints.as_ref().is_some_and(|c| c.min_band_width.is_some());
+    // Each objective takes its own data; a key of another one is a mistake, not a hint.
+    let (objective, bands) = match d.objective {
         ObjectiveKind::WidestStableBand => {
-            if !bands.is_empty() {
-                return Err((
-                    "design.bands".into(),
-                    K::Schema("[[design.bands]] belong to the clear-bands objective, not widest-stable-band".into()),
-                ));
-            }
             let Some(phi_op) = phi_op else {
                 return Err((
                     "design.phi_op".into(),
                     K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
                 ));
             };
-            Objective::WidestStableBand { phi_op }
+            (Objective::WidestStableBand { phi_op }, bands)
         }
         ObjectiveKind::ClearBands => {
-            if phi_op.is_some() {
+            if phi_op.is_some() && !width_constraint {
                 return Err((
                     "design.phi_op".into(),
                     K::Schema("`phi_op` belongs to the widest-stable-band objective, not clear-bands".into()),
@@ -138,9 +229,32 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
                     K::Schema("the clear-bands objective needs [[design.bands]]".into()),
                 ));
             }
-            Objective::ClearBands { bands }
+            (Objective::ClearBands { bands }, Vec::new())
+        }
+        ObjectiveKind::MinPeakResponse => {
+            if phi_op.is_some() && !width_constraint {
+                // `phi_op` is the band-width constraint's: the missing key is that constraint.
+                return Err((
+                    "design.constraints.min_band_width".into(),
+                    K::Schema("`design.phi_op` of min-peak-response belongs to a band-width constraint: add `min_band_width` (rad/s) or drop `phi_op`".into()),
+                ));
+            }
+            let Some(response) = response.clone() else {
+                return Err((
+                    "design.response".into(),
+                    K::Schema("the min-peak-response objective needs [design.response] (node, speeds)".into()),
+                ));
+            };
+            (Objective::MinPeakResponse { response }, bands)
         }
     };
+    let own_response = !matches!(objective, Objective::MinPeakResponse { .. });
+    let response = response.filter(|_| own_response);
+    let judged = match &objective {
+        Objective::MinPeakResponse { response } => Some(response),
+        _ => response.as_ref(),
+    };
+    let constraints = constraints(d, bands, phi_op, judged)?;
     if d.variables.is_empty() {
         return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));
     }
@@ -215,5 +329,7 @@ pub fn design(f: &ProblemFile) -> Result<Option<DesignSpec>, Failure> {
         variables,
         starts: count("design.starts", d.starts, DEFAULT_STARTS, MAX_STARTS)?,
         max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,
+        response,
+        constraints,
     }))
 }

@@ -212,6 +212,20 @@ pub enum ProblemErrorKind {
         /// k_eq2 (N/m), when C_p^S follows from it (C_p^S = 2cot²β·θ_p²/k_eq2).
         from_k_eq2: Option<f64>,
     },
+    /// A design constraint on a whirl tag the model does not have at the lowest operating
+    /// speed.
+    #[error(
+        "the model has no whirl mode `{mode}` at speed {speed} rad/s; its lowest modes there are {}",
+        crate::analysis::tag_list(available)
+    )]
+    UnknownMode {
+        /// The tag given.
+        mode: String,
+        /// The speed the tags are taken at (rad/s).
+        speed: f64,
+        /// The model's tags there, forward then backward, lowest first.
+        available: Box<[String]>,
+    },
     /// A closed circuit without branches.
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,

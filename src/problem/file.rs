@@ -93,6 +93,52 @@ pub struct DesignFile {
     /// Iterations per start (Nelder–Mead) or sequential convex steps; default 40.
     #[serde(default)]
     pub max_iterations: Option<i64>,
+    /// `[design.response]`: the unbalance response of the min-peak-response objective and
+    /// the peak constraint.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<ResponseFile>,
+    /// `[design.constraints]`: what the result must meet, whatever the objective.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub constraints: Option<ConstraintsFile>,
+}
+
+/// `[design.response]`: the unbalance response at a shaft node over a speed range.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResponseFile {
+    /// The shaft node (0 to the number of shaft elements).
+    pub node: i64,
+    /// [lo, hi] (rad/s), lo < hi.
+    pub speeds: Vec<f64>,
+    /// Grid speeds over the range, ends included; default 201.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub points: Option<i64>,
+}
+
+/// `[design.constraints]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintsFile {
+    /// The stable band around `design.phi_op` at β_op at least this wide (rad/s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_band_width: Option<f64>,
+    /// The largest unbalance amplitude at `design.response.node` over its speeds at most
+    /// this (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_peak: Option<f64>,
+    /// `[[design.constraints.damping]]`: damping-ratio floors of named whirls.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub damping: Vec<DampingFile>,
+}
+
+/// `[[design.constraints.damping]]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingFile {
+    /// The whirl's tag at the lowest operating speed, e.g. `f1`, `br1` (`rotorshunt modes`).
+    pub mode: String,
+    /// The least damping ratio ζ (−), in [0, 1).
+    pub min: f64,
 }
 
 /// `[[design.bands]]`.

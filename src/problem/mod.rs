@@ -178,7 +178,12 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        let design = design_keys::design(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let design = design_keys::design(&data, &model).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        if let Some(spec) = &design {
+            // Only a file read checks the whirl tags (a candidate's are the file's).
+            design_keys::modes_exist(spec, &model, &settings)
+                .map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        }
         let regions = validate::regions(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         let warnings = plausibility::check(&data, &model, &rpm)
             .into_iter()
@@ -209,7 +214,7 @@ impl Problem {
             kind,
         };
         let (model, settings) = validate::translate(&data).map_err(err)?;
-        let design = design_keys::design(&data).map_err(err)?;
+        let design = design_keys::design(&data, &model).map_err(err)?;
         let regions = validate::regions(&data).map_err(err)?;
         // The edited data are the input: hash their TOML form.
         let input_sha256 = input_hash(&toml::to_string(&data).unwrap_or_default(), overrides);

@@ -96,7 +96,7 @@ pub fn markdown(r: &DesignReport) -> String {
         p.input_sha256
     );
     let _ = writeln!(s, "- tool: {}; settings: `{}`", p.tool, serde_json::to_string(&p.settings).unwrap_or_default());
-    let objective = match spec.objective {
+    let objective = match &spec.objective {
         Objective::WidestStableBand { .. } => {
             format!(
                 "widest stable band at β_op = {} containing φ_op = {} rad/s",
@@ -111,6 +111,10 @@ pub fn markdown(r: &DesignReport) -> String {
                 spec.level
             )
         }
+        Objective::MinPeakResponse { response } => format!(
+            "least peak unbalance response at node {} over {}..{} rad/s ({} speeds, peaks refined)",
+            response.node, response.speeds.lo, response.speeds.hi, response.points
+        ),
     };
     let _ = writeln!(s, "- objective: {objective}; speeds {:?} rad/s", spec.speeds);
     let status = match o.status {
@@ -251,7 +255,10 @@ pub fn markdown(r: &DesignReport) -> String {
                     writeln!(s, "\nThe linearised constraints at the final point have no solution inside the bounds.");
             }
         }
+        Objective::MinPeakResponse { .. } => peak_section(&mut s, o),
     }
+    constraints_section(&mut s, o);
+    vibration_section(&mut s, o);
     let _ = writeln!(s, "\n## Verification of the tuned design\n");
     let _ = writeln!(
         s,
@@ -336,16 +343,21 @@ pub fn markdown(r: &DesignReport) -> String {
             let _ = writeln!(s, "Coarse global pass (objective = minus the total intrusion, rad/s), then sequential convex steps (clarabel QP) from the reference and from the best global point.\n");
             let _ = writeln!(s, "| point | values | | −intrusion (rad/s) | evaluations | iterations | stage |\n|---|---|---|---|---|---|---|");
         }
+        Objective::MinPeakResponse { .. } => {
+            let _ = writeln!(s, "Nelder–Mead (argmin) on ln(peak) from {} starts in parallel, first without constraints, then with them as an exact penalty; then sequential convex steps (clarabel QP) on the linearised constraints. Objective column: the start's best peak (m).\n", o.starts.len());
+            let _ = writeln!(s, "| start | initial | best | peak (m) | evaluations | iterations | termination |\n|---|---|---|---|---|---|---|");
+        }
     }
     let vals = |v: &[f64]| v.iter().map(|x| format!("{x:.5e}")).collect::<Vec<_>>().join(", ");
+    let digits = if o.peak_findings().is_some() { 4 } else { 2 };
     for st in &o.starts {
+        let objective = if digits == 4 { format!("{:.4e}", st.objective) } else { format!("{:.2}", st.objective) };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {:.2} | {} | {} | {} |",
+            "| {} | {} | {} | {objective} | {} | {} | {} |",
             st.origin,
             vals(&st.initial),
             vals(&st.best),
-            st.objective,
             st.evaluations,
             st.iterations,
             st.termination
@@ -392,7 +404,133 @@ fn figure_caption(file: &str) -> String {
         "charts" => "Stability charts before and after the design (φ in rad/s, β)",
         "campbell" => "Campbell diagram of the tuned design (whirl frequency against speed, rad/s)",
         "history" => "Optimisation history",
+        "bode" => "Unbalance response before and after the design (amplitude in m, phase in deg, against speed in rad/s)",
         other => other,
     };
     format!("{what}{speed}")
+}
+
+/// The min-peak-response section: the peaks of the reference, classic, unconstrained and
+/// tuned designs, the classic tuning, the price of the constraints and the convex steps.
+fn peak_section(s: &mut String, o: &DesignOutcome) {
+    let Some(f) = o.peak_findings() else { return };
+    let vals = |v: &[f64]| v.iter().map(|x| format!("{x:.6e}")).collect::<Vec<_>>().join(", ");
+    let _ = writeln!(s, "\n## Peak unbalance response\n");
+    let _ = writeln!(s, "| design | values | peak (m) | at (rad/s) | constraints met |\n|---|---|---|---|---|");
+    let mut rows = vec![("reference", &f.before), ("tuned", &f.after), ("unconstrained optimum", &f.unconstrained)];
+    if let Some(c) = &f.classic_design {
+        rows.push(("classic tuning", c));
+    }
+    for (name, d) in rows {
+        let _ = writeln!(
+            s,
+            "| {name} | {} | {:.4e}{} | {:.2} | {} |",
+            vals(&d.values),
+            d.peak.amplitude,
+            if d.peak.unbounded { " (unbounded)" } else { "" },
+            d.peak.speed,
+            if d.constraints.is_empty() { "–".to_string() } else { d.feasible.to_string() }
+        );
+    }
+    if let Some(price) = f.price {
+        let _ = writeln!(
+            s,
+            "\nPrice of the constraints in response: tuned peak − unconstrained peak = {:+.4e} m ({:+.2} %).",
+            price.metres, price.percent
+        );
+    }
+    if let Some(c) = &f.classic {
+        let _ = writeln!(
+            s,
+            "\nClassic single-mode tuning of {} on branch {} (series R–L shunt, equal-peak optimum: ω_e = ω_open, Hagood & von Flotow 1991; r = √(3/2)·K, Thomas, Ducarne & Deü 2012): ω_open = {:.3} rad/s (branch removed), ω_short = {:.3} rad/s (branch with L = R = 0), K² = (ω_open² − ω_short²)/ω_short² = {:.5}; loop capacitance C = {:.5e} F; L_opt = 1/(ω_open²·C) = {:.5} H (tuning frequency by Eq. 4: {:.3} rad/s), R_opt = √(3/2)·K/(C·ω_short) = {:.4} Ω{}.",
+            c.mode,
+            c.branch + 1,
+            c.omega_open,
+            c.omega_short,
+            c.coupling,
+            c.capacitance,
+            c.inductance,
+            c.tuning_frequency,
+            c.resistance,
+            if c.clamped { "; clamped to the variables' bounds for the start" } else { "" }
+        );
+    }
+    if !f.convex_steps.is_empty() {
+        let _ = writeln!(s, "\n| convex step | trust | constraints | peak before (m) | peak after (m) | feasible | accepted | values |\n|---|---|---|---|---|---|---|---|");
+        for c in &f.convex_steps {
+            let _ = writeln!(
+                s,
+                "| {} | {:.4} | {} | {:.4e} | {:.4e} | {} | {} | {} |",
+                c.iteration,
+                c.trust,
+                c.constraints,
+                c.peak_before,
+                c.peak_after,
+                c.feasible,
+                c.accepted,
+                vals(&c.values)
+            );
+        }
+    }
+}
+
+/// The constraints judged afresh on the tuned design.
+fn constraints_section(s: &mut String, o: &DesignOutcome) {
+    if o.constraints_after.is_empty() {
+        return;
+    }
+    let _ =
+        writeln!(s, "\n## Constraints on the tuned design\n\n| constraint | value | limit | met |\n|---|---|---|---|");
+    for c in &o.constraints_after {
+        let _ = writeln!(s, "| {} | {:.6e} | {:e} | {} |", c.name, c.value, c.limit, c.met);
+    }
+}
+
+/// The unbalance response before and after (peaks table) and the damping ratios.
+fn vibration_section(s: &mut String, o: &DesignOutcome) {
+    let Some(v) = &o.vibration else { return };
+    let _ = writeln!(
+        s,
+        "\n## Unbalance response at node {} (`bode.svg`, `bode.png`: before solid, after dashed)\n",
+        v.response.node
+    );
+    let _ = writeln!(
+        s,
+        "| design | peak speed (rad/s) | amplitude (m) | amplification factor (API 684) |\n|---|---|---|---|"
+    );
+    let mut layers = vec![("before", &v.before), ("after", &v.after)];
+    if let Some(u) = &v.unconstrained {
+        layers.push(("unconstrained optimum", u));
+    }
+    for (name, r) in layers {
+        for p in r.probes.iter() {
+            let (w, a, unbounded) = p.largest(&r.speeds);
+            if p.peaks.is_empty() {
+                let _ = writeln!(s, "| {name} | {w:.3} (largest, no interior peak) | {a:.4e} | – |");
+            }
+            for k in &p.peaks {
+                let af = match (k.amplification_factor, k.unbounded) {
+                    (_, true) => "unbounded".to_string(),
+                    (Some(af), false) => format!("{af:.2}"),
+                    (None, false) => "– (half-power point beyond the range)".to_string(),
+                };
+                let _ = writeln!(s, "| {name} | {:.3} | {:.4e} | {af} |", k.speed, k.amplitude);
+            }
+            let _ = unbounded;
+        }
+    }
+    let _ = writeln!(s, "\n## Damping ratios ζ = −Re λ/|λ| of the lowest whirls over the operating speeds\n");
+    let _ = writeln!(s, "| mode | ζ min before | at (rad/s) | ζ min after | at (rad/s) |\n|---|---|---|---|---|");
+    for b in &v.damping_before {
+        let a = v.damping_after.iter().find(|a| a.tag == b.tag);
+        let _ = writeln!(
+            s,
+            "| {} | {:.6e} | {:.1} | {} | {} |",
+            b.tag,
+            b.min_damping_ratio,
+            b.min_speed,
+            a.map_or("–".into(), |a| format!("{:.6e}", a.min_damping_ratio)),
+            a.map_or("–".into(), |a| format!("{:.1}", a.min_speed))
+        );
+    }
 }

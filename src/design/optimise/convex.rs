@@ -53,7 +53,7 @@ struct ConvexRun {
 }
 
 /// The linearised constraints of the current intrusions and neighbours (module docs).
-fn linearise(ctx: &Context<'_>, u: &[f64], ints: &[Intrusion]) -> Result<Vec<Linear>, DesignError> {
+pub(super) fn linearise(ctx: &Context<'_>, u: &[f64], ints: &[Intrusion]) -> Result<Vec<Linear>, DesignError> {
     let spec = ctx.spec;
     let n = u.len();
     // Central differences (one-sided at a bound); the perturbed candidates in parallel.
@@ -80,7 +80,7 @@ fn linearise(ctx: &Context<'_>, u: &[f64], ints: &[Intrusion]) -> Result<Vec<Lin
                 grad[2][j] = (a.2 - b.2) / span;
             }
         }
-        let g = spec.objective.bands()[it.band].guarded();
+        let g = spec.kept_clear()[it.band].guarded();
         let below = Linear { g: grad[2].clone(), h: g.lo - MARGIN_PHI - it.right };
         let above = Linear { g: grad[1].iter().map(|x| -x).collect(), h: it.left - g.hi - MARGIN_PHI };
         let lifted = Linear { g: grad[0].iter().map(|x| -x).collect(), h: it.onset - spec.level - MARGIN_BETA };

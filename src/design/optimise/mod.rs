@@ -18,9 +18,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 mod convex;
+mod min_peak;
 mod nelder_mead;
 
 use convex::clear_bands;
+use min_peak::min_peak;
+pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 use nelder_mead::widest_band;
 
 /// Cost of a candidate whose analysis failed (rad/s, far worse than any band).
@@ -122,7 +125,31 @@ pub enum Findings {
         /// bounds (a sign that the bounds forbid clearing the bands).
         linear_infeasible: bool,
     },
+    /// Least peak response: the reference, tuned, unconstrained and classic designs.
+    MinPeak(Box<PeakFindings>),
 }
+
+/// The unbalance response of a design with a `[design.response]`, before and after, and
+/// the damping ratios of its lowest whirls: report content.
+#[derive(Debug, Clone, Serialize)]
+pub struct VibrationReport {
+    /// The response node and speeds.
+    pub response: crate::design::spec::Response,
+    /// The reference design's response at the node (amplitude m, phase rad, peaks).
+    pub before: crate::analysis::unbalance::UnbalanceResult,
+    /// The tuned design's.
+    pub after: crate::analysis::unbalance::UnbalanceResult,
+    /// The unconstrained optimum's (min-peak-response with constraints).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unconstrained: Option<crate::analysis::unbalance::UnbalanceResult>,
+    /// Damping ratios ζ of the lowest whirls over the operating speeds, reference design.
+    pub damping_before: Vec<crate::analysis::damping::ModeDamping>,
+    /// The same, tuned design.
+    pub damping_after: Vec<crate::analysis::damping::ModeDamping>,
+}
+
+/// Whirls per direction whose damping ratios a report lists.
+pub const REPORT_DAMPING_WHIRLS: usize = 3;
 
 /// Everything a design run found.
 #[derive(Debug, Clone)]
@@ -162,6 +189,10 @@ pub struct DesignOutcome {
     pub seconds: f64,
     /// Cost of the verification and the report's catalogues.
     pub verification_cost: Cost,
+    /// The constraints judged afresh on the tuned design (empty without constraints).
+    pub constraints_after: Vec<crate::design::vibration::ConstraintCheck>,
+    /// The unbalance response and damping ratios before and after (with a response).
+    pub vibration: Option<VibrationReport>,
 }
 
 impl DesignOutcome {
@@ -169,33 +200,40 @@ impl DesignOutcome {
     pub fn before_bands(&self) -> &[OperatingBand] {
         match &self.findings {
             Findings::WidestBand { before, .. } => before,
-            Findings::ClearBands { .. } => &[],
+            _ => &[],
         }
     }
     /// Widest band: the tuned design's band around φ_op at each speed (else empty).
     pub fn after_bands(&self) -> &[OperatingBand] {
         match &self.findings {
             Findings::WidestBand { after, .. } => after,
-            Findings::ClearBands { .. } => &[],
+            _ => &[],
         }
     }
     /// Clear bands: the reference design's intrusions (else empty).
     pub fn before_intrusions(&self) -> &[Intrusion] {
         match &self.findings {
             Findings::ClearBands { before, .. } => before,
-            Findings::WidestBand { .. } => &[],
+            _ => &[],
         }
     }
     /// Clear bands: the tuned design's intrusions (else empty).
     pub fn after_intrusions(&self) -> &[Intrusion] {
         match &self.findings {
             Findings::ClearBands { after, .. } => after,
-            Findings::WidestBand { .. } => &[],
+            _ => &[],
         }
     }
     /// Clear bands: whether the final linearisation had no solution inside the bounds.
     pub fn linear_infeasible(&self) -> bool {
         matches!(self.findings, Findings::ClearBands { linear_infeasible: true, .. })
+    }
+    /// Min peak response: its findings (else None).
+    pub fn peak_findings(&self) -> Option<&PeakFindings> {
+        match &self.findings {
+            Findings::MinPeak(f) => Some(f),
+            _ => None,
+        }
     }
 }
 
@@ -224,6 +262,12 @@ struct OutcomeJson<'a> {
     floquet_evaluations: usize,
     seconds: f64,
     verification_cost: Cost,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    min_peak: Option<&'a PeakFindings>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    constraints_after: &'a [crate::design::vibration::ConstraintCheck],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vibration: Option<&'a VibrationReport>,
 }
 
 impl Serialize for DesignOutcome {
@@ -250,6 +294,9 @@ impl Serialize for DesignOutcome {
             floquet_evaluations: self.floquet_evaluations,
             seconds: self.seconds,
             verification_cost: self.verification_cost,
+            min_peak: self.peak_findings(),
+            constraints_after: &self.constraints_after,
+            vibration: self.vibration.as_ref(),
         }
         .serialize(serializer)
     }
@@ -288,15 +335,20 @@ impl Context<'_> {
         self.progress.advance(1);
         let c = Candidate::new(self.base, self.spec, &self.values(u));
         if let Err(e) = &c {
-            self.failures.fetch_add(1, Ordering::Relaxed);
-            // The smallest message, not the first in time: independent of thread timing.
-            let mut first = self.first_failure.lock().unwrap_or_else(|p| p.into_inner());
-            let m = e.to_string();
-            if first.as_ref().is_none_or(|f| m < *f) {
-                *first = Some(m);
-            }
+            self.note_failure(e);
         }
         c
+    }
+
+    /// Count a failed candidate and keep the smallest message, not the first in time:
+    /// independent of thread timing.
+    fn note_failure(&self, e: &DesignError) {
+        self.failures.fetch_add(1, Ordering::Relaxed);
+        let mut first = self.first_failure.lock().unwrap_or_else(|p| p.into_inner());
+        let m = e.to_string();
+        if first.as_ref().is_none_or(|f| m < *f) {
+            *first = Some(m);
+        }
     }
 
     /// The bands around φ_op (rad/s) of a candidate, at every speed.
@@ -348,6 +400,14 @@ pub fn most_candidates(spec: &DesignSpec) -> usize {
     match spec.objective {
         Objective::WidestStableBand { .. } => starts * (2 * iterations + variables + 1) + starts + 1,
         Objective::ClearBands { .. } => 4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1,
+        // The reference and classic designs; each start's simplex and 2 per iteration,
+        // twice (without and with constraints); the convex steps' differences and trials
+        // (clear-bands' linearisation of the bands included).
+        Objective::MinPeakResponse { .. } => {
+            let runs = if spec.constraints.is_empty() { 1 } else { 2 };
+            let starts = starts.max(3);
+            2 + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
+        }
     }
 }
 
@@ -391,6 +451,7 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
             Objective::ClearBands { .. } => {
                 Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
             }
+            Objective::MinPeakResponse { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
         },
         before_speeds: Vec::new(),
         after_speeds: Vec::new(),
@@ -404,10 +465,13 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         floquet_evaluations: 0,
         seconds: 0.0,
         verification_cost: Cost::default(),
+        constraints_after: Vec::new(),
+        vibration: None,
     };
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
         Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
+        Objective::MinPeakResponse { .. } => min_peak(&ctx, &mut out)?,
     }
     out.candidates = ctx.candidates.load(Ordering::Relaxed);
     out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
@@ -442,6 +506,7 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
                 }
             }
         }
+        Findings::MinPeak(_) => {}
         // The bands with the full model's labels (the same numbers, checked by `verify`).
         Findings::WidestBand { before, after } => {
             for (bands, speeds) in [(before, &out.before_speeds), (after, &out.after_speeds)] {
@@ -452,6 +517,40 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
                 }
             }
         }
+    }
+    // The constraints, judged afresh on the tuned design.
+    if !spec.constraints.is_empty() {
+        let peak = match spec.response() {
+            Some(r) => Some(crate::design::vibration::peak_of(&tuned.rotor, r)?),
+            None => None,
+        };
+        out.constraints_after = crate::design::vibration::check_constraints(&tuned, spec, &ctx.regions, peak, &count)?;
+        for c in out.constraints_after.iter().filter(|c| !c.met) {
+            let message = format!("constraint {} not met: {:e}", c.name, c.value);
+            if let Some(d) = out.after_speeds.first_mut() {
+                d.failures.push(message);
+            }
+            out.verified = false;
+        }
+    }
+    if let Some(r) = spec.response() {
+        let vibration = |values: &[f64]| -> Result<_, DesignError> {
+            let (p, rotor) = crate::design::vibration::rotor_at(base, spec, values)?;
+            let response = crate::design::vibration::response_of(&rotor, r)?;
+            let speeds = crate::design::vibration::ascending(&spec.speeds);
+            let silent = crate::progress::Silent;
+            let damping =
+                crate::analysis::damping::lowest_damping(&rotor, &p.settings, &speeds, REPORT_DAMPING_WHIRLS, &silent)?;
+            Ok((response, damping))
+        };
+        let (before, damping_before) = vibration(&out.before)?;
+        let (after, damping_after) = vibration(&out.after)?;
+        let unconstrained = match out.peak_findings().filter(|f| !f.unconstrained.constraints.is_empty()) {
+            Some(f) => Some(vibration(&f.unconstrained.values.clone())?.0),
+            None => None,
+        };
+        out.vibration =
+            Some(VibrationReport { response: r.clone(), before, after, unconstrained, damping_before, damping_after });
     }
     if !out.verified && out.status != Status::Infeasible {
         out.status = Status::NotVerified;

@@ -1,0 +1,385 @@
+//! Vibration suppression in a design: the peak unbalance response at a node (the
+//! min-peak-response objective), the constraints any objective may carry, and the classic
+//! single-mode RL shunt tuning that seeds the optimiser.
+//!
+//! **Classic tuning.** For a series R–L shunt on a piezoelectric element whose mode has
+//! the effective coupling K² = (ω_D² − ω_E²)/ω_E² (ω_D, ω_E the mode's open- and
+//! short-circuit frequencies), the equal-peak (fixed-point, Den Hartog type) optimum of
+//! the mechanical response is
+//!
+//! ```text
+//! δ_opt = ω_e/ω_E = √(1 + K²)   (so ω_e = ω_D),      r_opt = R·C·ω_E = √(3/2)·K,
+//! ```
+//!
+//! the tuning of Hagood & von Flotow, "Damping of structural vibrations with
+//! piezoelectric materials and passive electrical networks", J. Sound Vib. 146(2),
+//! 243–268 (1991), and the resistance of Thomas, Ducarne & Deü, "Performance of
+//! piezoelectric shunts for vibration reduction", Smart Mater. Struct. 21, 015008 (2012)
+//! (their electrical damping ratio ξ_e = √(3/8)·k, r = 2ξ_e). Hagood & von Flotow's own
+//! resistance √2·K/(1 + K²) lies 15 % above the min–max optimum of their two-mode model
+//! (`docs/decisions.md`, "Classic RL tuning"), so the fixed-point value is used.
+//!
+//! with ω_e = 1/√(L·C) the electrical frequency of the loop and C its capacitance. In this
+//! model a branch is the loop C_p^S – C_f – L – R (Eq. A8: charge mass γL, damping γR,
+//! stiffness γ(1/C_p^S + 1/C_f)); its two reference states are **open**, the branch
+//! removed (no current), and **short**, the branch with L = R = 0 (the stack shunted by
+//! C_f alone; C_f → ∞ is the true short circuit). ω_D is the mode's synchronous critical
+//! speed Ω* (ω = Ω, where unbalance excites it) with the branch open, ω_E its frequency
+//! at Ω* with the branch short. The loop's capacitance C is the one the structure sees
+//! (the ring DOF and the shaft move with the charge, so it lies between the clamped
+//! C_p^S·C_f/(C_p^S + C_f) and the free one of Eq. 4): at a trial L with R = 0 the two
+//! coupled forward frequencies ω₁, ω₂ nearest ω_D obey ω₁²ω₂² = ω_e²ω_E² in the two-mode
+//! model, which gives ω_e and C = 1/(L·ω_e²). Then L_opt = 1/(ω_D²·C) and
+//! R_opt = √(3/2)·K/(C·ω_E); Eq. (4) (with C_p^T) converts L to the branch's
+//! `tuning_frequency`.
+
+use super::evaluate::{intrusions, operating_bands, problem_at, Candidate};
+use super::spec::{DesignSpec, Parameter, Response};
+use super::DesignError;
+use crate::analysis::damping::mode_damping;
+use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::{Counter, RegionSettings};
+use crate::analysis::unbalance::{node_probe, peak_at_node, unbalance_response, UnbalanceResult};
+use crate::analysis::{Rotor, Settings};
+use crate::model::{CircuitState, Model};
+use crate::problem::Problem;
+use crate::progress::Silent;
+use serde::Serialize;
+
+/// Fixed-point iterations Ω ← ω(Ω) of a synchronous critical speed at most; the
+/// gyroscopic slope dω/dΩ of a rotor whirl is well below 1, so the error shrinks by that
+/// factor per step.
+const CRITICAL_ITERATIONS: usize = 60;
+/// Relative change of the fixed-point iteration at which a critical speed is taken as
+/// converged: far below the per-cent differences the seed is about.
+const CRITICAL_TOLERANCE: f64 = 1e-10;
+/// Forward rotor whirls (f1, f2, …) looked at for the target mode of the classic tuning.
+const TARGET_CANDIDATES: usize = 4;
+
+/// The largest amplitude at the response node over its speeds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PeakValue {
+    /// Speed of the largest amplitude (rad/s).
+    pub speed: f64,
+    /// The amplitude (m).
+    pub amplitude: f64,
+    /// The peak is a pole (an undamped critical speed): its amplitude is limited only by
+    /// the refinement.
+    pub unbounded: bool,
+}
+
+/// The peak at `r`'s node over its speed grid, refined ([`peak_at_node`]).
+pub fn peak_of(rotor: &Rotor, r: &Response) -> Result<PeakValue, DesignError> {
+    let (speed, amplitude, unbounded) = peak_at_node(rotor, r.node, &r.grid())?;
+    Ok(PeakValue { speed, amplitude, unbounded })
+}
+
+/// The response at `r`'s node over its grid, with its peaks (for reports).
+pub fn response_of(rotor: &Rotor, r: &Response) -> Result<UnbalanceResult, DesignError> {
+    let probe = node_probe(&rotor.system.dofs, r.node)?;
+    Ok(unbalance_response(rotor, &r.grid(), std::slice::from_ref(&probe), &|| {})?)
+}
+
+/// What a constraint is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConstraintKind {
+    /// The operating bands clear at β_op: value = total intrusion (rad/s), limit 0.
+    BandsClear,
+    /// The stable band around φ_op at least a width: value = the smallest signed width
+    /// over the speeds (rad/s).
+    BandWidth,
+    /// The peak response at most a limit: value = the peak (m).
+    Peak,
+    /// A whirl's damping ratio at least a limit: value = its smallest ζ over the
+    /// operating speeds (−).
+    Damping,
+}
+
+/// One constraint judged on one design.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConstraintCheck {
+    /// What it is about.
+    pub kind: ConstraintKind,
+    /// In words, e.g. `zeta of f1 >= 0.02`.
+    pub name: String,
+    /// The design's value (unit of the kind).
+    pub value: f64,
+    /// The limit (same unit).
+    pub limit: f64,
+    /// Whether it is met.
+    pub met: bool,
+    /// How far it is missed, relative to its scale (0 when met): intrusion over the band's
+    /// guarded width, or the shortfall over the limit. What the optimiser's penalty sums.
+    pub violation: f64,
+}
+
+/// The constraints of `spec` on the design `c` (every kind the spec has), and its peak
+/// when the spec has a response. `count` gets the Floquet evaluations.
+pub fn check_constraints(
+    c: &Candidate,
+    spec: &DesignSpec,
+    s: &RegionSettings,
+    peak: Option<PeakValue>,
+    count: &Counter,
+) -> Result<Vec<ConstraintCheck>, DesignError> {
+    let k = &spec.constraints;
+    let mut out = Vec::new();
+    if !k.bands.is_empty() {
+        let ints = intrusions(c, spec, s, count)?;
+        let mut violation = 0.0;
+        let mut total = 0.0;
+        for it in ints.iter().filter(|i| i.inside) {
+            let b = &spec.kept_clear()[it.band];
+            total += it.violation();
+            violation += it.violation() / b.guarded().width().max(f64::MIN_POSITIVE);
+        }
+        out.push(ConstraintCheck {
+            kind: ConstraintKind::BandsClear,
+            name: format!("{} operating band(s) clear at beta_op = {}", k.bands.len(), spec.level),
+            value: total,
+            limit: 0.0,
+            met: total == 0.0,
+            violation,
+        });
+    }
+    if let Some(w) = k.min_band_width {
+        let bands = operating_bands(c, spec, w.phi_op, s, count)?;
+        let width = bands.iter().map(|b| b.signed_width()).fold(f64::INFINITY, f64::min);
+        out.push(floor(
+            ConstraintKind::BandWidth,
+            format!("stable band around {} rad/s >= {} rad/s", w.phi_op, w.width),
+            width,
+            w.width,
+        ));
+    }
+    if let (Some(limit), Some(p)) = (k.max_peak, peak) {
+        let met = p.amplitude <= limit;
+        out.push(ConstraintCheck {
+            kind: ConstraintKind::Peak,
+            name: format!("peak response <= {limit:e} m"),
+            value: p.amplitude,
+            limit,
+            met,
+            violation: if met { 0.0 } else { p.amplitude / limit - 1.0 },
+        });
+    }
+    if !k.damping.is_empty() {
+        let zetas = damping_ratios(&c.rotor, &c.problem.settings, spec)?;
+        for (f, z) in k.damping.iter().zip(zetas) {
+            out.push(floor(ConstraintKind::Damping, format!("zeta of {} >= {}", f.mode, f.min), z, f.min));
+        }
+    }
+    Ok(out)
+}
+
+/// A constraint value ≥ limit.
+fn floor(kind: ConstraintKind, name: String, value: f64, limit: f64) -> ConstraintCheck {
+    let met = value >= limit;
+    let scale = limit.abs().max(f64::MIN_POSITIVE);
+    ConstraintCheck { kind, name, value, limit, met, violation: if met { 0.0 } else { (limit - value) / scale } }
+}
+
+/// The smallest ζ over the operating speeds of each damping constraint's whirl, tracked
+/// from the lowest speed ([`mode_damping`]).
+pub fn damping_ratios(rotor: &Rotor, settings: &Settings, spec: &DesignSpec) -> Result<Vec<f64>, DesignError> {
+    let tags: Vec<String> = spec.constraints.damping.iter().map(|d| d.mode.clone()).collect();
+    Ok(mode_damping(rotor, settings, &ascending(&spec.speeds), &tags, &Silent)?
+        .into_iter()
+        .map(|m| m.min_damping_ratio)
+        .collect())
+}
+
+/// The speeds sorted, each once.
+pub fn ascending(speeds: &[f64]) -> Vec<f64> {
+    let mut v = speeds.to_vec();
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    v
+}
+
+/// The classic tuning of the target mode (module docs) and the design it seeds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClassicTuning {
+    /// The target mode's tag (a forward rotor whirl, `f1`, `f2`, …): the lowest whose
+    /// open-branch critical speed lies in the response range (else the nearest to it).
+    pub mode: String,
+    /// The ring (model order) and branch (from 0) tuned.
+    pub ring: Option<usize>,
+    /// Branch index from 0.
+    pub branch: usize,
+    /// Critical speed with the branch open, ω_D (rad/s).
+    pub omega_open: f64,
+    /// The mode's frequency at that speed with the branch's L = R = 0, ω_E (rad/s).
+    pub omega_short: f64,
+    /// Effective coupling K² = (ω_D² − ω_E²)/ω_E² (−).
+    pub coupling: f64,
+    /// The loop's capacitance as the structure sees it, C (F) (module docs).
+    pub capacitance: f64,
+    /// L_opt (H).
+    pub inductance: f64,
+    /// R_opt (Ω).
+    pub resistance: f64,
+    /// L_opt as the branch's tuning frequency of Eq. (4) (rad/s).
+    pub tuning_frequency: f64,
+    /// The design variables at the classic tuning, clamped to their bounds (SI units).
+    pub values: Vec<f64>,
+    /// Whether a value had to be clamped to a bound.
+    pub clamped: bool,
+}
+
+/// The synchronous critical speed of the forward whirl tagged `tag`: Ω = ω_tag(Ω), by
+/// fixed-point iteration from `start` (rad/s). None when the tag disappears.
+fn critical_speed(rotor: &Rotor, settings: &Settings, tag: &str, start: f64) -> Result<Option<f64>, DesignError> {
+    let mut w = start;
+    for _ in 0..CRITICAL_ITERATIONS {
+        let modes = whirl_modes_of(rotor, settings, w)?;
+        let Some(f) = modes.forward().find(|m| m.tag() == tag).map(|m| m.frequency) else { return Ok(None) };
+        if (f - w).abs() <= CRITICAL_TOLERANCE * f {
+            return Ok(Some(f));
+        }
+        w = f;
+    }
+    Ok(Some(w))
+}
+
+/// The forward whirl tagged `tag` at speed Ω (rad/s).
+fn forward_frequency(rotor: &Rotor, settings: &Settings, tag: &str, speed: f64) -> Result<Option<f64>, DesignError> {
+    Ok(whirl_modes_of(rotor, settings, speed)?.forward().find(|m| m.tag() == tag).map(|m| m.frequency))
+}
+
+/// The model with branch `branch` of the rings `rings` at inductance L (H) and R = 0.
+fn with_branch(model: &Model, rings: &[usize], branch: usize, inductance: f64) -> Model {
+    let mut m = model.clone();
+    for &r in rings {
+        let b = &mut m.rings[r].circuit.branches[branch];
+        b.inductance = inductance;
+        b.resistance = 0.0;
+    }
+    m
+}
+
+/// The model with branch `branch` of the rings `rings` removed (open) or with L = R = 0
+/// (short, C_f only).
+fn branch_state(model: &Model, rings: &[usize], branch: usize, open: bool) -> Model {
+    let mut m = model.clone();
+    for &r in rings {
+        let c = &mut m.rings[r].circuit;
+        if open {
+            c.branches.remove(branch);
+            if c.branches.is_empty() {
+                c.state = CircuitState::Open;
+            }
+        } else {
+            c.branches[branch].inductance = 0.0;
+            c.branches[branch].resistance = 0.0;
+        }
+    }
+    m
+}
+
+/// The classic tuning for `spec`'s response range, on the branch of the first tuning
+/// (or resistance) variable; None without such a variable or without a response.
+pub fn classic_tuning(base: &Problem, spec: &DesignSpec) -> Result<Option<ClassicTuning>, DesignError> {
+    let Some(response) = spec.response() else { return Ok(None) };
+    let target = spec
+        .variables
+        .iter()
+        .find(|v| matches!(v.parameter, Parameter::TuningFrequency | Parameter::Inductance))
+        .or_else(|| spec.variables.iter().find(|v| v.parameter == Parameter::Resistance));
+    let Some(target) = target else { return Ok(None) };
+    let rings: Vec<usize> = match target.ring {
+        Some(r) => vec![r],
+        None => (0..base.model.rings.len()).collect(),
+    };
+    let Some(&first) = rings.first() else { return Ok(None) };
+    let settings = &base.settings;
+    let open = Rotor::new(&branch_state(&base.model, &rings, target.branch, true))?;
+    let short = Rotor::new(&branch_state(&base.model, &rings, target.branch, false))?;
+    // The target: the lowest forward rotor whirl whose open critical speed is in range.
+    let at_rest = whirl_modes_of(&open, settings, 0.0)?;
+    let rotor_tags: Vec<(String, f64)> = at_rest
+        .forward()
+        .filter(|m| m.label.chars().all(|c| c.is_ascii_digit()))
+        .take(TARGET_CANDIDATES)
+        .map(|m| (m.tag(), m.frequency))
+        .collect();
+    let mut best: Option<(String, f64, f64)> = None;
+    for (tag, w0) in rotor_tags {
+        let Some(w) = critical_speed(&open, settings, &tag, w0)? else { continue };
+        let distance = (response.speeds.lo - w).max(w - response.speeds.hi).max(0.0);
+        if best.as_ref().is_none_or(|b| distance < b.2) {
+            best = Some((tag, w, distance));
+        }
+        if distance == 0.0 {
+            break;
+        }
+    }
+    let Some((mode, speed, _)) = best else { return Ok(None) };
+    // Every frequency at the open critical speed Ω* = ω_D, where unbalance excites it.
+    let omega_open = speed;
+    let Some(omega_short) = forward_frequency(&short, settings, &mode, speed)? else { return Ok(None) };
+    let ring = &base.model.rings[first];
+    let b = &ring.circuit.branches[target.branch];
+    let coupling = ((omega_open * omega_open - omega_short * omega_short) / (omega_short * omega_short)).max(0.0);
+    // The loop's capacitance as the structure sees it: from the two coupled forward
+    // frequencies ω₁, ω₂ nearest ω_D with R = 0 at a trial L, ω_e² = ω₁²ω₂²/ω_E² (the
+    // product of the roots of the two-mode model), and C = 1/(L·ω_e²). The trial L is
+    // the clamped loop's tuning to ω_D, C_p^S·C_f/(C_p^S + C_f).
+    let clamped_c = ring.ring.cp_s * b.c_f / (ring.ring.cp_s + b.c_f);
+    let trial = 1.0 / (omega_open * omega_open * clamped_c);
+    let closed = Rotor::new(&with_branch(&base.model, &rings, target.branch, trial))?;
+    let modes = whirl_modes_of(&closed, settings, speed)?;
+    let mut near: Vec<f64> = modes.forward().map(|m| m.frequency).collect();
+    near.sort_by(|x, y| (x - omega_open).abs().total_cmp(&(y - omega_open).abs()));
+    let capacitance = match near[..] {
+        [w1, w2, ..] => {
+            let we2 = (w1 * w2 / omega_short).powi(2);
+            1.0 / (trial * we2)
+        }
+        _ => clamped_c,
+    };
+    let inductance = 1.0 / (omega_open * omega_open * capacitance);
+    let resistance = (1.5 * coupling).sqrt() / (capacitance * omega_short);
+    let tuning_frequency =
+        crate::model::Branch { c_f: b.c_f, inductance, resistance: 0.0 }.tuning_frequency(ring.ring.cp_t);
+    let mut clamped = false;
+    let values: Vec<f64> = spec
+        .variables
+        .iter()
+        .zip(super::evaluate::values_of(base, spec))
+        .map(|(v, x)| {
+            let same = v.branch == target.branch && v.ring == target.ring;
+            let want = match v.parameter {
+                Parameter::TuningFrequency if same => tuning_frequency,
+                Parameter::Inductance if same => inductance,
+                Parameter::Resistance if same => resistance,
+                _ => x,
+            };
+            let y = want.clamp(v.min, v.max);
+            clamped |= y != want;
+            y
+        })
+        .collect();
+    Ok(Some(ClassicTuning {
+        mode,
+        ring: target.ring,
+        branch: target.branch,
+        omega_open,
+        omega_short,
+        coupling,
+        capacitance,
+        inductance,
+        resistance,
+        tuning_frequency,
+        values,
+        clamped,
+    }))
+}
+
+/// The rotor of the design at `values` (SI units).
+pub fn rotor_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<(Problem, Rotor), DesignError> {
+    let problem = problem_at(base, spec, values)?;
+    let rotor = Rotor::new(&problem.model)?;
+    Ok((problem, rotor))
+}
