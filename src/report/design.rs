@@ -404,7 +404,9 @@ fn figure_caption(file: &str) -> String {
         "charts" => "Stability charts before and after the design (φ in rad/s, β)",
         "campbell" => "Campbell diagram of the tuned design (whirl frequency against speed, rad/s)",
         "history" => "Optimisation history",
-        "bode" => "Unbalance response before and after the design (amplitude in m, phase in deg, against speed in rad/s)",
+        "bode" => {
+            "Unbalance response before and after the design (amplitude in m, phase in deg, against speed in rad/s)"
+        }
         other => other,
     };
     format!("{what}{speed}")

@@ -33,7 +33,8 @@ const GLOSSARY: &str = "## Glossary
 mod tests {
     #[test]
     fn every_row_has_a_term_and_a_meaning() {
-        let rows: Vec<&str> = super::glossary().lines().filter(|l| l.starts_with("| ") && !l.starts_with("| term")).collect();
+        let rows: Vec<&str> =
+            super::glossary().lines().filter(|l| l.starts_with("| ") && !l.starts_with("| term")).collect();
         assert!(rows.len() >= 15);
         for r in rows {
             let cells: Vec<&str> = r.split(" | ").collect();

@@ -58,14 +58,19 @@ mod tests {
     use super::*;
 
     #[test]
-    fn markdown_rounds_numbers_and_escapes_bars() {
+    fn markdown_rounds_numbers_escapes_bars_counts_flags_and_links() {
         let t = SummaryTable {
-            header: vec!["case".into(), "seconds".into(), "band".into()],
-            rows: vec![vec!["a|b".into(), "1.23456789".into(), "12".into()]],
+            header: vec!["case".into(), "flags".into(), "seconds".into(), "band".into()],
+            rows: vec![
+                vec!["a|b".into(), "".into(), "1.23456789".into(), "12".into()],
+                vec!["c".into(), "infeasible".into(), "2".into(), "".into()],
+            ],
         };
         assert_eq!(
-            t.markdown(),
-            "# Study summary\n\n| case | seconds | band |\n|---|---|---|\n| a\\|b | 1.23457 | 12 |\n"
+            t.markdown(&["[r](x)".into(), "[s](y)".into()]),
+            "# Study summary\n\n2 case(s), 1 flagged (failed, infeasible, not verified or phi_op unstable).\n\n\
+             | case | flags | seconds | band | output |\n|---|---|---|---|---|\n\
+             | a\\|b |  | 1.23457 | 12 | [r](x) |\n| c | infeasible | 2 |  | [s](y) |\n"
         );
         assert_eq!(
             String::from_utf8(t.csv().unwrap()).unwrap(),
