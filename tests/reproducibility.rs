@@ -213,18 +213,28 @@ fn design_files_are_identical(name: &str, tag: &str, sets: &[&str]) {
         let _ = std::fs::remove_dir_all(&dir);
         run(threads, &args);
         let mut produced = files(&dir);
-        for name in ["tuned.toml", "report.json", "report.md"] {
+        for name in ["tuned.toml", "report.json", "report.md", "report.html"] {
             assert!(produced.contains_key(name), "{threads} threads: no {name}");
         }
         // The optimisation's and the verification's wall times.
         let json = strip_seconds(&produced["report.json"], 2);
         produced.insert("report.json".into(), json.into_bytes());
-        let md = String::from_utf8(produced["report.md"].clone()).expect("UTF-8 Markdown");
-        let md: Vec<&str> = md
-            .lines()
-            .map(|l| if l.starts_with("- cost:") { l.rsplit_once(", ").map_or(l, |(a, _)| a) } else { l })
-            .collect();
-        produced.insert("report.md".into(), md.join("\n").into_bytes());
+        // The cost line of the report (`<li>cost: …</li>` in its HTML page) ends with the
+        // wall time.
+        for name in ["report.md", "report.html"] {
+            let text = String::from_utf8(produced[name].clone()).expect("UTF-8 report");
+            let lines: Vec<&str> = text
+                .lines()
+                .map(|l| {
+                    if l.starts_with("- cost:") || l.starts_with("<li>cost:") {
+                        l.rsplit_once(", ").map_or(l, |(a, _)| a)
+                    } else {
+                        l
+                    }
+                })
+                .collect();
+            produced.insert(name.into(), lines.join("\n").into_bytes());
+        }
         // The folder's record of the files written holds their SHA-256, so it follows the
         // wall times in the reports; the files themselves are compared.
         produced.remove(".rotorshunt-out.json").expect("the output folder's manifest");
