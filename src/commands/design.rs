@@ -463,7 +463,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         }
     }
     s += &format!(
-        "\nbefore: {}\nafter: {}\n{} candidates, {} Floquet evaluations, {:.1} s optimising; verification {} evaluations, {:.1} s; wrote report.md, report.json, {} and plots to {}\n",
+        "\nbefore: {}\nafter: {}\n{} candidates, {} Floquet evaluations, {:.1} s optimising; verification {} evaluations, {:.1} s; wrote report.md, report.html, report.json, {} and plots to {}\n",
         values(&o.before),
         values(&o.after),
         o.candidates,
