@@ -4,32 +4,11 @@
 
 mod common;
 
-use common::problem_path;
+use common::{bin, json, problem_path, run_ok, tmp};
 use rotorshunt::design::{self, Status};
 use rotorshunt::problem::Problem;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rotorshunt-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn run_ok(cmd: &mut Command) -> String {
-    let out = cmd.output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 /// Verdicts of `rotorshunt chart FILE` on a grid of spacing `step` over [lo, hi] at one β.
 fn chart(file: &Path, lo: f64, hi: f64, step: f64, beta: f64, dir: &Path) -> Vec<(f64, bool)> {

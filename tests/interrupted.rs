@@ -135,18 +135,7 @@ fn content(out: &Path) -> BTreeMap<PathBuf, Result<Value, Vec<u8>>> {
             } else if p.extension().is_some_and(|e| e == "md" || e == "html") {
                 // The design report's `- cost: …, N.N s` line (`<li>cost: …, N.N s</li>` in
                 // report.html) ends with the wall time.
-                let text = std::fs::read_to_string(&full).unwrap();
-                let lines: Vec<&str> = text
-                    .lines()
-                    .map(|l| {
-                        if l.starts_with("- cost:") || l.starts_with("<li>cost:") {
-                            l.rsplit_once(", ").map_or(l, |(a, _)| a)
-                        } else {
-                            l
-                        }
-                    })
-                    .collect();
-                Err(lines.join("\n").into_bytes())
+                Err(common::without_report_wall_time(&std::fs::read_to_string(&full).unwrap()).into_bytes())
             } else {
                 Err(std::fs::read(&full).unwrap())
             };

@@ -5,35 +5,13 @@
 
 mod common;
 
-use common::{problem_path, rel};
+use common::{bin, json, problem_path, rel, run_ok, tmp};
 use rotorshunt::analysis::modes::whirl_modes;
 use rotorshunt::analysis::unbalance::peak_at_node;
 use rotorshunt::analysis::Rotor;
 use rotorshunt::model::{CircuitState, Model};
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rotorshunt-vd-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn run_ok(cmd: &mut Command) -> String {
-    let out = cmd.output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 /// The forward whirl `f1` at speed Ω (rad/s).
 fn f1(model: &Model, p: &Problem, speed: f64) -> f64 {

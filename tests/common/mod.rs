@@ -198,3 +198,43 @@ pub fn case_files(
     }
     files
 }
+
+/// The rotorshunt binary of this build.
+pub fn bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+}
+
+/// A fresh scratch folder `rotorshunt-{name}-{pid}` in the system's temporary folder
+/// (removed if left by an earlier run; not created).
+pub fn tmp(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("rotorshunt-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Run a command that must succeed; its standard output.
+pub fn run_ok(cmd: &mut std::process::Command) -> String {
+    let out = cmd.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// A JSON file, parsed.
+pub fn json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// A design report's text (report.md or report.html) without the wall time that ends its
+/// cost line (`- cost: …, N.N s`, `<li>cost: …, N.N s</li>`).
+pub fn without_report_wall_time(text: &str) -> String {
+    text.lines()
+        .map(|l| {
+            if l.starts_with("- cost:") || l.starts_with("<li>cost:") {
+                l.rsplit_once(", ").map_or(l, |(a, _)| a)
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}

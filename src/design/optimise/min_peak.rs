@@ -9,8 +9,6 @@ use crate::design::vibration::{
     check_constraints, classic_tuning, peak_of, rotor_at, ClassicTuning, ConstraintCheck, PeakValue,
 };
 
-/// Edge of the initial simplex in scaled units: 10 % of each variable's range.
-const SIMPLEX_STEP: f64 = 0.1;
 /// Nelder–Mead stops when the simplex's costs (ln of the peak in m) differ by less than
 /// this: 1e-4 is 0.01 % of the peak, far below what distinguishes two designs.
 const COST_TOLERANCE: f64 = 1e-4;
@@ -217,7 +215,6 @@ fn nelder_mead(
     constrained: bool,
     first: usize,
 ) -> Result<Vec<PeakRun>, DesignError> {
-    let n = ctx.spec.variables.len();
     starts
         .par_iter()
         .enumerate()
@@ -229,13 +226,7 @@ fn nelder_mead(
                 history: RefCell::new(Vec::new()),
                 best: RefCell::new(None),
             };
-            let mut simplex = vec![u0.clone()];
-            for j in 0..n {
-                let mut p = u0.clone();
-                p[j] = if p[j] + SIMPLEX_STEP <= 1.0 { p[j] + SIMPLEX_STEP } else { p[j] - SIMPLEX_STEP };
-                simplex.push(p);
-            }
-            let solver = NelderMead::new(simplex)
+            let solver = NelderMead::new(super::nelder_mead::initial_simplex(u0))
                 .with_sd_tolerance(COST_TOLERANCE)
                 .map_err(|e| DesignError::Optimiser(e.to_string()))?;
             let res = Executor::new(cost, solver)

@@ -6,6 +6,18 @@ use super::*;
 /// Edge of the initial Nelder–Mead simplex in scaled units: 10 % of each variable's range
 /// (of its logarithm for C_f, L, ω), large enough to step across a narrow region.
 const SIMPLEX_STEP: f64 = 0.1;
+/// The initial simplex around `u0` (scaled units): `u0` and one vertex per variable,
+/// [`SIMPLEX_STEP`] along its axis (backwards where that would leave [0, 1]).
+pub(super) fn initial_simplex(u0: &[f64]) -> Vec<Vec<f64>> {
+    let mut simplex = vec![u0.to_vec()];
+    for j in 0..u0.len() {
+        let mut p = u0.to_vec();
+        p[j] = if p[j] + SIMPLEX_STEP <= 1.0 { p[j] + SIMPLEX_STEP } else { p[j] - SIMPLEX_STEP };
+        simplex.push(p);
+    }
+    simplex
+}
+
 /// Nelder–Mead stops when the simplex's objective values differ by less than this (rad/s):
 /// the band edges themselves are bisected to 0.2 rad/s.
 const OBJECTIVE_TOLERANCE: f64 = 0.1;
@@ -95,13 +107,7 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
         .enumerate()
         .map(|(i, (origin, u0))| {
             let cost = BandCost { ctx, phi_op, start: i, history: RefCell::new(Vec::new()) };
-            let mut simplex = vec![u0.clone()];
-            for j in 0..n {
-                let mut p = u0.clone();
-                p[j] = if p[j] + SIMPLEX_STEP <= 1.0 { p[j] + SIMPLEX_STEP } else { p[j] - SIMPLEX_STEP };
-                simplex.push(p);
-            }
-            let solver = NelderMead::new(simplex)
+            let solver = NelderMead::new(initial_simplex(u0))
                 .with_sd_tolerance(OBJECTIVE_TOLERANCE)
                 .map_err(|e| DesignError::Optimiser(e.to_string()))?;
             let res = Executor::new(cost, solver)
