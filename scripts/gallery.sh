@@ -1,7 +1,7 @@
 #!/bin/sh
 # Regenerate docs/gallery/: one PNG of every plot kind, from the bundled problems.
 # Usage: scripts/gallery.sh [path/to/rotorshunt]   (default: target/release/rotorshunt,
-# built with `cargo build --release` first). Takes about a minute.
+# built with `cargo build --release` first). Takes about a minute (the two designs).
 set -eu
 cd "$(dirname "$0")/.."
 bin=${1:-target/release/rotorshunt}
@@ -31,4 +31,11 @@ cp "$work/response/response.png" "$out/response.png"
     --set circuit.state=closed --set 'circuit.branches[0].tuning_frequency=359.6' \
     --set 'circuit.branches[0].resistance=100' --compare-set circuit.state=open >/dev/null
 cp "$work/unbalance/bode.png" "$out/bode.png"
+# Design charts: the bands found at β_op (widest band), and operating bands with their
+# clearances (clear bands); the optimiser's history.
+"$bin" $q design problems/design-widest-band.toml --out "$work/design-widest" >/dev/null
+cp "$work/design-widest/charts.png" "$out/design-widest-band.png"
+cp "$work/design-widest/history.png" "$out/design-history.png"
+"$bin" $q design problems/design-clear-bands.toml --out "$work/design-clear" >/dev/null
+cp "$work/design-clear/charts.png" "$out/design-clear-bands.png"
 du -ch "$out"/*.png | tail -1

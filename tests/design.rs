@@ -83,6 +83,11 @@ fn widest_band_design_reports_the_band_of_tuned_toml_and_verifies_it() {
     for f in ["report.md", "report.json", "tuned.toml", "charts.png", "charts.svg", "campbell.png", "history.png"] {
         assert!(dir.join(f).exists(), "{f} missing");
     }
+    let layout = common::check_design_report(&dir);
+    eprintln!(
+        "widest band report: page one {} lines, {} region rows near the band",
+        layout.page_one_lines, layout.near_region_rows
+    );
     let report = json(&dir.join("report.json"));
     let outcome = &report["outcome"];
     assert_eq!(outcome["verified"], true);
@@ -117,6 +122,11 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let input = PathBuf::from(problem_path("design-clear-bands.toml"));
     let text = run_ok(bin().arg("design").arg(&input).arg("--out").arg(&dir));
     assert!(text.contains("design: feasible") && text.contains("verification: passed"), "{text}");
+    let layout = common::check_design_report(&dir);
+    eprintln!(
+        "clear bands report: page one {} lines, {} region rows near the bands",
+        layout.page_one_lines, layout.near_region_rows
+    );
     let tuned = dir.join("tuned.toml");
     let p = Problem::from_path(&tuned, &[]).unwrap();
     let spec = p.design.clone().unwrap();
@@ -217,4 +227,28 @@ fn design_problems_are_validated_with_key_paths() {
         bin().args(["design", &problem_path("fig11-closed-2000.toml"), "--out"]).arg(tmp("nodesign")).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no [design] table"));
+}
+
+#[test]
+fn a_two_speed_report_lists_and_embeds_the_files_it_writes() {
+    let dir = tmp("design-two-speeds");
+    let out = bin()
+        .arg("design")
+        .arg(problem_path("design-widest-band.toml"))
+        .args(["--set", "design.speeds=[1900, 2000]", "--set", "design.starts=1", "--set", "design.max_iterations=3"])
+        .arg("--out")
+        .arg(&dir)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(out.status.code().is_some_and(|c| c == 0 || c == 4), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in ["charts-1.png", "charts-1.svg", "charts-2.png", "charts-2.svg"] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let layout = common::check_design_report(&dir);
+    eprintln!(
+        "two speeds: page one {} lines, {} region rows near the bands",
+        layout.page_one_lines, layout.near_region_rows
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -161,7 +161,13 @@ fn stability_and_bode_legends_sit_beside_the_plot() {
     let c = chart(&fs, &[600.0, 700.0, 800.0], &[0.0, 0.2, 0.4], &Quiet);
     let plot =
         StabilityPlot::new("chart", vec![Layer { name: "open circuit".into(), color: (31, 119, 180), chart: c }])
-            .with_spans(vec![Span { lo: 650.0, hi: 700.0, name: "operating band".into(), color: (0, 150, 0) }])
+            .with_spans(vec![Span {
+                lo: 650.0,
+                hi: 700.0,
+                beta: None,
+                name: "operating band".into(),
+                color: (0, 150, 0),
+            }])
             .with_levels(vec![(0.3, "β_op = 0.3".into())]);
     let layout = plot.layout().unwrap();
     assert!(layout.legend.is_some() && !layout.legend_overlaps_plot(), "{layout:?}");

@@ -110,7 +110,12 @@ fn band_constraint_is_true_and_costs_response() {
     assert!(after < before, "no improvement: {after} vs {before}");
     assert!(!f["unconstrained"]["feasible"].as_bool().unwrap(), "the constraint is not active");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("Price of the constraints in response"), "no price in report.md");
+    assert!(md.contains("Price of the constraints: tuned peak − unconstrained peak"), "no price in report.md");
+    let layout = common::check_design_report(&dir);
+    eprintln!(
+        "min-peak report: page one {} lines, {} region rows near the band",
+        layout.page_one_lines, layout.near_region_rows
+    );
     assert!(md.contains("## Unbalance response at node 16"), "no response section");
     assert!(dir.join("bode.png").exists() && dir.join("bode.svg").exists());
     // The band by `rotorshunt band` on tuned.toml: at least 225 rad/s around 370 rad/s.

@@ -32,9 +32,10 @@ around the value, so it cannot reach a result:
                  point count, thread count, method and steps kept.
   design-wall    `..., 16.2 s optimising; verification 32008 evaluations, 9.6 s;` (design
                  text) -> both times replaced, the counts kept.
-  report-cost    `- cost: 102 candidate designs, 34021 Floquet (monodromy) evaluations,
-                 16.2 s` (report.md; `<li>cost: …` in report.html) -> the time replaced,
-                 the counts kept.
+  report-cost    `- cost: 102 candidate designs, 34021 + 32008 Floquet (monodromy)
+                 evaluations (optimiser + verification), 3.4 s + 2.3 s` (report.md;
+                 `<li>cost: …` in report.html; older reports end `…, 16.2 s`) -> the
+                 times replaced, the counts kept.
   study-wall     `study: 12 cases (12 run, ...) in 14.2 s;` (study text) -> the time
                  replaced.
   table-seconds  the cells of a column headed exactly `seconds` in a CSV file (first line
@@ -79,7 +80,7 @@ RULES = [
     ),
     (
         "report-cost",
-        re.compile(r"^(- cost: |<li>cost: )(\d+ candidate designs, \d+ Floquet \(monodromy\) evaluations, )" + NUM + r"( s)", re.M),
+        re.compile(r"^(- cost: |<li>cost: )(\d+ candidate designs, [^\n]*?, )" + NUM + r"( s)(?: \+ " + NUM + r" s)?", re.M),
         r"\g<1>\g<2>" + WALL + r"\g<3>",
     ),
     ("study-wall", re.compile(r"^(study: \d+ cases \([^)]*\) in )" + NUM + r"( s;)", re.M), r"\g<1>" + WALL + r"\g<2>"),

@@ -4,11 +4,10 @@
 
 use super::bounds::{self, Names};
 use super::{title, OutDir, TOOL};
-use crate::analysis::campbell::campbell;
-use crate::analysis::chart::chart;
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
 use crate::analysis::Interval;
 use crate::commands::out::json_pretty;
+use crate::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
 use crate::design::evaluate::Candidate;
 use crate::design::evaluate::{neighbourhood, values_of};
 use crate::design::spec::{DesignSpec, Objective};
@@ -16,157 +15,9 @@ use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
 use crate::progress::Progress;
-use crate::report::campbell::campbell_plot;
-use crate::report::chart::{Layer, StabilityPlot};
-use crate::report::design::{markdown, BranchRow, DesignReport};
-use crate::report::plot::{LinePlot, Series};
-use crate::report::unbalance::{BodeLayer, BodePlot};
+use crate::report::design::{self as report_design, branch_rows, markdown, DesignReport};
 use crate::Error;
 use std::path::Path;
-
-/// Whirls tracked in the tuned design's Campbell diagram.
-const CAMPBELL_WHIRLS: usize = 6;
-/// Grid of the before/after charts: φ points and β points.
-const CHART_GRID: (usize, usize) = (400, 31);
-/// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
-const CAMPBELL_SPEEDS: usize = 31;
-
-/// Every ring's circuit, branch by branch: one table of the shared circuit when two or
-/// more rings carry an identical one (tuning by the first ring's C_p^T, as `check` prints
-/// it), else each ring's branches under its name.
-fn branches(p: &Problem) -> Vec<BranchRow> {
-    let shared = !p.model.labels_by_ring();
-    let rings = if shared { &p.model.rings[..1.min(p.model.rings.len())] } else { &p.model.rings[..] };
-    rings
-        .iter()
-        .flat_map(|r| {
-            r.circuit.branches.iter().enumerate().map(move |(i, b)| BranchRow {
-                ring: (!shared).then(|| r.name.clone()),
-                branch: i + 1,
-                c_f: b.c_f,
-                inductance: b.inductance,
-                resistance: b.resistance,
-                tuning_frequency: b.tuning_frequency(r.ring.cp_t),
-            })
-        })
-        .collect()
-}
-
-/// The φ window of the charts: around φ_op or the bands, inside the design's range.
-fn chart_window(spec: &DesignSpec) -> (f64, f64) {
-    let (lo, hi) = match spec.objective {
-        Objective::WidestStableBand { .. } => {
-            let p = spec.objective.phi_op().unwrap_or(spec.phi_range.0);
-            (p * 0.5, p * 1.5)
-        }
-        Objective::ClearBands { .. } => band_window(spec.kept_clear()),
-        // The bands kept clear, else φ_op's, else the whole range.
-        Objective::MinPeakResponse { .. } => match spec.phi_op() {
-            _ if !spec.kept_clear().is_empty() => band_window(spec.kept_clear()),
-            Some(p) => (p * 0.5, p * 1.5),
-            None => spec.phi_range,
-        },
-    };
-    (lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
-}
-
-/// The window around operating bands: their widened span and a quarter of it each side.
-fn band_window(bands: &[crate::design::spec::Band]) -> (f64, f64) {
-    let lo = bands.iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
-    let hi = bands.iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
-    (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
-}
-
-/// The before/after charts at each speed; a step of `progress` per φ row and per file.
-fn charts(
-    dir: &OutDir,
-    before: &Candidate,
-    after: &Candidate,
-    spec: &DesignSpec,
-    progress: &dyn Progress,
-) -> Result<(), Error> {
-    let (lo, hi) = chart_window(spec);
-    let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
-    let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
-    let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
-    let mut markers = Vec::new();
-    if let Some(p) = spec.phi_op() {
-        markers.push((p, "φ_op".to_string()));
-    }
-    for (i, b) in spec.kept_clear().iter().enumerate() {
-        markers.push((b.lo, format!("band {} lo", i + 1)));
-        markers.push((b.hi, format!("band {} hi", i + 1)));
-    }
-    for (k, &w) in spec.speeds.iter().enumerate() {
-        let mut layers = Vec::new();
-        for (name, c, color) in [("reference circuit", before, (31, 119, 180)), ("tuned circuit", after, (214, 39, 40))]
-        {
-            let fs = &c.systems[k].1;
-            layers.push(Layer { name: name.into(), color, chart: chart(fs, &phis, &betas, progress) });
-        }
-        // The operating level as a horizontal line.
-        let level = Series {
-            name: format!("β_op = {}", spec.level),
-            color: (0, 0, 0),
-            dashed: true,
-            points: vec![(lo, spec.level), (hi, spec.level)],
-        };
-        let plot = StabilityPlot::new(&format!("Stability before and after the design, Ω = {w} rad/s"), layers)
-            .with_markers(markers.clone())
-            .with_lines(vec![level]);
-        let name = if spec.speeds.len() == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
-        dir.write(&format!("{name}.svg"), plot.svg().map_err(|e| dir.error("charts.svg", e))?.as_bytes())?;
-        progress.advance(1);
-        dir.write(&format!("{name}.png"), &plot.png().map_err(|e| dir.error("charts.png", e))?)?;
-        progress.advance(1);
-    }
-    Ok(())
-}
-
-fn history_plot(o: &DesignOutcome) -> LinePlot {
-    let colors = [(31, 119, 180), (214, 39, 40), (44, 160, 44), (148, 103, 189), (255, 127, 14), (23, 190, 207)];
-    let starts = o.history.iter().map(|h| h.start).max().map_or(0, |m| m + 1);
-    let series: Vec<Series> = (0..starts)
-        .map(|k| Series {
-            name: match o.spec.objective {
-                Objective::WidestStableBand { .. } => {
-                    o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone())
-                }
-                Objective::ClearBands { .. } => {
-                    if k == 0 {
-                        "from the reference".into()
-                    } else {
-                        "from the best global point".into()
-                    }
-                }
-                Objective::MinPeakResponse { .. } => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
-            },
-            color: colors[k % colors.len()],
-            dashed: false,
-            points: o.history.iter().filter(|h| h.start == k).map(|h| (h.step as f64, h.best)).collect(),
-        })
-        .collect();
-    let ys: Vec<f64> = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).filter(|y| y.abs() < 1e8).collect();
-    let (y0, y1) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
-    let (y0, y1) = if y0.is_finite() && y1 > y0 { (y0, y1) } else { (y0.min(0.0) - 1.0, y1.max(0.0) + 1.0) };
-    let x1 = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).fold(1.0, f64::max);
-    LinePlot {
-        title: "Optimiser history (best so far)".into(),
-        x_label: match o.spec.objective {
-            Objective::WidestStableBand { .. } => "candidate evaluations of the start".into(),
-            Objective::ClearBands { .. } => "convex step".into(),
-            Objective::MinPeakResponse { .. } => "candidate evaluations of the start".into(),
-        },
-        y_label: match o.spec.objective {
-            Objective::WidestStableBand { .. } => "smallest band width over the speeds (rad/s)".into(),
-            Objective::ClearBands { .. } => "total intrusion into the bands (rad/s)".into(),
-            Objective::MinPeakResponse { .. } => "peak response, with the constraints' penalty (m)".into(),
-        },
-        x_range: (0.0, x1),
-        y_range: (y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0)),
-        series: series.into_iter().filter(|s| !s.points.is_empty()).collect(),
-    }
-}
 
 /// The name of the design file written: `tuned.toml` for a result that can be handed on,
 /// `best-effort.toml` for an infeasible or unverified one.
@@ -258,14 +109,12 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
         // 1.5 times it), or each widened operating band.
         let windows: Vec<Interval> = match spec.objective {
             Objective::WidestStableBand { .. } => {
-                let (lo, hi) = chart_window(spec);
-                vec![Interval::new(lo, hi)]
+                vec![chart_window(spec)]
             }
             Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
                 let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded().clipped(&range)).collect();
                 if spec.constraints.min_band_width.is_some() {
-                    let (lo, hi) = chart_window(spec);
-                    w.push(Interval::new(lo, hi));
+                    w.push(chart_window(spec));
                 }
                 w
             }
@@ -282,10 +131,7 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
                 "DSTM points at tongue centres".into(),
             ));
         }
-        let (lo, hi) = chart_window(spec);
-        let phis: Vec<f64> = (0..CHART_GRID.0).map(|i| lo + (hi - lo) * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
-        let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
-        let betas: Vec<f64> = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
+        let (phis, betas) = chart_grid(spec);
         let charts = cost::chart(&pc, &phis, &betas).times(2.0, Driver::Grid, "charts");
         verification = verification.then(cat.times(2.0, Driver::Grid, "catalogues")).then(grids).then(charts);
     }
@@ -325,63 +171,34 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(problem, spec, &outcome.before)?;
     let after = Candidate::new(problem, spec, &outcome.after)?;
-    let tuned = &after.problem;
-    let chart_files: Vec<String> = if spec.speeds.len() == 1 {
-        vec!["charts.svg".into(), "charts.png".into()]
-    } else {
-        (1..=spec.speeds.len()).flat_map(|k| [format!("charts-{k}.svg"), format!("charts-{k}.png")]).collect()
-    };
+    let figure_count = outcome.vibration.iter().count() + spec.speeds.len() + 2;
+    progress.phase("report", (content_steps(spec) + 4 + figure_count) as u64);
+    let content = content(spec, &before, &after, progress)?;
+    let figures = report_design::figures(&outcome, &content, &title(problem));
+    let design_file = design_file_name(outcome.status);
     let mut files: Vec<String> =
-        vec!["report.md".into(), "report.html".into(), "report.json".into(), design_file_name(outcome.status).into()];
-    files.extend(chart_files);
-    files.extend(["campbell.svg", "campbell.png", "history.svg", "history.png"].iter().map(|s| s.to_string()));
-    if outcome.vibration.is_some() {
-        files.extend(["bode.svg", "bode.png"].iter().map(|s| s.to_string()));
-    }
-    let chart_rows = 2 * spec.speeds.len() * CHART_GRID.0;
-    progress.phase("report", (chart_rows + CAMPBELL_SPEEDS + files.len()) as u64);
+        ["report.md", "report.html", "report.json", design_file].iter().map(|s| s.to_string()).collect();
+    files.extend(figures.iter().flat_map(|(stem, _)| [format!("{stem}.svg"), format!("{stem}.png")]));
     let report = DesignReport {
         provenance: super::Provenance::of(problem),
         title: title(problem),
-        branches_before: branches(problem),
-        branches_after: branches(tuned),
+        branches_before: branch_rows(&problem.model),
+        branches_after: branch_rows(&after.problem.model),
         outcome: outcome.clone(),
         files,
     };
-    dir.write(design_file_name(outcome.status), tuned_toml(tuned, problem, &outcome)?.as_bytes())?;
+    dir.write(design_file, tuned_toml(&after.problem, problem, &outcome)?.as_bytes())?;
     dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
-    dir.write("report.md", markdown(&report).as_bytes())?;
+    let text = markdown(&report);
+    dir.write("report.md", text.as_bytes())?;
     progress.advance(3);
-    charts(dir, &before, &after, spec, progress)?;
-    let top = spec.speeds.iter().fold(0.0f64, |m, &w| m.max(w)).max(100.0) * 1.5;
-    let speeds: Vec<f64> = (0..CAMPBELL_SPEEDS).map(|i| top * i as f64 / (CAMPBELL_SPEEDS - 1) as f64).collect();
-    let c = campbell(&after.rotor, &tuned.settings, &speeds, CAMPBELL_WHIRLS, progress)?;
-    let plot = campbell_plot(&c, &format!("Campbell diagram, tuned circuit: {}", title(problem)));
-    dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
-    progress.advance(1);
-    dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
-    progress.advance(1);
-    let h = history_plot(&outcome);
-    dir.write("history.svg", h.svg().map_err(|e| dir.error("history.svg", e))?.as_bytes())?;
-    progress.advance(1);
-    dir.write("history.png", &h.png().map_err(|e| dir.error("history.png", e))?)?;
-    progress.advance(1);
-    if let Some(v) = &outcome.vibration {
-        let layers = vec![
-            BodeLayer { name: "reference circuit".into(), dashed: false, result: &v.before },
-            BodeLayer { name: "tuned circuit".into(), dashed: true, result: &v.after },
-        ];
-        let plot =
-            BodePlot { title: format!("Unbalance response before and after the design: {}", title(problem)), layers };
-        dir.write("bode.svg", plot.svg().map_err(|e| dir.error("bode.svg", e))?.as_bytes())?;
-        progress.advance(1);
-        dir.write("bode.png", &plot.png().map_err(|e| dir.error("bode.png", e))?)?;
+    for (stem, figure) in &figures {
+        dir.figure(stem, figure.as_ref())?;
         progress.advance(1);
     }
-    let page = crate::report::html::page(&report.title, &markdown(&report), dir);
-    dir.write("report.html", page.as_bytes())?;
+    dir.write("report.html", crate::report::html::page(&report.title, &text, dir).as_bytes())?;
     progress.advance(1);
-    Ok(outcome)
+    Ok(report.outcome)
 }
 
 /// The one-paragraph result on standard output.

@@ -269,14 +269,12 @@ pub fn chart_cmd(
     written();
     written();
     let plot = StabilityPlot::new(&format!("Stability chart: {label}"), layers);
-    dir.write("chart.svg", plot.svg().map_err(|e| dir.error("chart.svg", e))?.as_bytes())?;
+    dir.figure("chart", &plot)?;
     written();
-    dir.write("chart.png", &plot.png().map_err(|e| dir.error("chart.png", e))?)?;
     written();
     let growth = GrowthMap::new(&format!("Growth rate: {label}"), main.clone());
-    dir.write("growth.svg", growth.svg().map_err(|e| dir.error("growth.svg", e))?.as_bytes())?;
+    dir.figure("growth", &growth)?;
     written();
-    dir.write("growth.png", &growth.png().map_err(|e| dir.error("growth.png", e))?)?;
     written();
     dir.commit("chart")?;
     let mut head = format!(
@@ -386,9 +384,8 @@ pub fn response_cmd(
         log_y: false,
         curves,
     };
-    dir.write("response.svg", plot.svg().map_err(|e| dir.error("response.svg", e))?.as_bytes())?;
+    dir.figure("response", &plot)?;
     written();
-    dir.write("response.png", &plot.png().map_err(|e| dir.error("response.png", e))?)?;
     written();
     dir.commit("response")?;
     Ok(format!(

@@ -170,10 +170,8 @@ pub fn campbell_cmd(
     dir.write("campbell.csv", csv.as_bytes())?;
     progress.advance(1);
     let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", plot_title(problem)));
-    dir.write("campbell.svg", plot.svg().map_err(|e| dir.error("campbell.svg", e))?.as_bytes())?;
-    progress.advance(1);
-    dir.write("campbell.png", &plot.png().map_err(|e| dir.error("campbell.png", e))?)?;
-    progress.advance(1);
+    dir.figure("campbell", &plot)?;
+    progress.advance(2);
     dir.commit("campbell")?;
     Ok(format!(
         "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",

@@ -371,6 +371,14 @@ impl OutDir {
         }
     }
 
+    /// Write a figure as `stem.svg` and `stem.png` (each by [`OutDir::write`]).
+    pub fn figure(&self, stem: &str, figure: &dyn crate::report::plot::Figure) -> Result<(), Error> {
+        let svg = format!("{stem}.svg");
+        self.write(&svg, figure.svg().map_err(|e| self.error(&svg, e))?.as_bytes())?;
+        let png = format!("{stem}.png");
+        self.write(&png, &figure.png().map_err(|e| self.error(&png, e))?)
+    }
+
     /// Put the written files in place, as `command`'s output (module docs). A folder
     /// written directly (a study's) has nothing to do. An `OutDir` dropped without a
     /// commit leaves its folder as it was.

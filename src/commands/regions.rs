@@ -161,9 +161,8 @@ pub fn regions_cmd(
         let written = files_phase(progress, 3);
         dir.write("regions.json", json_text.as_bytes())?;
         written();
-        dir.write("regions.svg", plot.svg().map_err(|e| dir.error("regions.svg", e))?.as_bytes())?;
+        dir.figure("regions", &plot)?;
         written();
-        dir.write("regions.png", &plot.png().map_err(|e| dir.error("regions.png", e))?)?;
         written();
         dir.commit("regions")?;
     }

@@ -186,8 +186,7 @@ pub fn unbalance_cmd(
         layers.push(BodeLayer { name: shown, dashed: true, result: r });
     }
     let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers };
-    dir.write("bode.svg", plot.svg().map_err(|e| dir.error("bode.svg", e))?.as_bytes())?;
-    dir.write("bode.png", &plot.png().map_err(|e| dir.error("bode.png", e))?)?;
+    dir.figure("bode", &plot)?;
     dir.commit("unbalance")?;
     let files = if compared.is_some() {
         "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode.{svg,png}"

@@ -26,6 +26,7 @@
 //!
 //! Every result is checked independently on a 1 rad/s grid at β_op.
 
+pub mod content;
 pub mod evaluate;
 pub mod optimise;
 pub mod qp;

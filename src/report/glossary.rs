@@ -14,7 +14,7 @@ const GLOSSARY: &str = "## Glossary
 | α, β | static and dynamic load coefficients, fractions of the buckling load P_cr (−) |
 | β_op, φ_op | the load level and the operating frequency a design is judged at |
 | f1, b1, f2, … | forward (f) and backward (b) whirl of rotor mode 1, 2, … at Ω, numbered as in the paper's Table 3 |
-| fr1, br1, fs1, … | forward and backward whirl of an electrical (shunt) mode: r of branch 1, s of branch 2, t of branch 3; `r1@drive` names the ring when rings have different circuits |
+| fr1, br1, fs1, … | forward and backward whirl of an electrical (shunt) mode: the letter is the branch (r of branch 1, s of branch 2, t of branch 3, …), the digit counts that branch's modes by frequency (one per ring carrying the branch: fr1, fr2 on two rings); `r1@drive` names the ring when rings have different circuits |
 | A+B (k = n) | a combination region (tongue) that starts at φ = (ω_A + ω_B)/n on the β = 0 axis, A a forward and B a backward whirl; an electrical whirl drops its f/b letter there (r1, not fr1), its place says which; `2 n1` at Ω = 0: the principal region of mode 1 |
 | order k | the n of a tongue: k = 1 is the principal (first-order) region, higher k start at lower φ and are thinner |
 | onset | the smallest β at which a region is unstable (−) |
@@ -25,7 +25,14 @@ const GLOSSARY: &str = "## Glossary
 | DSTM | the paper's discrete state transition matrix (Eq. 26–27), the reference method |
 | fast path | the Magnus (CFM4) monodromy on the reduced model, checked against DSTM |
 | verification | from scratch, after the optimiser: the full catalogue of the tuned design, the DSTM point at every tongue centre near the band, and a 0.05 rad/s grid over the band |
+| bounded by | the tongue whose edge at β_op ends the stable band on that side; `window end` when the band reaches the end of the φ range searched |
+| unlabelled, unexplained | a counted tongue whose whirl pair was not identified (found by the guard lattice, a grid of points that catches tongues no predicted start explains); it bounds bands like any other |
+| distance | in the region table near the bands: the gap (rad/s) between a tongue's edges at β_op and the band or operating band; 0 when it bounds or enters it |
 | intrusion | a region whose edges at β_op reach into an operating band (with its clearance) |
+| clearance | the margin (rad/s) each side of an operating band that must stay stable too |
+| peak response | the largest unbalance amplitude (m) at the design's node over its speed range; amplification factor: API 684's, from the half-power points |
+| unconstrained optimum, price | the design that damps best without any stability constraint; the price of the constraints is the tuned peak minus its peak (m, %) |
+| ζ | the modal damping ratio −Re λ/\\|λ\\| of a whirl (−) |
 | C_f, L, R | a shunt branch's capacitance (F), inductance (H) and resistance (Ω); tuning ω = √((C_p^T + C_f)/(L·C_p^T·C_f)) (rad/s, Eq. 4) |
 ";
 

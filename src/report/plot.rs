@@ -109,6 +109,39 @@ impl Layout {
     }
 }
 
+/// A plot that renders to both output forms: every figure a command writes is one of
+/// these, written as `NAME.svg` and `NAME.png` side by side.
+pub trait Figure {
+    /// Render as SVG text.
+    fn svg(&self) -> Result<String, PlotError>;
+    /// Render as PNG bytes.
+    fn png(&self) -> Result<Vec<u8>, PlotError>;
+}
+
+/// [`Figure`] for plot types whose inherent `svg`/`png` render them.
+macro_rules! figure {
+    ($($t:ty),*) => {$(
+        impl Figure for $t {
+            fn svg(&self) -> Result<String, PlotError> {
+                <$t>::svg(self)
+            }
+            fn png(&self) -> Result<Vec<u8>, PlotError> {
+                <$t>::png(self)
+            }
+        }
+    )*};
+}
+figure!(LinePlot, CurvePlot, super::chart::StabilityPlot, super::chart::GrowthMap);
+
+impl Figure for super::unbalance::BodePlot<'_> {
+    fn svg(&self) -> Result<String, PlotError> {
+        super::unbalance::BodePlot::svg(self)
+    }
+    fn png(&self) -> Result<Vec<u8>, PlotError> {
+        super::unbalance::BodePlot::png(self)
+    }
+}
+
 /// A failure while drawing (a plotters backend error, as text).
 #[derive(Debug, thiserror::Error)]
 #[error("plot rendering failed: {0}")]

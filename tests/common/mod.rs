@@ -238,3 +238,64 @@ pub fn without_report_wall_time(text: &str) -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// What [`check_design_report`] measured on a design folder's report.md.
+#[allow(dead_code)]
+pub struct ReportLayout {
+    /// Lines of page one (before the first `---` line).
+    pub page_one_lines: usize,
+    /// Data rows of the region tables near the bands.
+    pub near_region_rows: usize,
+}
+
+/// Checks of a design report's layout (issue: a report that reads in one minute): page
+/// one ends at a `---` line within 60 lines and holds the question, the answer, the
+/// circuit table and the verification; the region tables near the bands have fewer than
+/// 25 rows in all; every PNG written is embedded (the key figure on page one) and every
+/// embedded one exists; the glossary and settings table are there; the file list is the
+/// folder's files exactly (hidden ones and sub-folders aside).
+#[allow(dead_code)]
+pub fn check_design_report(dir: &std::path::Path) -> ReportLayout {
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let lines: Vec<&str> = md.lines().collect();
+    let end = lines.iter().position(|l| *l == "---").expect("no end of page one (`---`)");
+    let page_one = lines[..end].join("\n");
+    assert!(end <= 60, "page one is {end} lines long");
+    for part in ["**Question.**", "**Answer.**", "| branch |", "**Verification: ", "- Catalogue:", "- Grid:"] {
+        assert!(page_one.contains(part), "page one lacks {part}:\n{page_one}");
+    }
+    assert!(page_one.contains("![") && page_one.contains(".png)"), "no key figure on page one");
+    let section = |title: &str| -> Vec<&str> {
+        let start = lines.iter().position(|l| l.starts_with(title)).unwrap_or_else(|| panic!("no {title}"));
+        let stop = lines[start + 1..].iter().position(|l| l.starts_with("## ")).map_or(lines.len(), |p| start + 1 + p);
+        lines[start..stop].to_vec()
+    };
+    let near = section("## Regions near the band");
+    let near_region_rows = near.iter().filter(|l| l.starts_with("| ") && !l.starts_with("| region |")).count();
+    assert!(near_region_rows < 25, "{near_region_rows} rows near the bands");
+    for title in ["## Glossary", "## Settings"] {
+        assert!(section(title).len() > 5, "{title} is empty");
+    }
+    let listed: std::collections::BTreeSet<String> = section("## Files")
+        .iter()
+        .filter_map(|l| l.strip_prefix("- `").and_then(|l| l.strip_suffix('`')))
+        .map(str::to_string)
+        .collect();
+    let written: std::collections::BTreeSet<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    assert_eq!(listed, written, "the file list does not match the folder");
+    let embedded: std::collections::BTreeSet<String> = md
+        .split("](")
+        .skip(1)
+        .filter_map(|t| t.split_once(')').map(|(f, _)| f.to_string()))
+        .filter(|f| f.ends_with(".png"))
+        .collect();
+    let pngs: std::collections::BTreeSet<String> = written.iter().filter(|f| f.ends_with(".png")).cloned().collect();
+    assert_eq!(embedded, pngs, "embedded figures differ from the PNGs written");
+    ReportLayout { page_one_lines: end, near_region_rows }
+}

@@ -107,25 +107,26 @@ pub(super) fn draw_markers<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Shaded φ spans over the whole β range, with 1 px edges, clipped to the x range.
+/// Shaded φ spans over the whole β range with 1 px edges, and bars over their β
+/// interval with a 1 px outline, clipped to the plotting area.
 pub(super) fn draw_spans<DB: DrawingBackend>(plot: &mut Chart2d<'_, DB>, spans: &[Span]) -> Result<(), PlotError> {
     let (x, y) = (plot.x_range(), plot.y_range());
     for s in spans {
         let (lo, hi) = (s.lo.max(x.start), s.hi.min(x.end));
-        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+        let (b0, b1) = s.beta.map_or((y.start, y.end), |(b0, b1)| (b0.max(y.start), b1.min(y.end)));
+        let ordered = |a: f64, b: f64| a.partial_cmp(&b) == Some(std::cmp::Ordering::Less);
+        if !ordered(lo, hi) || !ordered(b0, b1) {
             continue;
         }
-        plot.draw_series(std::iter::once(Rectangle::new(
-            [(lo, y.start), (hi, y.end)],
-            rgb(span_fill(s.color)).filled(),
-        )))
-        .map_err(err)?;
+        let fill = if s.beta.is_some() { bar_fill(s.color) } else { span_fill(s.color) };
+        plot.draw_series(std::iter::once(Rectangle::new([(lo, b0), (hi, b1)], rgb(fill).filled()))).map_err(err)?;
+        let edge = rgb(s.color).stroke_width(style::THIN);
+        if s.beta.is_some() {
+            plot.draw_series(std::iter::once(Rectangle::new([(lo, b0), (hi, b1)], edge))).map_err(err)?;
+            continue;
+        }
         for e in [s.lo, s.hi].into_iter().filter(|e| *e >= x.start && *e <= x.end) {
-            plot.draw_series(std::iter::once(PathElement::new(
-                vec![(e, y.start), (e, y.end)],
-                rgb(s.color).stroke_width(style::THIN),
-            )))
-            .map_err(err)?;
+            plot.draw_series(std::iter::once(PathElement::new(vec![(e, y.start), (e, y.end)], edge))).map_err(err)?;
         }
     }
     Ok(())

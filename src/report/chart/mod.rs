@@ -53,6 +53,8 @@ const REGION_FILL: (u8, u8, u8) = (20, 40, 90);
 const REGION_LINE: (u8, u8, u8) = (0, 0, 0);
 /// Opacity of a span's shading.
 const SPAN_ALPHA: f64 = 0.18;
+/// Opacity of a bar's fill: a few pixels tall, it must read against white and cells.
+pub const BAR_ALPHA: f64 = 0.7;
 /// Grid line colour.
 const GRID_COLOR: RGBColor = RGBColor(225, 225, 225);
 
@@ -63,6 +65,10 @@ use style::tick;
 /// A span's shading on white.
 fn span_fill(c: (u8, u8, u8)) -> (u8, u8, u8) {
     style::blend(c, (255, 255, 255), SPAN_ALPHA)
+}
+
+fn bar_fill(c: (u8, u8, u8)) -> (u8, u8, u8) {
+    style::blend(c, (255, 255, 255), BAR_ALPHA)
 }
 
 fn triple(c: RGBColor) -> (u8, u8, u8) {
@@ -113,13 +119,17 @@ pub struct StabilityPlot {
     pub regions: Vec<RegionShape>,
 }
 
-/// A shaded span of φ over the whole β range.
+/// A shaded span of φ over the whole β range, or a bar over a β interval (e.g. a stable
+/// band found at β_op, drawn just below that level).
 #[derive(Debug, Clone)]
 pub struct Span {
     /// Lower and upper φ (rad/s).
     pub lo: f64,
     /// See `lo`.
     pub hi: f64,
+    /// The β interval of a bar (drawn more opaque, [`BAR_ALPHA`], with a 1 px outline);
+    /// `None` shades the whole β range.
+    pub beta: Option<(f64, f64)>,
     /// Legend text (entries with equal text share one legend line).
     pub name: String,
     /// RGB colour (drawn translucent, under the unstable cells).
@@ -244,7 +254,8 @@ impl StabilityPlot {
         }
         for s in &self.spans {
             if !entries.iter().any(|e| e.text == s.name) {
-                entries.push(Entry { key: Key::Outlined(span_fill(s.color), s.color), text: s.name.clone() });
+                let fill = if s.beta.is_some() { bar_fill(s.color) } else { span_fill(s.color) };
+                entries.push(Entry { key: Key::Outlined(fill, s.color), text: s.name.clone() });
             }
         }
         for (_, name) in &self.levels {
