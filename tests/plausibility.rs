@@ -48,6 +48,40 @@ fn a_speed_in_rpm_gives_the_results_of_the_same_speed_in_rad_per_s() {
     let d = load("design-widest-band.toml", &["design.speeds_rpm=[9549.296585513721, 19098.593171027442]"]);
     let speeds = &d.design.as_ref().unwrap().speeds;
     assert!(rel(speeds[0], 1000.0) < 1e-15 && rel(speeds[1], 2000.0) < 1e-15, "{speeds:?}");
+    // And the response's speed range of a design.
+    let rpm_range =
+        format!("design.response.speeds_rpm=[{:?}, {:?}]", 250.0 / RAD_PER_S_PER_RPM, 500.0 / RAD_PER_S_PER_RPM);
+    let r = load("design-min-peak.toml", &[&rpm_range]);
+    let r = r.design.as_ref().unwrap().response().unwrap().speeds;
+    assert!(rel(r.lo, 250.0) < 1e-15 && rel(r.hi, 500.0) < 1e-15, "{r:?}");
+}
+
+#[test]
+fn speed_flags_in_rpm_give_the_results_of_the_same_speeds_in_rad_per_s() {
+    let out = common::tmp("rpm-flags");
+    let campbell = |speeds: &str, dir: &str| {
+        let o = run(&["campbell", "problems/paper-closed.toml", "--speeds", speeds, "--count", "2", "--out", dir]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        common::json(&std::path::Path::new(dir).join("campbell.json"))
+    };
+    let (a, b) = (out.join("rad"), out.join("rpm"));
+    let by_rad = campbell(&format!("0:{:?}:{:?}", 3000.0, 500.0), a.to_str().unwrap());
+    let by_rpm = campbell(
+        &format!("0:{:?}:{:?} rpm", 3000.0 / RAD_PER_S_PER_RPM, 500.0 / RAD_PER_S_PER_RPM),
+        b.to_str().unwrap(),
+    );
+    let speeds = |v: &serde_json::Value| -> Vec<f64> {
+        v["campbell"]["speeds"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let (sa, sb) = (speeds(&by_rad), speeds(&by_rpm));
+    assert_eq!(sa.len(), 7);
+    assert_eq!(sa.len(), sb.len());
+    for (x, y) in sa.iter().zip(&sb) {
+        assert!((x - y).abs() <= 1e-12 * x.max(1.0), "{x} vs {y}");
+    }
+    let o = run(&["unbalance", "problems/paper-closed.toml", "--speeds", "1:2:1 rpms", "--out", "/nonexistent/x"]);
+    assert_eq!(o.status.code(), Some(2), "a bad unit is bad input");
+    std::fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]

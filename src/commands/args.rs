@@ -35,9 +35,40 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
     }
 }
 
+/// Parse a range of rotating speeds: `A:B:STEP` in rad/s, or in rpm with the suffix
+/// `rpm` (`0:30000:500rpm`, `3000 rpm`), each point then converted, Ω = n·π/30 rad/s
+/// ([`crate::problem::units::RAD_PER_S_PER_RPM`]); `rad/s` may be written out.
+pub fn parse_speed_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
+    let t = text.trim();
+    let lower = t.to_ascii_lowercase();
+    if let Some(n) = lower.strip_suffix("rpm") {
+        let rpm = parse_range(&t[..n.len()], argument)?;
+        return Ok(rpm.into_iter().map(|n| n * crate::problem::units::RAD_PER_S_PER_RPM).collect());
+    }
+    match lower.strip_suffix("rad/s") {
+        Some(n) => parse_range(&t[..n.len()], argument),
+        None => parse_range(t, argument),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn speed_ranges_in_rpm_are_converted_point_by_point() {
+        let rad = parse_speed_range("0:3000:100", "x").unwrap();
+        assert_eq!(parse_speed_range("0:3000:100 rad/s", "x").unwrap(), rad);
+        let rpm = parse_speed_range("0:30000:1000rpm", "x").unwrap();
+        assert_eq!(rpm.len(), 31);
+        let pi_30 = std::f64::consts::PI / 30.0;
+        for (k, w) in rpm.iter().enumerate() {
+            assert_eq!(*w, (k as f64 * 1000.0) * pi_30);
+        }
+        assert_eq!(parse_speed_range("19099 RPM", "x").unwrap(), vec![19099.0 * pi_30]);
+        assert!(parse_speed_range("rpm", "x").is_err());
+        assert!(parse_speed_range("1:0:1 rpm", "x").is_err());
+    }
 
     #[test]
     fn ranges() {

@@ -145,7 +145,7 @@ pub fn campbell_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speeds = parse_range(speeds, "--speeds")?;
+    let speeds = args::parse_speed_range(speeds, "--speeds")?;
     for &w in &speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }

@@ -3,7 +3,7 @@
 
 use super::bounds::{self, MODEL_ONLY};
 use super::out::json_pretty;
-use super::{parse_range, title, Compare, OutDir, Progress, Provenance};
+use super::{title, Compare, OutDir, Progress, Provenance};
 use crate::analysis::cost::{self, Budget, Dense};
 use crate::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
 use crate::analysis::limits::{self, MAX_COUNT};
@@ -41,7 +41,7 @@ pub struct UnbalanceArgs<'a> {
 
 /// The speed grid of `--speeds`: parsed, each speed by its rule, at least one.
 fn speed_grid(text: &str) -> Result<Vec<f64>, Error> {
-    let speeds = parse_range(text, "--speeds")?;
+    let speeds = super::args::parse_speed_range(text, "--speeds")?;
     for &w in &speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }

@@ -100,8 +100,8 @@ impl Serialize for Warning {
 
 /// The plausibility warnings of a valid file and its model, as (key path, kind), in
 /// file order of the topics: materials and shaft, disks, rings, speeds. `rpm` lists the
-/// rad/s keys that were given in rpm (`speed`, `design.speeds`).
-pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[&str]) -> Vec<(String, WarningKind)> {
+/// rad/s keys that were given in rpm (`speed`, `design.speeds`, `design.response.speeds`).
+pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[String]) -> Vec<(String, WarningKind)> {
     let mut out = Vec::new();
     let mut modulus = |key: String, value: f64| {
         if !(MIN_YOUNGS_MODULUS..=MAX_YOUNGS_MODULUS).contains(&value) {
@@ -183,9 +183,9 @@ pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[&str]) -> Vec<(String
             }
         }
     };
-    speed("speed", "speed_rpm", rpm.contains(&"speed"), model.speed);
+    speed("speed", "speed_rpm", rpm.iter().any(|k| k == "speed"), model.speed);
     if let Some(speeds) = f.design.as_ref().and_then(|d| d.speeds.as_ref()) {
-        let in_rpm = rpm.contains(&"design.speeds");
+        let in_rpm = rpm.iter().any(|k| k == "design.speeds");
         for (i, &w) in speeds.iter().enumerate() {
             speed(&format!("design.speeds[{i}]"), &format!("design.speeds_rpm[{i}]"), in_rpm, w);
         }

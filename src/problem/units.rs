@@ -2,8 +2,10 @@
 //! before it is read into [`super::ProblemFile`]:
 //!
 //! - a speed may be given in rpm by the key with the suffix `_rpm` (`speed_rpm`,
-//!   `design.speeds_rpm`); it is converted at load, Ω = n·π/30 rad/s, and the rest of the
-//!   program sees the rad/s key only ([`RPM_KEYS`]);
+//!   `design.speeds_rpm`, `design.response.speeds_rpm`); it is converted at load,
+//!   Ω = n·π/30 rad/s, and the rest of the program sees the rad/s key only
+//!   ([`RPM_KEYS`]); on the command line, a speed range takes the suffix `rpm`
+//!   ([`crate::commands`]' `--speeds 0:30000:500rpm`);
 //! - a `--set` of one key of a pair of alternatives (`node`/`position`,
 //!   `inductance`/`tuning_frequency`, `cp_s`/`k_eq2`, a speed and its `_rpm` form)
 //!   replaces the other in the same table when the other came from the file
@@ -16,8 +18,9 @@ use crate::analysis::limits;
 pub const RAD_PER_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 
 /// Speed keys that have an rpm form: (table path, key in rad/s, key in rpm). The table
-/// path is empty for the top level.
-pub const RPM_KEYS: [(&str, &str, &str); 2] = [("", "speed", "speed_rpm"), ("design", "speeds", "speeds_rpm")];
+/// path is empty for the top level, dotted for a nested table.
+pub const RPM_KEYS: [(&str, &str, &str); 3] =
+    [("", "speed", "speed_rpm"), ("design", "speeds", "speeds_rpm"), ("design.response", "speeds", "speeds_rpm")];
 
 /// Pairs of keys of one table of which a file gives one: a `--set` of either replaces the
 /// other. `node`/`position` place disks, bearings and rings; `inductance`/
@@ -55,14 +58,14 @@ pub type Failure = (String, K);
 /// Convert every rpm key of `table` to its rad/s key (Ω = n·π/30). A table that gives both
 /// forms is refused ([`K::BothGiven`] at the rpm key); an rpm value is checked by the speed
 /// rule ([`limits::speed`]: finite, ≥ 0) at its own key, in rpm. Returns the rad/s keys
-/// that were given in rpm (`speed`, `design.speeds`).
-pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<&'static str>, Failure> {
+/// that were given in rpm (`speed`, `design.speeds`, `design.response.speeds`).
+pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
     let mut converted_keys = Vec::new();
     for (parent, rad, rpm) in RPM_KEYS {
         let t = if parent.is_empty() {
             &mut *table
         } else {
-            match table.get_mut(parent).and_then(toml::Value::as_table_mut) {
+            match lookup_table(table, parent) {
                 Some(t) => t,
                 None => continue,
             }
@@ -91,7 +94,7 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<&'static str>, Failure
         };
         t.remove(rpm);
         t.insert(rad.to_string(), converted);
-        converted_keys.push(if parent.is_empty() { "speed" } else { "design.speeds" });
+        converted_keys.push(key(rad));
     }
     Ok(converted_keys)
 }
