@@ -5,7 +5,7 @@
 //!   `design.speeds_rpm`, `design.response.speeds_rpm`); it is converted at load,
 //!   Ω = n·π/30 rad/s, and the rest of the program sees the rad/s key only
 //!   ([`RPM_KEYS`]); on the command line, a speed range takes the suffix `rpm`
-//!   ([`crate::commands`]' `--speeds 0:30000:500rpm`);
+//!   (`--speeds 0:30000:500rpm`, parsed by the CLI layer);
 //! - a `--set` of one key of a pair of alternatives (`node`/`position`,
 //!   `inductance`/`tuning_frequency`, `cp_s`/`k_eq2`, a speed and its `_rpm` form)
 //!   replaces the other in the same table when the other came from the file

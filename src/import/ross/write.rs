@@ -40,7 +40,7 @@ pub fn render(r: &Imported, source: &str) -> String {
     let mut out = String::new();
     out.push_str(&format!(
         "# Imported by `rotorshunt import-ross` ({}) from {}, a rotor saved by ROSS {} (Rotor.save).\n",
-        crate::commands::TOOL,
+        crate::problem::provenance::TOOL,
         plain(source),
         plain(version)
     ));

@@ -1,0 +1,84 @@
+//! Data flows one way: file → problem → model → assembly → analysis → design → report →
+//! CLI. A module may use its own layer and the layers before it; only the file layer
+//! (`problem`, `import`), which builds every later layer's types from the text (the
+//! model, the settings, the design spec), names later layers. This test reads every
+//! `crate::…` path in src/ (comments aside) and fails on one that runs back up the chain.
+
+mod common;
+
+use std::path::Path;
+
+/// The place of a top-level module in the chain; `None` for modules outside it.
+fn rank(module: &str) -> Option<u32> {
+    Some(match module {
+        // Numerical kernels any layer may use.
+        "linalg" => 0,
+        "problem" | "import" => 1,
+        "model" => 2,
+        "assembly" => 3,
+        // The analyses, and the progress trait through which they report (it names the
+        // problem's warning type).
+        "analysis" | "progress" => 4,
+        "design" => 5,
+        "report" => 6,
+        // The crate's composed error and the command layer.
+        "error" | "Error" | "commands" => 7,
+        _ => return None,
+    })
+}
+
+/// The `crate::name` paths of one line of code (its comment cut off).
+fn crate_paths(line: &str) -> Vec<String> {
+    let code = line.split("//").next().unwrap_or("");
+    code.match_indices("crate::")
+        .map(|(i, _)| code[i + 7..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>())
+        .collect()
+}
+
+fn visit(dir: &Path, files: &mut Vec<std::path::PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            visit(&p, files);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            files.push(p);
+        }
+    }
+}
+
+#[test]
+fn no_import_runs_back_up_the_chain() {
+    let src = common::root().join("src");
+    let mut files = Vec::new();
+    visit(&src, &mut files);
+    let mut back = Vec::new();
+    let mut checked = 0;
+    for f in &files {
+        let rel = f.strip_prefix(&src).unwrap();
+        let top = rel.components().next().unwrap().as_os_str().to_string_lossy().trim_end_matches(".rs").to_string();
+        let Some(own) = rank(&top) else { continue };
+        if own == 1 {
+            continue;
+        }
+        for (n, line) in std::fs::read_to_string(f).unwrap().lines().enumerate() {
+            // Grouped paths would hide their modules from the scan: the code names each.
+            assert!(!line.contains("crate::{"), "src/{}:{}: a grouped crate:: path", rel.display(), n + 1);
+            for target in crate_paths(line) {
+                checked += 1;
+                if rank(&target).is_some_and(|r| r > own) {
+                    back.push(format!("src/{}:{}: {top} uses crate::{target}", rel.display(), n + 1));
+                }
+            }
+        }
+    }
+    eprintln!("{} files, {checked} crate:: paths checked", files.len());
+    assert!(checked > 100, "the scan found only {checked} paths");
+    assert!(back.is_empty(), "imports that run back up the chain:\n{}", back.join("\n"));
+}
+
+#[test]
+fn the_scan_sees_a_path_back_up() {
+    // The check itself: a design module naming the report layer is caught.
+    assert_eq!(crate_paths("use crate::report::design::x; // crate::commands"), vec!["report".to_string()]);
+    assert!(rank("report") > rank("design"));
+}
