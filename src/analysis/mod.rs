@@ -169,7 +169,7 @@ pub enum AnalysisError {
     },
 }
 
-/// The first [`TAGS_LISTED`] tags of each whirl direction of `tags` (forward tags start
+/// The first `TAGS_LISTED` tags of each whirl direction of `tags` (forward tags start
 /// with `f`, backward with `b`), and how many more there are.
 pub fn tag_list(tags: &[String]) -> String {
     let mut shown = Vec::new();

@@ -52,7 +52,7 @@ pub fn alternative_of(path: &str) -> Option<String> {
     })
 }
 
-/// A failure at a key path (as [`super::validate::Failure`]).
+/// A failure at a key path (as the validator's failures).
 pub type Failure = (String, K);
 
 /// Convert every rpm key of `table` to its rad/s key (Ω = n·π/30). A table that gives both

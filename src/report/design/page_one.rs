@@ -1,0 +1,287 @@
+//! Page one of a design report: question, answer, circuit, the objective's figures,
+//! constraints, verification and the key figure.
+
+use super::*;
+use crate::analysis::Interval;
+use crate::design::spec::Objective;
+use crate::design::{DesignOutcome, Status};
+use std::fmt::Write;
+
+/// The variables' names, joined for a sentence.
+fn variable_names(r: &DesignReport) -> String {
+    let names: Vec<String> = r.outcome.spec.variables.iter().map(|v| v.name()).collect();
+    match names.as_slice() {
+        [] => "no variable".into(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+fn speeds_text(speeds: &[f64]) -> String {
+    let v: Vec<String> = speeds.iter().map(|w| format!("{w}")).collect();
+    format!("Ω = {} rad/s", v.join(", "))
+}
+
+/// The question the design answers, in one sentence.
+fn question(r: &DesignReport) -> String {
+    let spec = &r.outcome.spec;
+    let vars = variable_names(r);
+    let at = speeds_text(&spec.speeds);
+    match &spec.objective {
+        Objective::WidestStableBand { phi_op } => format!(
+            "Which {vars} (inside their bounds) give the widest stable band at β_op = {} around the load frequency φ_op = {phi_op} rad/s, at {at}?",
+            spec.level
+        ),
+        Objective::ClearBands { bands } => format!(
+            "Which {vars}, changed as little as possible, keep every instability region at β_op = {} out of the operating band(s) {} at {at}?",
+            spec.level,
+            bands.iter().map(|b| format!("[{}, {}] rad/s ± {} rad/s", b.lo, b.hi, b.clearance)).collect::<Vec<_>>().join(", ")
+        ),
+        Objective::MinPeakResponse { response } => format!(
+            "Which {vars} give the smallest peak unbalance response at node {} over the rotating speeds {}..{} rad/s{}?",
+            response.node,
+            response.speeds.lo,
+            response.speeds.hi,
+            if o_constrained(&r.outcome) {
+                format!(", with the stability constraints below met at β_op = {} and {at}", spec.level)
+            } else {
+                String::new()
+            }
+        ),
+    }
+}
+
+fn o_constrained(o: &DesignOutcome) -> bool {
+    !o.spec.kept_clear().is_empty() || !o.constraints_after.is_empty()
+}
+
+/// The status in one sentence.
+fn status_sentence(status: Status) -> &'static str {
+    match status {
+        Status::Improved => "**Improved**: the tuned design is better than the reference's, and verified.",
+        Status::Unchanged => "**Unchanged**: no start beat the reference design, which is kept (verified).",
+        Status::Feasible => "**Feasible**: every band is clear by its clearance, and verified.",
+        Status::Infeasible => {
+            "**Infeasible**: no design inside the bounds meets every requirement; the violations are listed below, and `best-effort.toml` is the optimiser's best effort, not a result."
+        }
+        Status::NotVerified => {
+            "**Not verified**: the design found failed its independent verification (below); `best-effort.toml` is not a result."
+        }
+    }
+}
+
+/// One table of every branch before and after: a changed value reads `before → after`.
+fn circuit_table(s: &mut String, before: &[BranchRow], after: &[BranchRow]) {
+    let rings = after.iter().any(|b| b.ring.is_some());
+    let _ = writeln!(
+        s,
+        "{}| branch | C_f (F) | L (H) | R (Ω) | tuning ω (rad/s) |\n{}|---|---|---|---|---|",
+        if rings { "| ring " } else { "" },
+        if rings { "|---" } else { "" }
+    );
+    let change = |a: String, b: String| if a == b { a } else { format!("{a} → **{b}**") };
+    for (b, a) in before.iter().zip(after) {
+        let ring = a.ring.as_ref().map(|r| format!("| {r} ")).unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{ring}| {} | {} | {} | {} | {} |",
+            a.branch,
+            change(format!("{:.4e}", b.c_f), format!("{:.4e}", a.c_f)),
+            change(format!("{:.4}", b.inductance), format!("{:.4}", a.inductance)),
+            change(format!("{:.3}", b.resistance), format!("{:.3}", a.resistance)),
+            change(format!("{:.2}", b.tuning_frequency), format!("{:.2}", a.tuning_frequency))
+        );
+    }
+}
+
+/// Page one: question, answer, circuit, the objective's figures, verification, figure.
+pub(super) fn page_one(r: &DesignReport) -> String {
+    let o = &r.outcome;
+    let spec = &o.spec;
+    let mut s = String::new();
+    let _ = writeln!(s, "# Shunt design report: {}\n", r.title);
+    let _ = writeln!(s, "**Question.** {}\n", question(r));
+    let _ = writeln!(s, "**Answer.** {}\n", status_sentence(o.status));
+    let _ = writeln!(s, "Circuit, before → after (changed values in bold):\n");
+    circuit_table(&mut s, &r.branches_before, &r.branches_after);
+    match &spec.objective {
+        Objective::WidestStableBand { .. } => widest_band_table(&mut s, o),
+        Objective::ClearBands { .. } => clear_bands_table(&mut s, o),
+        Objective::MinPeakResponse { .. } => peak_table(&mut s, o),
+    }
+    constraints_table(&mut s, o);
+    verification_sentences(&mut s, o);
+    if let Some(f) = r.files.iter().find(|f| f.ends_with(".png")) {
+        let _ = writeln!(s, "\n![{}]({f})", figure_caption(f));
+    }
+    let _ = writeln!(
+        s,
+        "\nBelow: regions near the band, whirls, the optimiser's runs, settings, a glossary of the terms and labels, and the files. Everything is also in `report.json`."
+    );
+    s
+}
+
+fn widest_band_table(s: &mut String, o: &DesignOutcome) {
+    let _ = writeln!(
+        s,
+        "\nStable band at β_op = {} around φ_op (rad/s; width in brackets):\n\n| Ω (rad/s) | before | after | after: bounded below by | above by |\n|---|---|---|---|---|",
+        o.spec.level
+    );
+    for (b, a) in o.before_bands().iter().zip(o.after_bands()) {
+        let _ = writeln!(
+            s,
+            "| {:.0} | {} | {} | {} | {} |",
+            b.speed,
+            band_text(&b.band),
+            band_text(&a.band),
+            bound_text(&a.band.left),
+            bound_text(&a.band.right)
+        );
+    }
+    for a in o.after_bands() {
+        for t in &a.band.ignored {
+            let _ = writeln!(
+                s,
+                "\nIgnored by the criterion at Ω = {}: {} at [{:.3}, {:.3}] rad/s.",
+                a.speed,
+                t.label(),
+                t.extent.lo,
+                t.extent.hi
+            );
+        }
+    }
+}
+
+fn clear_bands_table(s: &mut String, o: &DesignOutcome) {
+    let _ = writeln!(s, "\nOperating bands at β_op = {} (rad/s):\n\n| band | clearance | tongues inside before | after | unstable grid points after |\n|---|---|---|---|---|", o.spec.level);
+    for (i, b) in o.spec.objective.bands().iter().enumerate() {
+        let names = |v: &[crate::design::evaluate::Intrusion]| {
+            let l: Vec<String> = v
+                .iter()
+                .filter(|x| x.band == i)
+                .map(|x| format!("{} [{:.1}, {:.1}]", x.label, x.left, x.right))
+                .collect();
+            if l.is_empty() {
+                "none".to_string()
+            } else {
+                l.join(", ")
+            }
+        };
+        let g = b.guarded();
+        let fine: usize = o
+            .after_speeds
+            .iter()
+            .flat_map(|d| d.grids.iter().filter(|x| x.window == g).map(|x| x.unstable.len()))
+            .sum();
+        let _ = writeln!(
+            s,
+            "| [{}, {}] | {} | {} | {} | {} |",
+            b.lo,
+            b.hi,
+            b.clearance,
+            names(o.before_intrusions()),
+            names(o.after_intrusions()),
+            fine
+        );
+    }
+    if o.linear_infeasible() {
+        let _ = writeln!(s, "\nThe linearised constraints at the final point have no solution inside the bounds.");
+    }
+}
+
+/// The peaks of the reference, tuned, unconstrained and classic designs, and the price.
+fn peak_table(s: &mut String, o: &DesignOutcome) {
+    let Some(f) = o.peak_findings() else { return };
+    let _ = writeln!(
+        s,
+        "\nPeak unbalance response (m):\n\n| design | peak (m) | at (rad/s) | constraints met |\n|---|---|---|---|"
+    );
+    let mut rows = vec![("reference", &f.before), ("tuned", &f.after), ("unconstrained optimum", &f.unconstrained)];
+    if let Some(c) = &f.classic_design {
+        rows.push(("classic tuning", c));
+    }
+    for (name, d) in rows {
+        let _ = writeln!(
+            s,
+            "| {name} | {:.4e}{} | {:.2} | {} |",
+            d.peak.amplitude,
+            if d.peak.unbounded { " (unbounded)" } else { "" },
+            d.peak.speed,
+            if d.constraints.is_empty() { "–".to_string() } else { d.feasible.to_string() }
+        );
+    }
+    if let Some(price) = f.price {
+        let _ = writeln!(
+            s,
+            "\nPrice of the constraints: tuned peak − unconstrained peak = {:+.4e} m ({:+.2} %).",
+            price.metres, price.percent
+        );
+    }
+}
+
+/// The constraints judged afresh on the tuned design.
+fn constraints_table(s: &mut String, o: &DesignOutcome) {
+    if o.constraints_after.is_empty() {
+        return;
+    }
+    let _ =
+        writeln!(s, "\nConstraints on the tuned design:\n\n| constraint | value | limit | met |\n|---|---|---|---|");
+    for c in &o.constraints_after {
+        let _ = writeln!(s, "| {} | {:.6e} | {:e} | {} |", c.name, c.value, c.limit, c.met);
+    }
+}
+
+/// The independent verification, one sentence per check (each over every speed).
+fn verification_sentences(s: &mut String, o: &DesignOutcome) {
+    let spec = &o.spec;
+    let _ = writeln!(
+        s,
+        "\n**Verification: {}** (independent of the optimiser, on the tuned design):\n",
+        if o.verified { "passed" } else { "FAILED" }
+    );
+    let each = |f: &dyn Fn(&crate::design::verify::DesignAtSpeed) -> String| {
+        o.after_speeds.iter().map(|d| format!("at Ω = {} rad/s {}", d.speed, f(d))).collect::<Vec<_>>().join("; ")
+    };
+    let _ = writeln!(
+        s,
+        "- Catalogue: the full region catalogue over φ = {}..{} rad/s, {}.",
+        spec.phi_range.0,
+        spec.phi_range.1,
+        each(&|d| match d.catalogue_band {
+            Some(b) => format!("gives the band [{:.2}, {:.2}]", b.lo, b.hi),
+            None => {
+                let bands: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded()).collect();
+                let inside =
+                    super::details::near_rows(&d.catalogue, &bands).iter().filter(|r| r.distance == 0.0).count();
+                format!(
+                    "finds {} regions, {inside} of them at β_op in a band widened by its clearance",
+                    d.catalogue.regions.len()
+                )
+            }
+        })
+    );
+    let _ = writeln!(
+        s,
+        "- Tongue centres: the reference (DSTM) Floquet point at every catalogued tongue centre near the band(s), {}.",
+        each(&|d| {
+            let inside = d.centres.iter().filter(|c| c.inside).count();
+            let bad = d.centres.iter().filter(|c| c.inside && c.unstable).count();
+            format!("{} centres near the band(s), {inside} of them inside, {bad} unstable inside", d.centres.len())
+        })
+    );
+    let _ = writeln!(
+        s,
+        "- Grid: the fast path on a fine grid over the band(s) at β_op, {}.",
+        each(&|d| {
+            let points: usize = d.grids.iter().map(|g| g.points).sum();
+            let bad: usize = d.grids.iter().map(|g| g.unstable.len()).sum();
+            let step = d.grids.first().map_or(0.0, |g| g.step);
+            format!("{points} points {step} rad/s apart, {bad} unstable")
+        })
+    );
+    for d in &o.after_speeds {
+        for f in &d.failures {
+            let _ = writeln!(s, "- Failed at Ω = {} rad/s: {f}", d.speed);
+        }
+    }
+}
