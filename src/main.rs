@@ -654,7 +654,7 @@ fn main() -> ExitCode {
                 | rotorshunt::Error::OutIsNotAFolder { .. }
                 | rotorshunt::Error::Design(
                     rotorshunt::design::DesignError::NoDesign
-                    | rotorshunt::design::DesignError::Candidate(_)
+                    | rotorshunt::design::DesignError::Candidate { .. }
                     | rotorshunt::design::DesignError::Spec { .. },
                 ) => 2,
                 _ => 1,
