@@ -3,6 +3,7 @@
 
 mod args;
 mod bounds;
+mod compare;
 mod design;
 mod floquet;
 mod import;
@@ -13,6 +14,7 @@ mod tuned;
 mod unbalance;
 
 pub use args::parse_range;
+pub use compare::{compared, Compared};
 pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
 pub use import::import_ross_cmd;
