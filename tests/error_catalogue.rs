@@ -98,8 +98,7 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
 fn design_kind(e: &DesignError) -> &'static str {
     match e {
         DesignError::NoDesign => "NoDesign",
-        // A candidate's file or analysis error is one of those kinds.
-        DesignError::Candidate(p) => problem_kind(&p.kind),
+        DesignError::Candidate { .. } => "Candidate",
         DesignError::Analysis(a) => analysis_kind(a),
         DesignError::Optimiser(_) => "Optimiser",
         DesignError::Qp(_) => "Qp",
@@ -240,6 +239,11 @@ fn every_kind() -> Vec<&'static str> {
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
         Error::Design(DesignError::NoResponse),
+        Error::Design(DesignError::Candidate {
+            variable: 0,
+            name: s(),
+            error: rotorshunt::model::BranchError::NoBranch { ring: 0, branch: 0, branches: 0 },
+        }),
     ];
     let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
     names.extend(analysis.iter().map(analysis_kind));

@@ -3,7 +3,7 @@
 //! plots (charts before/after with the operating bands, Campbell diagram, history).
 
 use super::bounds::{self, Names};
-use super::{title, OutDir, TOOL};
+use super::{title, OutDir};
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
 use crate::analysis::Interval;
 use crate::commands::out::json_pretty;
@@ -27,26 +27,6 @@ pub fn design_file_name(status: Status) -> &'static str {
     } else {
         "best-effort.toml"
     }
-}
-
-/// The tuned problem file: the input (with overrides applied) and the tuned circuit.
-pub fn tuned_toml(tuned: &Problem, source: &Problem, outcome: &DesignOutcome) -> Result<String, Error> {
-    let body = toml::to_string(&tuned.data)
-        .map_err(|e| Error::Output { path: design_file_name(outcome.status).into(), message: e.to_string() })?;
-    let warning = if outcome.status.is_result() {
-        String::new()
-    } else {
-        format!(
-            "# NOT A RESULT: the design is {}; this is the optimiser's best effort, for inspection only.\n",
-            status_word(outcome.status)
-        )
-    };
-    Ok(format!(
-        "{warning}# Tuned by {TOOL} from {}{} (status: {}).\n# Circuit values are the optimiser's; every other key is the input's.\n{body}",
-        source.file,
-        if source.overrides.is_empty() { String::new() } else { format!(" with --set {}", source.overrides.join(" ")) },
-        status_word(outcome.status)
-    ))
 }
 
 /// The status as a word (kebab-case, as in report.json).
@@ -187,7 +167,7 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         outcome: outcome.clone(),
         files,
     };
-    dir.write(design_file, tuned_toml(&after.problem, problem, &outcome)?.as_bytes())?;
+    dir.write(design_file, super::tuned_toml(problem, &outcome)?.as_bytes())?;
     dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
     let text = markdown(&report);
     dir.write("report.md", text.as_bytes())?;

@@ -3,16 +3,19 @@
 
 mod args;
 mod bounds;
+mod compare;
 mod design;
 mod floquet;
 mod import;
 mod out;
 mod regions;
 mod study;
+mod tuned;
 mod unbalance;
 
 pub use args::parse_range;
-pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text, tuned_toml};
+pub use compare::{compared, Compared};
+pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
 pub use import::import_ross_cmd;
 pub use out::{check_folder, remove_unfinished, OutDir};
@@ -22,6 +25,7 @@ pub use study::{
     CaseResult, CaseState, CaseStatus, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions,
     TaskRecord, MAX_SHARDS, MAX_STUDY_CASES,
 };
+pub use tuned::tuned_toml;
 pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 
 use crate::analysis::campbell::campbell;

@@ -9,54 +9,60 @@ use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
-use crate::problem::file::BranchFile;
-use crate::problem::{Problem, ProblemFile};
+use crate::model::BranchError;
+use crate::problem::Problem;
 use serde::Serialize;
 
-/// The problem with the design variables set to `values` (SI units).
+/// The problem with the design variables set to `values` (SI units) on its model
+/// ([`crate::model::Model::set_branch`]: each variable's branch in the rings the file
+/// means, [`Problem::targets`]), checked as the file layer checks a branch. The file data,
+/// hash and warnings stay the base's: the tuned file is written by
+/// [`crate::problem::tuned::tuned_file`].
 pub fn problem_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<Problem, DesignError> {
-    let mut data: ProblemFile = base.data.clone();
-    for (v, &x) in spec.variables.iter().zip(values) {
-        // The branch in the file: the shorthand's [circuit], one ring's, or every ring's.
-        let mut targets: Vec<&mut BranchFile> = match (&mut data.circuit, v.ring) {
-            (Some(c), _) => c.branches.get_mut(v.branch).into_iter().collect(),
-            (None, Some(r)) => {
-                data.rings.get_mut(r).and_then(|r| r.circuit.branches.get_mut(v.branch)).into_iter().collect()
-            }
-            (None, None) => data.rings.iter_mut().filter_map(|r| r.circuit.branches.get_mut(v.branch)).collect(),
-        };
-        for b in targets.iter_mut() {
-            set_branch(b, v.parameter, x);
+    let mut model = base.model.clone();
+    let error =
+        |index: usize, error| DesignError::Candidate { variable: index, name: spec.variables[index].name(), error };
+    // (ring, branch, C_p^T of its tuning, the variable that set it last).
+    let mut touched: Vec<(usize, usize, f64, usize)> = Vec::new();
+    for (i, (v, &x)) in spec.variables.iter().zip(values).enumerate() {
+        for t in base.targets(v.ring) {
+            model.set_branch(t.ring, v.branch, v.parameter, x, t.cp_t).map_err(|e| error(i, e))?;
+            touched.retain(|&(r, b, ..)| (r, b) != (t.ring, v.branch));
+            touched.push((t.ring, v.branch, t.cp_t, i));
         }
     }
-    Ok(Problem::from_data(data, &base.file, &base.overrides)?)
-}
-
-fn set_branch(b: &mut BranchFile, parameter: Parameter, x: f64) {
-    {
-        match parameter {
-            Parameter::CF => b.c_f = x,
-            Parameter::Resistance => b.resistance = x,
-            Parameter::Inductance => {
-                b.inductance = Some(x);
-                b.tuning_frequency = None;
-            }
-            Parameter::TuningFrequency => {
-                b.tuning_frequency = Some(x);
-                b.inductance = None;
-            }
-        }
+    // The final branches' coefficients, as a re-read of the tuned file checks them; an
+    // overflow is blamed on the variable of the parameter behind it, if one set it.
+    for &(ring, branch, cp_t, last) in &touched {
+        model.check_branch(ring, branch, cp_t).map_err(|e| {
+            let own = match &e {
+                BranchError::Overflow { parameter, .. } => spec.variables.iter().rposition(|v| {
+                    v.branch == branch
+                        && v.parameter == *parameter
+                        && base.targets(v.ring).iter().any(|t| t.ring == ring)
+                }),
+                _ => None,
+            };
+            error(own.unwrap_or(last), e)
+        })?;
     }
+    Ok(Problem { model, ..base.clone() })
 }
 
 /// The current values of the variables in a problem (SI units): L from Eq. (4) where the
-/// branch is given by its tuning frequency and the other way round.
+/// branch is given by its tuning frequency and the other way round (with the C_p^T the
+/// file tunes the branch with). NaN for a variable whose branch the model lacks (a spec
+/// built in code): a candidate at that value is refused as not finite.
 pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
     spec.variables
         .iter()
         .map(|v| {
-            let support = &problem.model.rings[v.ring.unwrap_or(0)];
-            let (b, cp_t) = (&support.circuit.branches[v.branch], support.ring.cp_t);
+            // The first ring the variable sets, with the C_p^T its tuning uses.
+            let ring = v.ring.unwrap_or(0);
+            let cp_t = problem.targets(v.ring).iter().find(|t| t.ring == ring).map_or(f64::NAN, |t| t.cp_t);
+            let Some(b) = problem.model.rings.get(ring).and_then(|s| s.circuit.branches.get(v.branch)) else {
+                return f64::NAN;
+            };
             match v.parameter {
                 Parameter::CF => b.c_f,
                 Parameter::Resistance => b.resistance,
@@ -69,7 +75,7 @@ pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
 
 /// A candidate prepared at every operating speed.
 pub struct Candidate {
-    /// The problem with the variables set.
+    /// The problem with the variables set on its model ([`problem_at`]).
     pub problem: Problem,
     /// The candidate's assembled rotor (matrices and P_cr).
     pub rotor: Rotor,

@@ -54,9 +54,17 @@ pub enum DesignError {
         /// The rule broken.
         error: crate::analysis::limits::ParamError,
     },
-    /// A candidate's values do not make a valid problem.
-    #[error(transparent)]
-    Candidate(#[from] Box<crate::problem::ProblemError>),
+    /// A candidate's value breaks its branch parameter's rule, or makes a coefficient of
+    /// the branch's charge infinite (the checks a problem file's branch gets).
+    #[error("candidate design: design.variables[{variable}] ({name}): {error}")]
+    Candidate {
+        /// The variable, from 0 (as in `[[design.variables]]`).
+        variable: usize,
+        /// Its name for reports, e.g. `branch 1 c_f`.
+        name: String,
+        /// The rule broken, with the value.
+        error: crate::model::BranchError,
+    },
     /// The analysis of a candidate failed.
     #[error("analysis of a candidate design failed: {0}")]
     Analysis(#[from] crate::analysis::AnalysisError),
@@ -70,10 +78,4 @@ pub enum DesignError {
     /// The convex step failed to solve.
     #[error("the convex tuning step failed: {0}")]
     Qp(String),
-}
-
-impl From<crate::problem::ProblemError> for DesignError {
-    fn from(e: crate::problem::ProblemError) -> Self {
-        DesignError::Candidate(Box::new(e))
-    }
 }

@@ -138,46 +138,10 @@ impl Constraints {
     }
 }
 
-/// A circuit parameter a design may change.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Parameter {
-    /// Filtering capacitance C_f (F); searched on a log scale.
-    CF,
-    /// Inductance L (H); log scale.
-    Inductance,
-    /// Tuning frequency ω of Eq. (4) (rad/s), L following from it; log scale.
-    TuningFrequency,
-    /// Resistance R (Ω); linear scale (it may be 0).
-    Resistance,
-}
-
-impl Parameter {
-    /// The key of the parameter in `[[circuit.branches]]`.
-    pub fn key(self) -> &'static str {
-        match self {
-            Parameter::CF => "c_f",
-            Parameter::Inductance => "inductance",
-            Parameter::TuningFrequency => "tuning_frequency",
-            Parameter::Resistance => "resistance",
-        }
-    }
-
-    /// Unit, for reports.
-    pub fn unit(self) -> &'static str {
-        match self {
-            Parameter::CF => "F",
-            Parameter::Inductance => "H",
-            Parameter::TuningFrequency => "rad/s",
-            Parameter::Resistance => "Ω",
-        }
-    }
-
-    /// Whether the optimiser works on ln(value) (positive, scale-free parameters).
-    pub fn logarithmic(self) -> bool {
-        !matches!(self, Parameter::Resistance)
-    }
-}
+/// A circuit parameter a design may change (the model's: [`Branch::set`] sets it).
+///
+/// [`Branch::set`]: crate::model::Branch::set
+pub use crate::model::Parameter;
 
 /// One design variable: a parameter of one branch with bounds.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -341,8 +341,7 @@ pub fn classic_tuning(base: &Problem, spec: &DesignSpec) -> Result<Option<Classi
     };
     let inductance = 1.0 / (omega_open * omega_open * capacitance);
     let resistance = (1.5 * coupling).sqrt() / (capacitance * omega_short);
-    let tuning_frequency =
-        crate::model::Branch { c_f: b.c_f, inductance, resistance: 0.0 }.tuning_frequency(ring.ring.cp_t);
+    let tuning_frequency = crate::model::Branch::frequency_of(ring.ring.cp_t, b.c_f, inductance);
     let mut clamped = false;
     let values: Vec<f64> = spec
         .variables

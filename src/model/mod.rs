@@ -7,7 +7,7 @@ mod ring;
 mod shaft;
 mod support;
 
-pub use ring::{Branch, Circuit, CircuitState, Ring};
+pub use ring::{Branch, BranchError, Circuit, CircuitState, Given, Parameter, Ring};
 use serde::Serialize;
 pub use shaft::{Section, Shaft};
 pub use support::{Bearing, RingSupport};
@@ -97,6 +97,44 @@ impl Model {
     /// r2, s1, …), a label must say which ring a mode or branch belongs to.
     pub fn labels_by_ring(&self) -> bool {
         !(self.rings.len() >= 2 && self.shared_circuit().is_some())
+    }
+
+    /// The branch `branch` of ring `ring` (both from 0, model order).
+    fn branch_mut(&mut self, ring: usize, branch: usize) -> Result<&mut Branch, BranchError> {
+        let branches = self.rings.get(ring).map_or(0, |r| r.circuit.branches.len());
+        self.rings.get_mut(ring).and_then(|r| r.circuit.branches.get_mut(branch)).ok_or(BranchError::NoBranch {
+            ring,
+            branch,
+            branches,
+        })
+    }
+
+    /// Set `parameter` of branch `branch` of ring `ring` to `value` (its SI unit) by
+    /// [`Branch::set`], a tuning frequency through Eq. (4) with `cp_t` (F).
+    pub fn set_branch(
+        &mut self,
+        ring: usize,
+        branch: usize,
+        parameter: Parameter,
+        value: f64,
+        cp_t: f64,
+    ) -> Result<(), BranchError> {
+        self.branch_mut(ring, branch)?.set(parameter, value, cp_t)
+    }
+
+    /// Check, after [`Model::set_branch`], that branch `branch` of ring `ring` has finite
+    /// charge coefficients on its ring ([`Branch::check_charge`], a tuning through Eq. (4)
+    /// with `cp_t`, F); only a closed circuit has charges.
+    pub fn check_branch(&self, ring: usize, branch: usize, cp_t: f64) -> Result<(), BranchError> {
+        let support = self.rings.get(ring);
+        let branches = support.map_or(0, |r| r.circuit.branches.len());
+        let Some((support, b)) = support.and_then(|r| Some((r, r.circuit.branches.get(branch)?))) else {
+            return Err(BranchError::NoBranch { ring, branch, branches });
+        };
+        if support.circuit.state != CircuitState::Closed {
+            return Ok(());
+        }
+        b.check_charge(support.ring.gamma(), cp_t, support.ring.cp_t)
     }
 
     /// Index of the ring named `name`.

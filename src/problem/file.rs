@@ -3,8 +3,9 @@
 
 use crate::analysis::regions::RegionSettings;
 use crate::analysis::Settings;
-pub use crate::design::spec::{ObjectiveKind, Parameter};
+pub use crate::design::spec::ObjectiveKind;
 use crate::model::CircuitState;
+pub use crate::model::Parameter;
 use serde::{Deserialize, Serialize};
 
 /// The only format version this build reads.

@@ -11,6 +11,7 @@ pub mod plausibility;
 pub mod provenance;
 pub mod source;
 pub mod study;
+pub mod tuned;
 pub mod units;
 mod validate;
 

@@ -7,7 +7,7 @@ use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::regions::RegionSettings;
 use crate::analysis::{Interval, Settings};
 use crate::assembly::DofMap;
-use crate::model::{Bearing, Branch, Circuit, CircuitState, Disk, Load, Model, Ring, RingSupport, Shaft};
+use crate::model::{Bearing, Branch, Circuit, CircuitState, Disk, Given, Load, Model, Ring, RingSupport, Shaft};
 
 /// A key path and what is wrong there.
 pub type Failure = (String, K);
@@ -315,14 +315,16 @@ pub(super) fn circuit(prefix: &str, c: &CircuitFile, ring: &Ring) -> Result<Circ
             let key = format!("{prefix}.branches[{i}]");
             one_of(&key, ("inductance", b.inductance), ("tuning_frequency", b.tuning_frequency))?;
             let c_f = positive(&format!("{key}.c_f"), b.c_f)?;
-            let inductance = match (b.inductance, b.tuning_frequency) {
-                (Some(l), _) => non_negative(&format!("{key}.inductance"), l)?,
+            let (inductance, given) = match (b.inductance, b.tuning_frequency) {
+                (Some(l), _) => (non_negative(&format!("{key}.inductance"), l)?, Given::Inductance),
                 (None, Some(w)) => {
-                    Branch::tuned_inductance(ring.cp_t, c_f, positive(&format!("{key}.tuning_frequency"), w)?)
+                    let w = positive(&format!("{key}.tuning_frequency"), w)?;
+                    (Branch::tuned_inductance(ring.cp_t, c_f, w), Given::TuningFrequency(w))
                 }
                 (None, None) => unreachable!("checked by one_of"),
             };
-            Ok(Branch { c_f, inductance, resistance: non_negative(&format!("{key}.resistance"), b.resistance)? })
+            let resistance = non_negative(&format!("{key}.resistance"), b.resistance)?;
+            Ok(Branch { c_f, inductance, resistance, given })
         })
         .collect::<Result<_, Failure>>()?;
     Ok(Circuit { state: c.state, branches })

@@ -76,7 +76,7 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
         let (c_f, cp_t) = (support.circuit.branches[v.branch].c_f, support.ring.cp_t);
         let omega = |x: f64| match v.parameter {
             Parameter::TuningFrequency => v.from_unit(x),
-            _ => crate::model::Branch { c_f, inductance: v.from_unit(x), resistance: 0.0 }.tuning_frequency(cp_t),
+            _ => crate::model::Branch::frequency_of(cp_t, c_f, v.from_unit(x)),
         };
         let distance = |x: f64| whirls.iter().map(|w| (w + omega(x) - phi_op).abs()).fold(f64::INFINITY, f64::min);
         let best = (0..=200).map(|k| k as f64 / 200.0).max_by(|a, b| distance(*a).total_cmp(&distance(*b)));

@@ -1,0 +1,51 @@
+//! The second configuration of `chart` and `unbalance` (`--compare FILE2` or
+//! `--compare-set key=value`) and its legend name.
+
+use super::layer_name;
+use crate::problem::{Problem, Warning};
+use crate::Error;
+use std::path::Path;
+
+/// The compared configuration and its legend name.
+pub struct Compared {
+    /// The legend name: the compared file's title (or its name), or, for `--compare-set`,
+    /// its circuit state and the `--compare-set` overrides.
+    pub label: String,
+    /// The compared problem.
+    pub problem: Problem,
+}
+
+impl Compared {
+    /// The compared problem's plausibility warnings that `main` does not have (the same
+    /// key and kind), for printing after `main`'s.
+    pub fn new_warnings<'a>(&'a self, main: &'a Problem) -> impl Iterator<Item = &'a Warning> + 'a {
+        self.problem.warnings.iter().filter(|w| !main.warnings.iter().any(|m| m.key == w.key && m.kind == w.kind))
+    }
+}
+
+/// The configuration of `--compare FILE2` (read with the main overrides `set`) or of
+/// `--compare-set` (the main `file` with `set` and then `compare_set`); `None` when
+/// neither is given.
+pub fn compared(
+    file: &Path,
+    set: &[String],
+    compare: Option<&Path>,
+    compare_set: &[String],
+) -> Result<Option<Compared>, Error> {
+    match (compare, compare_set.is_empty()) {
+        (Some(path), _) => {
+            let problem = Problem::from_path(path, set)?;
+            let label = problem.data.title.clone().unwrap_or_else(|| problem.file.clone());
+            Ok(Some(Compared { label, problem }))
+        }
+        (None, false) => {
+            let all: Vec<String> = set.iter().chain(compare_set).cloned().collect();
+            let problem = Problem::from_path(file, &all)?;
+            // The compare problem carries the main --set overrides too: name it by its
+            // state and the --compare-set overrides only.
+            let label = layer_name(&Problem { overrides: compare_set.to_vec(), ..problem.clone() });
+            Ok(Some(Compared { label, problem }))
+        }
+        (None, true) => Ok(None),
+    }
+}

@@ -1,0 +1,88 @@
+//! The file side of a design: which rings a design variable's branch belongs to, with the
+//! C_p^T its tuning frequency uses, and the tuned problem file (`tuned.toml`): the input
+//! with the variables' values written into its branches.
+
+use super::file::{BranchFile, ProblemFile};
+use super::Problem;
+use crate::model::Parameter;
+
+/// One design variable's value in a tuned file: `parameter` of branch `branch` (from 0)
+/// of ring `ring` (model order; `None`: every ring's), SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setting {
+    /// The ring (model order), or `None` for every ring's branch.
+    pub ring: Option<usize>,
+    /// The branch, from 0.
+    pub branch: usize,
+    /// C_f, L, ω or R.
+    pub parameter: Parameter,
+    /// The value (SI unit of the parameter).
+    pub value: f64,
+}
+
+/// A branch a design variable sets in the model: ring `ring` (model order), whose
+/// tuning frequency gives L by Eq. (4) with `cp_t` (F).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Target {
+    /// The ring, model order.
+    pub ring: usize,
+    /// C_p^T of Eq. (4) for this ring's branches (F).
+    pub cp_t: f64,
+}
+
+impl Problem {
+    /// The rings whose branch a design variable on `ring` (model order; `None`: every
+    /// ring) sets, each with the C_p^T its tuning frequency uses, as the file means
+    /// them: the shorthand's one `[circuit]` is both rings' circuit, tuned with the left
+    /// ring's C_p^T whichever ring is named; a general-form ring's circuit is its own,
+    /// tuned with its own C_p^T.
+    pub fn targets(&self, ring: Option<usize>) -> Vec<Target> {
+        let rings = &self.model.rings;
+        let own = |r: usize| Target { ring: r, cp_t: rings.get(r).map_or(f64::NAN, |s| s.ring.cp_t) };
+        match (&self.data.circuit, ring) {
+            (Some(_), _) => {
+                let cp_t = rings.first().map_or(f64::NAN, |s| s.ring.cp_t);
+                (0..rings.len()).map(|r| Target { ring: r, cp_t }).collect()
+            }
+            (None, Some(r)) => vec![own(r)],
+            (None, None) => (0..rings.len()).map(own).collect(),
+        }
+    }
+}
+
+/// The TOML text of `base` with every setting written into its branches (the
+/// shorthand's `[circuit]`, one ring's, or every ring's): a complete problem file. A
+/// tuning frequency replaces the branch's inductance and the reverse, as a `--set` of
+/// one of two alternative keys does. A setting naming a branch the file does not have
+/// changes nothing.
+pub fn tuned_file(base: &ProblemFile, settings: &[Setting]) -> Result<String, toml::ser::Error> {
+    let mut data = base.clone();
+    for s in settings {
+        let targets: Vec<&mut BranchFile> = match (&mut data.circuit, s.ring) {
+            (Some(c), _) => c.branches.get_mut(s.branch).into_iter().collect(),
+            (None, Some(r)) => {
+                data.rings.get_mut(r).and_then(|r| r.circuit.branches.get_mut(s.branch)).into_iter().collect()
+            }
+            (None, None) => data.rings.iter_mut().filter_map(|r| r.circuit.branches.get_mut(s.branch)).collect(),
+        };
+        for b in targets {
+            set(b, s.parameter, s.value);
+        }
+    }
+    toml::to_string(&data)
+}
+
+fn set(b: &mut BranchFile, parameter: Parameter, x: f64) {
+    match parameter {
+        Parameter::CF => b.c_f = x,
+        Parameter::Resistance => b.resistance = x,
+        Parameter::Inductance => {
+            b.inductance = Some(x);
+            b.tuning_frequency = None;
+        }
+        Parameter::TuningFrequency => {
+            b.tuning_frequency = Some(x);
+            b.inductance = None;
+        }
+    }
+}
