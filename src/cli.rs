@@ -69,7 +69,7 @@ pub(crate) enum Command {
     Campbell {
         #[command(flatten)]
         input: Input,
-        /// Speeds A:B:STEP (rad/s).
+        /// Speeds A:B:STEP in rad/s, or in rpm with the suffix `rpm` (0:30000:500rpm).
         #[arg(long)]
         speeds: String,
         /// Number of forward and of backward whirls to track.
@@ -190,7 +190,7 @@ pub(crate) enum Command {
     Unbalance {
         #[command(flatten)]
         input: Input,
-        /// Speeds A:B:STEP (rad/s).
+        /// Speeds A:B:STEP in rad/s, or in rpm with the suffix `rpm` (0:30000:500rpm).
         #[arg(long)]
         speeds: String,
         /// Shaft nodes reported besides the disks and supports, e.g. `3,16` (0 = left end).
@@ -215,7 +215,7 @@ pub(crate) enum Command {
     Damping {
         #[command(flatten)]
         input: Input,
-        /// Speeds A:B:STEP (rad/s).
+        /// Speeds A:B:STEP in rad/s, or in rpm with the suffix `rpm` (0:30000:500rpm).
         #[arg(long)]
         speeds: String,
         /// Mode tags at the first speed, e.g. `f1,b1,fr1` (as `modes` and `campbell` name them).
