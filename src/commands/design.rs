@@ -151,10 +151,12 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(problem, spec, &outcome.before)?;
     let after = Candidate::new(problem, spec, &outcome.after)?;
-    let figure_count = outcome.vibration.iter().count() + spec.speeds.len() + 2;
-    progress.phase("report", (content_steps(spec) + 4 + figure_count) as u64);
+    // The charts' rows and Campbell speeds, the three text files and report.html; a step
+    // per figure once the figures are known.
+    progress.phase("report", (content_steps(spec) + 4) as u64);
     let content = content(spec, &before, &after, progress)?;
-    let figures = report_design::figures(&outcome, &content, &title(problem));
+    let figures = report_design::figures(&outcome, content, &title(problem));
+    progress.extend(figures.len() as u64);
     let design_file = design_file_name(outcome.status);
     let mut files: Vec<String> =
         ["report.md", "report.html", "report.json", design_file].iter().map(|s| s.to_string()).collect();

@@ -33,9 +33,7 @@ pub struct SpeedCharts {
 /// The computed figures' data of a design report.
 #[derive(Debug, Clone)]
 pub struct DesignContent {
-    /// The φ window of the charts (rad/s).
-    pub window: Interval,
-    /// The charts at each operating speed, in the spec's order.
+    /// The charts (over [`chart_window`]) at each operating speed, in the spec's order.
     pub charts: Vec<SpeedCharts>,
     /// The tuned design's Campbell diagram over 0 to 1.5 × the largest speed.
     pub campbell: CampbellResult,
@@ -110,5 +108,5 @@ pub fn content(
         })
         .collect();
     let campbell = campbell(&after.rotor, &after.problem.settings, &campbell_speeds(spec), CAMPBELL_WHIRLS, progress)?;
-    Ok(DesignContent { window: chart_window(spec), charts, campbell })
+    Ok(DesignContent { charts, campbell })
 }

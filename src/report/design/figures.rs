@@ -61,7 +61,7 @@ fn spans(o: &DesignOutcome, k: usize) -> Vec<Span> {
 
 /// The figures of a design report, in the order the report shows them (the first is the
 /// key figure of page one): (file stem, figure).
-pub fn figures<'a>(o: &'a DesignOutcome, content: &DesignContent, title: &str) -> Vec<(String, Box<dyn Figure + 'a>)> {
+pub fn figures<'a>(o: &'a DesignOutcome, content: DesignContent, title: &str) -> Vec<(String, Box<dyn Figure + 'a>)> {
     let spec = &o.spec;
     let mut out: Vec<(String, Box<dyn Figure + 'a>)> = Vec::new();
     if let Some(v) = &o.vibration {
@@ -73,16 +73,17 @@ pub fn figures<'a>(o: &'a DesignOutcome, content: &DesignContent, title: &str) -
         out.push(("bode".into(), Box::new(plot)));
     }
     let markers: Vec<(f64, String)> = spec.phi_op().map(|p| (p, format!("φ_op = {p}"))).into_iter().collect();
-    for (k, c) in content.charts.iter().enumerate() {
+    let charts = content.charts.len();
+    for (k, c) in content.charts.into_iter().enumerate() {
         let layers = vec![
-            Layer { name: "reference circuit".into(), color: BEFORE_COLOR, chart: c.before.clone() },
-            Layer { name: "tuned circuit".into(), color: AFTER_COLOR, chart: c.after.clone() },
+            Layer { name: "reference circuit".into(), color: BEFORE_COLOR, chart: c.before },
+            Layer { name: "tuned circuit".into(), color: AFTER_COLOR, chart: c.after },
         ];
         let plot = StabilityPlot::new(&format!("Stability before and after the design, Ω = {} rad/s", c.speed), layers)
             .with_spans(spans(o, k))
             .with_levels(vec![(spec.level, format!("β_op = {}", spec.level))])
             .with_markers(markers.clone());
-        let name = if content.charts.len() == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
+        let name = if charts == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
         out.push((name, Box::new(plot)));
     }
     let campbell = campbell::campbell_plot(&content.campbell, &format!("Campbell diagram, tuned circuit: {title}"));
