@@ -50,7 +50,8 @@ fn pade_low(a: MatRef<'_, c64>, b: &[f64]) -> Mat<c64> {
     let a2 = mul(a, a);
     powers.push(a2.clone());
     while 2 * (powers.len() - 1) < m - 1 {
-        let next = mul(powers.last().expect("non-empty").as_ref(), a2.as_ref());
+        let Some(last) = powers.last() else { break };
+        let next = mul(last.as_ref(), a2.as_ref());
         powers.push(next);
     }
     let mut u_sum = Mat::<c64>::zeros(n, n);

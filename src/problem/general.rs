@@ -4,18 +4,19 @@
 //! `[ring]`, `[circuit]`) is translated in `validate.rs` onto the same model.
 
 use super::file::*;
-use super::validate::{circuit, finite, non_negative, one_of, positive, ring, Failure, MAX_ELEMENTS};
+use super::validate::{circuit, finite, non_negative, one_of, positive, ring, Failure, OneOf, MAX_ELEMENTS};
 use super::{NameOf, ProblemErrorKind as K};
 use crate::model::{Bearing, RingSupport, Section, Shaft};
 
 /// The key of the shaft topic's and of the supports topic's forms: mixing them in one
 /// topic, or leaving a topic out, is refused here (before any value is read).
-pub(super) fn forms(f: &ProblemFile) -> Result<(), Failure> {
-    match (&f.shaft, &f.sections) {
+pub(super) fn forms(f: &ProblemFile) -> Result<ShaftForm<'_>, Failure> {
+    let shaft = match (&f.shaft, &f.sections) {
         (Some(_), Some(_)) => return Err(("sections".into(), K::MixedForms("[shaft]".into(), "[[sections]]".into()))),
         (None, None) => return Err(("shaft".into(), K::Schema("missing field `shaft`".into()))),
-        _ => {}
-    }
+        (Some(s), None) => ShaftForm::Shorthand(s),
+        (None, Some(list)) => ShaftForm::Sections(list),
+    };
     let general = if !f.rings.is_empty() {
         Some(("rings", "[[rings]]"))
     } else {
@@ -25,12 +26,20 @@ pub(super) fn forms(f: &ProblemFile) -> Result<(), Failure> {
     match (shorthand, general) {
         (Some(s), Some((key, g))) => Err((key.into(), K::MixedForms(s.into(), g.into()))),
         // A general shaft with no support is a free rotor: reported by `supports_check`.
-        (None, None) if f.sections.is_some() => Ok(()),
+        (None, None) if f.sections.is_some() => Ok(shaft),
         (None, None) => Err(("ring".into(), K::Schema("missing field `ring`".into()))),
         (Some(_), None) if f.ring.is_none() => Err(("ring".into(), K::Schema("missing field `ring`".into()))),
         (Some(_), None) if f.circuit.is_none() => Err(("circuit".into(), K::Schema("missing field `circuit`".into()))),
-        _ => Ok(()),
+        _ => Ok(shaft),
     }
+}
+
+/// The form a file gives its shaft in: exactly one, as [`forms`] checks.
+pub(super) enum ShaftForm<'a> {
+    /// The version-1 shorthand `[shaft]` (one uniform section).
+    Shorthand(&'a ShaftFile),
+    /// The general `[[sections]]` list.
+    Sections(&'a [SectionFile]),
 }
 
 /// E and ρ of a material name at `key`.
@@ -112,15 +121,14 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
 
 /// A support's node from `node` or `position` (snapped to the nearest node).
 fn place(key: &str, node: Option<i64>, position: Option<f64>, shaft: &Shaft) -> Result<usize, Failure> {
-    one_of(key, ("node", node.map(|n| n as f64)), ("position", position))?;
-    match (node, position) {
-        (Some(n), _) => {
+    match one_of(key, ("node", node), ("position", position))? {
+        OneOf::First(n) => {
             if n < 0 || n as usize > shaft.last_node() {
                 return Err((format!("{key}.node"), K::NodeOffShaft { node: n, last: shaft.last_node() }));
             }
             Ok(n as usize)
         }
-        (None, Some(p)) => {
+        OneOf::Second(p) => {
             let p = finite(&format!("{key}.position"), p)?;
             let length = shaft.length();
             if !(0.0..=length).contains(&p) {
@@ -128,7 +136,6 @@ fn place(key: &str, node: Option<i64>, position: Option<f64>, shaft: &Shaft) -> 
             }
             Ok(shaft.nearest_node(p))
         }
-        (None, None) => Err((key.into(), K::NeitherGiven("node".into(), "position".into()))),
     }
 }
 

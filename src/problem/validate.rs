@@ -80,12 +80,21 @@ pub(super) fn range_rule(key: &str, lo: f64, hi: f64) -> Result<Interval, Failur
     })
 }
 
-pub(super) fn one_of(key: &str, a: (&str, Option<f64>), b: (&str, Option<f64>)) -> Result<(), Failure> {
+pub(super) fn one_of<A, B>(key: &str, a: (&str, Option<A>), b: (&str, Option<B>)) -> Result<OneOf<A, B>, Failure> {
     match (a.1, b.1) {
         (Some(_), Some(_)) => Err((format!("{key}.{}", b.0), K::BothGiven(a.0.into(), b.0.into()))),
         (None, None) => Err((key.into(), K::NeitherGiven(a.0.into(), b.0.into()))),
-        _ => Ok(()),
+        (Some(x), None) => Ok(OneOf::First(x)),
+        (None, Some(y)) => Ok(OneOf::Second(y)),
     }
+}
+
+/// The one value of two exclusive keys that a table gave (see [`one_of`]).
+pub(super) enum OneOf<A, B> {
+    /// The first key's value.
+    First(A),
+    /// The second key's value.
+    Second(B),
 }
 
 /// Highest tongue order the search may be asked for: orders cost a few evaluations per
@@ -99,11 +108,9 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         return Err(("version".into(), K::Version { found: f.version, supported: FORMAT_VERSION }));
     }
     let speed = rule("speed", limits::speed(f.speed))?;
-    general::forms(f)?;
-    let shaft = match (&f.shaft, &f.sections) {
-        (Some(s), _) => shaft(s)?,
-        (None, Some(list)) => general::sections(f, list)?,
-        (None, None) => unreachable!("checked by general::forms"),
+    let shaft = match general::forms(f)? {
+        general::ShaftForm::Shorthand(s) => shaft(s)?,
+        general::ShaftForm::Sections(list) => general::sections(f, list)?,
     };
     sizes(f, &shaft)?;
     let disks = f
@@ -206,23 +213,22 @@ fn sizes(f: &ProblemFile, shaft: &Shaft) -> Result<(), Failure> {
 }
 
 fn disk(key: &str, d: &DiskFile, shaft: &Shaft, f: &ProblemFile) -> Result<Disk, Failure> {
-    one_of(key, ("node", d.node.map(|n| n as f64)), ("position", d.position))?;
+    let given = one_of(key, ("node", d.node), ("position", d.position))?;
     let (last, length) = (shaft.last_node(), shaft.length());
-    let node = match (d.node, d.position) {
-        (Some(n), _) => {
+    let node = match given {
+        OneOf::First(n) => {
             if n < 0 || n as usize > last {
                 return Err((format!("{key}.node"), K::DiskNodeOffShaft { node: n, last }));
             }
             n as usize
         }
-        (None, Some(p)) => {
+        OneOf::Second(p) => {
             let p = finite(&format!("{key}.position"), p)?;
             if !(0.0..=length).contains(&p) {
                 return Err((format!("{key}.position"), K::DiskOffShaft { position: p, length }));
             }
             shaft.nearest_node(p)
         }
-        (None, None) => unreachable!("checked by one_of"),
     };
     let (mass, polar_inertia, diametral_inertia) = match general::disk_geometry(key, d, f)? {
         Some(geometry) => geometry,
@@ -260,11 +266,10 @@ pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring,
         (None, None) => (base.cp_s, base.k_eq2),
         (cp_s, k_eq2) => (cp_s, k_eq2),
     };
-    one_of(key, ("cp_s", cp_s), ("k_eq2", k_eq2))?;
-    let cp_s = match (cp_s, k_eq2) {
-        (Some(c), _) => positive(&k("cp_s"), c)?,
+    let cp_s = match one_of(key, ("cp_s", cp_s), ("k_eq2", k_eq2))? {
+        OneOf::First(c) => positive(&k("cp_s"), c)?,
         // A tiny k_eq2 can overflow C_p^S: check the derived value too.
-        (None, Some(k2)) => {
+        OneOf::Second(k2) => {
             let k2 = positive(&k("k_eq2"), k2)?;
             let cp_s = Ring::cp_s_from_k_eq2(angle, theta_p, k2);
             if !cp_s.is_finite() {
@@ -273,7 +278,6 @@ pub(super) fn ring(key: &str, base: &RingFile, o: &RingOverride) -> Result<Ring,
             }
             cp_s
         }
-        (None, None) => unreachable!("checked by one_of"),
     };
     let cp_t = positive(&k("cp_t"), o.cp_t.unwrap_or(base.cp_t))?;
     if cp_s >= cp_t {
@@ -313,15 +317,14 @@ pub(super) fn circuit(prefix: &str, c: &CircuitFile, ring: &Ring) -> Result<Circ
         .enumerate()
         .map(|(i, b)| {
             let key = format!("{prefix}.branches[{i}]");
-            one_of(&key, ("inductance", b.inductance), ("tuning_frequency", b.tuning_frequency))?;
+            let tuning = one_of(&key, ("inductance", b.inductance), ("tuning_frequency", b.tuning_frequency))?;
             let c_f = positive(&format!("{key}.c_f"), b.c_f)?;
-            let (inductance, given) = match (b.inductance, b.tuning_frequency) {
-                (Some(l), _) => (non_negative(&format!("{key}.inductance"), l)?, Given::Inductance),
-                (None, Some(w)) => {
+            let (inductance, given) = match tuning {
+                OneOf::First(l) => (non_negative(&format!("{key}.inductance"), l)?, Given::Inductance),
+                OneOf::Second(w) => {
                     let w = positive(&format!("{key}.tuning_frequency"), w)?;
                     (Branch::tuned_inductance(ring.cp_t, c_f, w), Given::TuningFrequency(w))
                 }
-                (None, None) => unreachable!("checked by one_of"),
             };
             let resistance = non_negative(&format!("{key}.resistance"), b.resistance)?;
             Ok(Branch { c_f, inductance, resistance, given })
