@@ -1,0 +1,290 @@
+//! What a design run found: its status, the starts, history and convex steps, the
+//! findings of its objective, and the JSON shape of `report.json`.
+
+use super::min_peak::PeakFindings;
+use crate::design::evaluate::{Intrusion, OperatingBand};
+use crate::design::spec::DesignSpec;
+use crate::design::verify::DesignAtSpeed;
+use serde::Serialize;
+
+/// How the run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Widest band: the tuned band is wider than the reference's, and verified.
+    Improved,
+    /// Widest band: no start beat the reference design, which is kept (and verified).
+    Unchanged,
+    /// Clear bands: every band is clear by its clearance, and verified.
+    Feasible,
+    /// Clear bands: no design inside the bounds was found that clears every band.
+    Infeasible,
+    /// The design the optimiser found failed its independent verification
+    /// ([`crate::design::verify`]): its band or clearances are not shown to hold.
+    NotVerified,
+}
+
+impl Status {
+    /// Whether the run produced a design that can be handed on (improved, unchanged or
+    /// feasible, and verified).
+    pub fn is_result(self) -> bool {
+        matches!(self, Status::Improved | Status::Unchanged | Status::Feasible)
+    }
+}
+
+/// One Nelder–Mead start.
+#[derive(Debug, Clone, Serialize)]
+pub struct StartReport {
+    /// `reference`, `physics seed` or `halton k`.
+    pub origin: String,
+    /// Starting values (SI units).
+    pub initial: Vec<f64>,
+    /// Best values found (SI units).
+    pub best: Vec<f64>,
+    /// Objective at the best point (rad/s).
+    pub objective: f64,
+    /// Candidate designs evaluated by this start.
+    pub evaluations: usize,
+    /// Nelder–Mead iterations of this start.
+    pub iterations: u64,
+    /// argmin's termination reason (e.g. the simplex's spread below the tolerance).
+    pub termination: String,
+}
+
+/// One entry of the optimiser history.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct HistoryPoint {
+    /// Start index (widest band) or 0 (clear bands).
+    pub start: usize,
+    /// Candidate evaluation count within the start / iteration of the convex steps.
+    pub step: usize,
+    /// Objective (rad/s: signed band width) or total intrusion (rad/s).
+    pub value: f64,
+    /// Best value so far in this start (same unit as `value`).
+    pub best: f64,
+}
+
+/// One sequential convex step.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConvexStep {
+    /// Iteration of the sequential convex run, from 1.
+    pub iteration: usize,
+    /// Trust region used (scaled units).
+    pub trust: f64,
+    /// Linearised constraints (one per intrusion).
+    pub constraints: usize,
+    /// Total intrusion before (rad/s).
+    pub intrusion_before: f64,
+    /// Total intrusion at the trial point (rad/s), if evaluated.
+    pub intrusion_after: Option<f64>,
+    /// Whether the step was taken.
+    pub accepted: bool,
+    /// Trial values (SI units).
+    pub values: Vec<f64>,
+}
+
+/// What a run found that only its objective has.
+#[derive(Debug, Clone)]
+pub enum Findings {
+    /// Widest stable band.
+    WidestBand {
+        /// The stable band around φ_op of the reference design at each speed.
+        before: Vec<OperatingBand>,
+        /// The same for the tuned design.
+        after: Vec<OperatingBand>,
+    },
+    /// Clear bands.
+    ClearBands {
+        /// Tongues intruding into the widened bands, reference design.
+        before: Vec<Intrusion>,
+        /// The same for the tuned design (empty when feasible).
+        after: Vec<Intrusion>,
+        /// The linearised constraints at the final point had no solution inside the
+        /// bounds (a sign that the bounds forbid clearing the bands).
+        linear_infeasible: bool,
+    },
+    /// Least peak response: the reference, tuned, unconstrained and classic designs.
+    MinPeak(Box<PeakFindings>),
+}
+
+/// The unbalance response of a design with a `[design.response]`, before and after, and
+/// the damping ratios of its lowest whirls: report content.
+#[derive(Debug, Clone, Serialize)]
+pub struct VibrationReport {
+    /// The response node and speeds.
+    pub response: crate::design::spec::Response,
+    /// The reference design's response at the node (amplitude m, phase rad, peaks).
+    pub before: crate::analysis::unbalance::UnbalanceResult,
+    /// The tuned design's.
+    pub after: crate::analysis::unbalance::UnbalanceResult,
+    /// The unconstrained optimum's (min-peak-response with constraints).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unconstrained: Option<crate::analysis::unbalance::UnbalanceResult>,
+    /// Damping ratios ζ of the lowest whirls over the operating speeds, reference design.
+    pub damping_before: Vec<crate::analysis::damping::ModeDamping>,
+    /// The same, tuned design.
+    pub damping_after: Vec<crate::analysis::damping::ModeDamping>,
+}
+
+/// Whirls per direction whose damping ratios a report lists.
+pub const REPORT_DAMPING_WHIRLS: usize = 3;
+
+/// Everything a design run found.
+#[derive(Debug, Clone)]
+pub struct DesignOutcome {
+    /// The validated design problem that was run.
+    pub spec: DesignSpec,
+    /// How the run ended: improved, unchanged, feasible, infeasible or not verified.
+    pub status: Status,
+    /// Variable values of the reference design (SI units, as in the problem file).
+    pub before: Vec<f64>,
+    /// Variable values of the tuned design.
+    pub after: Vec<f64>,
+    /// The objective's own findings: bands or intrusions, before and after.
+    pub findings: Findings,
+    /// The reference design at each speed: whirls and full catalogue.
+    pub before_speeds: Vec<DesignAtSpeed>,
+    /// The tuned design at each speed: whirls, full catalogue and the verification checks.
+    pub after_speeds: Vec<DesignAtSpeed>,
+    /// Whether the tuned design passed every verification check.
+    pub verified: bool,
+    /// Nelder–Mead starts (or the clear-bands global pass).
+    pub starts: Vec<StartReport>,
+    /// Objective or intrusion history.
+    pub history: Vec<HistoryPoint>,
+    /// Sequential convex steps (clear bands), in order.
+    pub convex_steps: Vec<ConvexStep>,
+    /// Candidate designs analysed (each a rotor at every speed).
+    pub candidates: usize,
+    /// Candidates whose analysis failed (counted in `candidates`).
+    pub failed_candidates: usize,
+    /// One failure's message (the alphabetically first, so that it does not depend on
+    /// thread timing).
+    pub first_failure: Option<String>,
+    /// Monodromy (Floquet) evaluations of the optimisation.
+    pub floquet_evaluations: usize,
+    /// Wall time of the optimisation (s).
+    pub seconds: f64,
+    /// Cost of the verification and the report's catalogues.
+    pub verification_cost: Cost,
+    /// The constraints judged afresh on the tuned design (empty without constraints).
+    pub constraints_after: Vec<crate::design::vibration::ConstraintCheck>,
+    /// The unbalance response and damping ratios before and after (with a response).
+    pub vibration: Option<VibrationReport>,
+}
+
+impl DesignOutcome {
+    /// Widest band: the reference design's band around φ_op at each speed (else empty).
+    pub fn before_bands(&self) -> &[OperatingBand] {
+        match &self.findings {
+            Findings::WidestBand { before, .. } => before,
+            _ => &[],
+        }
+    }
+    /// Widest band: the tuned design's band around φ_op at each speed (else empty).
+    pub fn after_bands(&self) -> &[OperatingBand] {
+        match &self.findings {
+            Findings::WidestBand { after, .. } => after,
+            _ => &[],
+        }
+    }
+    /// Clear bands: the reference design's intrusions (else empty).
+    pub fn before_intrusions(&self) -> &[Intrusion] {
+        match &self.findings {
+            Findings::ClearBands { before, .. } => before,
+            _ => &[],
+        }
+    }
+    /// Clear bands: the tuned design's intrusions (else empty).
+    pub fn after_intrusions(&self) -> &[Intrusion] {
+        match &self.findings {
+            Findings::ClearBands { after, .. } => after,
+            _ => &[],
+        }
+    }
+    /// Clear bands: whether the final linearisation had no solution inside the bounds.
+    pub fn linear_infeasible(&self) -> bool {
+        matches!(self.findings, Findings::ClearBands { linear_infeasible: true, .. })
+    }
+    /// Min peak response: its findings (else None).
+    pub fn peak_findings(&self) -> Option<&PeakFindings> {
+        match &self.findings {
+            Findings::MinPeak(f) => Some(f),
+            _ => None,
+        }
+    }
+}
+
+/// The JSON form of a [`DesignOutcome`]: every objective's keys present (empty for the
+/// other objective), the shape `report.json` has always had.
+#[derive(Serialize)]
+struct OutcomeJson<'a> {
+    spec: &'a DesignSpec,
+    status: Status,
+    before: &'a [f64],
+    after: &'a [f64],
+    before_bands: &'a [OperatingBand],
+    after_bands: &'a [OperatingBand],
+    before_intrusions: &'a [Intrusion],
+    after_intrusions: &'a [Intrusion],
+    before_speeds: &'a [DesignAtSpeed],
+    after_speeds: &'a [DesignAtSpeed],
+    verified: bool,
+    starts: &'a [StartReport],
+    history: &'a [HistoryPoint],
+    convex_steps: &'a [ConvexStep],
+    linear_infeasible: bool,
+    candidates: usize,
+    failed_candidates: usize,
+    first_failure: &'a Option<String>,
+    floquet_evaluations: usize,
+    seconds: f64,
+    verification_cost: Cost,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    min_peak: Option<&'a PeakFindings>,
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    constraints_after: &'a [crate::design::vibration::ConstraintCheck],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vibration: Option<&'a VibrationReport>,
+}
+
+impl Serialize for DesignOutcome {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        OutcomeJson {
+            spec: &self.spec,
+            status: self.status,
+            before: &self.before,
+            after: &self.after,
+            before_bands: self.before_bands(),
+            after_bands: self.after_bands(),
+            before_intrusions: self.before_intrusions(),
+            after_intrusions: self.after_intrusions(),
+            before_speeds: &self.before_speeds,
+            after_speeds: &self.after_speeds,
+            verified: self.verified,
+            starts: &self.starts,
+            history: &self.history,
+            convex_steps: &self.convex_steps,
+            linear_infeasible: self.linear_infeasible(),
+            candidates: self.candidates,
+            failed_candidates: self.failed_candidates,
+            first_failure: &self.first_failure,
+            floquet_evaluations: self.floquet_evaluations,
+            seconds: self.seconds,
+            verification_cost: self.verification_cost,
+            min_peak: self.peak_findings(),
+            constraints_after: &self.constraints_after,
+            vibration: self.vibration.as_ref(),
+        }
+        .serialize(serializer)
+    }
+}
+
+/// The cost of a phase of the run.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Cost {
+    /// Candidate designs evaluated by this start.
+    pub evaluations: usize,
+    /// Wall time (s).
+    pub seconds: f64,
+}
