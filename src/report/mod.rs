@@ -3,6 +3,7 @@
 
 pub mod campbell;
 pub mod chart;
+pub mod clip;
 pub mod design;
 pub mod glossary;
 pub mod html;

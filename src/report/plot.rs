@@ -4,6 +4,7 @@
 //! Placement rule of every legend: a panel to the right of the plotting area, outside
 //! it, so it never covers data ([`Layout`] reports both boxes, and the tests check them).
 
+use super::clip;
 use super::style::{self, err, Dash, Entry, Key, Marker};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -217,7 +218,7 @@ impl CurvePlot {
             plot_box = area_box(chart.plotting_area());
             for c in &self.curves {
                 let pts: Vec<(f64, f64)> = c.points.iter().copied().filter(|p| p.1 > 0.0).collect();
-                let clip = style::clip_polyline(&pts, (x0, x1), (y0, y1));
+                let clip = clip::clip_polyline(&pts, (x0, x1), (y0, y1));
                 draw_pieces(&mut chart, c, clip)?;
             }
         } else {
@@ -234,7 +235,7 @@ impl CurvePlot {
                 .map_err(err)?;
             plot_box = area_box(chart.plotting_area());
             for c in &self.curves {
-                let clip = style::clip_polyline(&c.points, (x0, x1), (y0, y1));
+                let clip = clip::clip_polyline(&c.points, (x0, x1), (y0, y1));
                 draw_pieces(&mut chart, c, clip)?;
             }
         }

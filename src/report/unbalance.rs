@@ -1,6 +1,7 @@
 //! Unbalance response rendering: the Bode plot (amplitude on a log scale over the phase),
 //! the Pareto plot of designs, the CSV, the text table of peaks, and the damping table.
 
+use super::clip;
 use super::plot::{
     area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, CurvePlot, Layout, PlotError,
 };
@@ -124,7 +125,7 @@ impl BodePlot<'_> {
                     .filter(|(_, a)| **a >= floor)
                     .map(|(w, a)| (*w, *a))
                     .collect();
-                let pieces = style::clip_polyline(&points, (x0, x1), (ylo, yhi));
+                let pieces = clip::clip_polyline(&points, (x0, x1), (ylo, yhi));
                 draw_pieces(&mut amp, &curve(k, layer, Vec::new()), pieces)?;
                 let c = style::rgb(style::color(k));
                 amp.draw_series(
@@ -169,7 +170,7 @@ impl BodePlot<'_> {
             .map_err(err)?;
         for (k, layer, values) in &phases {
             let points: Vec<(f64, f64)> = layer.result.speeds.iter().copied().zip(values.iter().copied()).collect();
-            let pieces = style::clip_polyline(&points, (x0, x1), (plo, phi));
+            let pieces = clip::clip_polyline(&points, (x0, x1), (plo, phi));
             draw_pieces(&mut ph, &curve(*k, layer, Vec::new()), pieces)?;
         }
         let ph_box = area_box(ph.plotting_area());

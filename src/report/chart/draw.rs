@@ -64,7 +64,7 @@ pub(super) fn draw_failed<DB: DrawingBackend>(
 pub(super) fn draw_markers<DB: DrawingBackend>(
     plot: &mut Chart2d<'_, DB>,
     markers: &[(f64, String)],
-    occupied: &mut style::Occupied,
+    occupied: &mut clip::Occupied,
 ) -> Result<(), PlotError> {
     const LABEL_LINES: i32 = 3;
     let x = plot.x_range();
@@ -141,7 +141,7 @@ pub(super) fn draw_regions<DB: DrawingBackend>(
     let (x, y) = (plot.x_range(), plot.y_range());
     let (x, y) = ((x.start, x.end), (y.start, y.end));
     for r in regions {
-        let poly = style::clip_polygon(&r.outline, x, y);
+        let poly = clip::clip_polygon(&r.outline, x, y);
         if poly.len() < 3 {
             continue;
         }
@@ -151,7 +151,7 @@ pub(super) fn draw_regions<DB: DrawingBackend>(
         if let Some(&first) = r.outline.first() {
             closed.push(first);
         }
-        for piece in style::clip_polyline(&closed, x, y) {
+        for piece in clip::clip_polyline(&closed, x, y) {
             plot.draw_series(std::iter::once(PathElement::new(piece, rgb(REGION_LINE).stroke_width(style::THIN))))
                 .map_err(err)?;
         }
@@ -164,7 +164,7 @@ pub(super) fn draw_regions<DB: DrawingBackend>(
 pub(super) fn draw_region_labels<DB: DrawingBackend>(
     plot: &mut Chart2d<'_, DB>,
     regions: &[RegionShape],
-    occupied: &mut style::Occupied,
+    occupied: &mut clip::Occupied,
 ) -> Result<(), PlotError> {
     let (x, y) = (plot.x_range(), plot.y_range());
     let font = (style::FONT, style::ANNOTATION_SIZE).into_font().color(&BLACK);
@@ -172,7 +172,7 @@ pub(super) fn draw_region_labels<DB: DrawingBackend>(
         .iter()
         .filter(|r| !r.label.is_empty())
         .filter_map(|r| {
-            let inside: Vec<(f64, f64)> = style::clip_polygon(&r.outline, (x.start, x.end), (y.start, y.end));
+            let inside: Vec<(f64, f64)> = clip::clip_polygon(&r.outline, (x.start, x.end), (y.start, y.end));
             let top = inside.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
             if !top.is_finite() {
                 return None;

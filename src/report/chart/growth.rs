@@ -64,7 +64,7 @@ impl GrowthMap {
         let cells = blocks(&self.chart, |p| unstable(p).then(|| level(p.growth_rate)));
         draw_blocks(&mut plot, &self.chart, &cells, |&k| color(k))?;
         draw_failed(&mut plot, &self.chart)?;
-        draw_markers(&mut plot, &self.markers, &mut style::Occupied::default())?;
+        draw_markers(&mut plot, &self.markers, &mut clip::Occupied::default())?;
         draw_frame(&mut plot)?;
 
         // Colour bar, aligned with the main plotting area (same margins and x-label area).

@@ -10,6 +10,7 @@
 //! half-open pixel ranges, so semi-transparent neighbours never double-blend a seam.
 //! Failed points (no verdict) are drawn as black crosses, never dropped.
 
+use super::clip;
 use super::plot::{area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, Layout, PlotError};
 use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::chart::{ChartPoint, ChartResult};
@@ -302,15 +303,15 @@ impl StabilityPlot {
                 width: style::THIN,
                 ..Curve::new(line.name.clone(), line.color, Vec::new())
             };
-            let pieces = style::clip_polyline(&line.points, (x.0, x.1), (y.0, y.1));
+            let pieces = clip::clip_polyline(&line.points, (x.0, x.1), (y.0, y.1));
             draw_pieces(&mut plot, &c, pieces)?;
         }
         for (beta, _) in &self.levels {
             let c = Curve { dash: Dash::Dashed, width: style::THIN, ..Curve::new("", LEVEL_COLOR, Vec::new()) };
-            let pieces = style::clip_polyline(&[(x.0, *beta), (x.1, *beta)], (x.0, x.1), (y.0, y.1));
+            let pieces = clip::clip_polyline(&[(x.0, *beta), (x.1, *beta)], (x.0, x.1), (y.0, y.1));
             draw_pieces(&mut plot, &c, pieces)?;
         }
-        let mut occupied = style::Occupied::default();
+        let mut occupied = clip::Occupied::default();
         draw_markers(&mut plot, &self.markers, &mut occupied)?;
         draw_region_labels(&mut plot, &self.regions, &mut occupied)?;
         draw_frame(&mut plot)?;
