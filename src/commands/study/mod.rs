@@ -17,6 +17,7 @@ mod case;
 mod run_case;
 use run_case::{admit_case, case_budget, finished, run_case};
 mod folder;
+mod listing;
 mod lock;
 mod plan;
 mod shard;
@@ -46,13 +47,14 @@ pub use case::{case_id, CaseResult, CaseStatus};
 pub(crate) use folder::Ledger;
 use folder::{CaseFolder, Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
 pub use folder::{Manifest, Role};
+pub use listing::plan_cmd;
 use plan::Plan;
 pub use plan::{Case, MAX_STUDY_CASES};
 use rayon::prelude::*;
 use serde::Serialize;
 pub use shard::{array_expression, Shard, TaskRecord, MAX_SHARDS};
 pub use slurm::{slurm_cmd, SlurmOptions};
-pub use state::{merge_cmd, plan_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
+pub use state::{merge_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -259,7 +261,7 @@ pub fn study_cmd(
     }
     let shard = resolve_shard(&options, recorded, plan.len())?;
     if options.dry_run {
-        return Ok((state::dry_run_text(&plan, &identity, shard), 0));
+        return Ok((listing::dry_run_text(&plan, &identity, shard), 0));
     }
     let inputs: [(&Path, &str); 2] = [(file, "the study file"), (&plan.base, "the study's base problem file")];
     // The folder is checked before anything is created in it, and again under the lock.
