@@ -3,7 +3,7 @@
 //!
 //! [`parse`] reads the file's element tables, [`map`] maps them to rotorshunt's general
 //! form (materials, sections, disks, plain bearings) or refuses an element it cannot
-//! represent, and [`write`] renders the problem file. The format and the mapping are in
+//! represent, and [`write`](mod@write) renders the problem file. The format and the mapping are in
 //! `docs/ross-format.md`. SI units and rad/s throughout.
 
 mod error;
