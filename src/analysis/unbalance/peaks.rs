@@ -55,9 +55,22 @@ pub struct Peak {
     pub unbounded: bool,
 }
 
-/// The amplitude |U_dof| (m) at speed Ω.
-fn amplitude_at(a: &DynamicStiffness, dof: usize, speed: f64, work: &mut Workspace) -> Result<c64, AnalysisError> {
-    Ok(a.solve(speed, work)?[dof])
+/// The response at one DOF and its samples on the speed grid: what the refinement of a
+/// peak asks.
+struct Curve<'a> {
+    a: &'a DynamicStiffness,
+    dof: usize,
+    /// The grid speeds (rad/s).
+    speeds: &'a [f64],
+    /// |U_dof| at each grid speed (m).
+    amp: &'a [f64],
+}
+
+impl Curve<'_> {
+    /// U_dof (m, complex) at speed Ω.
+    fn at(&self, speed: f64, work: &mut Workspace) -> Result<c64, AnalysisError> {
+        Ok(self.a.solve(speed, work)?[self.dof])
+    }
 }
 
 /// The interior local maxima of `amp` over `speeds`, refined.
@@ -68,17 +81,18 @@ pub(super) fn refine_peaks(
     amp: &[f64],
     work: &mut Workspace,
 ) -> Result<Vec<Peak>, AnalysisError> {
+    let curve = Curve { a, dof, speeds, amp };
     let mut peaks = Vec::new();
     for i in 1..amp.len().saturating_sub(1) {
         // Strict on the left, not on the right: a flat top counts once.
         if !(amp[i] > amp[i - 1] && amp[i] >= amp[i + 1]) {
             continue;
         }
-        let (speed, value) = golden_max(a, dof, speeds[i - 1], speeds[i + 1], (speeds[i], amp[i]), work)?;
+        let (speed, value) = golden_max(&curve, speeds[i - 1], speeds[i + 1], (speeds[i], amp[i]), work)?;
         let amplitude = value.norm();
         let half = amplitude / std::f64::consts::SQRT_2;
-        let left = half_power(a, dof, speeds, amp, speed, half, Side::Below, work)?;
-        let right = half_power(a, dof, speeds, amp, speed, half, Side::Above, work)?;
+        let left = half_power(&curve, speed, half, Side::Below, work)?;
+        let right = half_power(&curve, speed, half, Side::Above, work)?;
         let half_power = left.zip(right).map(|(l, r)| [l, r]);
         let width = half_power.map(|[l, r]| r - l);
         let unbounded = width.is_some_and(|w| w < UNBOUNDED_BANDWIDTH * speed);
@@ -98,8 +112,7 @@ pub(super) fn refine_peaks(
 /// `best` (speed, amplitude): the refined (speed, U). The grid point is kept if the search
 /// finds nothing higher (a maximum at a bracket end).
 fn golden_max(
-    a: &DynamicStiffness,
-    dof: usize,
+    curve: &Curve<'_>,
     lo: f64,
     hi: f64,
     best: (f64, f64),
@@ -109,8 +122,8 @@ fn golden_max(
     let (mut lo, mut hi) = (lo, hi);
     let mut x1 = hi - INV_PHI * (hi - lo);
     let mut x2 = lo + INV_PHI * (hi - lo);
-    let mut f1 = amplitude_at(a, dof, x1, work)?;
-    let mut f2 = amplitude_at(a, dof, x2, work)?;
+    let mut f1 = curve.at(x1, work)?;
+    let mut f2 = curve.at(x2, work)?;
     for _ in 0..GOLDEN_STEPS {
         if hi - lo <= PEAK_SPEED_TOLERANCE * best.0.max(f64::MIN_POSITIVE) {
             break;
@@ -119,19 +132,19 @@ fn golden_max(
             hi = x2;
             (x2, f2) = (x1, f1);
             x1 = hi - INV_PHI * (hi - lo);
-            f1 = amplitude_at(a, dof, x1, work)?;
+            f1 = curve.at(x1, work)?;
         } else {
             lo = x1;
             (x1, f1) = (x2, f2);
             x2 = lo + INV_PHI * (hi - lo);
-            f2 = amplitude_at(a, dof, x2, work)?;
+            f2 = curve.at(x2, work)?;
         }
     }
     let (x, f) = if f1.norm() >= f2.norm() { (x1, f1) } else { (x2, f2) };
     if f.norm() >= best.1 {
         Ok((x, f))
     } else {
-        Ok((best.0, amplitude_at(a, dof, best.0, work)?))
+        Ok((best.0, curve.at(best.0, work)?))
     }
 }
 
@@ -145,17 +158,14 @@ enum Side {
 /// the first grid speed beyond the peak below `half`, then bisection between it and the
 /// last speed at or above `half`. None when the grid ends first, or rises above the peak
 /// amplitude (√2·half) first (a higher neighbouring peak).
-#[allow(clippy::too_many_arguments)]
 fn half_power(
-    a: &DynamicStiffness,
-    dof: usize,
-    speeds: &[f64],
-    amp: &[f64],
+    curve: &Curve<'_>,
     peak: f64,
     half: f64,
     side: Side,
     work: &mut Workspace,
 ) -> Result<Option<f64>, AnalysisError> {
+    let (speeds, amp) = (curve.speeds, curve.amp);
     let top = half * std::f64::consts::SQRT_2;
     let order: Box<dyn Iterator<Item = usize>> = match side {
         Side::Above => Box::new((0..speeds.len()).filter(|&i| speeds[i] > peak)),
@@ -173,7 +183,7 @@ fn half_power(
                 if mid == inside || mid == outside {
                     break;
                 }
-                if amplitude_at(a, dof, mid, work)?.norm() >= half {
+                if curve.at(mid, work)?.norm() >= half {
                     inside = mid;
                 } else {
                     outside = mid;
