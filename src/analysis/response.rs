@@ -33,9 +33,11 @@ pub struct ResponseResult {
     pub time: Vec<f64>,
     /// First modal coordinate q₁: real part = vertical, imaginary = horizontal (Eq. 29).
     pub q1: Vec<[f64; 2]>,
-    /// Largest |q| over the first and over the last period (growth indicator).
+    /// Largest ‖q‖, the Euclidean norm of the mass-normalised modal coordinates, over the
+    /// first load period (kg^½·m).
     pub first_period_peak: f64,
-    /// See `first_period_peak`.
+    /// Largest ‖q‖ over the last load period (kg^½·m; 0 if the integration stopped before
+    /// it); `growth_ratio` divides it by `first_period_peak`.
     pub last_period_peak: f64,
     /// RK4 step (s).
     pub step: f64,

@@ -89,7 +89,8 @@ pub struct FloquetOutput {
     pub provenance: Provenance,
     /// Ω (rad/s).
     pub speed: f64,
-    /// The point.
+    /// The Floquet point at (φ, β): its summary (max|μ|, growth rate, verdict) and the
+    /// multipliers μ; flattened into the JSON.
     #[serde(flatten)]
     pub point: FloquetPoint,
 }

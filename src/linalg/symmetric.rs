@@ -7,7 +7,7 @@ use faer::{Mat, MatRef, Par};
 /// Eigenpairs of `B x = θ A x`, sorted by θ descending; `vectors` are A-orthonormal.
 #[derive(Debug, Clone)]
 pub struct DefiniteEigen {
-    /// θ, descending.
+    /// Eigenvalues θ, descending: with A = K, 1/P (1/N) for B = S and 1/ω² (s²) for B = M.
     pub values: Vec<f64>,
     /// Columns x with xᵀ A x = 1.
     pub vectors: Mat<f64>,

@@ -43,14 +43,16 @@ pub struct Load {
 pub struct Model {
     /// The shaft (sections left to right).
     pub shaft: Shaft,
-    /// Rigid disks.
+    /// Rigid disks (`[[disks]]`, in file order): mass m, inertias J_p and J_d, and
+    /// unbalance (e, γ) at a shaft node.
     pub disks: Vec<Disk>,
     /// Plain bearings (no DOF of their own).
     pub bearings: Vec<Bearing>,
     /// Vibration rings in file order (the shorthand: `left` at node 0, `right` at node n),
     /// each with its own circuit. Their DOFs follow the shaft's in this order.
     pub rings: Vec<RingSupport>,
-    /// Axial load.
+    /// Static part of the axial load P(t) = P_cr·(α + β·cos φt): α and P_cr; β and φ are
+    /// the analysis's.
     pub load: Load,
     /// Rotating speed Ω (rad/s).
     pub speed: f64,

@@ -52,7 +52,8 @@ pub struct ProblemFile {
     pub rings: Vec<RingSupportFile>,
     /// The axial load.
     pub load: LoadFile,
-    /// Numerical settings.
+    /// Numerical settings of the analyses (`[analysis]`: reduced modes M, instability
+    /// tolerance, monodromy method, …); defaults when absent.
     #[serde(default)]
     pub analysis: Settings,
     /// Settings of the region search (`[regions]`); defaults when absent.
@@ -169,7 +170,7 @@ pub struct VariableFile {
     pub parameter: Parameter,
     /// Lower bound (unit of the parameter).
     pub min: f64,
-    /// Upper bound.
+    /// Upper bound of the variable, in the unit of `parameter` (F, H, rad/s or Ω).
     pub max: f64,
 }
 

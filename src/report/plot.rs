@@ -53,9 +53,9 @@ pub struct LinePlot {
 pub struct Curve {
     /// Legend text; empty for no legend entry.
     pub name: String,
-    /// RGB colour.
+    /// Line colour as (red, green, blue), 0–255 each.
     pub color: (u8, u8, u8),
-    /// Line pattern.
+    /// Line pattern: solid, dashed or dotted.
     pub dash: Dash,
     /// Marker drawn every few points.
     pub marker: Marker,

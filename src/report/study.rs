@@ -5,7 +5,8 @@
 /// formatted as text.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SummaryTable {
-    /// Column names.
+    /// Column names, the CSV's first row; a study's are `case`, `kind`, `status`, `flags`,
+    /// `seconds`, the metric keys (sorted) and `error`.
     pub header: Vec<String>,
     /// One row per case, as many cells as the header.
     pub rows: Vec<Vec<String>>,

@@ -231,7 +231,7 @@ pub enum Key {
 pub struct Entry {
     /// What is drawn beside the text.
     pub key: Key,
-    /// The text.
+    /// Legend text beside the key; cut with an ellipsis beyond `MAX_LEGEND_WIDTH`.
     pub text: String,
 }
 

@@ -22,14 +22,15 @@ pub struct BodeLayer<'a> {
     pub name: String,
     /// Drawn dashed (the compared configuration).
     pub dashed: bool,
-    /// The response.
+    /// This configuration's unbalance response: speeds Ω (rad/s), each probe's amplitude
+    /// (m) and phase (rad).
     pub result: &'a UnbalanceResult,
 }
 
 /// A Bode plot of one or two configurations: every probe's amplitude (m, log scale) over
 /// its phase (rad, unwrapped along the speed), against the speed (rad/s).
 pub struct BodePlot<'a> {
-    /// Caption.
+    /// Caption drawn above the plot (shrunk or wrapped to fit).
     pub title: String,
     /// The configurations (solid, then dashed).
     pub layers: Vec<BodeLayer<'a>>,

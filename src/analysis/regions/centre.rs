@@ -112,7 +112,7 @@ pub struct PairGroup {
     pub forward: Vec<f64>,
     /// Backward whirl frequencies (rad/s), ascending.
     pub backward: Vec<f64>,
-    /// Order k.
+    /// Order k of the combination resonance (−): each assignment starts at (ω_i + ω_j)/k.
     pub order: usize,
 }
 

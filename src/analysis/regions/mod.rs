@@ -49,7 +49,8 @@ use serde::Serialize;
 /// An instability region.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Region {
-    /// e.g. `f1+b1`.
+    /// Name of the seed's whirl pair: forward and backward whirl tags (`f1+b1`, `f1+r1`),
+    /// or `2 n1` and `n1+n2` at rest.
     pub label: String,
     /// Simple (2ω_i/k) or combination ((ω_i + ω_j)/k).
     pub kind: RegionKind,

@@ -20,7 +20,8 @@ use serde::Serialize;
 pub struct Quantities {
     /// φ_s (rad/s).
     pub start: f64,
-    /// β_min.
+    /// Onset β_min = min β_c (−): the lowest dynamic load coefficient at which the region
+    /// opens.
     pub onset: f64,
     /// Left edge at the level (rad/s).
     pub left: Option<f64>,
@@ -31,13 +32,16 @@ pub struct Quantities {
 /// Derivatives of the quantities with respect to the parameter (per unit of it).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Derivatives {
-    /// dφ_s/dp.
+    /// Sensitivity dφ_s/dp of the start frequency φ_s (rad/s per SI unit of the parameter).
     pub start: f64,
-    /// dβ_min/dp.
+    /// Sensitivity dβ_min/dp of the onset β_min (per SI unit of the parameter; β is
+    /// dimensionless).
     pub onset: f64,
-    /// dφ_l/dp.
+    /// Sensitivity dφ_l/dp of the tongue's left edge at the level (rad/s per SI unit of the
+    /// parameter); `None` unless both perturbed designs have a tongue there.
     pub left: Option<f64>,
-    /// dφ_r/dp.
+    /// Sensitivity dφ_r/dp of the tongue's right edge at the level (rad/s per SI unit of
+    /// the parameter); `None` unless both perturbed designs have a tongue there.
     pub right: Option<f64>,
 }
 

@@ -239,11 +239,13 @@ impl DynamicStiffness {
 /// [`SystemMatrices`] holds them (or a reduced model's).
 #[derive(Clone, Copy)]
 pub struct Matrices<'a> {
-    /// M.
+    /// Mass matrix M (kg; γL on the charge DOFs).
     pub m: MatRef<'a, f64>,
-    /// C.
+    /// Viscous damping matrix C (N·s/m): plain bearings' damping and the rings' η; γR on
+    /// the charge DOFs.
     pub c: MatRef<'a, f64>,
-    /// K.
+    /// Stiffness matrix K: bending, ring springs and the Eq. (A8) coupling (N/m between
+    /// deflection DOFs; γ/C_f on the charge DOFs).
     pub k: MatRef<'a, f64>,
     /// S (per unit axial load).
     pub s: MatRef<'a, f64>,
@@ -278,7 +280,8 @@ pub struct Workspace {
 /// The response at one probe over the speed grid.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ProbeResponse {
-    /// Where.
+    /// The DOF this response is of: its name, kind, node and global index (flattened into
+    /// the JSON object).
     #[serde(flatten)]
     pub probe: Probe,
     /// |U| at each speed (m; ring DOFs m too).

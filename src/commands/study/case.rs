@@ -30,17 +30,20 @@ impl CaseStatus {
 /// The recorded result of one case (`cases/<slug>/result.json`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CaseResult {
-    /// Case name.
+    /// The case's name in the plan: the listed case's `name`, or the sweep's `key=value`
+    /// pairs joined by commas.
     pub name: String,
     /// Stable id: the folder name and a hash of the kind and resolved overrides
     /// ([`case_id`]); empty in results of older versions.
     #[serde(default)]
     pub id: String,
-    /// Directory name.
+    /// Folder name of the case under `cases/` (its name made safe), which holds this
+    /// `result.json`.
     pub slug: String,
-    /// Kind.
+    /// What the case ran: the region catalogue or the `[design]`.
     pub kind: CaseKind,
-    /// Overrides.
+    /// The `key=value` overrides applied to the base problem: the study's `set`, then the
+    /// case's own `set` or sweep values.
     pub overrides: Vec<String>,
     /// SHA-256 of the base problem text, the overrides and the study parameters.
     pub input_hash: String,

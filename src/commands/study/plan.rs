@@ -38,7 +38,7 @@ pub struct Case {
     pub name: String,
     /// Folder name under `cases/`: the name made safe (README, section Studies).
     pub slug: String,
-    /// Kind.
+    /// What the case runs: the listed case's `kind`, else the study's default.
     pub kind: CaseKind,
     /// Overrides on the base problem.
     pub overrides: Vec<String>,

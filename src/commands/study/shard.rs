@@ -178,9 +178,9 @@ pub struct TaskRecord {
     /// The shard `K/N`, for a sharded run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<String>,
-    /// Host name.
+    /// Host name of the machine that ran the case, as the operating system gives it.
     pub host: String,
-    /// Process id.
+    /// Operating-system process id of the `rotorshunt` process that ran the case on `host`.
     pub pid: u32,
     /// `SLURM_JOB_ID`, inside a Slurm job.
     #[serde(default, skip_serializing_if = "Option::is_none")]

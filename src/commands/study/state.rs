@@ -40,13 +40,17 @@ pub enum CaseState {
 pub struct StatusCase {
     /// Index in the plan.
     pub index: u64,
-    /// Stable id.
+    /// Stable id `FOLDER@HASH` of the case (`case_id`): its folder name and a hash of its
+    /// kind and overrides.
     pub id: String,
-    /// Name.
+    /// The case's name in the plan: the listed case's `name`, or the sweep's `key=value`
+    /// pairs joined by commas.
     pub name: String,
-    /// Its shard.
+    /// Shard index K (0-based, of the report's `shards`) the case is assigned to, as in
+    /// `--shard K/N`.
     pub shard: u32,
-    /// Its state.
+    /// Why it is not done: failed (with its error), missing, or running (with the lock's
+    /// holder); the JSON's `state` and `detail`.
     #[serde(flatten)]
     pub state: CaseState,
 }
@@ -64,9 +68,10 @@ pub struct StatusReport {
     pub cases: u64,
     /// Shards the counts and reruns refer to.
     pub shards: u32,
-    /// Cases done.
+    /// Cases whose `result.json` is from the plan's current inputs and records success.
     pub done: u64,
-    /// Cases failed.
+    /// Cases whose `result.json` is from the plan's current inputs and records a failure,
+    /// and that no task is running now.
     pub failed: u64,
     /// Cases without a result from the plan's inputs.
     pub missing: u64,

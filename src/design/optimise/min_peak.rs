@@ -77,7 +77,8 @@ pub struct PeakStep {
     pub iteration: usize,
     /// Trust region (scaled units).
     pub trust: f64,
-    /// Linearised constraints.
+    /// Number of linearised constraints (rows) of the step's QP: one per constraint other
+    /// than the bands, plus the bands' intruders and neighbours.
     pub constraints: usize,
     /// Peak before (m).
     pub peak_before: f64,

@@ -37,7 +37,8 @@ pub struct Imported {
 pub struct MaterialOut {
     /// Name (ROSS's, with `-2`, `-3`, … when ROSS gave one name different values).
     pub name: String,
-    /// ROSS's name.
+    /// The material's name in the ROSS file (`material.name`), before `name`'s `-2`, `-3`
+    /// suffix.
     pub ross_name: String,
     /// E (Pa).
     pub youngs_modulus: f64,
@@ -69,7 +70,7 @@ pub struct SectionOut {
 /// A `[[disks]]` entry.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiskOut {
-    /// Node.
+    /// Shaft node of the disk, ROSS's `n` (0-based, 0 = left end).
     pub node: i64,
     /// m (kg).
     pub mass: f64,
@@ -77,7 +78,8 @@ pub struct DiskOut {
     pub polar_inertia: f64,
     /// J_d (kg·m²).
     pub diametral_inertia: f64,
-    /// ROSS tag.
+    /// ROSS's `tag` of the disk element, quoted in the comment of the written `[[disks]]`
+    /// entry.
     pub tag: String,
 }
 
@@ -86,7 +88,7 @@ pub struct DiskOut {
 /// summed here).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingOut {
-    /// Node.
+    /// Shaft node of the support, ROSS's `n` (0-based, 0 = left end).
     pub node: i64,
     /// k = kxx = kyy (N/m).
     pub stiffness: f64,

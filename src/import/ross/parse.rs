@@ -12,9 +12,9 @@ pub struct RossFile {
     pub ross_version: Option<String>,
     /// `ShaftElement` tables, in table-name order.
     pub shafts: Vec<Shaft>,
-    /// `DiskElement` tables.
+    /// The rotor's `DiskElement_<tag>` tables, in table-name order.
     pub disks: Vec<Disk>,
-    /// `BearingElement` tables.
+    /// The rotor's `BearingElement_<tag>` tables, in table-name order.
     pub bearings: Vec<Bearing>,
     /// Tables of other classes: (class, tag, n if the table has one).
     pub others: Vec<(String, String, Option<i64>)>,
@@ -43,11 +43,11 @@ pub struct Shaft {
     pub axial_force: f64,
     /// Static torque (N·m).
     pub torque: f64,
-    /// Timoshenko shear.
+    /// Timoshenko shear in the element (ROSS's default `true`); the importer refuses it.
     pub shear_effects: bool,
     /// Rotary inertia in M.
     pub rotary_inertia: bool,
-    /// Gyroscopic matrix.
+    /// Gyroscopic matrix G in the element (default `true`); the importer refuses `false`.
     pub gyroscopic: bool,
     /// Shear coefficient formula (used only with shear effects).
     #[serde(default)]
@@ -65,7 +65,7 @@ pub struct Shaft {
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct Material {
-    /// Material name.
+    /// ROSS's material name (`material.name`); elements may give one name different values.
     pub name: String,
     /// Density ρ (kg/m³).
     pub rho: f64,
@@ -73,7 +73,7 @@ pub struct Material {
     pub E: f64,
     /// Shear modulus (Pa): torsion and Timoshenko shear only.
     pub G_s: f64,
-    /// Plot colour.
+    /// ROSS's plot colour of the material; read, not used.
     #[serde(default)]
     pub color: Option<String>,
 }
@@ -83,7 +83,7 @@ pub struct Material {
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
 pub struct Disk {
-    /// Node.
+    /// Node n of the disk (0-based, ROSS's numbering).
     pub n: i64,
     /// Mass (kg).
     pub m: f64,
@@ -93,10 +93,10 @@ pub struct Disk {
     pub Ip: f64,
     /// The element's name.
     pub tag: String,
-    /// Plotting only.
+    /// ROSS's drawing scale of the disk (−); plotting only, not used.
     #[serde(default)]
     pub scale_factor: Option<f64>,
-    /// Plotting only.
+    /// ROSS's plot colour of the disk; plotting only, not used.
     #[serde(default)]
     pub color: Option<String>,
 }
@@ -128,27 +128,45 @@ impl Coefficient {
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]
 pub struct Bearing {
-    /// Node.
+    /// Node n of the bearing (0-based); it connects n to the ground unless `n_link` is set.
     pub n: i64,
     /// The node the bearing connects to instead of the ground.
     #[serde(default)]
     pub n_link: Option<i64>,
+    /// Direct stiffness k_xx (N/m): one value, or one per `frequency` entry (spin speed).
     pub kxx: Coefficient,
+    /// Cross-coupled stiffness k_xy (N/m), like `kxx`; the importer refuses it non-zero.
     pub kxy: Coefficient,
+    /// Cross-coupled stiffness k_yx (N/m), like `kxx`; the importer refuses it non-zero.
     pub kyx: Coefficient,
+    /// Direct stiffness k_yy (N/m), like `kxx`; the importer needs it equal to `kxx`.
     pub kyy: Coefficient,
+    /// Axial stiffness k_zz (N/m), like `kxx`; `None` when absent. Dropped by the importer
+    /// (axial motion is not modelled).
     #[serde(default)]
     pub kzz: Option<Coefficient>,
+    /// Direct damping c_xx (N·s/m): one value, or one per `frequency` entry (spin speed).
     pub cxx: Coefficient,
+    /// Cross-coupled damping c_xy (N·s/m), like `cxx`; the importer refuses it non-zero.
     pub cxy: Coefficient,
+    /// Cross-coupled damping c_yx (N·s/m), like `cxx`; the importer refuses it non-zero.
     pub cyx: Coefficient,
+    /// Direct damping c_yy (N·s/m), like `cxx`; the importer needs it equal to `cxx`.
     pub cyy: Coefficient,
+    /// Axial damping c_zz (N·s/m), like `cxx`; `None` when absent. Dropped by the importer
+    /// (axial motion is not modelled).
     #[serde(default)]
     pub czz: Option<Coefficient>,
+    /// Direct added mass m_xx (kg) on the node: one value, or one per `frequency` entry.
     pub mxx: Coefficient,
+    /// Cross-coupled added mass m_xy (kg), like `mxx`; the importer refuses it non-zero.
     pub mxy: Coefficient,
+    /// Cross-coupled added mass m_yx (kg), like `mxx`; the importer refuses it non-zero.
     pub myx: Coefficient,
+    /// Direct added mass m_yy (kg), like `mxx`; the importer needs it equal to `mxx`.
     pub myy: Coefficient,
+    /// Axial added mass m_zz (kg), like `mxx`; `None` when absent. Dropped by the importer
+    /// (axial motion is not modelled).
     #[serde(default)]
     pub mzz: Option<Coefficient>,
     /// Frequencies (rad/s) of the tabulated coefficients; absent or null: constant.
@@ -156,10 +174,10 @@ pub struct Bearing {
     pub frequency: Option<Coefficient>,
     /// The element's name.
     pub tag: String,
-    /// Plotting only.
+    /// ROSS's drawing scale of the bearing (−); plotting only, not used.
     #[serde(default)]
     pub scale_factor: Option<f64>,
-    /// Plotting only.
+    /// ROSS's plot colour of the bearing; plotting only, not used.
     #[serde(default)]
     pub color: Option<String>,
 }

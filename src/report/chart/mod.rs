@@ -124,9 +124,9 @@ pub struct StabilityPlot {
 /// band found at β_op, drawn just below that level).
 #[derive(Debug, Clone)]
 pub struct Span {
-    /// Lower and upper φ (rad/s).
+    /// Lower φ of the span (rad/s).
     pub lo: f64,
-    /// See `lo`.
+    /// Upper φ of the span (rad/s).
     pub hi: f64,
     /// The β interval of a bar (drawn more opaque, [`BAR_ALPHA`], with a 1 px outline);
     /// `None` shades the whole β range.
