@@ -126,7 +126,6 @@ impl Coefficient {
 /// N/m, damping in N·s/m, mass in kg, frequencies in rad/s.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
-#[allow(missing_docs)]
 pub struct Bearing {
     /// Node n of the bearing (0-based); it connects n to the ground unless `n_link` is set.
     pub n: i64,
