@@ -10,7 +10,7 @@ use rotorshunt::analysis::Rotor;
 use rotorshunt::commands::{campbell_cmd, chart_cmd, parse_range, ChartArgs, Compare};
 use rotorshunt::progress::Silent as Quiet;
 use rotorshunt::report::campbell::campbell_plot;
-use rotorshunt::report::plot::{CurvePlot, Layout};
+use rotorshunt::report::plot::{CurvePlot, Drawing, Figure, Layout};
 
 /// The case: the tuned widest-band circuit, whose b3 comes down into the lowest
 /// six backward whirls and veers with an electrical mode.

@@ -6,6 +6,8 @@
 
 use super::clip;
 use super::style::{self, err, Dash, Entry, Key, Marker};
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -111,7 +113,7 @@ impl Layout {
 }
 
 /// A plot that renders to both output forms: every figure a command writes is one of
-/// these, written as `NAME.svg` and `NAME.png` side by side.
+/// these, written as `NAME.svg` and `NAME.png` side by side. Every [`Drawing`] is one.
 pub trait Figure {
     /// Render as SVG text.
     fn svg(&self) -> Result<String, PlotError>;
@@ -119,27 +121,27 @@ pub trait Figure {
     fn png(&self) -> Result<Vec<u8>, PlotError>;
 }
 
-/// [`Figure`] for plot types whose inherent `svg`/`png` render them.
-macro_rules! figure {
-    ($($t:ty),*) => {$(
-        impl Figure for $t {
-            fn svg(&self) -> Result<String, PlotError> {
-                <$t>::svg(self)
-            }
-            fn png(&self) -> Result<Vec<u8>, PlotError> {
-                <$t>::png(self)
-            }
-        }
-    )*};
-}
-figure!(LinePlot, CurvePlot, super::chart::StabilityPlot, super::chart::GrowthMap);
+/// A plot drawn on any plotters backend: its SVG and PNG forms ([`Figure`]) and its
+/// [`Layout`] all come from the one [`Drawing::draw`].
+pub trait Drawing {
+    /// Draw the whole image on `root`, and record where the plotting area and the legend
+    /// land in `layout`.
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError>;
 
-impl Figure for super::unbalance::BodePlot<'_> {
+    /// Where the plotting area and the legend land (pixels), from a rendering.
+    fn layout(&self) -> Result<Layout, PlotError> {
+        let cell = Cell::default();
+        render_svg(|root| self.draw(root, &cell))?;
+        Ok(cell.get())
+    }
+}
+
+impl<T: Drawing> Figure for T {
     fn svg(&self) -> Result<String, PlotError> {
-        super::unbalance::BodePlot::svg(self)
+        render_svg(|root| self.draw(root, &Cell::default()))
     }
     fn png(&self) -> Result<Vec<u8>, PlotError> {
-        super::unbalance::BodePlot::png(self)
+        render_png(|root| self.draw(root, &Cell::default()))
     }
 }
 
@@ -192,7 +194,7 @@ pub(crate) fn area_box<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
     [(x, y), (x + w as i32, y + h as i32)]
 }
 
-impl CurvePlot {
+impl Drawing for CurvePlot {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
         let area = style::titled(&root, &self.title)?;
@@ -202,43 +204,13 @@ impl CurvePlot {
         let (y0, y1) = self.y_range;
         let mut builder = ChartBuilder::on(&main);
         builder.margin(style::MARGIN).x_label_area_size(50).y_label_area_size(85);
-        let plot_box;
-        if self.log_y {
+        let plot_box = if self.log_y {
             let mut chart = builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .x_label_formatter(&style::tick)
-                .y_label_formatter(&style::log_tick)
-                .label_style((style::FONT, style::TICK_SIZE))
-                .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
-                .draw()
-                .map_err(err)?;
-            plot_box = area_box(chart.plotting_area());
-            for c in &self.curves {
-                let pts: Vec<(f64, f64)> = c.points.iter().copied().filter(|p| p.1 > 0.0).collect();
-                let clip = clip::clip_polyline(&pts, (x0, x1), (y0, y1));
-                draw_pieces(&mut chart, c, clip)?;
-            }
+            self.axes_and_curves(&mut chart, &style::log_tick)?
         } else {
             let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc(&self.x_label)
-                .y_desc(&self.y_label)
-                .x_label_formatter(&style::tick)
-                .y_label_formatter(&style::tick)
-                .label_style((style::FONT, style::TICK_SIZE))
-                .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
-                .draw()
-                .map_err(err)?;
-            plot_box = area_box(chart.plotting_area());
-            for c in &self.curves {
-                let clip = clip::clip_polyline(&c.points, (x0, x1), (y0, y1));
-                draw_pieces(&mut chart, c, clip)?;
-            }
-        }
+            self.axes_and_curves(&mut chart, &style::tick)?
+        };
         let mut legend_box = None;
         if let Some(l) = legend_area {
             let off = area_box(&l)[0];
@@ -249,22 +221,42 @@ impl CurvePlot {
         layout.set(Layout { plot: plot_box, legend: legend_box });
         root.present().map_err(err)
     }
+}
 
-    /// Render as SVG text.
-    pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root, &Cell::default()))
-    }
-
-    /// Render as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root, &Cell::default()))
-    }
-
-    /// Where the plotting area and the legend land (pixels), from a rendering.
-    pub fn layout(&self) -> Result<Layout, PlotError> {
-        let cell = Cell::default();
-        render_svg(|root| self.draw(root, &cell))?;
-        Ok(cell.get())
+impl CurvePlot {
+    /// The axes in the house style and the curves, clipped to the plotting area, on
+    /// `chart`, whose y axis is linear or logarithmic (`y_tick` labels it; on a log axis
+    /// points at y ≤ 0 are left out). The plotting area's pixel box.
+    fn axes_and_curves<DB: DrawingBackend, Y>(
+        &self,
+        chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
+        y_tick: &dyn Fn(&f64) -> String,
+    ) -> Result<[(i32, i32); 2], PlotError>
+    where
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        let ((x0, x1), (y0, y1)) = (self.x_range, self.y_range);
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .x_label_formatter(&style::tick)
+            .y_label_formatter(y_tick)
+            .label_style((style::FONT, style::TICK_SIZE))
+            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
+            .draw()
+            .map_err(err)?;
+        let plot_box = area_box(chart.plotting_area());
+        for c in &self.curves {
+            let clip = if self.log_y {
+                let pts: Vec<(f64, f64)> = c.points.iter().copied().filter(|p| p.1 > 0.0).collect();
+                clip::clip_polyline(&pts, (x0, x1), (y0, y1))
+            } else {
+                clip::clip_polyline(&c.points, (x0, x1), (y0, y1))
+            };
+            draw_pieces(chart, c, clip)?;
+        }
+        Ok(plot_box)
     }
 
     /// The pixel position of the data point `p` in the plot (linear axes), given its layout.
@@ -328,20 +320,12 @@ impl LinePlot {
                 .collect(),
         }
     }
+}
 
-    /// Render as SVG text.
-    pub fn svg(&self) -> Result<String, PlotError> {
-        self.curves().svg()
-    }
-
-    /// Render as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        self.curves().png()
-    }
-
-    /// Where the plotting area and the legend land (pixels), from a rendering.
-    pub fn layout(&self) -> Result<Layout, PlotError> {
-        self.curves().layout()
+/// A line plot is drawn as the curve plot of its series.
+impl Drawing for LinePlot {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
+        self.curves().draw(root, layout)
     }
 }
 

@@ -2,9 +2,7 @@
 //! the Pareto plot of designs, the CSV, the text table of peaks, and the damping table.
 
 use super::clip;
-use super::plot::{
-    area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, CurvePlot, Layout, PlotError,
-};
+use super::plot::{area_box, draw_pieces, with_legend_column, Curve, CurvePlot, Drawing, Layout, PlotError};
 use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::damping::ModeDamping;
 use crate::analysis::unbalance::UnbalanceResult;
@@ -81,7 +79,10 @@ impl BodePlot<'_> {
         entries.push(Entry { key: Key::Line((0, 0, 0), Dash::Solid, Marker::Circle), text: "peak".into() });
         entries
     }
+}
 
+/// The layout's plotting area is the amplitude and phase axes as one box.
+impl Drawing for BodePlot<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
         let area = style::titled(&root, &self.title)?;
@@ -183,23 +184,6 @@ impl BodePlot<'_> {
         }
         layout.set(Layout { plot: [amp_box[0], (amp_box[1].0.max(ph_box[1].0), ph_box[1].1)], legend: legend_box });
         root.present().map_err(err)
-    }
-
-    /// Render as SVG text.
-    pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root, &Cell::default()))
-    }
-
-    /// Render as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root, &Cell::default()))
-    }
-
-    /// Where the plotting areas (amplitude and phase, as one box) and the legend land.
-    pub fn layout(&self) -> Result<Layout, PlotError> {
-        let cell = Cell::default();
-        render_svg(|root| self.draw(root, &cell))?;
-        Ok(cell.get())
     }
 }
 

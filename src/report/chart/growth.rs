@@ -24,8 +24,11 @@ impl GrowthMap {
             },
         )
     }
+}
 
-    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+/// The layout's plotting area is the map's (the colour bar beside it is not a legend).
+impl Drawing for GrowthMap {
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
         let area = style::titled(&root, &self.title)?;
         let failed = failed_count(&self.chart);
@@ -66,6 +69,7 @@ impl GrowthMap {
         draw_failed(&mut plot, &self.chart)?;
         draw_markers(&mut plot, &self.markers, &mut clip::Occupied::default())?;
         draw_frame(&mut plot)?;
+        layout.set(Layout { plot: area_box(plot.plotting_area()), legend: None });
 
         // Colour bar, aligned with the main plotting area (same margins and x-label area).
         let mut cbar = ChartBuilder::on(&bar)
@@ -98,15 +102,5 @@ impl GrowthMap {
         }
         draw_frame(&mut cbar)?;
         root.present().map_err(err)
-    }
-
-    /// Render as SVG text.
-    pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root))
-    }
-
-    /// Render as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root))
     }
 }

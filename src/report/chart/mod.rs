@@ -11,7 +11,7 @@
 //! Failed points (no verdict) are drawn as black crosses, never dropped.
 
 use super::clip;
-use super::plot::{area_box, draw_pieces, render_png, render_svg, with_legend_column, Curve, Layout, PlotError};
+use super::plot::{area_box, draw_pieces, with_legend_column, Curve, Drawing, Layout, PlotError};
 use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::chart::{ChartPoint, ChartResult};
 use crate::analysis::floquet::PointStatus;
@@ -278,7 +278,9 @@ impl StabilityPlot {
         }
         entries
     }
+}
 
+impl Drawing for StabilityPlot {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>, layout: &Cell<Layout>) -> Result<(), PlotError> {
         root.fill(&WHITE).map_err(err)?;
         let area = style::titled(&root, &self.title)?;
@@ -325,29 +327,13 @@ impl StabilityPlot {
         layout.set(Layout { plot: plot_box, legend: legend_box });
         root.present().map_err(err)
     }
-
-    /// Where the plotting area and the legend land (pixels), from a rendering.
-    pub fn layout(&self) -> Result<Layout, PlotError> {
-        let cell = Cell::default();
-        render_svg(|root| self.draw(root, &cell))?;
-        Ok(cell.get())
-    }
-
-    /// Render as SVG text.
-    pub fn svg(&self) -> Result<String, PlotError> {
-        render_svg(|root| self.draw(root, &Cell::default()))
-    }
-
-    /// Render as PNG bytes.
-    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
-        render_png(|root| self.draw(root, &Cell::default()))
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::analysis::reduction::ReductionInfo;
+    use crate::report::plot::Figure;
 
     /// 6 φ × 4 β: unstable band at φ ∈ {300, 400} for β ≥ 0.5, one failed point, one
     /// inaccurate point.
