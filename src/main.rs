@@ -209,20 +209,14 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
         Command::Chart { input, phi, beta, out, compare, compare_set, timing } => {
             let problem = load(&input)?;
             let other = compared(&input, compare.as_deref(), &compare_set, &problem)?;
-            let cmp = match &other {
-                Some(o) => commands::Compare::Problem(&o.label, &o.problem),
-                None => commands::Compare::None,
-            };
+            let cmp = commands::Compare::of(other.as_ref());
             let args = commands::ChartArgs { phi: &phi, beta: &beta, compare: cmp, timing };
             plain(commands::chart_cmd(&problem, args, &out, progress, budget))
         }
         Command::Unbalance { input, speeds, nodes, out, json, compare, compare_set } => {
             let problem = load(&input)?;
             let other = compared(&input, compare.as_deref(), &compare_set, &problem)?;
-            let cmp = match &other {
-                Some(o) => commands::Compare::Problem(&o.label, &o.problem),
-                None => commands::Compare::None,
-            };
+            let cmp = commands::Compare::of(other.as_ref());
             let args = commands::UnbalanceArgs { speeds: &speeds, nodes: &nodes, compare: cmp, json };
             plain(commands::unbalance_cmd(&problem, args, &out, progress, budget))
         }

@@ -158,6 +158,16 @@ pub enum Compare<'a> {
     Problem(&'a str, &'a Problem),
 }
 
+impl<'a> Compare<'a> {
+    /// The comparison with `other` if there is one, else [`Compare::None`].
+    pub fn of(other: Option<&'a super::Compared>) -> Compare<'a> {
+        match other {
+            Some(o) => Compare::Problem(&o.label, &o.problem),
+            None => Compare::None,
+        }
+    }
+}
+
 fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress, what: &str) -> ChartResult {
     progress.phase(what, phis.len() as u64);
     chart(fs, phis, betas, progress)
