@@ -42,6 +42,13 @@ around the value, so it cannot reach a result:
                  the header) or a Markdown table (study summary.csv and summary.md: wall
                  time of each case) -> `<WALL>`.
 
+  owned-hash     in an output folder's ownership record `.rotorshunt-out.json`, the
+                 sha256 of a file it lists -> `<SHA256 OF NAME>`, only where it is the
+                 hash of that file's bytes in the same folder (a wrong hash still
+                 differs). The file itself is compared on its own, normalised, so its
+                 hash only repeats that comparison; left as written, it would differ
+                 with every wall time inside the file (regions.json, report.*).
+
   progress-line  a whole line of standard error starting `progress: ` (the CLI's progress
                  on a non-terminal: from a run's fifth second on, every 5 s and at each
                  phase) -> removed: how many there are, and their counts and times,
@@ -53,6 +60,7 @@ same relative arguments, so absolute paths (the study manifests) are equal.
 """
 
 import csv
+import hashlib
 import io
 import re
 import sys
@@ -137,7 +145,30 @@ def seconds_column_md(text):
     return "\n".join(out), n
 
 
+OWNED = re.compile(r'^(\s*"([^"/\\]+)": ")([0-9a-f]{64})(",?)$', re.M)
+
+
+def owned_hashes(path, text):
+    """Replace the hashes in `.rotorshunt-out.json` that are the sha256 of the named file
+    beside it; returns (text, hashes replaced)."""
+    n = 0
+
+    def repl(m):
+        nonlocal n
+        f = path.parent / m.group(2)
+        if f.is_file() and hashlib.sha256(f.read_bytes()).hexdigest() == m.group(3):
+            n += 1
+            return f"{m.group(1)}<SHA256 OF {m.group(2)}>{m.group(4)}"
+        return m.group(0)
+
+    return OWNED.sub(repl, text), n
+
+
 def normalise(path, text, counts):
+    n = 0
+    if path.name == ".rotorshunt-out.json":
+        text, n = owned_hashes(path, text)
+    counts["owned-hash"] = counts.get("owned-hash", 0) + n
     for name, pattern, repl in RULES:
         text, n = pattern.subn(repl, text)
         counts[name] = counts.get(name, 0) + n
@@ -196,7 +227,7 @@ def main():
         if ta != tb:
             differ += 1
             print(f"DIFFERS {name}:\n{first_differences(ta, tb)}")
-    rules = [name for name, _, _ in RULES] + ["table-seconds"]
+    rules = ["owned-hash"] + [name for name, _, _ in RULES] + ["table-seconds"]
     print("normalised (replacements base/head): " + ", ".join(
         f"{r} {counts['base'].get(r, 0)}/{counts['head'].get(r, 0)}" for r in rules))
     print(f"{len(names)} files compared, {differ} differ")
