@@ -1,0 +1,49 @@
+//! The README's "Using the library" section is the program `examples/library_tour.rs`,
+//! word for word, and the program prints what the README says it prints.
+
+mod common;
+
+/// The first ```rust block after the heading "## Using the library".
+fn readme_block() -> String {
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
+    let section = &readme[readme.find("## Using the library").expect("README has the library section")..];
+    let start = section.find("```rust\n").expect("a rust block") + "```rust\n".len();
+    let end = start + section[start..].find("```").expect("the block ends");
+    section[start..end].to_string()
+}
+
+#[test]
+fn the_readme_shows_the_example_exactly() {
+    let example = std::fs::read_to_string(common::root().join("examples/library_tour.rs")).unwrap();
+    // The example is its module doc followed by the README's code, unchanged.
+    let code: String =
+        example.lines().skip_while(|l| l.starts_with("//!") || l.is_empty()).map(|l| format!("{l}\n")).collect();
+    assert_eq!(code, readme_block(), "examples/library_tour.rs differs from the README's library section");
+}
+
+#[test]
+fn the_example_prints_what_the_readme_says() {
+    // `cargo test` builds the examples beside the test binaries: target/<profile>/examples.
+    let exe = std::env::current_exe().unwrap();
+    let profile = exe.parent().and_then(|d| d.parent()).unwrap();
+    let tour = profile.join("examples").join(format!("library_tour{}", std::env::consts::EXE_SUFFIX));
+    assert!(tour.exists(), "{} not built: run through `cargo test`", tour.display());
+    let out = std::process::Command::new(&tour).current_dir(common::root()).output().unwrap();
+    assert!(out.status.success(), "library_tour failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    println!("{text}");
+    // The figures the README's paragraph after the program quotes.
+    for claim in [
+        "f1     398.6 rad/s",
+        "b1     300.1 rad/s",
+        "chart: 136 of 1111 points unstable",
+        "region    r1+b1",
+        "region    r2+b1",
+        "region    f1+r1",
+        "region    f1+r2",
+        "stable band around 1230 rad/s: [1191.62, 1233.75] rad/s",
+        "(verified: true)",
+    ] {
+        assert!(text.contains(claim), "the README says the tour prints `{claim}`:\n{text}");
+    }
+}
