@@ -60,7 +60,7 @@ bins = {"base": base_bin, "head": head_bin}
 results = {}
 
 def bench(side, r, name, filt):
-    home = f"{work}/criterion-{side}-{r}"
+    home = f"{work}/criterion-{side}-{r}-{name}"
     env = dict(os.environ, CRITERION_HOME=home)
     subprocess.run([exe[side][name], "--bench", filt], cwd=here, env=env, check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
