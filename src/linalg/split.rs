@@ -249,16 +249,16 @@ impl pulp::WithSimd for Complete<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let n = self.n;
-        // Column j is [A_r; −A_i] once complete, column n + j is [A_i; A_r].
-        let mut column = vec![0.0; n];
+        let (mut left, mut right) = self.block.split_at_col_mut(n);
         for j in 0..n {
-            column.copy_from_slice(&self.block.col_as_slice(j)[..n]);
-            let (im, im_low) = self.block.col_as_slice_mut(n + j).split_at_mut(n);
-            im_low.copy_from_slice(&column);
-            for (x, y) in column.iter_mut().zip(im.iter()) {
-                *x = -y;
+            let contiguous = "the columns of an owned matrix are contiguous";
+            let l = left.as_mut().col_mut(j).try_as_col_major_mut().expect(contiguous).as_slice_mut();
+            let r = right.as_mut().col_mut(j).try_as_col_major_mut().expect(contiguous).as_slice_mut();
+            let ((re, re_low), (im, im_low)) = (l.split_at_mut(n), r.split_at_mut(n));
+            for (low, x) in re_low.iter_mut().zip(im.iter()) {
+                *low = -x;
             }
-            self.block.col_as_slice_mut(j)[n..].copy_from_slice(&column);
+            im_low.copy_from_slice(re);
         }
     }
 }
