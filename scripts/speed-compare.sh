@@ -13,6 +13,7 @@
 #     each a criterion median (estimates.json of its own CRITERION_HOME),
 #   - `rotorshunt design problems/design-widest-band.toml` end to end: wall and CPU time
 #     (user + system of the child).
+# SPEED_JOBS=chart,catalogue,design (the default) picks the jobs.
 # Prints every measurement, then per job the median over rounds of the paired ratios
 # head/base (a ratio below 1 is faster). The host is shared: read the ratio of each round
 # as well as the median, and run it when nothing else builds.
@@ -54,8 +55,10 @@ python3 - "$work" "$rounds" "$target/release/rotorshunt" "$here/target/release/r
 import json, os, resource, statistics, subprocess, sys, tempfile, time
 work, rounds, base_bin, head_bin, here = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
 exe = {side: dict(l.split("\t") for l in open(f"{work}/{side}.benches").read().split("\n") if l) for side in ("base", "head")}
-jobs = [("floquet", "fig11 chart 22837 points, fast", "fig11 chart"),
+picked = os.environ.get("SPEED_JOBS", "chart,catalogue,design").split(",")
+jobs = [("floquet", "fig11 chart 22837 points, fast", "chart"),
         ("regions", "catalogue 100..8000, beta_max 1, level 0.3", "catalogue")]
+jobs = [j for j in jobs if j[2] in picked]
 bins = {"base": base_bin, "head": head_bin}
 results = {}
 
@@ -85,12 +88,13 @@ for r in range(rounds):
             v = bench(side, r, name, label)
             results.setdefault((label, side), []).append(v)
             print(f"round {r + 1} {side}: {label}: median {v:.4f} s", flush=True)
-        wall, cpu = design(side)
-        results.setdefault(("design wall", side), []).append(wall)
-        results.setdefault(("design cpu", side), []).append(cpu)
-        print(f"round {r + 1} {side}: widest-band design: wall {wall:.2f} s, cpu {cpu:.2f} s", flush=True)
+        if "design" in picked:
+            wall, cpu = design(side)
+            results.setdefault(("design wall", side), []).append(wall)
+            results.setdefault(("design cpu", side), []).append(cpu)
+            print(f"round {r + 1} {side}: widest-band design: wall {wall:.2f} s, cpu {cpu:.2f} s", flush=True)
 print()
-for label in [j[1] for j in jobs] + ["design wall", "design cpu"]:
+for label in [j[1] for j in jobs] + (["design wall", "design cpu"] if "design" in picked else []):
     b, h = results[(label, "base")], results[(label, "head")]
     ratios = [y / x for x, y in zip(b, h)]
     print(f"{label}: base median {statistics.median(b):.4f} s, head median {statistics.median(h):.4f} s, "
