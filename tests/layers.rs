@@ -6,8 +6,6 @@
 
 mod common;
 
-use std::path::Path;
-
 /// The place of a top-level module in the chain; `None` for modules outside it.
 fn rank(module: &str) -> Option<u32> {
     Some(match module {
@@ -35,22 +33,10 @@ fn crate_paths(line: &str) -> Vec<String> {
         .collect()
 }
 
-fn visit(dir: &Path, files: &mut Vec<std::path::PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            visit(&p, files);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            files.push(p);
-        }
-    }
-}
-
 #[test]
 fn no_import_runs_back_up_the_chain() {
     let src = common::root().join("src");
-    let mut files = Vec::new();
-    visit(&src, &mut files);
+    let files = common::rust_files(&src);
     let mut back = Vec::new();
     let mut checked = 0;
     for f in &files {

@@ -6,7 +6,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The calls that panic by design, as they appear in code (after [`blank`]).
 const PANICKING: [&str; 11] = [
@@ -169,17 +169,6 @@ fn sites_in(path: &Path, rel: &str) -> Vec<Site> {
     found
 }
 
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        let p = e.path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
-
 /// The entries of docs/invariants.md: bullets "- `file`: `code` — why".
 fn entries(doc: &str) -> Vec<(String, String)> {
     doc.lines()
@@ -195,9 +184,7 @@ fn entries(doc: &str) -> Vec<(String, String)> {
 #[test]
 fn every_panicking_call_is_a_listed_invariant() {
     let root = common::root();
-    let mut files = Vec::new();
-    rust_files(&root.join("src"), &mut files);
-    files.sort();
+    let files = common::rust_files(&root.join("src"));
     let mut sites = Vec::new();
     for f in &files {
         let rel = f.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");

@@ -24,6 +24,25 @@ pub fn root() -> &'static std::path::Path {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// Every `.rs` file below `dir`, sorted (the source scans of tests/layers.rs and
+/// tests/panic_sites.rs).
+pub fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    fn visit(dir: &std::path::Path, files: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                visit(&p, files);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                files.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    visit(dir, &mut files);
+    files.sort();
+    files
+}
+
 /// A generated input file `out/generated/NAME` (git-ignored; too large or too odd to keep
 /// in the repository), written by `write` unless already there, atomically (test binaries
 /// may run at once).
