@@ -12,7 +12,7 @@
 # Exit status: 0 identical, 1 outputs differ, 2 usage error (unknown option, missing or
 # unknown revision), 3 a build failed (nothing was compared).
 #
-# Cost: 2.5-3.5 minutes per binary (291 commands: 137-208 s measured on this 2-core
+# Cost: 2.5-3.5 minutes per binary (385 commands: 85 s on a quiet host, 137-208 s for 291 of them on this 2-core
 # machine while other engineers' builds ran, load average 6-8), plus the builds: a
 # revision is built in a temporary `git worktree` with its own target dir, seeded by
 # copying the working tree's target/release (~1.5 GB) so that only rotorshunt itself
