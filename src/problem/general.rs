@@ -4,7 +4,7 @@
 //! `[ring]`, `[circuit]`) is translated in `validate.rs` onto the same model.
 
 use super::file::*;
-use super::validate::{circuit, finite, non_negative, one_of, positive, ring, Failure, OneOf, MAX_ELEMENTS};
+use super::validate::{circuit, non_negative, place, positive, ring, Failure, Placed, MAX_ELEMENTS};
 use super::{NameOf, ProblemErrorKind as K};
 use crate::model::{Bearing, RingSupport, Section, Shaft};
 
@@ -119,26 +119,6 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
     Ok(shaft)
 }
 
-/// A support's node from `node` or `position` (snapped to the nearest node).
-fn place(key: &str, node: Option<i64>, position: Option<f64>, shaft: &Shaft) -> Result<usize, Failure> {
-    match one_of(key, ("node", node), ("position", position))? {
-        OneOf::First(n) => {
-            if n < 0 || n as usize > shaft.last_node() {
-                return Err((format!("{key}.node"), K::NodeOffShaft { node: n, last: shaft.last_node() }));
-            }
-            Ok(n as usize)
-        }
-        OneOf::Second(p) => {
-            let p = finite(&format!("{key}.position"), p)?;
-            let length = shaft.length();
-            if !(0.0..=length).contains(&p) {
-                return Err((format!("{key}.position"), K::PositionOffShaft { position: p, length }));
-            }
-            Ok(shaft.nearest_node(p))
-        }
-    }
-}
-
 /// A disk of the geometry form (m = ρπ(D² − d²)/4·w, J_p = m(D² + d²)/8,
 /// J_d = J_p/2 + m·w²/12), or `None` when none of its keys is given.
 pub(super) fn disk_geometry(key: &str, d: &DiskFile, f: &ProblemFile) -> Result<Option<(f64, f64, f64)>, Failure> {
@@ -205,7 +185,7 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
             let key = format!("bearings[{i}]");
             let k = |name: &str| format!("{key}.{name}");
             Ok(Bearing {
-                node: place(&key, b.node, b.position, shaft)?,
+                node: place(&key, b.node, b.position, shaft, Placed::Support)?,
                 stiffness: non_negative(&k("stiffness"), b.stiffness)?,
                 damping: non_negative(&k("damping"), b.damping)?,
                 mass: non_negative(&k("mass"), b.mass)?,
@@ -221,7 +201,7 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
             let reason = "two rings have this name".to_string();
             return Err((format!("{key}.name"), K::BadName { name, reason }));
         }
-        let node = place(&key, r.node, r.position, shaft)?;
+        let node = place(&key, r.node, r.position, shaft, Placed::Support)?;
         let ring = ring(&key, &r.ring_keys(), &RingOverride::default())?;
         let circuit = circuit(&format!("{key}.circuit"), &r.circuit, &ring)?;
         rings.push(RingSupport { name, node, ring, circuit });

@@ -89,6 +89,51 @@ pub(super) fn one_of<A, B>(key: &str, a: (&str, Option<A>), b: (&str, Option<B>)
     }
 }
 
+/// What stands at a node placed by [`place`]: its errors name it.
+#[derive(Clone, Copy)]
+pub(super) enum Placed {
+    /// A rigid disk (`DiskNodeOffShaft`, `DiskOffShaft`).
+    Disk,
+    /// A plain bearing or a ring (`NodeOffShaft`, `PositionOffShaft`).
+    Support,
+}
+
+/// The node of a disk or a support at `key`, from its `node` or its `position` (m,
+/// snapped to the nearest node): exactly one given, on the shaft.
+pub(super) fn place(
+    key: &str,
+    node: Option<i64>,
+    position: Option<f64>,
+    shaft: &Shaft,
+    what: Placed,
+) -> Result<usize, Failure> {
+    match one_of(key, ("node", node), ("position", position))? {
+        OneOf::First(n) => {
+            let last = shaft.last_node();
+            if n < 0 || n as usize > last {
+                let kind = match what {
+                    Placed::Disk => K::DiskNodeOffShaft { node: n, last },
+                    Placed::Support => K::NodeOffShaft { node: n, last },
+                };
+                return Err((format!("{key}.node"), kind));
+            }
+            Ok(n as usize)
+        }
+        OneOf::Second(p) => {
+            let p = finite(&format!("{key}.position"), p)?;
+            let length = shaft.length();
+            if !(0.0..=length).contains(&p) {
+                let kind = match what {
+                    Placed::Disk => K::DiskOffShaft { position: p, length },
+                    Placed::Support => K::PositionOffShaft { position: p, length },
+                };
+                return Err((format!("{key}.position"), kind));
+            }
+            Ok(shaft.nearest_node(p))
+        }
+    }
+}
+
 /// The one value of two exclusive keys that a table gave (see [`one_of`]).
 pub(super) enum OneOf<A, B> {
     /// The first key's value.
@@ -213,23 +258,7 @@ fn sizes(f: &ProblemFile, shaft: &Shaft) -> Result<(), Failure> {
 }
 
 fn disk(key: &str, d: &DiskFile, shaft: &Shaft, f: &ProblemFile) -> Result<Disk, Failure> {
-    let given = one_of(key, ("node", d.node), ("position", d.position))?;
-    let (last, length) = (shaft.last_node(), shaft.length());
-    let node = match given {
-        OneOf::First(n) => {
-            if n < 0 || n as usize > last {
-                return Err((format!("{key}.node"), K::DiskNodeOffShaft { node: n, last }));
-            }
-            n as usize
-        }
-        OneOf::Second(p) => {
-            let p = finite(&format!("{key}.position"), p)?;
-            if !(0.0..=length).contains(&p) {
-                return Err((format!("{key}.position"), K::DiskOffShaft { position: p, length }));
-            }
-            shaft.nearest_node(p)
-        }
-    };
+    let node = place(key, d.node, d.position, shaft, Placed::Disk)?;
     let (mass, polar_inertia, diametral_inertia) = match general::disk_geometry(key, d, f)? {
         Some(geometry) => geometry,
         None => {
