@@ -206,10 +206,10 @@ impl Drawing for CurvePlot {
         builder.margin(style::MARGIN).x_label_area_size(50).y_label_area_size(85);
         let plot_box = if self.log_y {
             let mut chart = builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(err)?;
-            self.axes_and_curves(&mut chart, &style::log_tick)?
+            self.axes_and_curves(&mut chart)?
         } else {
             let mut chart = builder.build_cartesian_2d(x0..x1, y0..y1).map_err(err)?;
-            self.axes_and_curves(&mut chart, &style::tick)?
+            self.axes_and_curves(&mut chart)?
         };
         let mut legend_box = None;
         if let Some(l) = legend_area {
@@ -225,23 +225,23 @@ impl Drawing for CurvePlot {
 
 impl CurvePlot {
     /// The axes in the house style and the curves, clipped to the plotting area, on
-    /// `chart`, whose y axis is linear or logarithmic (`y_tick` labels it; on a log axis
-    /// points at y ≤ 0 are left out). The plotting area's pixel box.
+    /// `chart`, whose y axis is logarithmic when `log_y` is set (then points at y ≤ 0 are
+    /// left out) and linear otherwise. The plotting area's pixel box.
     fn axes_and_curves<DB: DrawingBackend, Y>(
         &self,
         chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
-        y_tick: &dyn Fn(&f64) -> String,
     ) -> Result<[(i32, i32); 2], PlotError>
     where
         Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
     {
         let ((x0, x1), (y0, y1)) = (self.x_range, self.y_range);
+        let y_tick: fn(&f64) -> String = if self.log_y { style::log_tick } else { style::tick };
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
             .x_label_formatter(&style::tick)
-            .y_label_formatter(y_tick)
+            .y_label_formatter(&y_tick)
             .label_style((style::FONT, style::TICK_SIZE))
             .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .draw()
