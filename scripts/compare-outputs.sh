@@ -116,11 +116,8 @@ trap cleanup EXIT
 
 say() { echo "compare-outputs: $*" >&2; }
 
-# The target dir of the working tree (CARGO_TARGET_DIR and .cargo/config respected).
-tree_target() {
-    (cd "$ROOT" && cargo metadata --format-version 1 --no-deps) |
-        python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])'
-}
+# shellcheck source=scripts/revision.sh
+source "$SCRIPTS/revision.sh"
 
 # build_revision REV NAME: the release binary of REV as $WORK/bin/NAME.
 build_revision() {
@@ -132,13 +129,7 @@ build_revision() {
         target=$COMPARE_TARGET_DIR
     else
         target=$WORK/target-$name
-        mkdir -p "$target"
-        local seed
-        seed=$(tree_target)/release
-        if [[ -z ${COMPARE_NO_SEED:-} && -d $seed ]]; then
-            say "seeding $target from $seed"
-            cp -a "$seed" "$target/"
-        fi
+        seed_target "$ROOT" "$target"
     fi
     say "building $name ($rev) in $src"
     (cd "$src" && CARGO_TARGET_DIR=$target nice -n 10 cargo build --release --locked --bin rotorshunt) ||
@@ -150,7 +141,7 @@ build_revision() {
 build_tree() {
     say "building $1 (working tree $ROOT)"
     (cd "$ROOT" && nice -n 10 cargo build --release --bin rotorshunt) || { say "the build of $1 failed"; exit 3; }
-    cp "$(tree_target)/release/rotorshunt" "$WORK/bin/$1"
+    cp "$(tree_target "$ROOT")/release/rotorshunt" "$WORK/bin/$1"
 }
 
 # inputs DIR: the problem files both binaries read, and this script's own fixtures.

@@ -24,14 +24,16 @@ rounds="${2:-3}"
 cd "$here"
 git rev-parse --verify -q "$base^{commit}" >/dev/null || { echo "unknown revision $base" >&2; exit 2; }
 
+# shellcheck source=scripts/revision.sh
+source "$here/scripts/revision.sh"
 work="$(mktemp -d /tmp/rotorshunt-speed.XXXXXX)"
 target="${COMPARE_TARGET_DIR:-$work/target}"
 tree="$work/base-tree"
 git worktree add -q --detach "$tree" "$base"
-trap 'git -C "$here" worktree remove --force "$tree" >/dev/null 2>&1 || true' EXIT
-if [ -z "${COMPARE_TARGET_DIR:-}" ] && [ -d "$here/target/release" ]; then
-  mkdir -p "$target" && cp -a "$here/target/release" "$target/"
-fi
+# The worktree and the whole work folder go (the seeded target with it, unless it is
+# COMPARE_TARGET_DIR, kept for the next run).
+trap 'git -C "$here" worktree remove --force "$tree" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
+[ -n "${COMPARE_TARGET_DIR:-}" ] || seed_target "$here" "$target"
 
 # The bench executables of a tree, one per line: name<TAB>path.
 benches() {
@@ -45,13 +47,13 @@ for line in sys.stdin:
         print(m["target"]["name"] + "\t" + m["executable"])'
 }
 echo "building $base in $tree" >&2
-(cd "$tree" && CARGO_TARGET_DIR="$target" nice -n 10 cargo build --release -q)
+(cd "$tree" && CARGO_TARGET_DIR="$target" nice -n 10 cargo build --release --locked -q)
 CARGO_TARGET_DIR="$target" benches "$tree" > "$work/base.benches"
 echo "building the working tree" >&2
 (cd "$here" && nice -n 10 cargo build --release -q)
 benches "$here" > "$work/head.benches"
 
-python3 - "$work" "$rounds" "$target/release/rotorshunt" "$here/target/release/rotorshunt" "$here" <<'EOF'
+python3 - "$work" "$rounds" "$target/release/rotorshunt" "$(tree_target "$here")/release/rotorshunt" "$here" <<'EOF'
 import json, os, resource, statistics, subprocess, sys, tempfile, time
 work, rounds, base_bin, head_bin, here = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
 exe = {side: dict(l.split("\t") for l in open(f"{work}/{side}.benches").read().split("\n") if l) for side in ("base", "head")}
