@@ -80,7 +80,7 @@ pub(super) fn range_rule(key: &str, lo: f64, hi: f64) -> Result<Interval, Failur
     })
 }
 
-pub(super) fn one_of<A, B>(key: &str, a: (&str, Option<A>), b: (&str, Option<B>)) -> Result<OneOf<A, B>, Failure> {
+fn one_of<A, B>(key: &str, a: (&str, Option<A>), b: (&str, Option<B>)) -> Result<OneOf<A, B>, Failure> {
     match (a.1, b.1) {
         (Some(_), Some(_)) => Err((format!("{key}.{}", b.0), K::BothGiven(a.0.into(), b.0.into()))),
         (None, None) => Err((key.into(), K::NeitherGiven(a.0.into(), b.0.into()))),
@@ -135,7 +135,7 @@ pub(super) fn place(
 }
 
 /// The one value of two exclusive keys that a table gave (see [`one_of`]).
-pub(super) enum OneOf<A, B> {
+enum OneOf<A, B> {
     /// The first key's value.
     First(A),
     /// The second key's value.
