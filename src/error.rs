@@ -57,6 +57,16 @@ pub enum Error {
         /// Why.
         message: String,
     },
+    /// A symbolic link, a FIFO, a device or a socket stands where the tool reads a
+    /// record or writes a file or folder ([`crate::files::Refused`]): it is never
+    /// followed and never replaced.
+    #[error("refusing {path}: {what} stands there, and rotorshunt neither follows nor replaces it: remove it, or choose another output")]
+    Unsafe {
+        /// The path.
+        path: String,
+        /// What stands there ("a symbolic link", "a FIFO", "a device", …).
+        what: String,
+    },
     /// An output would replace an input of the same run (the same path, or a symbolic
     /// link to it).
     #[error("refusing to write {path}: it is {input} of this run; choose another --out folder")]
@@ -206,6 +216,15 @@ impl From<crate::import::ross::RossError> for Error {
 }
 
 impl Error {
+    /// The error of an input/output failure at `path`: [`Error::Unsafe`] when the file
+    /// layer refused what stands there, else [`Error::Output`].
+    pub fn io(path: &std::path::Path, e: &std::io::Error) -> Error {
+        match e.get_ref().and_then(|r| r.downcast_ref::<crate::files::Refused>()) {
+            Some(r) => Error::Unsafe { path: path.display().to_string(), what: r.what.clone() },
+            None => Error::Output { path: path.display().to_string(), message: e.to_string() },
+        }
+    }
+
     /// The error of command-line argument `argument` whose value breaks a parameter rule.
     pub fn parameter(argument: &str, e: &crate::analysis::limits::ParamError) -> Error {
         Error::Parameter { argument: argument.to_string(), kind: e.into() }

@@ -56,6 +56,7 @@ pub mod assembly;
 pub mod commands;
 pub mod design;
 pub mod error;
+pub mod files;
 pub mod import;
 pub mod linalg;
 pub mod model;

@@ -247,9 +247,19 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
     }
 }
 
+/// Test-only: `ROTORSHUNT_TEST_KILL_AT=N` makes the process kill itself with SIGKILL at
+/// the N-th write, rename or removal of the file layer (tests/kill_points.rs), to show
+/// that an interruption anywhere leaves every output folder old or new, never mixed.
+fn arm_fault_injection() {
+    if let Some(n) = std::env::var("ROTORSHUNT_TEST_KILL_AT").ok().and_then(|v| v.trim().parse::<u64>().ok()) {
+        rotorshunt::files::fault::arm(n);
+    }
+}
+
 fn main() -> ExitCode {
     threads_from_slurm();
     remove_outputs_on_signals();
+    arm_fault_injection();
     let cli = Cli::parse();
     let progress = reporter(&cli);
     let result = run(cli, &progress);
@@ -296,6 +306,7 @@ fn exit_code(e: &rotorshunt::Error) -> u8 {
         | rotorshunt::Error::SlurmMissing { .. }
         | rotorshunt::Error::OutputIsInput { .. }
         | rotorshunt::Error::OutIsNotAFolder { .. }
+        | rotorshunt::Error::Unsafe { .. }
         | rotorshunt::Error::Design(
             rotorshunt::design::DesignError::NoDesign
             | rotorshunt::design::DesignError::Candidate { .. }

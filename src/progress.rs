@@ -25,6 +25,9 @@ pub trait Progress: Sync {
     /// reach); the warning is also in its JSON output. The problem file's own warnings
     /// are in [`crate::problem::Problem::warnings`], not reported here.
     fn warning(&self, _warning: &crate::problem::Warning) {}
+    /// A command found something on disk it ignored or left alone (a tampered record, a
+    /// leftover it could not prove its own): one line, starting `warning: `.
+    fn notice(&self, _line: &str) {}
 }
 
 /// Progress that nobody watches: every report is dropped.

@@ -91,6 +91,13 @@ impl Progress for Reporter {
             _ => eprintln!("warning: {warning}"),
         }
     }
+
+    fn notice(&self, line: &str) {
+        match self {
+            Reporter::Bar(b) => b.bar.suspend(|| eprintln!("{line}")),
+            _ => eprintln!("{line}"),
+        }
+    }
 }
 
 /// "design: verification (phase 2 of 3)".

@@ -9,8 +9,8 @@ mod common;
 /// The place of a top-level module in the chain; `None` for modules outside it.
 fn rank(module: &str) -> Option<u32> {
     Some(match module {
-        // Numerical kernels any layer may use.
-        "linalg" => 0,
+        // Numerical kernels and the file-system layer, which any layer may use.
+        "linalg" | "files" => 0,
         "problem" | "import" => 1,
         "model" => 2,
         "assembly" => 3,

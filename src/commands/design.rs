@@ -140,7 +140,7 @@ pub fn design_cmd(
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
     let dir = OutDir::create(out, &problem.file)?;
     let outcome = design_report(problem, &dir, progress)?;
-    dir.commit("design")?;
+    dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
 

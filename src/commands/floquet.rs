@@ -287,7 +287,7 @@ pub fn chart_cmd(
     dir.figure("growth", &growth)?;
     written();
     written();
-    dir.commit("chart")?;
+    dir.commit("chart", progress)?;
     let mut head = format!(
         "chart: {} points ({} phi x {} beta), {} unstable, {} failed, {} inaccurate; wrote chart.{{json,csv,svg,png}} and growth.{{svg,png}} to {}\n",
         main.points.len(),
@@ -398,7 +398,7 @@ pub fn response_cmd(
     dir.figure("response", &plot)?;
     written();
     written();
-    dir.commit("response")?;
+    dir.commit("response", progress)?;
     Ok(format!(
         "response: {} periods, RK4 step {:.3e} s; peak |q| first period {:.4e}, last period {:.4e} (ratio {:.3e}); Floquet: max|mu| = {:.6} ({}); wrote response.{{json,csv,svg,png}} to {}\n",
         periods,

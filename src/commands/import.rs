@@ -2,8 +2,8 @@
 
 use super::bounds;
 use crate::analysis::limits;
+use crate::files;
 use crate::import::ross::{self, Options};
-use crate::report::write_atomic;
 use crate::Error;
 use std::io::Write;
 use std::path::Path;
@@ -25,9 +25,20 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
     // bearing keeps a rigid-body mode) refuse it before anything is written.
     let name = format!("{} (as imported from {})", out.display(), file.display());
     crate::problem::Problem::from_text(&import.text, &name, &[])?;
-    let output = |e: std::io::Error| Error::Output { path: out.display().to_string(), message: e.to_string() };
-    if force {
-        write_atomic(out, import.text.as_bytes()).map_err(output)?;
+    let output = |e: std::io::Error| Error::io(out, &e);
+    // What stands at `out` is looked at, not followed: a link, FIFO or device there is
+    // refused with or without --force (a rename would replace the node itself).
+    let exists = match files::standing(out).map_err(output)? {
+        files::Standing::Missing => false,
+        files::Standing::File(_) => true,
+        files::Standing::Dir => return Err(output(std::io::Error::other("it is a folder; give the path of a file"))),
+        _ => return Err(output(files::replaceable(out).err().unwrap_or_else(|| std::io::Error::other("not a file")))),
+    };
+    if exists && !force {
+        return Err(Error::OutputExists { path: out.display().to_string() });
+    }
+    if exists {
+        files::write_atomic(out, import.text.as_bytes()).map_err(output)?;
     } else {
         write_new(out, import.text.as_bytes()).map_err(|e| match e.kind() {
             std::io::ErrorKind::AlreadyExists => Error::OutputExists { path: out.display().to_string() },
@@ -49,7 +60,7 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
 /// Write a file that must not exist yet: created exclusively (an existing file, or one
 /// created in the meantime, is never opened), removed again if writing fails.
 fn write_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(path)?;
+    let mut f = files::create_new(path)?;
     f.write_all(bytes).and_then(|_| f.sync_all()).inspect_err(|_| {
         let _ = std::fs::remove_file(path);
     })

@@ -176,7 +176,7 @@ pub fn campbell_cmd(
     let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", plot_title(problem)));
     dir.figure("campbell", &plot)?;
     progress.advance(2);
-    dir.commit("campbell")?;
+    dir.commit("campbell", progress)?;
     Ok(format!(
         "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
         speeds.len(),

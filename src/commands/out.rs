@@ -3,25 +3,33 @@
 //! folder a study owns, never allowed to replace a file the study did not write.
 //!
 //! A command's `--out` folder ([`OutDir::create`], [`OutDir::with_inputs`]) is written
-//! through a staging folder: every file goes first into a fresh hidden folder, and only
-//! [`OutDir::commit`], after the last file, moves them into place. So a run that fails or
-//! is interrupted leaves the folder as it was (or no folder at all):
-//! - a folder that does not exist yet is staged beside it, `PARENT/.NAME.tmp-HOST-PID`,
-//!   and renamed into place whole on success (it appears complete or not at all);
-//! - an existing folder is staged inside it, `DIR/.rotorshunt-out.tmp-HOST-PID`, and on
-//!   success each file is renamed over its old version (one rename per file), the files
-//!   a previous run of the same command wrote and this one did not are removed (a stale
-//!   `compare.json` of an earlier `chart --compare`), and every other file is left alone.
+//! through a staging folder beside it, `PARENT/.NAME.tmp-TOKEN` (TOKEN unique to the
+//! run, [`files::token`]): every file goes first into the staging folder, and only
+//! [`OutDir::commit`], after the last file, puts the whole set in place in one step.
+//! So a reader, and a run that fails or is killed at any point, sees the old folder or
+//! the new one, never a mix:
+//! - a folder that does not exist yet: the staging folder is renamed into place
+//!   (`RENAME_NOREPLACE`);
+//! - an existing folder: what the new folder keeps of it (the user's files and
+//!   folders, other commands' outputs) is carried into the staging folder as hard links
+//!   (links as links, copies where a hard link cannot be made), the two folders are
+//!   exchanged in one `renameat2(RENAME_EXCHANGE)`, and the old one, now at the staging
+//!   name, is removed. Where the file system cannot exchange, the old folder is renamed
+//!   aside first (a reader may then find no folder for an instant, never a mixed one).
 //!
 //! The files a command wrote are recorded in the folder's `.rotorshunt-out.json`, per
-//! command, with their SHA-256: a file is removed as stale only when the same command
-//! recorded it and it still has the recorded content, so a file the user put there or
-//! edited is never removed. A staging folder that a killed run left (SIGKILL; on SIGINT
-//! and SIGTERM the binary removes it, [`remove_unfinished`]) is removed by the next run
-//! into the same folder when it names this host and a process that no longer runs.
+//! command, with their SHA-256, and with the token of the run that staged it: a file is
+//! dropped as stale only when the same command recorded it and it still has the
+//! recorded content, so a file the user put there or edited is never removed; a recorded
+//! name that is not a plain name inside the folder is ignored with a warning. A staging
+//! folder a killed run left (SIGKILL; on SIGINT and SIGTERM the binary removes it,
+//! [`remove_unfinished`]) is removed by the next run only when it proves to be the
+//! tool's: its own record carries the token of its name and names a process of this
+//! host that has ended, or the folder's record names it as the old folder of the last
+//! swap. A user's folder that merely looks like one is left alone.
 
 use super::study::Ledger;
-use crate::report::{replaceable, write_atomic};
+use crate::files;
 use crate::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -31,8 +39,11 @@ use std::sync::Mutex;
 
 /// The record of the files each command wrote into an output folder.
 pub const MANIFEST: &str = ".rotorshunt-out.json";
-/// Prefix of the staging folder inside an existing output folder.
-const INSIDE_PREFIX: &str = ".rotorshunt-out.tmp-";
+/// Format of [`MANIFEST`].
+const MANIFEST_FORMAT: u32 = 1;
+/// Suffix of the name under which the old folder waits where folders cannot be
+/// exchanged (`.NAME.tmp-TOKEN-old`).
+const OLD_SUFFIX: &str = "-old";
 
 /// Staging folders of this process not yet committed or removed (for [`remove_unfinished`]).
 /// A commit holds the lock while it moves files, so an interruption sees a folder either
@@ -54,14 +65,18 @@ pub struct OutDir {
 struct Staging {
     /// The folder the files go to on commit (canonical when it exists).
     target: PathBuf,
-    /// The staging folder.
+    /// The staging folder, beside the target.
     temp: PathBuf,
-    /// Whether the target existed when staging began (files are moved one by one).
+    /// This run's token (in the staging folder's name and record).
+    token: String,
+    /// Whether the target existed when staging began.
     existed: bool,
     /// Parent folders created for it, deepest first (removed again if nothing is committed).
     created: Vec<PathBuf>,
     /// SHA-256 of each file written, by name.
     written: Mutex<BTreeMap<String, String>>,
+    /// Warnings about what was found on disk (tampered records, leftovers kept).
+    notes: Vec<String>,
     committed: bool,
 }
 
@@ -71,10 +86,28 @@ struct Manifest {
     /// Format version of this file.
     format: u32,
     commands: BTreeMap<String, BTreeMap<String, String>>,
+    /// The run that staged this folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    staged_by: Option<Stager>,
+}
+
+/// Who staged a folder: the proof a later run needs before removing a staging folder.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Stager {
+    /// The run's token, also in the staging folder's name.
+    token: String,
+    /// Host name ([`files::host`]).
+    host: String,
+    /// Process id.
+    pid: u32,
 }
 
 fn output_error(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::Output { path: path.display().to_string(), message: e.to_string() }
+}
+
+fn io_error(path: &Path) -> impl Fn(io::Error) -> Error + '_ {
+    move |e| Error::io(path, &e)
 }
 
 fn sha256(bytes: &[u8]) -> String {
@@ -82,19 +115,13 @@ fn sha256(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// This host's name as it appears in staging folder names (no path separators).
-fn host() -> String {
-    gethostname::gethostname()
-        .to_string_lossy()
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '.' || c == '-' { c } else { '_' })
-        .collect()
-}
-
 /// Whether process `pid` of this host has ended.
 #[cfg(unix)]
 fn ended(pid: u32) -> bool {
     let Ok(pid) = libc::pid_t::try_from(pid) else { return false };
+    if pid <= 0 {
+        return false;
+    }
     // SAFETY: kill with signal 0 sends nothing; it only checks that the process exists.
     let alive = unsafe { libc::kill(pid, 0) } == 0;
     !alive && io::Error::last_os_error().raw_os_error() == Some(libc::ESRCH)
@@ -103,22 +130,6 @@ fn ended(pid: u32) -> bool {
 #[cfg(not(unix))]
 fn ended(_pid: u32) -> bool {
     false
-}
-
-/// Remove the staging folders named `PREFIX HOST-PID` in `dir` that a killed run of this
-/// host left: folders only, whose process has ended.
-fn remove_stale(dir: &Path, prefix: &str) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let me = host();
-    for e in entries.flatten() {
-        let name = e.file_name();
-        let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(prefix)) else { continue };
-        let Some((h, pid)) = rest.rsplit_once('-') else { continue };
-        let Ok(pid) = pid.parse::<u32>() else { continue };
-        if h == me && pid != std::process::id() && e.file_type().is_ok_and(|t| t.is_dir()) && ended(pid) {
-            let _ = std::fs::remove_dir_all(e.path());
-        }
-    }
 }
 
 /// Refuse an `--out` that exists and is not a folder (a file, a link to one, a broken
@@ -141,23 +152,68 @@ pub fn check_folder(dir: &Path) -> Result<(), Error> {
     }
 }
 
+/// The manifest at `path` as found: empty when missing, unreadable or not a regular
+/// file (then no file is stale); recorded names that are not plain names are dropped
+/// with a warning in `notes`.
+fn read_manifest(path: &Path, notes: &mut Vec<String>) -> Manifest {
+    let found = match files::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Manifest::default(),
+        Err(e) => {
+            notes.push(format!("warning: {} is ignored ({e}): no file is dropped as stale", path.display()));
+            return Manifest::default();
+        }
+    };
+    let mut m: Manifest = match serde_json::from_slice(&found) {
+        Ok(m) => m,
+        Err(e) => {
+            notes.push(format!(
+                "warning: {} is not a record this tool wrote ({e}): it is replaced, and no file is dropped as stale",
+                path.display()
+            ));
+            return Manifest::default();
+        }
+    };
+    for (command, names) in m.commands.iter_mut() {
+        names.retain(|name, _| {
+            let plain = files::plain_name(name).is_some() && name != MANIFEST;
+            if !plain {
+                notes.push(format!(
+                    "warning: {} records {:?} for `{command}`, which is not a plain name inside the folder: it is ignored",
+                    path.display(),
+                    name
+                ));
+            }
+            plain
+        });
+    }
+    m
+}
+
+/// This run's record in a folder it stages.
+fn stager(token: &str) -> Stager {
+    Stager { token: token.to_string(), host: files::host(), pid: std::process::id() }
+}
+
+/// The prefix of the staging folders of the folder named `name`.
+fn staging_prefix(name: &str) -> String {
+    format!(".{name}.tmp-")
+}
+
+/// Whether `s` is a token as [`files::token`] makes them.
+fn is_token(s: &str) -> bool {
+    s.len() == 24 && s.bytes().all(|b| b.is_ascii_hexdigit())
+}
+
 impl Staging {
     /// Stage the output folder `dir` (module docs).
     fn begin(dir: &Path) -> Result<Staging, Error> {
         check_folder(dir)?;
-        let pid = std::process::id();
-        let host = host();
         let mut created = Vec::new();
-        let (target, temp, existed) = if dir.exists() {
-            let target = std::fs::canonicalize(dir).map_err(|e| output_error(dir, e))?;
-            remove_stale(&target, INSIDE_PREFIX);
-            if let (Some(parent), Some(name)) = (target.parent(), target.file_name()) {
-                remove_stale(parent, &format!(".{}.tmp-", name.to_string_lossy()));
-            }
-            let temp = target.join(format!("{INSIDE_PREFIX}{host}-{pid}"));
-            (target, temp, true)
+        let existed = dir.exists();
+        let target = if existed {
+            std::fs::canonicalize(dir).map_err(|e| output_error(dir, e))?
         } else {
-            let name = dir.file_name().ok_or_else(|| output_error(dir, "the path does not name a folder"))?;
             let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
             let mut missing = parent;
             while !missing.as_os_str().is_empty() && !missing.exists() {
@@ -165,81 +221,276 @@ impl Staging {
                 missing = missing.parent().unwrap_or(Path::new(""));
             }
             std::fs::create_dir_all(parent).map_err(|e| output_error(dir, e))?;
-            let prefix = format!(".{}.tmp-", name.to_string_lossy());
-            remove_stale(parent, &prefix);
-            (dir.to_path_buf(), parent.join(format!("{prefix}{host}-{pid}")), false)
+            dir.to_path_buf()
         };
-        // A leftover of this very process id (a pid reused after a kill) is stale too.
-        let _ = std::fs::remove_dir_all(&temp);
+        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+            return Err(output_error(dir, "the path does not name a folder"));
+        };
+        let parent = if parent.as_os_str().is_empty() { Path::new(".") } else { parent };
+        let name = name.to_string_lossy().into_owned();
+        let mut notes = Vec::new();
+        remove_stale(parent, &name, &target, &mut notes);
+        let token = files::token();
+        let temp = parent.join(format!("{}{token}", staging_prefix(&name)));
         let mut live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
-        if let Err(e) = std::fs::create_dir(&temp) {
+        if let Err(e) = files::create_dir(&temp) {
             for p in &created {
                 let _ = std::fs::remove_dir(p);
             }
-            return Err(output_error(dir, e));
+            return Err(Error::io(dir, &e));
         }
         live.push((temp.clone(), created.clone()));
-        Ok(Staging { target, temp, existed, created, written: Mutex::new(BTreeMap::new()), committed: false })
+        // The staging folder's record, first of all: what proves it the tool's own.
+        let record = Manifest { format: MANIFEST_FORMAT, commands: BTreeMap::new(), staged_by: Some(stager(&token)) };
+        let text = json_pretty(&record, MANIFEST)? + "\n";
+        files::create_new(&temp.join(MANIFEST))
+            .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()))
+            .map_err(|e| Error::io(dir, &e))?;
+        Ok(Staging {
+            target,
+            temp,
+            token,
+            existed,
+            created,
+            written: Mutex::new(BTreeMap::new()),
+            notes,
+            committed: false,
+        })
     }
 
-    /// Move the staged files into place (module docs); `command` names the manifest entry.
-    fn commit(&mut self, command: &str) -> Result<(), Error> {
-        let live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
-        let written = std::mem::take(&mut *self.written.lock().unwrap_or_else(|p| p.into_inner()));
-        let manifest_path = self.target.join(MANIFEST);
-        let mut manifest = if self.existed { read_manifest(&manifest_path) } else { Manifest::default() };
-        manifest.format = 1;
-        let previous = manifest.commands.insert(command.to_string(), written.clone()).unwrap_or_default();
-        let text = json_pretty(&manifest, MANIFEST)? + "\n";
-        let moved = if self.existed {
-            self.move_files(&written, &previous, &text)
-        } else {
-            std::fs::write(self.temp.join(MANIFEST), &text)
-                .and_then(|_| std::fs::rename(&self.temp, &self.target))
-                .map_err(|e| output_error(&self.target, e))
-        };
-        drop(live);
-        moved?;
-        self.committed = true;
-        let _ = std::fs::remove_dir(&self.temp);
-        deregister(&self.temp);
+    /// Write one staged file.
+    fn write(&self, name: &str, bytes: &[u8]) -> io::Result<()> {
+        use std::io::Write;
+        let path = self.temp.join(name);
+        let mut f = files::create_new(&path)?;
+        f.write_all(bytes)?;
+        self.written.lock().unwrap_or_else(|p| p.into_inner()).insert(name.to_string(), sha256(bytes));
         Ok(())
     }
 
-    /// Into an existing folder: each file over its old version (keeping a replaced file's
-    /// mode), then the stale files of `previous`, then the manifest.
-    fn move_files(
-        &self,
-        written: &BTreeMap<String, String>,
-        previous: &BTreeMap<String, String>,
-        manifest: &str,
-    ) -> Result<(), Error> {
-        for name in written.keys() {
-            let (from, to) = (self.temp.join(name), self.target.join(name));
-            let moved = replaceable(&to).and_then(|existing| {
-                if let Some(m) = existing.filter(|m| m.is_file()) {
-                    std::fs::set_permissions(&from, m.permissions())?;
-                }
-                std::fs::rename(&from, &to)
-            });
-            moved.map_err(|e| output_error(&to, e))?;
+    /// Put the staged folder in place (module docs); `command` names the manifest entry.
+    fn commit(&mut self, command: &str) -> Result<Vec<String>, Error> {
+        let live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+        let written = std::mem::take(&mut *self.written.lock().unwrap_or_else(|p| p.into_inner()));
+        let mut manifest = if self.existed {
+            read_manifest(&self.target.join(MANIFEST), &mut self.notes)
+        } else {
+            Manifest::default()
+        };
+        manifest.format = MANIFEST_FORMAT;
+        manifest.staged_by = Some(stager(&self.token));
+        let previous = manifest.commands.insert(command.to_string(), written.clone()).unwrap_or_default();
+        let text = json_pretty(&manifest, MANIFEST)? + "\n";
+        let done = if self.existed {
+            self.keep_mode()
+                .and_then(|_| self.carry_over(&written, &previous))
+                .and_then(|_| self.write_manifest(&text))
+                .and_then(|_| self.swap(&manifest))
+        } else {
+            self.write_manifest(&text).and_then(|_| {
+                files::rename_new(&self.temp, &self.target).map_err(|e| match e.kind() {
+                    io::ErrorKind::AlreadyExists => output_error(
+                        &self.target,
+                        "the folder was created by something else while this run wrote its files; nothing was replaced",
+                    ),
+                    _ => Error::io(&self.target, &e),
+                })
+            })
+        };
+        drop(live);
+        done?;
+        self.committed = true;
+        deregister(&self.temp);
+        Ok(std::mem::take(&mut self.notes))
+    }
+
+    /// Give the staging folder the old folder's permissions (and, where this process
+    /// may, its owner), so the swap changes the files, not who may read them.
+    fn keep_mode(&self) -> Result<(), Error> {
+        let m = std::fs::symlink_metadata(&self.target).map_err(io_error(&self.target))?;
+        std::fs::set_permissions(&self.temp, m.permissions()).map_err(io_error(&self.temp))?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            // Only root may give a folder away; for anyone else the owner is already theirs.
+            let _ = std::os::unix::fs::lchown(&self.temp, Some(m.uid()), Some(m.gid()));
         }
-        for (name, hash) in previous.iter().filter(|(n, _)| !written.contains_key(*n)) {
-            let path = self.target.join(name);
-            let ours = std::fs::symlink_metadata(&path).is_ok_and(|m| m.is_file())
-                && std::fs::read(&path).is_ok_and(|b| sha256(&b) == *hash);
-            if ours {
-                std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
+        Ok(())
+    }
+
+    fn write_manifest(&self, text: &str) -> Result<(), Error> {
+        files::write_atomic(&self.temp.join(MANIFEST), text.as_bytes()).map_err(io_error(&self.target))
+    }
+
+    /// Carry into the staging folder what the new folder keeps of the old one: every
+    /// entry but the files this run wrote, the manifest, and the files this command
+    /// wrote last time, still unchanged, that it did not write again (stale).
+    fn carry_over(&self, written: &BTreeMap<String, String>, previous: &BTreeMap<String, String>) -> Result<(), Error> {
+        let entries = std::fs::read_dir(&self.target).map_err(io_error(&self.target))?;
+        for e in entries {
+            let e = e.map_err(io_error(&self.target))?;
+            let name = e.file_name();
+            let text = name.to_string_lossy();
+            if written.contains_key(text.as_ref()) || text == MANIFEST {
+                continue;
             }
+            let from = e.path();
+            if let Some(hash) = previous.get(text.as_ref()) {
+                if files::read(&from).is_ok_and(|b| sha256(&b) == *hash) {
+                    continue;
+                }
+            }
+            if files::temporary_target(&text).is_some_and(|t| t == MANIFEST) {
+                continue;
+            }
+            carry(&from, &self.temp.join(&name)).map_err(io_error(&from))?;
         }
-        let path = self.target.join(MANIFEST);
-        write_atomic(&path, manifest.as_bytes()).map_err(|e| output_error(&path, e))
+        Ok(())
+    }
+
+    /// Exchange the staging folder with the target, then remove the old folder.
+    fn swap(&self, manifest: &Manifest) -> Result<(), Error> {
+        let exchanged = files::exchange(&self.temp, &self.target).map_err(io_error(&self.target))?;
+        let old = if exchanged {
+            self.temp.clone()
+        } else {
+            let old = PathBuf::from(format!("{}{OLD_SUFFIX}", self.temp.display()));
+            files::rename_new(&self.target, &old).map_err(io_error(&self.target))?;
+            if let Err(e) = files::rename_new(&self.temp, &self.target) {
+                let _ = files::rename_new(&old, &self.target);
+                return Err(Error::io(&self.target, &e));
+            }
+            old
+        };
+        retire(&old, &self.target, manifest, &mut Vec::new());
+        Ok(())
     }
 }
 
-/// The manifest at `path`; empty when missing or unreadable (then no file is stale).
-fn read_manifest(path: &Path) -> Manifest {
-    std::fs::read(path).ok().and_then(|b| serde_json::from_slice(&b).ok()).unwrap_or_default()
+/// Put `from` (an entry of the old folder) at `to` in the staging folder without
+/// copying data where it can: a file as a hard link (a copy with its permissions
+/// where linking fails), a link as a new link with the same text (never followed), a
+/// folder as a new folder of carried entries. A FIFO, device or socket is refused.
+fn carry(from: &Path, to: &Path) -> io::Result<()> {
+    match files::standing(from)? {
+        files::Standing::Missing => Ok(()),
+        files::Standing::File(m) => files::hard_link(from, to).or_else(|_| {
+            let bytes = files::read(from)?;
+            let mut f = files::create_new(to)?;
+            std::io::Write::write_all(&mut f, &bytes)?;
+            f.set_permissions(m.permissions())
+        }),
+        files::Standing::Link => files::copy_link(from, to),
+        files::Standing::Dir => {
+            files::create_dir(to)?;
+            for e in std::fs::read_dir(from)? {
+                let e = e?;
+                carry(&e.path(), &to.join(e.file_name()))?;
+            }
+            Ok(())
+        }
+        files::Standing::Special(what) => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            files::Refused { what: format!("{what} (which a new folder cannot carry over)") },
+        )),
+    }
+}
+
+/// Remove `old`, the previous version of `target` after a swap: first every entry it
+/// holds that the new folder lacks and that is not a stale output (one added while the
+/// run wrote) is moved into the new folder, so nothing of the user's is lost.
+fn retire(old: &Path, target: &Path, manifest: &Manifest, notes: &mut Vec<String>) {
+    let mut previous = Manifest::default();
+    if let Ok(b) = files::read(&old.join(MANIFEST)) {
+        previous = serde_json::from_slice(&b).unwrap_or_default();
+    }
+    let stale = |name: &str, path: &Path| {
+        previous.commands.iter().any(|(c, names)| {
+            names.get(name).is_some_and(|h| files::read(path).is_ok_and(|b| sha256(&b) == *h))
+                && !manifest.commands.get(c).is_some_and(|n| n.contains_key(name))
+        })
+    };
+    if let Ok(entries) = std::fs::read_dir(old) {
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let text = name.to_string_lossy();
+            let kept = target.join(&name);
+            if text == MANIFEST || files::standing(&kept).is_ok_and(|s| !matches!(s, files::Standing::Missing)) {
+                continue;
+            }
+            if files::temporary_target(&text).is_some_and(|t| t == MANIFEST) || stale(&text, &e.path()) {
+                continue;
+            }
+            if files::rename_new(&e.path(), &kept).is_err() {
+                notes.push(format!(
+                    "warning: {} could not be moved back into {}",
+                    e.path().display(),
+                    target.display()
+                ));
+            }
+        }
+    }
+    if let Err(e) = files::remove_dir_all(old) {
+        notes.push(format!("warning: the old folder {} could not be removed: {e}", old.display()));
+    }
+}
+
+/// Remove the staging folders of the folder `name` in `parent` that a killed run left,
+/// when they prove to be the tool's (module docs); others are left, with a note when
+/// they carry a token this host could check.
+fn remove_stale(parent: &Path, name: &str, target: &Path, notes: &mut Vec<String>) {
+    let Ok(entries) = std::fs::read_dir(parent) else { return };
+    let prefix = staging_prefix(name);
+    let mut target_notes = Vec::new();
+    let current = files::real_dir(target)
+        .ok()
+        .filter(|d| *d)
+        .map(|_| read_manifest(&target.join(MANIFEST), &mut target_notes))
+        .and_then(|m| m.staged_by.map(|s| (s, m.commands)));
+    let me = files::host();
+    for e in entries.flatten() {
+        let entry = e.file_name();
+        let Some(rest) = entry.to_str().and_then(|n| n.strip_prefix(&prefix)) else { continue };
+        let (token, old) = match rest.strip_suffix(OLD_SUFFIX) {
+            Some(t) => (t, true),
+            None => (rest, false),
+        };
+        if !is_token(token) || !files::real_dir(&e.path()).unwrap_or(false) {
+            continue;
+        }
+        let gone = |s: &Stager| s.host == me && s.pid != std::process::id() && ended(s.pid);
+        // The old folder of the last swap: the target's own record names its token.
+        if let Some((s, commands)) = current.as_ref().filter(|(s, _)| s.token == token && gone(s)) {
+            let m = Manifest { format: MANIFEST_FORMAT, commands: commands.clone(), staged_by: Some(s.clone()) };
+            retire(&e.path(), target, &m, notes);
+            continue;
+        }
+        if old {
+            continue;
+        }
+        // An unfinished staging folder: its own record carries its token.
+        let own = files::read(&e.path().join(MANIFEST))
+            .ok()
+            .and_then(|b| serde_json::from_slice::<Manifest>(&b).ok())
+            .and_then(|m| m.staged_by);
+        match own {
+            Some(s) if s.token == token && gone(&s) => {
+                if let Err(err) = files::remove_dir_all(&e.path()) {
+                    notes.push(format!(
+                        "warning: the unfinished staging folder {} could not be removed: {err}",
+                        e.path().display()
+                    ));
+                }
+            }
+            // A run killed between creating the folder and its record leaves it empty:
+            // removing an empty folder loses nothing (remove_dir refuses any other).
+            None => {
+                let _ = std::fs::remove_dir(e.path());
+            }
+            // Another live run's, or one of another host: not this run's to judge.
+            Some(_) => {}
+        }
+    }
 }
 
 fn deregister(temp: &Path) {
@@ -251,7 +502,7 @@ impl Drop for Staging {
         if self.committed {
             return;
         }
-        let _ = std::fs::remove_dir_all(&self.temp);
+        let _ = files::remove_dir_all(&self.temp);
         for p in &self.created {
             let _ = std::fs::remove_dir(p);
         }
@@ -265,7 +516,7 @@ impl Drop for Staging {
 pub fn remove_unfinished() {
     let live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
     for (temp, created) in live.iter() {
-        let _ = std::fs::remove_dir_all(temp);
+        let _ = files::remove_dir_all(temp);
         for p in created {
             let _ = std::fs::remove_dir(p);
         }
@@ -362,12 +613,10 @@ impl OutDir {
         }
         match &self.staging {
             Some(s) => {
-                replaceable(&self.path(name)).map_err(|e| self.error(name, e))?;
-                std::fs::write(s.temp.join(name), bytes).map_err(|e| self.error(name, e))?;
-                s.written.lock().unwrap_or_else(|p| p.into_inner()).insert(name.to_string(), sha256(bytes));
-                Ok(())
+                files::replaceable(&self.path(name)).map_err(|e| Error::io(&self.path(name), &e))?;
+                s.write(name, bytes).map_err(|e| Error::io(&self.path(name), &e))
             }
-            None => write_atomic(&self.path(name), bytes).map_err(|e| self.error(name, e)),
+            None => files::write_atomic(&self.path(name), bytes).map_err(|e| Error::io(&self.path(name), &e)),
         }
     }
 
@@ -379,14 +628,18 @@ impl OutDir {
         self.write(&png, &figure.png().map_err(|e| self.error(&png, e))?)
     }
 
-    /// Put the written files in place, as `command`'s output (module docs). A folder
-    /// written directly (a study's) has nothing to do. An `OutDir` dropped without a
-    /// commit leaves its folder as it was.
-    pub fn commit(mut self, command: &str) -> Result<(), Error> {
-        match self.staging.as_mut() {
-            Some(s) => s.commit(command),
-            None => Ok(()),
-        }
+    /// Put the written files in place, as `command`'s output (module docs), and return
+    /// tell `progress` what was found on disk and ignored (record entries, leftovers that
+    /// could not be removed), one `warning: ` line each. A folder written directly (a
+    /// study's) has nothing to do. An `OutDir` dropped without a commit leaves its
+    /// folder as it was.
+    pub fn commit(mut self, command: &str, progress: &dyn crate::progress::Progress) -> Result<(), Error> {
+        let notes = match self.staging.as_mut() {
+            Some(s) => s.commit(command)?,
+            None => Vec::new(),
+        };
+        notes.iter().for_each(|n| progress.notice(n));
+        Ok(())
     }
 }
 

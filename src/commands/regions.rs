@@ -164,7 +164,7 @@ pub fn regions_cmd(
         dir.figure("regions", &plot)?;
         written();
         written();
-        dir.commit("regions")?;
+        dir.commit("regions", progress)?;
     }
     if json {
         return Ok(json_text);

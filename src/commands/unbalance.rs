@@ -187,7 +187,7 @@ pub fn unbalance_cmd(
     }
     let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers };
     dir.figure("bode", &plot)?;
-    dir.commit("unbalance")?;
+    dir.commit("unbalance", progress)?;
     let files = if compared.is_some() {
         "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode.{svg,png}"
     } else {

@@ -1,5 +1,5 @@
-//! Rendering only: tables, Markdown, CSV, SVG/PNG plots. Functions return values; the
-//! one I/O helper, [`write_atomic`], is what every command uses to write files.
+//! Rendering only: tables, Markdown, CSV, SVG/PNG plots. Functions return values; files
+//! are written by [`crate::files`] (re-exported here for the writers that use it).
 
 pub mod campbell;
 pub mod chart;
@@ -13,131 +13,12 @@ pub mod style;
 pub mod summary;
 pub mod unbalance;
 
-use std::io;
-use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Prefix of [`write_atomic`]'s temporaries, `.rotorshunt-tmp.NAME.PID.N` (NAME the file
-/// being written, PID the process, N a per-process counter). No user file is named like
-/// this, so the temporaries a killed run leaves can be told from anything else.
-pub const TEMPORARY_PREFIX: &str = ".rotorshunt-tmp.";
-
-/// Tries at a fresh temporary name before giving up (a name is only taken when a file
-/// of that exact name already exists, which no run of this tool leaves behind).
-const TEMPORARY_ATTEMPTS: usize = 64;
-
-/// Counter N of the temporaries' names: unique within the process, across threads.
-static TEMPORARIES: AtomicU64 = AtomicU64::new(0);
-
-/// Write `bytes` to `path` atomically: a temporary file in the same directory, then a
-/// rename, so a reader never sees a partial file and an interrupted run leaves the old
-/// file (or none), never a truncated one. A read-only file at `path` is an error and is
-/// left as it is (a rename would replace it whatever its mode); a writable file that is
-/// replaced keeps its permissions.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    use std::io::Write;
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let existing = replaceable(path)?;
-    let (tmp, mut f) = create_temporary(dir, &name)?;
-    let written = (|| {
-        f.write_all(bytes)?;
-        if let Some(m) = existing.as_ref().filter(|m| m.is_file()) {
-            f.set_permissions(m.permissions())?;
-        }
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    written.inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
-}
-
-/// The file at `path` that an output would replace, if any; an error for a read-only one,
-/// which is never replaced (a rename would replace it whatever its mode).
-pub fn replaceable(path: &Path) -> io::Result<Option<std::fs::Metadata>> {
-    let existing = match std::fs::metadata(path) {
-        Ok(m) => Some(m),
-        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-        Err(e) => return Err(e),
-    };
-    if let Some(m) = existing.as_ref().filter(|m| m.permissions().readonly()) {
-        return Err(io::Error::new(
-            io::ErrorKind::PermissionDenied,
-            format!(
-                "the file is read-only{}, so it is not replaced: make it writable or choose another output folder",
-                mode_text(m)
-            ),
-        ));
-    }
-    Ok(existing)
-}
-
-/// A new temporary for `name` in `dir`, created exclusively (an existing file of that
-/// name is never opened, let alone truncated).
-fn create_temporary(dir: &Path, name: &str) -> io::Result<(std::path::PathBuf, std::fs::File)> {
-    for _ in 0..TEMPORARY_ATTEMPTS {
-        let n = TEMPORARIES.fetch_add(1, Ordering::Relaxed);
-        let tmp = dir.join(format!("{TEMPORARY_PREFIX}{name}.{}.{n}", std::process::id()));
-        match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(f) => return Ok((tmp, f)),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(e),
-        }
-    }
-    Err(io::Error::new(
-        io::ErrorKind::AlreadyExists,
-        format!("{TEMPORARY_ATTEMPTS} temporary names for {name} are all taken in {}", dir.display()),
-    ))
-}
-
-#[cfg(unix)]
-fn mode_text(m: &std::fs::Metadata) -> String {
-    use std::os::unix::fs::PermissionsExt;
-    format!(" (mode {:o})", m.permissions().mode() & 0o7777)
-}
-
-#[cfg(not(unix))]
-fn mode_text(_: &std::fs::Metadata) -> String {
-    String::new()
-}
-
-/// The file a temporary of [`write_atomic`] stands for: NAME of `.rotorshunt-tmp.NAME.PID.N`;
-/// `None` for any other name.
-pub fn temporary_target(name: &str) -> Option<&str> {
-    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    let (rest, n) = name.strip_prefix(TEMPORARY_PREFIX)?.rsplit_once('.')?;
-    let (target, pid) = rest.rsplit_once('.')?;
-    (digits(n) && digits(pid) && !target.is_empty()).then_some(target)
-}
-
-/// Remove the temporaries [`write_atomic`] leaves when a run is killed between creating
-/// and renaming them, for the files `owned` accepts, in `dir` itself only: never in a
-/// subfolder, never a file of any other name, never a directory or a link. The number
-/// removed.
-pub fn remove_temporaries(dir: &Path, owned: impl Fn(&str) -> bool) -> io::Result<usize> {
-    let mut removed = 0;
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(0),
-        Err(e) => return Err(e),
-    };
-    for e in entries {
-        let e = e?;
-        let name = e.file_name();
-        let Some(name) = name.to_str() else { continue };
-        if temporary_target(name).is_some_and(&owned) && e.file_type()?.is_file() {
-            std::fs::remove_file(e.path())?;
-            removed += 1;
-        }
-    }
-    Ok(removed)
-}
+pub use crate::files::{remove_temporaries, replaceable, temporary_target, write_atomic, TEMPORARY_PREFIX};
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::io;
 
     fn scratch(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("rotorshunt-report-{name}-{}", std::process::id()));
