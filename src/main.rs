@@ -35,7 +35,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
             Ok((text, done(&r)))
         }
         Some(StudyAction::Merge { dir }) => {
-            let (text, r) = commands::merge_cmd(&dir)?;
+            let (text, r) = commands::merge_cmd(&dir, progress)?;
             Ok((text, done(&r)))
         }
         Some(StudyAction::Slurm {
@@ -93,7 +93,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
                 let place = if text.starts_with("study: shard ") {
                     format!("{} (and in `rotorshunt study status {}`)", out.join("cases").display(), out.display())
                 } else {
-                    out.join("summary.md").display().to_string()
+                    out.join("summary").join("summary.md").display().to_string()
                 };
                 eprintln!("error: {failed} case(s) of the study failed: their errors are in {place}");
             }

@@ -156,7 +156,7 @@ fn band_catalogue_design_and_study_give_the_same_band() {
     let sdir = dir.join("study");
     let out = bin().arg("study").arg(&study).arg("--out").arg(&sdir).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary = read_json(&sdir.join("summary.json"));
+    let summary = read_json(&sdir.join("summary/summary.json"));
     let m = &summary["cases"][0]["metrics"];
     assert_eq!((m["band_lo"].as_f64().unwrap(), m["band_hi"].as_f64().unwrap()), b, "study summary");
     eprintln!("band around 1230 rad/s at beta = 0.3: {b:?} by band, regions, design and study");

@@ -123,11 +123,14 @@ fn parse(path: &Path) -> Value {
 
 /// The comparable content of a finished tree: JSON without wall times, Markdown without
 /// the design report's wall time, other files as bytes; the summary's CSV and Markdown
-/// hold wall times and are left out (summary.json has the same rows).
+/// hold wall times and are left out (summary.json has the same rows), and so is the
+/// summary folder's record (it holds the token of the run that wrote it).
 fn content(out: &Path) -> BTreeMap<PathBuf, Result<Value, Vec<u8>>> {
     walk(out)
         .into_iter()
-        .filter(|p| !matches!(p.to_str(), Some("summary.csv" | "summary.md")))
+        .filter(|p| {
+            !matches!(p.to_str(), Some("summary/summary.csv" | "summary/summary.md" | "summary/.rotorshunt-out.json"))
+        })
         .map(|p| {
             let full = out.join(&p);
             let c = if p.extension().is_some_and(|e| e == "json") {

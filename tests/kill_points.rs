@@ -129,3 +129,93 @@ fn chart_over_an_existing_folder_is_old_or_new_at_every_kill_point() {
     assert!(saw_old > 0 && saw_new > 0, "kills both before and after the swap: {saw_old} old, {saw_new} new");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A study of two quick regions cases (the coarse model of tests/study_safety.rs).
+fn two_case_study(dir: &Path) -> PathBuf {
+    let study = dir.join("study.toml");
+    let text = format!(
+        r#"base = "{}"
+phi = [1150.0, 1350.0]
+beta_max = 0.5
+level = 0.3
+phi_op = 1230.0
+set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
+
+[[cases]]
+name = "low"
+set = ["speed=1500.0"]
+
+[[cases]]
+name = "high"
+set = ["speed=2500.0"]
+"#,
+        common::problem_path("design-widest-band.toml")
+    );
+    std::fs::write(&study, text).unwrap();
+    study
+}
+
+fn merge(out: &Path, kill_at: Option<u64>) -> std::process::Output {
+    let mut c = common::bin();
+    c.arg("study").arg("merge").arg(out);
+    if let Some(n) = kill_at {
+        c.env("ROTORSHUNT_TEST_KILL_AT", n.to_string());
+    }
+    c.output().unwrap()
+}
+
+#[test]
+fn study_merge_summaries_are_one_generation_at_every_kill_point() {
+    let dir = common::tmp("kill-points-merge");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = two_case_study(&dir);
+    let pristine = dir.join("pristine");
+    let o = common::bin().arg("study").arg(&study).arg("--out").arg(&pristine).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // An older generation of the three summaries: each marked, so each file tells which
+    // generation it is of.
+    for f in ["summary.csv", "summary.json", "summary.md"] {
+        let p = pristine.join("summary").join(f);
+        let mut bytes = std::fs::read(&p).unwrap();
+        bytes.extend_from_slice(b"\n(an older generation)\n");
+        std::fs::write(&p, bytes).unwrap();
+    }
+    let old = snapshot(&pristine.join("summary"));
+    let reference = dir.join("reference");
+    copy_tree(&pristine, &reference);
+    assert!(merge(&reference, None).status.success());
+    let new = snapshot(&reference.join("summary"));
+    assert_ne!(old, new);
+
+    let out = dir.join("out");
+    let (mut killed, mut saw_old, mut saw_new) = (0, 0, 0);
+    for n in 1..=MAX_POINTS {
+        let _ = std::fs::remove_dir_all(&out);
+        copy_tree(&pristine, &out);
+        let run = merge(&out, Some(n));
+        if run.status.success() {
+            assert_eq!(snapshot(&out.join("summary")), new, "the merge that passed all {} points", n - 1);
+            break;
+        }
+        assert_eq!(run.status.signal(), Some(SIGKILL), "point {n}: {}", String::from_utf8_lossy(&run.stderr));
+        killed += 1;
+        let found = snapshot(&out.join("summary"));
+        if found == old {
+            saw_old += 1;
+        } else if found == new {
+            saw_new += 1;
+        } else {
+            panic!("kill at point {n}: summary/ mixes generations: {:?}", found.keys().collect::<Vec<_>>());
+        }
+        let again = merge(&out, None);
+        assert!(again.status.success(), "point {n}: {}", String::from_utf8_lossy(&again.stderr));
+        assert_eq!(snapshot(&out.join("summary")), new, "after the kill at point {n}, the next merge");
+        let left: Vec<_> =
+            names(&out).into_iter().filter(|n| n.contains(".tmp-") || n.contains("rotorshunt-tmp")).collect();
+        assert!(left.is_empty(), "after the kill at point {n}, the next merge left {left:?}");
+    }
+    eprintln!("study merge: {killed} kill points: {saw_old} left the old summaries, {saw_new} the new ones");
+    assert!(killed >= 5, "only {killed} fault points");
+    assert!(saw_old > 0 && saw_new > 0, "{saw_old} old, {saw_new} new");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

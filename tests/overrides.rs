@@ -98,7 +98,7 @@ fn a_study_sweeps_the_inductance_over_a_base_tuned_by_frequency() {
         .expect("run");
     assert!(out.status.success(), "{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     let summary: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out_dir.join("summary.json")).unwrap()).unwrap();
+        serde_json::from_slice(&std::fs::read(out_dir.join("summary/summary.json")).unwrap()).unwrap();
     let cases = summary["cases"].as_array().expect("cases");
     assert_eq!(cases.len(), 2);
     for c in cases {

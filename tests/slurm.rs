@@ -113,7 +113,8 @@ fn bin() -> Command {
 }
 
 fn summary(out: &Path) -> Value {
-    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary/summary.json")).unwrap()).unwrap();
     for c in v["cases"].as_array_mut().unwrap() {
         c["seconds"] = Value::Null;
         c["task"] = Value::Null;
@@ -287,7 +288,7 @@ fn a_study_runs_as_a_slurm_array_and_recovers_from_a_cancelled_and_a_killed_task
     assert_eq!(summary(&out), summary(&whole));
     assert_eq!(common::case_files(&out), common::case_files(&whole));
     // The task record names the Slurm task that ran each case.
-    let s: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary/summary.json")).unwrap()).unwrap();
     for c in s["cases"].as_array().unwrap() {
         let array_job = c["task"]["slurm_array_job_id"].as_str().unwrap();
         assert!(array_job == job || array_job == again, "{c}");

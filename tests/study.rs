@@ -49,17 +49,17 @@ speed = [1000.0, 2000.0, 3000.0]
     assert!(first.contains("study: 13 cases (13 run, 0 skipped as finished, 1 failed)"), "{first}");
     assert!(first.contains("failed: broken: static load above buckling"), "{first}");
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary/summary.json")).unwrap()).unwrap();
     let cases = summary["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 13);
     assert_eq!(cases.iter().filter(|c| c["status"] == "ok").count(), 12);
     let broken = cases.iter().find(|c| c["status"] == "failed").unwrap();
     assert!(broken["error"].as_str().unwrap().contains("load.alpha"), "{broken}");
-    for f in ["summary.csv", "summary.md"] {
+    for f in ["summary/summary.csv", "summary/summary.md"] {
         assert!(out_dir.join(f).exists());
     }
     // summary.md: the flagged count, the failed case flagged, each case linked to its output.
-    let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
+    let md = std::fs::read_to_string(out_dir.join("summary/summary.md")).unwrap();
     // Flagged: the failed case, and every case without a stable band around phi_op.
     let flagged = cases.iter().filter(|c| c["status"] == "failed" || c["metrics"]["band_width"].is_null()).count();
     assert!(md.contains(&format!("13 case(s), {flagged} flagged")), "{md}");
@@ -67,7 +67,7 @@ speed = [1000.0, 2000.0, 3000.0]
     assert!(row.contains("| failed | failed |") && row.ends_with("|  |"), "no output linked: {row}");
     for c in cases.iter().filter(|c| c["status"] == "ok") {
         let slug = c["slug"].as_str().unwrap();
-        let row = md.lines().find(|l| l.contains(&format!("(cases/{slug}/regions.json)"))).expect("linked");
+        let row = md.lines().find(|l| l.contains(&format!("(../cases/{slug}/regions.json)"))).expect("linked");
         assert_eq!(row.contains("phi_op unstable"), c["metrics"]["band_width"].is_null(), "{row}");
     }
     // Every finished case's result.json, with its modification time.
@@ -82,7 +82,7 @@ speed = [1000.0, 2000.0, 3000.0]
     let after: Vec<_> = results.iter().map(stamp).collect();
     let rewritten = before.iter().zip(&after).filter(|(a, b)| a != b).count();
     assert_eq!(rewritten, 1, "only the failed case is run again");
-    let summary2 = std::fs::read_to_string(out_dir.join("summary.json")).unwrap();
+    let summary2 = std::fs::read_to_string(out_dir.join("summary/summary.json")).unwrap();
     let strip = |s: &str| -> serde_json::Value {
         let mut v: serde_json::Value = serde_json::from_str(s).unwrap();
         for c in v["cases"].as_array_mut().unwrap() {

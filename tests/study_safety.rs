@@ -89,7 +89,7 @@ fn counts(stdout: &str) -> (usize, usize, usize, usize) {
 
 /// The rows of `summary.json`: (name, folder) in order.
 fn summary_rows(out: &Path) -> Vec<(String, String)> {
-    let v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary/summary.json")).unwrap()).unwrap();
     v["cases"]
         .as_array()
         .unwrap()
@@ -214,9 +214,7 @@ fn planted_files_survive_a_killed_and_resumed_study() {
         attempts += 1;
         assert!(attempts < 3, "the study ended before it could be killed, {attempts} times");
         // Start again from the planted files alone.
-        for entry in
-            [".rotorshunt-study.json", ".rotorshunt-study.lock", "cases", "summary.csv", "summary.json", "summary.md"]
-        {
+        for entry in [".rotorshunt-study.json", ".rotorshunt-study.lock", "cases", "summary"] {
             let p = home.join(entry);
             if p.is_dir() {
                 std::fs::remove_dir_all(&p).unwrap();
@@ -248,11 +246,11 @@ fn planted_files_survive_a_killed_and_resumed_study() {
         std::fs::read_dir(&home).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     let mut expected: BTreeSet<String> =
         [".notes.tmp2024", "projects", ".cache", "notes.txt", ".rotorshunt-tmp.notes.txt.1.2"].map(String::from).into();
-    expected.extend([".rotorshunt-study.json", "cases", "summary.csv", "summary.json", "summary.md"].map(String::from));
+    expected.extend([".rotorshunt-study.json", "cases", "summary"].map(String::from));
     assert_eq!(top, expected);
     let manifest: Value =
         serde_json::from_str(&std::fs::read_to_string(home.join(".rotorshunt-study.json")).unwrap()).unwrap();
-    assert_eq!(manifest["created"], serde_json::json!(["cases", "summary.csv", "summary.json", "summary.md"]));
+    assert_eq!(manifest["created"], serde_json::json!(["cases", "summary"]));
     assert_every_case_finished(&home, &sweep_12_names());
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -434,11 +432,12 @@ fn inputs_inside_the_output_folder_are_never_overwritten() {
     let dir = scratch("inputs");
     let problem = common::problem_path("paper-open.toml");
     let o7 = dir.join("o7");
-    std::fs::create_dir_all(&o7).unwrap();
+    std::fs::create_dir_all(o7.join("summary")).unwrap();
     // A study whose base is the summary.md of its --out folder.
-    std::fs::copy(&problem, o7.join("summary.md")).unwrap();
+    std::fs::copy(&problem, o7.join("summary/summary.md")).unwrap();
     let s = dir.join("study.toml");
-    std::fs::write(&s, "base = \"o7/summary.md\"\nphi = [1000.0, 1100.0]\n[[cases]]\nname = \"one\"\n").unwrap();
+    std::fs::write(&s, "base = \"o7/summary/summary.md\"\nphi = [1000.0, 1100.0]\n[[cases]]\nname = \"one\"\n")
+        .unwrap();
     let before = snapshot(&o7);
     for extra in [&[][..], &["--allow-non-empty"][..], &["--allow-non-empty", "--force"][..]] {
         let o = study(&s, &o7, extra);

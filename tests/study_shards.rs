@@ -91,7 +91,8 @@ fn plan(study: &str, shards: u32) -> Vec<(u64, String, u32, String)> {
 
 /// summary.json without what differs between runs: wall times and the task.
 fn summary(out: &Path) -> Value {
-    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let mut v: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary/summary.json")).unwrap()).unwrap();
     for c in v["cases"].as_array_mut().unwrap() {
         c["seconds"] = Value::Null;
         c["task"] = Value::Null;
@@ -101,7 +102,7 @@ fn summary(out: &Path) -> Value {
 
 /// summary.csv without its `seconds` column.
 fn summary_csv(out: &Path) -> Vec<Vec<String>> {
-    let mut r = csv::Reader::from_path(out.join("summary.csv")).unwrap();
+    let mut r = csv::Reader::from_path(out.join("summary/summary.csv")).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
     let skip = header.iter().position(|h| h == "seconds").unwrap();
     let mut rows = vec![header.clone()];
@@ -145,7 +146,7 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
         for k in 0..n {
             let o = ok(&run(&["study", &study, "--shard", &format!("{k}/{n}")], Some(&out)));
             assert!(o.contains(&format!("study: shard {k}/{n} of 12 cases: {} cases (", per[&k].len())), "{o}");
-            assert!(!out.join("summary.json").exists(), "a shard writes no summary");
+            assert!(!out.join("summary/summary.json").exists(), "a shard writes no summary");
             // The run records which task ran which case.
             for i in &per[&k] {
                 let folder = planned_inputs(Path::new(&study)).unwrap()[*i as usize].0.slug.clone();
@@ -466,7 +467,8 @@ fn bad_shards_and_folders_are_refused_without_touching_a_file() {
     let m = run(&["study", "merge", o], None);
     let mt = text(&m.stdout);
     assert!(mt.contains("(1 cases)") && mt.contains("cases/b"), "{mt}");
-    let rows: Value = serde_json::from_str(&std::fs::read_to_string(other.join("summary.json")).unwrap()).unwrap();
+    let rows: Value =
+        serde_json::from_str(&std::fs::read_to_string(other.join("summary/summary.json")).unwrap()).unwrap();
     assert_eq!(rows["cases"].as_array().unwrap().len(), 1, "the case no longer in the plan is not merged");
     // status and merge on a folder that is not a study's.
     for cmd in ["status", "merge"] {

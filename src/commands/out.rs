@@ -200,6 +200,15 @@ fn staging_prefix(name: &str) -> String {
     format!(".{name}.tmp-")
 }
 
+/// The folder a staging folder named `name` stands for: `E` of `.E.tmp-TOKEN` (or of
+/// `.E.tmp-TOKEN-old`), by name only: whether it is the tool's is proved by its record
+/// before anything removes it.
+pub(crate) fn staging_of(name: &str) -> Option<&str> {
+    let (entry, rest) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
+    let token = rest.strip_suffix(OLD_SUFFIX).unwrap_or(rest);
+    (is_token(token) && !entry.is_empty()).then_some(entry)
+}
+
 /// Whether `s` is a token as [`files::token`] makes them.
 fn is_token(s: &str) -> bool {
     s.len() == 24 && s.bytes().all(|b| b.is_ascii_hexdigit())
@@ -548,6 +557,19 @@ impl OutDir {
             .filter_map(|(p, what)| std::fs::canonicalize(p).ok().map(|c| (c, what.to_string())))
             .collect();
         OutDir { dir: dir.to_path_buf(), inputs, ledger: None, staging: None }
+    }
+
+    /// The staged folder `name` inside this one, protecting the same inputs (a study's
+    /// `summary/`, swapped whole). Refused: a link or anything but a folder at `name`
+    /// ([`Error::Unsafe`]), and in a study-owned folder an entry the study did not create.
+    pub(crate) fn sub(&self, name: &str) -> Result<OutDir, Error> {
+        let path = self.path(name);
+        if let Some(ledger) = &self.ledger {
+            ledger.claim(name, &path)?;
+        }
+        files::real_dir(&path).map_err(|e| Error::io(&path, &e))?;
+        let staging = Staging::begin(&path)?;
+        Ok(OutDir { dir: path, inputs: self.inputs.clone(), ledger: None, staging: Some(staging) })
     }
 
     /// This folder, recording its files in `ledger` (a study-owned folder).

@@ -40,8 +40,14 @@ pub(crate) const CASE_LOCK: &str = ".rotorshunt-case.lock";
 pub(crate) const CASES: &str = "cases";
 /// The folder of `study slurm`'s job scripts and Slurm's logs.
 pub(crate) const SLURM_DIR: &str = "slurm";
+/// The folder of the summaries (`summary.csv`, `summary.json`, `summary.md`), replaced
+/// whole by each merge so that a reader finds the three of one generation.
+pub(crate) const SUMMARY: &str = "summary";
+/// The summaries, as paths inside the `--out` folder (checked against the run's inputs
+/// before any work).
+pub(crate) const SUMMARY_FILES: [&str; 3] = ["summary/summary.csv", "summary/summary.json", "summary/summary.md"];
 /// The entries a study writes in its `--out` folder besides its manifest and lock.
-pub(crate) const ROOT_OUTPUTS: [&str; 5] = [CASES, "summary.csv", "summary.json", "summary.md", SLURM_DIR];
+pub(crate) const ROOT_OUTPUTS: [&str; 3] = [CASES, SUMMARY, SLURM_DIR];
 
 /// Format of the manifests.
 const MANIFEST_FORMAT: u32 = 1;
@@ -251,7 +257,8 @@ pub(crate) fn inspect_as(
         let ours = name == MANIFEST
             || name == LOCK
             || recorded.contains(&name)
-            || temporary_target(&name).is_some_and(|t| t == MANIFEST || recorded.contains(t));
+            || temporary_target(&name).is_some_and(|t| t == MANIFEST || recorded.contains(t))
+            || crate::commands::out::staging_of(&name).is_some_and(|e| recorded.contains(e));
         if !ours {
             foreign.push(name);
         }

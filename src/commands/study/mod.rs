@@ -266,7 +266,7 @@ pub fn study_cmd(
     let inputs: [(&Path, &str); 2] = [(file, "the study file"), (&plan.base, "the study's base problem file")];
     // The folder is checked before anything is created in it, and again under the lock.
     let root = OutDir::planned(out, &inputs);
-    let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).collect();
+    let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).chain(folder::SUMMARY_FILES).collect();
     root.check_outputs(&own_names)?;
     let sharded = shard.is_some();
     let check_shards = |m: &Manifest| match (shard, m.shards) {
@@ -345,13 +345,13 @@ pub fn study_cmd(
         }
     }
     if !sharded {
-        write_summary(&root, &rows)?;
+        write_summary(&root, &rows, progress)?;
     }
     drop(lock);
     let failed = rows.iter().filter(|r| r.status != CaseStatus::Ok).count();
     let mut text = match shard {
         None => format!(
-            "study: {} cases ({} run, {} skipped as finished, {} failed) in {:.1} s; wrote summary.{{csv,json,md}} and cases/ to {}\n",
+            "study: {} cases ({} run, {} skipped as finished, {} failed) in {:.1} s; wrote summary/summary.{{csv,json,md}} and cases/ to {}\n",
             rows.len() + busy.len(),
             rows.len() - skipped,
             skipped,
@@ -430,12 +430,13 @@ fn case_link(r: &CaseResult) -> String {
         CaseKind::Regions => "regions.json",
         CaseKind::Design => "report.html",
     };
-    format!("[{file}]({CASES}/{}/{file})", r.slug)
+    format!("[{file}](../{CASES}/{}/{file})", r.slug)
 }
 
-/// `summary.json`, `summary.csv` and `summary.md` of the study folder `root`: one row per
-/// case with its status, flags and key figures (and, in Markdown, a link to its output).
-pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), Error> {
+/// `summary/` of the study folder `root`, swapped whole: `summary.json`, `summary.csv` and
+/// `summary.md`, one row per case with its status, flags and key figures (and, in Markdown, a link to its output).
+pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult], progress: &dyn Progress) -> Result<(), Error> {
+    let dir = root.sub(folder::SUMMARY)?;
     let keys: std::collections::BTreeSet<String> = rows.iter().flat_map(|r| r.metrics.keys().cloned()).collect();
     #[derive(Serialize)]
     struct Summary<'a> {
@@ -443,7 +444,7 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
         cases: &'a [&'a CaseResult],
     }
     let json = json_pretty(&Summary { tool: TOOL, cases: rows }, "the JSON output")? + "\n";
-    root.write("summary.json", json.as_bytes())?;
+    dir.write("summary.json", json.as_bytes())?;
     let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "flags".into(), "seconds".into()];
     header.extend(keys.iter().cloned());
     header.push("error".into());
@@ -463,7 +464,8 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult]) -> Result<(), E
         })
         .collect();
     let table = SummaryTable { header, rows: cells };
-    root.write("summary.csv", &table.csv().map_err(|e| root.error("summary.csv", e))?)?;
+    dir.write("summary.csv", &table.csv().map_err(|e| dir.error("summary.csv", e))?)?;
     let links: Vec<String> = rows.iter().map(|r| case_link(r)).collect();
-    root.write("summary.md", table.markdown(&links).as_bytes())
+    dir.write("summary.md", table.markdown(&links).as_bytes())?;
+    dir.commit("study", progress)
 }

@@ -134,7 +134,7 @@ pub fn slurm_cmd(file: &Path, out: &Path, o: &SlurmOptions) -> Result<String, Er
     };
     let inputs: [(&Path, &str); 2] = [(file, "the study file"), (&plan.base, "the study's base problem file")];
     let root = OutDir::planned(out, &inputs);
-    let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).collect();
+    let own_names: Vec<&str> = [MANIFEST, LOCK].into_iter().chain(ROOT_OUTPUTS).chain(folder::SUMMARY_FILES).collect();
     root.check_outputs(&own_names)?;
     folder::inspect_as(out, &identity, o.allow_non_empty, true)?;
     std::fs::create_dir_all(out)
@@ -204,7 +204,7 @@ exec {bin} study {study_q} --out {out_q} --shards {n}
     let merge = format!(
         "#!/bin/bash
 # The merge job of a rotorshunt study array (`rotorshunt study slurm`, {TOOL}): builds
-# summary.{{csv,json,md}} from every finished case; exit 5 if a case failed or is missing.
+# summary/summary.{{csv,json,md}} from every finished case; exit 5 if a case failed or is missing.
 #SBATCH --job-name=rotorshunt-merge
 #SBATCH --cpus-per-task=1
 #SBATCH --output={}/merge-%j.out

@@ -339,16 +339,17 @@ pub fn status_cmd(dir: &Path, shards: Option<u32>, json: bool) -> Result<(String
     Ok((text, r))
 }
 
-/// `rotorshunt study merge DIR`: `summary.{csv,json,md}` from every case finished from
+/// `rotorshunt study merge DIR`: `summary/summary.{csv,json,md}` from every case finished from
 /// the plan's inputs, in plan order, under the folder's lock (waiting for a task's
 /// setup); the text and the report.
-pub fn merge_cmd(dir: &Path) -> Result<(String, StatusReport), Error> {
+pub fn merge_cmd(dir: &Path, progress: &dyn crate::progress::Progress) -> Result<(String, StatusReport), Error> {
     let s = survey(dir, None, true)?;
     let study = Path::new(&s.manifest.study);
     let inputs: [(&Path, &str); 2] =
         [(study, "the study file"), (&s.loaded.plan.base, "the study's base problem file")];
     let root = OutDir::planned(dir, &inputs);
-    root.check_outputs(&[MANIFEST, LOCK, "summary.csv", "summary.json", "summary.md"])?;
+    let own_names: Vec<&str> = [MANIFEST, LOCK, folder::SUMMARY].into_iter().chain(folder::SUMMARY_FILES).collect();
+    root.check_outputs(&own_names)?;
     let lock = StudyLock::wait(dir, &s.manifest.study)?;
     // The manifest as it is under the lock (a task may have set the folder up meanwhile).
     let manifest = match folder::read_manifest(dir) {
@@ -357,11 +358,11 @@ pub fn merge_cmd(dir: &Path) -> Result<(String, StatusReport), Error> {
     };
     let root = root.with_ledger(folder::root_ledger(dir, manifest));
     let rows: Vec<&CaseResult> = s.states.iter().filter_map(|(_, r)| r.as_ref()).collect();
-    write_summary(&root, &rows)?;
+    write_summary(&root, &rows, progress)?;
     drop(lock);
     let r = report(dir, &s);
     let text = format!(
-        "study merge {}: {}; wrote summary.{{csv,json,md}} ({} cases) to {}\n{}",
+        "study merge {}: {}; wrote summary/summary.{{csv,json,md}} ({} cases) to {}\n{}",
         dir.display(),
         counts_line(&r),
         rows.len(),
