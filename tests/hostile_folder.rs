@@ -14,6 +14,9 @@ use std::path::{Path, PathBuf};
 /// Path → what stands there: a file's bytes, a link's text, "dir", or the special kind.
 type Tree = BTreeMap<PathBuf, String>;
 
+/// A node the test makes where an output goes: what it is, and how to make it.
+type Maker = (&'static str, Box<dyn Fn(&Path) -> bool>);
+
 /// Everything below `dir` except `skip`, not following links.
 fn tree(dir: &Path, skip: &Path) -> Tree {
     let mut out = Tree::new();
@@ -209,7 +212,7 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
 
         // An output name that is a link, a FIFO or a device: refused, left as it is.
         let target = out.join(c.output);
-        let mut nodes: Vec<(&str, Box<dyn Fn(&Path) -> bool>)> = vec![
+        let mut nodes: Vec<Maker> = vec![
             ("a symbolic link", Box::new(|p: &Path| std::os::unix::fs::symlink("../victim.txt", p).is_ok())),
             (
                 "a FIFO",
