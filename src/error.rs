@@ -182,6 +182,19 @@ pub enum Error {
         /// Why it cannot be run.
         reason: String,
     },
+    /// A value `study slurm` would write into a job script that the script cannot carry: a
+    /// control character in a path or value (a line break would end an `#SBATCH` line), a
+    /// `--time` not in Slurm's forms, a `--partition` outside its characters, a path that is
+    /// not UTF-8 or that Slurm's `--output` cannot name. Checked before anything is written.
+    #[error("{what} {value}: {message}; nothing was written")]
+    SlurmValue {
+        /// The flag or path, e.g. `--time`, `--out`, `the study file`.
+        what: String,
+        /// The value, quoted and escaped (a newline as `\n`), so the message is one line.
+        value: String,
+        /// What is wrong, and what to give.
+        message: String,
+    },
     /// `sbatch` refused a job script of `study slurm --submit`.
     #[error("{program} {script} failed ({status}): {stderr}")]
     SlurmFailed {

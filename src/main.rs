@@ -5,7 +5,7 @@ mod reporter;
 
 use clap::Parser;
 use cli::{Cli, Command, Input, StudyAction, StudyArgs};
-use reporter::Reporter;
+use reporter::{printable, Reporter};
 use rotorshunt::analysis::cost::Budget;
 use rotorshunt::commands;
 use rotorshunt::problem::Problem;
@@ -95,7 +95,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
                 } else {
                     out.join("summary").join("summary.md").display().to_string()
                 };
-                eprintln!("error: {failed} case(s) of the study failed: their errors are in {place}");
+                eprintln!("error: {failed} case(s) of the study failed: their errors are in {}", printable(&place));
             }
             Ok((text, if failed > 0 { exit::STUDY_FAILED_CASES } else { 0 }))
         }
@@ -163,7 +163,7 @@ fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
 /// Print a problem's plausibility warnings on standard error, one line each.
 fn warn(problem: &Problem) {
     for w in &problem.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", printable(&w.to_string()));
     }
 }
 
@@ -177,7 +177,7 @@ fn compared(
 ) -> Result<Option<commands::Compared>, rotorshunt::Error> {
     let other = commands::compared(&input.file, &input.set, compare, compare_set)?;
     for w in other.iter().flat_map(|o| o.new_warnings(main)) {
-        eprintln!("warning: {w}");
+        eprintln!("warning: {}", printable(&w.to_string()));
     }
     Ok(other)
 }
@@ -260,20 +260,39 @@ fn main() -> ExitCode {
     threads_from_slurm();
     remove_outputs_on_signals();
     arm_fault_injection();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => parse_failed(e),
+    };
     let progress = reporter(&cli);
     let result = run(cli, &progress);
     progress.finish();
     match result {
         Ok((text, code)) => {
-            print!("{text}");
+            print!("{}", printable(&text));
             ExitCode::from(code)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", printable(&e.to_string()));
             ExitCode::from(exit_code(&e))
         }
     }
+}
+
+/// A command line clap refused (or `--help`, `--version`): clap's message and exit code,
+/// the message plain and through [`printable`] when it quotes an argument with control
+/// characters (clap would print them raw), else as clap styles it.
+fn parse_failed(e: clap::Error) -> ! {
+    let plain = e.to_string();
+    if printable(&plain) == plain {
+        e.exit()
+    }
+    if e.use_stderr() {
+        eprint!("{}", printable(&plain));
+    } else {
+        print!("{}", printable(&plain));
+    }
+    std::process::exit(e.exit_code())
 }
 
 /// The exit code of a failed run (docs/errors.md): 2 for bad input (the problem or study
@@ -304,6 +323,7 @@ fn exit_code(e: &rotorshunt::Error) -> u8 {
         | rotorshunt::Error::PlanMismatch { .. }
         | rotorshunt::Error::NotAStudyFolder { .. }
         | rotorshunt::Error::SlurmMissing { .. }
+        | rotorshunt::Error::SlurmValue { .. }
         | rotorshunt::Error::OutputIsInput { .. }
         | rotorshunt::Error::OutIsNotAFolder { .. }
         | rotorshunt::Error::Unsafe { .. }

@@ -15,13 +15,40 @@
 //! phase whose searches learn their work as they go (the region search) can only
 //! announce the steps known so far, so its ETA is a lower bound, and it says so (`ETA
 //! ≥`). `--quiet` reports nothing. Standard output is never touched.
+//!
+//! [`printable`] is the binary's one filter for what it prints: text from the input (a
+//! title, a path, a value in a message) reaches the terminal with its control characters
+//! shown, not acted on.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rotorshunt::progress::Progress;
+use std::borrow::Cow;
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
+
+/// `text` for a terminal or a log: each control character (C0, DEL, C1) but line feed and
+/// tab shown as its escape (`\u{1b}`, `\r`, `\u{9b}`), so text that came from the input (a
+/// problem's title, a path, a value named in a message) cannot move the cursor, recolour
+/// or retitle the terminal, or hide what was printed before it. Everything the binary
+/// prints, on standard output and standard error, goes through it; JSON output is
+/// unchanged, as serde_json escapes control characters itself.
+pub fn printable(text: &str) -> Cow<'_, str> {
+    let shown = |c: char| c.is_control() && c != '\n' && c != '\t';
+    if !text.chars().any(shown) {
+        return Cow::Borrowed(text);
+    }
+    let mut s = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if shown(c) {
+            s.extend(c.escape_debug());
+        } else {
+            s.push(c);
+        }
+    }
+    Cow::Owned(s)
+}
 
 /// Time between progress lines when standard error is not a terminal (and before the
 /// first): often enough that a log shows a live run, rarely enough that it stays short.
@@ -87,8 +114,8 @@ impl Progress for Reporter {
     /// Warnings are not progress: printed even with `--quiet`, above the bar if one is drawn.
     fn warning(&self, warning: &rotorshunt::problem::Warning) {
         match self {
-            Reporter::Bar(b) => b.bar.suspend(|| eprintln!("warning: {warning}")),
-            _ => eprintln!("warning: {warning}"),
+            Reporter::Bar(b) => b.bar.suspend(|| eprintln!("warning: {}", printable(&warning.to_string()))),
+            _ => eprintln!("warning: {}", printable(&warning.to_string())),
         }
     }
 
@@ -193,7 +220,7 @@ impl State {
         }
         self.printed.store(true, Ordering::Relaxed);
         let mut err = std::io::stderr().lock();
-        let _ = writeln!(err, "{text}");
+        let _ = writeln!(err, "{}", printable(&text));
     }
 }
 
@@ -267,5 +294,20 @@ impl Lines {
             let _ =
                 writeln!(err, "progress: {}: done in {}", self.state.command, seconds(self.state.started.elapsed()));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn printable_shows_control_characters_and_keeps_the_rest() {
+        assert!(matches!(printable("plain é 中文 \u{200f} 🙂\nline\ttab"), Cow::Borrowed(_)));
+        assert_eq!(
+            printable("a\u{1b}[31mred\rb\u{7}\u{0}\u{7f}\u{9b}c\n"),
+            "a\\u{1b}[31mred\\rb\\u{7}\\0\\u{7f}\\u{9b}c\n"
+        );
+        assert!(!printable("\u{1b}]0;title\u{7}").contains('\u{1b}'));
     }
 }

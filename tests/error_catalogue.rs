@@ -130,6 +130,7 @@ fn error_kind(e: &Error) -> &'static str {
         Error::PlanMismatch { .. } => "PlanMismatch",
         Error::NotAStudyFolder { .. } => "NotAStudyFolder",
         Error::SlurmMissing { .. } => "SlurmMissing",
+        Error::SlurmValue { .. } => "SlurmValue",
         Error::SlurmFailed { .. } => "SlurmFailed",
         Error::OutputExists { .. } => "OutputExists",
         Error::Ross(r) => ross_kind(&r.kind),
@@ -226,6 +227,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::PlanMismatch { dir: s(), study: s(), found: s(), advice: s() },
         Error::NotAStudyFolder { dir: s(), manifest: s(), reason: s() },
         Error::SlurmMissing { program: s(), reason: s() },
+        Error::SlurmValue { what: s(), value: s(), message: s() },
         Error::SlurmFailed { program: s(), script: s(), status: s(), stderr: s() },
         Error::OutputExists { path: s() },
         Error::from(RossError {

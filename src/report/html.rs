@@ -7,8 +7,14 @@
 //! image that is neither stays a plain link text. The page carries a Content Security
 //! Policy that forbids every network load (`default-src 'none'`), so a browser opening it
 //! offline shows exactly what it shows online.
+//!
+//! Everything of the Markdown is text: raw HTML in it (a block or inline tags, e.g. from a
+//! problem's title) is shown as the characters it is, never as markup; a link goes only
+//! where a link may (no `javascript:` or other scheme than http, https and mailto); a
+//! control character (an escape, say) shows as `\u{1b}`. Only the figures are markup,
+//! and they are built here.
 
-use pulldown_cmark::{html, Event, Options, Parser, Tag, TagEnd};
+use pulldown_cmark::{html, CowStr, Event, Options, Parser, Tag, TagEnd};
 
 /// The figures a page may embed: the SVG text or the PNG bytes of a file named in the
 /// Markdown, looked up by its name as written (e.g. `charts.png`).
@@ -36,6 +42,8 @@ figure{margin:1em 0}figure svg,figure img{max-width:100%;height:auto}code{backgr
 /// The page of `markdown` titled `title`, with its figures embedded from `figures`.
 pub fn page(title: &str, markdown: &str, figures: &dyn Figures) -> String {
     let mut events = Vec::new();
+    // Whether each open link is kept (a link to an unsafe place keeps its text only).
+    let mut links = Vec::new();
     let mut parser = Parser::new_ext(markdown, Options::ENABLE_TABLES).peekable();
     while let Some(event) = parser.next() {
         match event {
@@ -45,12 +53,30 @@ pub fn page(title: &str, markdown: &str, figures: &dyn Figures) -> String {
                 for e in parser.by_ref() {
                     match e {
                         Event::End(TagEnd::Image) => break,
-                        Event::Text(t) | Event::Code(t) => alt.push_str(&t),
+                        Event::Text(t) | Event::Code(t) | Event::Html(t) | Event::InlineHtml(t) => alt.push_str(&t),
                         _ => {}
                     }
                 }
                 let caption = if caption.is_empty() { alt.clone() } else { caption.to_string() };
                 events.push(Event::Html(figure(&dest_url, &alt, &caption, figures).into()));
+            }
+            // Raw HTML of the Markdown is text: a block of it a paragraph.
+            Event::Html(t) | Event::InlineHtml(t) => events.push(Event::Text(shown(t))),
+            Event::Start(Tag::HtmlBlock) => events.push(Event::Start(Tag::Paragraph)),
+            Event::End(TagEnd::HtmlBlock) => events.push(Event::End(TagEnd::Paragraph)),
+            Event::Text(t) => events.push(Event::Text(shown(t))),
+            Event::Code(t) => events.push(Event::Code(shown(t))),
+            Event::Start(Tag::Link { link_type, dest_url, title, id }) => {
+                let keep = safe_link(&dest_url);
+                links.push(keep);
+                if keep {
+                    events.push(Event::Start(Tag::Link { link_type, dest_url, title: shown(title), id }));
+                }
+            }
+            Event::End(TagEnd::Link) => {
+                if links.pop().unwrap_or(true) {
+                    events.push(Event::End(TagEnd::Link));
+                }
             }
             other => events.push(other),
         }
@@ -61,8 +87,97 @@ pub fn page(title: &str, markdown: &str, figures: &dyn Figures) -> String {
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
 <meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; img-src data:; style-src 'unsafe-inline'\">\n\
 <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n{body}</body>\n</html>\n",
-        escape(title)
+        escape(&visible(title))
     )
+}
+
+/// Whether a link may go to `url`: a relative reference (a file, `#anchor`) or an http,
+/// https or mailto URL. Browsers drop tabs and line breaks inside a URL and spaces around
+/// it, so the scheme is read without them.
+fn safe_link(url: &str) -> bool {
+    let bare: String = url.chars().filter(|c| !c.is_ascii_whitespace() && !c.is_control()).collect();
+    let end = bare.find([':', '/', '?', '#']);
+    match end {
+        Some(i) if bare[i..].starts_with(':') => {
+            let scheme = bare[..i].to_ascii_lowercase();
+            matches!(scheme.as_str(), "http" | "https" | "mailto")
+        }
+        _ => true,
+    }
+}
+
+/// [`visible`] of a parser's text, kept as it is when it has nothing to show.
+fn shown(text: CowStr<'_>) -> CowStr<'_> {
+    match visible(&text) {
+        std::borrow::Cow::Borrowed(_) => text,
+        std::borrow::Cow::Owned(s) => s.into(),
+    }
+}
+
+/// `text` with each control character (C0, DEL, C1) but tab and line breaks shown as its
+/// escape (`\u{1b}`): a page or a figure shows an escape sequence of its input as the
+/// characters it is (XML, and so SVG, cannot hold most control characters at all).
+pub fn visible(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(|c| c.is_control() && !matches!(c, '\t' | '\n' | '\r')) {
+        return text.into();
+    }
+    text.chars()
+        .map(|c| {
+            if c.is_control() && !matches!(c, '\t' | '\n' | '\r') {
+                c.escape_debug().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect::<String>()
+        .into()
+}
+
+/// `text` as Markdown that shows it as it is, on one line: each character that could
+/// start inline markup (`\\`, `` ` ``, `*`, `_` but inside a word, `[`, `]`, `<`, `>`, `&`,
+/// `|`, `#`, `~`, `!`) escaped with a backslash, line breaks as spaces and other control characters as their
+/// escapes (`\u{1b}`). For input that goes into a report's Markdown inside a line (a
+/// heading, a table cell), e.g. a problem's title.
+pub fn markdown_literal(text: &str) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let word = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| c.is_alphanumeric());
+    let mut s = String::with_capacity(text.len());
+    for (i, &c) in chars.iter().enumerate() {
+        match c {
+            '\n' | '\r' | '\t' => s.push(' '),
+            c if c.is_control() => s.extend(c.escape_debug()),
+            // Inside a word (`phi_op`) an underscore is no emphasis.
+            '_' if word(i.checked_sub(1)) && word(Some(i + 1)) => s.push(c),
+            '\\' | '`' | '*' | '_' | '[' | ']' | '<' | '>' | '&' | '|' | '#' | '~' | '!' => {
+                s.push('\\');
+                s.push(c);
+            }
+            c => s.push(c),
+        }
+    }
+    s
+}
+
+/// `text` as a Markdown code span on one line: fenced by one backtick more than its longest
+/// run of them, padded with a space each side when it begins or ends with a backtick (or
+/// with a space on both sides, which Markdown would strip), line breaks as spaces and
+/// other control characters but tab as their escapes (`\u{1b}`).
+pub fn markdown_code(text: &str) -> String {
+    let mut one_line = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\n' | '\r' => one_line.push(' '),
+            c if c.is_control() && c != '\t' => one_line.extend(c.escape_debug()),
+            c => one_line.push(c),
+        }
+    }
+    let longest = one_line.split(|c| c != '`').map(str::len).max().unwrap_or(0);
+    let fence = "`".repeat(longest + 1);
+    let pad = one_line.starts_with('`')
+        || one_line.ends_with('`')
+        || (one_line.len() > 1 && one_line.starts_with(' ') && one_line.ends_with(' '));
+    let pad = if pad { " " } else { "" };
+    format!("{fence}{pad}{one_line}{pad}{fence}")
 }
 
 /// One figure: the SVG inline (its XML prolog dropped), or the PNG as a data URI, or the
@@ -70,13 +185,13 @@ pub fn page(title: &str, markdown: &str, figures: &dyn Figures) -> String {
 fn figure(name: &str, alt: &str, caption: &str, figures: &dyn Figures) -> String {
     let inner = if let Some(svg) = figures.svg(name) {
         let start = svg.find("<svg").unwrap_or(0);
-        format!("<div role=\"img\" aria-label=\"{}\">{}</div>", escape(alt), &svg[start..])
+        format!("<div role=\"img\" aria-label=\"{}\">{}</div>", escape(&visible(alt)), &svg[start..])
     } else if let Some(png) = figures.png(name) {
-        format!("<img alt=\"{}\" src=\"data:image/png;base64,{}\">", escape(alt), base64(&png))
+        format!("<img alt=\"{}\" src=\"data:image/png;base64,{}\">", escape(&visible(alt)), base64(&png))
     } else {
-        return format!("<em>[figure {} not available]</em>", escape(name));
+        return format!("<em>[figure {} not available]</em>", escape(&visible(name)));
     };
-    format!("<figure>{inner}<figcaption>{}</figcaption></figure>", escape(caption))
+    format!("<figure>{inner}<figcaption>{}</figcaption></figure>", escape(&visible(caption)))
 }
 
 /// Text safe inside HTML elements and attribute values.
@@ -115,6 +230,51 @@ mod tests {
         assert!(p.contains("src=\"data:image/png;base64,TWFu\""), "{p}");
         assert!(p.contains("[figure c.png not available]"), "{p}");
         assert!(!p.contains("src=\"c.png\"") && !p.contains("src=\"http"), "{p}");
+    }
+
+    /// What the page's body shows as markup: its tags, the figures' aside.
+    fn tags(p: &str) -> Vec<String> {
+        let body = &p[p.find("<body>").unwrap() + "<body>".len()..];
+        body.split('<').skip(1).map(|t| t.split(['>', ' ']).next().unwrap_or("").to_string()).collect()
+    }
+
+    #[test]
+    fn raw_html_in_the_markdown_is_text() {
+        let hostile = "</title><script>alert(1)</script><img src=x onerror=alert(2)><b>bold</b>\u{1b}[31m";
+        let md = format!(
+            "# Report: {hostile}\n\ninline <i>x</i> and <a href=\"javascript:alert(3)\">y</a>\n\n<div onclick=\"alert(4)\">\nblock\n</div>\n\n<!-- comment -->\n\n[link](javascript:alert(5)) [tab](java\tscript:alert(6)) [ok](https://example.org/) [rel](cases/a/b.md) [anchor](#x) <javascript:alert(7)>\n"
+        );
+        let p = page(hostile, &md, &Two);
+        let allowed = ["h1", "/h1", "p", "/p", "a", "/a"];
+        for t in tags(&p) {
+            assert!(allowed.contains(&t.as_str()) || t == "/body" || t == "/html", "tag <{t}> in {p}");
+        }
+        assert!(!p.contains("<a href=\"java"), "{p}");
+        assert!(
+            p.contains("<a href=\"https://example.org/\">ok</a>") && p.contains("<a href=\"cases/a/b.md\">rel</a>"),
+            "{p}"
+        );
+        assert!(p.contains("<a href=\"#x\">anchor</a>"), "{p}");
+        assert!(p.contains("&lt;script&gt;alert(1)&lt;/script&gt;") && p.contains("&lt;b&gt;bold&lt;/b&gt;"), "{p}");
+        assert!(p.contains("<title>&lt;/title&gt;&lt;script&gt;"), "{p}");
+        assert!(!p.contains('\u{1b}') && p.contains("\\u{1b}[31m"), "{p}");
+    }
+
+    #[test]
+    fn literal_markdown_shows_the_text_as_it_is() {
+        let hostile = "*em* _u_ phi_op `c` [l](javascript:x) <b>b</b> & # | ~ ! \\ x\ny\u{1b}";
+        let md = format!("# T: {}\n\nafter\n", markdown_literal(hostile));
+        let p = page("t", &md, &Two);
+        let h1 = &p[p.find("<h1>").unwrap()..p.find("</h1>").unwrap() + 5];
+        assert_eq!(
+            h1, "<h1>T: *em* _u_ phi_op `c` [l](javascript:x) &lt;b&gt;b&lt;/b&gt; &amp; # | ~ ! \\ x y\\u{1b}</h1>",
+            "{p}"
+        );
+        for (text, span) in [("a`b", "``a`b``"), ("`x`", "`` `x` ``"), (" a ", "`  a  `"), ("p\nq", "`p q`")] {
+            assert_eq!(markdown_code(text), span);
+        }
+        let p = page("t", &format!("{}\n", markdown_code("a``b<i>")), &Two);
+        assert!(p.contains("<code>a``b&lt;i&gt;</code>"), "{p}");
     }
 
     #[test]

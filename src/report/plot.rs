@@ -372,7 +372,11 @@ pub(crate) fn render_svg(
     register_font();
     let mut buf = String::new();
     draw(SVGBackend::with_string(&mut buf, SIZE).into_drawing_area())?;
-    Ok(buf)
+    // Any control character a label carried: shown, as XML cannot hold it.
+    Ok(match crate::report::html::visible(&buf) {
+        std::borrow::Cow::Borrowed(_) => buf,
+        std::borrow::Cow::Owned(shown) => shown,
+    })
 }
 
 /// Render `draw` to PNG bytes at [`SIZE`], with the embedded font registered.

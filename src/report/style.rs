@@ -201,7 +201,8 @@ pub fn titled<DB: DrawingBackend>(
     title: &str,
 ) -> Result<DrawingArea<DB, Shift>, PlotError> {
     let (w, _) = root.dim_in_pixel();
-    let (size, lines) = fit_title(root, title, w)?;
+    // A control character of the input (an escape) is drawn as its escape, as text.
+    let (size, lines) = fit_title(root, &crate::report::html::visible(title), w)?;
     let line_height = (size as f64 * 1.3).ceil() as u32;
     let height = line_height * lines.len() as u32 + 12;
     let (head, rest) = root.split_vertically(height);

@@ -6,6 +6,7 @@ use super::*;
 use crate::analysis::Interval;
 use crate::design::spec::Objective;
 use crate::design::DesignOutcome;
+use crate::report::html::markdown_code;
 use std::fmt::Write;
 
 /// Everything below page one.
@@ -16,9 +17,13 @@ pub(super) fn details(s: &mut String, r: &DesignReport) {
     let _ = writeln!(s, "## Problem and run\n");
     let _ = writeln!(
         s,
-        "- problem: `{}`{} (SHA-256 of text and overrides: `{}`)",
-        p.problem,
-        if p.overrides.is_empty() { String::new() } else { format!(" with `--set {}`", p.overrides.join(" ")) },
+        "- problem: {}{} (SHA-256 of text and overrides: `{}`)",
+        markdown_code(&p.problem),
+        if p.overrides.is_empty() {
+            String::new()
+        } else {
+            format!(" with {}", markdown_code(&format!("--set {}", p.overrides.join(" "))))
+        },
         p.input_sha256
     );
     let _ = writeln!(s, "- tool: {}", p.tool);

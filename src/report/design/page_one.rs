@@ -99,7 +99,7 @@ pub(super) fn page_one(r: &DesignReport) -> String {
     let o = &r.outcome;
     let spec = &o.spec;
     let mut s = String::new();
-    let _ = writeln!(s, "# Shunt design report: {}\n", r.title);
+    let _ = writeln!(s, "# Shunt design report: {}\n", crate::report::html::markdown_literal(&r.title));
     let _ = writeln!(s, "**Question.** {}\n", question(r));
     let _ = writeln!(s, "**Answer.** {}\n", status_sentence(o.status));
     let _ = writeln!(s, "Circuit, before → after (changed values in bold):\n");
