@@ -20,7 +20,7 @@
 pub(crate) use super::lock::{case_running, CaseLock, StudyLock};
 use super::TOOL;
 use crate::commands::out::json_pretty;
-use crate::report::{remove_temporaries, temporary_target, write_atomic};
+use crate::files::{remove_temporaries, temporary_target, write_atomic};
 use crate::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
