@@ -217,7 +217,8 @@ pub fn remove_file_if(path: &Path, ours: impl FnOnce(&[u8]) -> bool) -> io::Resu
     Ok(true)
 }
 
-#[cfg(all(test, unix))]
+#[cfg(test)]
+#[cfg(unix)]
 mod tests {
     use super::*;
 
