@@ -249,10 +249,15 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
 
 /// Test-only: `ROTORSHUNT_TEST_KILL_AT=N` makes the process kill itself with SIGKILL at
 /// the N-th write, rename or removal of the file layer (tests/kill_points.rs), to show
-/// that an interruption anywhere leaves every output folder old or new, never mixed.
+/// that an interruption anywhere leaves every output folder old or new, never mixed;
+/// `ROTORSHUNT_TEST_FULL_DISK=NAME` makes every write of a file named NAME fail as on a
+/// full disk (tests/records.rs).
 fn arm_fault_injection() {
     if let Some(n) = std::env::var("ROTORSHUNT_TEST_KILL_AT").ok().and_then(|v| v.trim().parse::<u64>().ok()) {
         rotorshunt::files::fault::arm(n);
+    }
+    if let Some(name) = std::env::var("ROTORSHUNT_TEST_FULL_DISK").ok().filter(|n| !n.is_empty()) {
+        rotorshunt::files::fault::arm_full_disk(&name);
     }
 }
 

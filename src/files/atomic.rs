@@ -29,6 +29,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let (tmp, mut f) = create_temporary(dir, &name)?;
     let written = (|| {
         fault::point();
+        fault::full_disk(&name)?;
         f.write_all(bytes)?;
         if let Some(m) = existing.as_ref() {
             f.set_permissions(m.permissions())?;

@@ -24,7 +24,7 @@ mod swap;
 pub use atomic::{remove_temporaries, temporary_target, write_atomic, TEMPORARY_PREFIX};
 pub use names::{host, plain_name, token};
 pub use open::{
-    create_dir, create_new, open_lock, read, read_to_string, real_dir, remove_file_if, replaceable, standing, Refused,
-    Standing,
+    create_dir, create_new, ensure_dir, open_existing, open_lock, read, read_to_string, real_dir, remove_file_if,
+    replaceable, standing, Refused, Standing,
 };
 pub use swap::{copy_link, exchange, hard_link, remove_dir_all, rename, rename_new};

@@ -137,17 +137,36 @@ pub fn create_new(path: &Path) -> io::Result<File> {
 }
 
 /// Open or create a lock file for reading and writing: never through a link, and only
-/// a regular file. Whether it was created is returned with it.
+/// a regular file with one name (a hard link would make two locks one). Whether it was
+/// created is returned with it.
 pub fn open_lock(path: &Path) -> io::Result<(File, bool)> {
     fault::point();
     match no_follow(OpenOptions::new().read(true).write(true).create_new(true)).open(path) {
         Ok(f) => Ok((f, true)),
         Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
             let f = no_follow(OpenOptions::new().read(true).write(true)).open(path).map_err(link_as_refusal)?;
-            Ok((regular(f)?, false))
+            Ok((single_name(regular(f)?)?, false))
         }
         Err(e) => Err(e),
     }
+}
+
+/// Open an existing lock file for reading only (never created, never through a link):
+/// a regular file with one name.
+pub fn open_existing(path: &Path) -> io::Result<File> {
+    single_name(open_read(path)?)
+}
+
+/// The open file, refused when it has more than one name (hard links).
+fn single_name(file: File) -> io::Result<File> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if file.metadata()?.nlink() > 1 {
+            return Err(refused("a file with more than one name (a hard link)"));
+        }
+    }
+    Ok(file)
 }
 
 /// The regular file at `path` that an output would replace, if any. Refused: a link or
@@ -198,6 +217,16 @@ pub fn real_dir(path: &Path) -> io::Result<bool> {
 pub fn create_dir(path: &Path) -> io::Result<()> {
     fault::point();
     std::fs::create_dir(path)
+}
+
+/// The folder `path` of the tool's own, created if missing (its parent must exist):
+/// whether it was created. Refused: a link, a file or a special file at `path`.
+pub fn ensure_dir(path: &Path) -> io::Result<bool> {
+    match create_dir(path) {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => real_dir(path).map(|_| false),
+        Err(e) => Err(e),
+    }
 }
 
 /// Remove the regular file at `path` when `ours` accepts its content (read without
