@@ -263,7 +263,9 @@ fn entries_list(entries: &[String], count: usize) -> String {
 fn holder_text(pid: Option<u32>, host: &Option<String>) -> String {
     match (pid, host) {
         (Some(pid), Some(host)) => format!("pid {pid} on host {host}"),
-        _ => "a run that is starting: its lock records no holder yet".into(),
+        (None, Some(host)) => format!("a lock of host {host} whose record is not the tool's"),
+        (Some(pid), None) => format!("pid {pid}"),
+        (None, None) => "a run that is starting, or a lock whose record is not the tool's".into(),
     }
 }
 

@@ -36,6 +36,77 @@ pub(crate) struct Holder {
     started_unix_s: u64,
 }
 
+/// The longest host name a lock may record (Linux's `HOST_NAME_MAX` is 64; a fully
+/// qualified name is at most 253 characters).
+const MAX_HOST_CHARS: usize = 253;
+
+/// What a lock file found on disk records, checked as input: a lock is a record another
+/// process (or a user) may have written.
+#[derive(Debug, Clone)]
+pub(crate) enum Recorded {
+    /// Nothing (a run killed between creating the file and writing it).
+    Empty,
+    /// A holder with every field, each valid.
+    Holder(Holder),
+    /// Text that is not a valid holder: why, and the host it names if it names one.
+    Invalid { why: String, host: Option<String> },
+}
+
+impl Recorded {
+    /// Check the text of a lock file.
+    pub(crate) fn parse(text: &str) -> Recorded {
+        if text.trim().is_empty() {
+            return Recorded::Empty;
+        }
+        let value: serde_json::Value = match serde_json::from_str(text) {
+            Ok(v) => v,
+            Err(e) => return Recorded::Invalid { why: format!("not JSON ({e})"), host: None },
+        };
+        let host = value.get("host").and_then(|h| h.as_str()).filter(|h| valid_host(h)).map(str::to_string);
+        let invalid = |why: String| Recorded::Invalid { why, host: host.clone() };
+        let h: Holder = match serde_json::from_value(value.clone()) {
+            Ok(h) => h,
+            Err(e) => return invalid(format!("not a lock record ({e})")),
+        };
+        if h.pid == 0 {
+            return invalid("pid 0".into());
+        }
+        if !valid_host(&h.host) {
+            return invalid("a host name that is empty, too long or not printable".into());
+        }
+        Recorded::Holder(h)
+    }
+
+    /// The holder, if valid.
+    fn holder(&self) -> Option<&Holder> {
+        match self {
+            Recorded::Holder(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// How a message names the holder (`None`: not recorded).
+    pub(crate) fn shown(&self) -> Option<String> {
+        (!matches!(self, Recorded::Empty)).then(|| self.describe())
+    }
+
+    /// How a message names the holder: `pid P on host H`, or what the record is.
+    pub(crate) fn describe(&self) -> String {
+        match self {
+            Recorded::Empty => "holder not recorded".into(),
+            Recorded::Holder(h) => format!("pid {} on host {}", h.pid, h.host),
+            Recorded::Invalid { why, host: Some(host) } => {
+                format!("a record naming host {host} that is invalid: {why}")
+            }
+            Recorded::Invalid { why, host: None } => format!("a record that is invalid: {why}"),
+        }
+    }
+}
+
+fn valid_host(h: &str) -> bool {
+    !h.is_empty() && h.chars().count() <= MAX_HOST_CHARS && h.chars().all(|c| !c.is_control() && !c.is_whitespace())
+}
+
 fn host() -> String {
     gethostname::gethostname().to_string_lossy().into_owned()
 }
@@ -58,35 +129,41 @@ impl Drop for LockFile {
 
 /// One try at a lock file.
 enum Attempt {
-    /// Locked; the holder the file recorded, if it was left by an earlier run (`Some(None)`
-    /// when it recorded none).
-    Locked(LockFile, Option<Option<Holder>>),
+    /// Locked; what the file recorded, if it was left by an earlier run.
+    Locked(LockFile, Option<Recorded>),
     /// Another process holds it.
-    Busy(Option<Holder>),
-    /// Lockable, but it records another host (refused by the caller's choice).
-    OtherHost(Holder),
+    Busy(Recorded),
+    /// Lockable, but it records another host, or is invalid so that its host is unknown
+    /// (refused by the caller's choice).
+    OtherHost(Recorded),
 }
 
-/// Try the lock file at `path` once for `study`: create it or open it, flock it without
-/// waiting, and write this process into it. A lockable file is stale and taken over,
-/// except one recording another host when `other_host_is_live`.
+/// Try the lock file at `path` once for `study`: create it or open it (never through a
+/// link, only a regular file with one name: [`crate::files::open_lock`]), flock it
+/// without waiting, and write this process into it. A lockable file is stale and taken
+/// over, except, when `other_host_is_live`, one recording another host or one whose
+/// record is invalid (its host cannot be told). A lock held by this very process (two
+/// of its lock names leading to one file) is an error, never "another task".
 fn try_lock(path: &Path, study: &str, other_host_is_live: bool) -> Result<Attempt, Error> {
     let me = host();
     for _ in 0..LOCK_ATTEMPTS {
-        let mut options = std::fs::OpenOptions::new();
-        options.read(true).write(true);
-        let (mut file, fresh) = match options.clone().create_new(true).open(path) {
-            Ok(f) => (f, true),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => match options.open(path) {
-                Ok(f) => (f, false),
-                Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
-                Err(e) => return Err(output_error(path, e)),
-            },
-            Err(e) => return Err(output_error(path, e)),
+        let (mut file, fresh) = match crate::files::open_lock(path) {
+            Ok(opened) => opened,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
+            Err(e) => return Err(Error::io(path, &e)),
         };
         match FileExt::try_lock(&file) {
             Ok(()) => {}
-            Err(TryLockError::WouldBlock) => return Ok(Attempt::Busy(read_holder(&mut file))),
+            Err(TryLockError::WouldBlock) => {
+                let recorded = read_record(&mut file);
+                if let Some(h) = recorded.holder().filter(|h| h.pid == std::process::id() && h.host == me) {
+                    return Err(output_error(
+                        path,
+                        format!("this run itself (pid {}) holds this lock under another name: two of the study's lock files are one file", h.pid),
+                    ));
+                }
+                return Ok(Attempt::Busy(recorded));
+            }
             Err(TryLockError::Error(e)) => return Err(output_error(path, format!("cannot lock: {e}"))),
         }
         // Its holder may have removed the file between the open and the lock: this
@@ -94,9 +171,16 @@ fn try_lock(path: &Path, study: &str, other_host_is_live: bool) -> Result<Attemp
         if !same_file(&file, path) {
             continue;
         }
-        let previous = if fresh { None } else { read_holder(&mut file) };
-        if let Some(h) = previous.as_ref().filter(|h| h.host != me && other_host_is_live) {
-            return Ok(Attempt::OtherHost(h.clone()));
+        let previous = if fresh { Recorded::Empty } else { read_record(&mut file) };
+        if other_host_is_live {
+            let foreign = match &previous {
+                Recorded::Holder(h) => h.host != me,
+                Recorded::Invalid { host, .. } => host.as_deref() != Some(me.as_str()),
+                Recorded::Empty => false,
+            };
+            if foreign {
+                return Ok(Attempt::OtherHost(previous));
+            }
         }
         let holder = Holder {
             pid: std::process::id(),
@@ -136,24 +220,28 @@ pub(crate) struct StudyLock {
     pub(crate) taken_over: Option<String>,
 }
 
-fn taken_over_note(previous: Option<Option<Holder>>) -> Option<String> {
+fn taken_over_note(previous: Option<Recorded>) -> Option<String> {
     previous.map(|p| match p {
-        Some(h) => format!(
+        Recorded::Holder(h) => format!(
             "note: took over the lock of an earlier run (pid {} on host {}) that is no longer running",
             h.pid, h.host
         ),
-        None => "note: took over a lock left by an earlier run that is no longer running".to_string(),
+        Recorded::Empty => "note: took over a lock left by an earlier run that is no longer running".to_string(),
+        invalid => format!(
+            "warning: took over a lock that no process holds, whose record was not the tool's ({})",
+            invalid.describe()
+        ),
     })
 }
 
 impl StudyLock {
-    fn locked(out: &Path, h: Option<Holder>) -> Error {
-        Error::StudyLocked {
-            dir: out.display().to_string(),
-            lock: out.join(LOCK).display().to_string(),
-            pid: h.as_ref().map(|h| h.pid),
-            host: h.map(|h| h.host),
-        }
+    fn locked(out: &Path, r: Recorded) -> Error {
+        let (pid, host) = match r {
+            Recorded::Holder(h) => (Some(h.pid), Some(h.host)),
+            Recorded::Invalid { host, .. } => (None, host),
+            Recorded::Empty => (None, None),
+        };
+        Error::StudyLocked { dir: out.display().to_string(), lock: out.join(LOCK).display().to_string(), pid, host }
     }
 
     /// Take the lock of `out` for `study`, or refuse with [`Error::StudyLocked`].
@@ -161,7 +249,7 @@ impl StudyLock {
         match try_lock(&out.join(LOCK), study, true)? {
             Attempt::Locked(file, previous) => Ok(StudyLock { _file: file, taken_over: taken_over_note(previous) }),
             Attempt::Busy(h) => Err(StudyLock::locked(out, h)),
-            Attempt::OtherHost(h) => Err(StudyLock::locked(out, Some(h))),
+            Attempt::OtherHost(h) => Err(StudyLock::locked(out, h)),
         }
     }
 
@@ -176,7 +264,7 @@ impl StudyLock {
                 }
                 Attempt::Busy(h) if std::time::Instant::now() >= deadline => return Err(StudyLock::locked(out, h)),
                 Attempt::OtherHost(h) if std::time::Instant::now() >= deadline => {
-                    return Err(StudyLock::locked(out, Some(h)))
+                    return Err(StudyLock::locked(out, h))
                 }
                 Attempt::Busy(_) | Attempt::OtherHost(_) => std::thread::sleep(SETUP_LOCK_POLL),
             }
@@ -191,53 +279,53 @@ pub(crate) struct CaseLock {
 }
 
 impl CaseLock {
-    /// Take the lock of case folder `dir`: `Err(holder)` if another run holds it after
-    /// [`CASE_LOCK_TRIES`] tries.
-    pub(crate) fn acquire(dir: &Path, study: &str) -> Result<Result<CaseLock, Option<Holder>>, Error> {
-        let mut last = None;
+    /// Take the lock of case folder `dir`: `Err(what the lock records)` if another run
+    /// holds it after [`CASE_LOCK_TRIES`] tries.
+    pub(crate) fn acquire(dir: &Path, study: &str) -> Result<Result<CaseLock, Recorded>, Error> {
+        let mut last = Recorded::Empty;
         for attempt in 0..CASE_LOCK_TRIES {
             if attempt > 0 {
                 std::thread::sleep(CASE_LOCK_PAUSE);
             }
             match try_lock(&dir.join(CASE_LOCK), study, false)? {
                 Attempt::Locked(file, _) => return Ok(Ok(CaseLock { _file: file })),
-                Attempt::Busy(h) => last = h,
-                Attempt::OtherHost(h) => last = Some(h),
+                Attempt::Busy(h) | Attempt::OtherHost(h) => last = h,
             }
         }
         Ok(Err(last))
     }
 }
 
-/// Whether another process holds the case lock of `dir` now (`study status`): the holder
-/// (`None` inside when it recorded none), or `None` when no one does. Never writes: a
-/// missing lock file is not created, and a stale one is left as it is.
+/// Whether another process holds the case lock of `dir` now (`study status`): how the
+/// lock names its holder (`Some(None)`: not recorded), or `None` when no one holds it. Never writes: a missing lock
+/// file is not created, and a stale one is left as it is; a link or a file with other
+/// names there is no lock of the study's (`None`).
 pub(crate) fn case_running(dir: &Path) -> Option<Option<String>> {
-    let mut file = std::fs::OpenOptions::new().read(true).open(dir.join(CASE_LOCK)).ok()?;
+    let mut file = crate::files::open_existing(&dir.join(CASE_LOCK)).ok()?;
     match FileExt::try_lock_shared(&file) {
         Ok(()) => {
             let _ = FileExt::unlock(&file);
             None
         }
-        Err(TryLockError::WouldBlock) => {
-            Some(read_holder(&mut file).map(|h| format!("pid {} on host {}", h.pid, h.host)))
-        }
+        Err(TryLockError::WouldBlock) => Some(read_record(&mut file).shown()),
         Err(TryLockError::Error(_)) => None,
     }
 }
 
-fn read_holder(file: &mut File) -> Option<Holder> {
+/// What the open lock file records (read from its start).
+fn read_record(file: &mut File) -> Recorded {
     let mut text = String::new();
-    file.rewind().ok()?;
-    file.read_to_string(&mut text).ok()?;
-    serde_json::from_str(&text).ok()
+    if file.rewind().is_err() || file.read_to_string(&mut text).is_err() {
+        return Recorded::Invalid { why: "cannot be read as text".into(), host: None };
+    }
+    Recorded::parse(&text)
 }
 
 /// Whether the open `file` is the file at `path` now.
 #[cfg(unix)]
 fn same_file(file: &File, path: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
-    match (file.metadata(), std::fs::metadata(path)) {
+    match (file.metadata(), std::fs::symlink_metadata(path)) {
         (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
         _ => false,
     }
@@ -247,5 +335,5 @@ fn same_file(file: &File, path: &Path) -> bool {
 /// file is there).
 #[cfg(not(unix))]
 fn same_file(_: &File, path: &Path) -> bool {
-    path.exists()
+    std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file())
 }
