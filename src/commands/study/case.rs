@@ -102,3 +102,99 @@ pub fn case_id(case: &Case) -> String {
     }
     format!("{}@{}", case.slug, &format!("{:x}", h.finalize())[..CASE_ID_HEX])
 }
+
+/// The largest `result.json` read back (bytes): a case's metrics and warnings take a few
+/// kilobytes, so anything near this is not the tool's record.
+const MAX_RESULT_BYTES: u64 = 1 << 24;
+
+/// Metrics that are counts (non-negative integers).
+const COUNT_METRICS: [&str; 4] =
+    ["regions", "regions_in_bands_before", "regions_in_bands_after", "floquet_evaluations"];
+/// Metrics that are text.
+const TEXT_METRICS: [&str; 2] = ["design_status", "lowest_onset_region"];
+/// Metrics that are true or false.
+const FLAG_METRICS: [&str; 1] = ["verified"];
+/// The metric that lists warnings (texts).
+const WARNINGS_METRIC: &str = "warnings";
+
+/// Why one metric value is not of the kind [`super::run_case`] writes for its key:
+/// counts, texts, flags and the warning list by name, every other key a number (or
+/// null where there is none).
+fn metric_fault(key: &str, v: &serde_json::Value) -> Option<&'static str> {
+    use serde_json::Value;
+    let ok = if COUNT_METRICS.contains(&key) {
+        v.as_u64().is_some()
+    } else if TEXT_METRICS.contains(&key) {
+        v.is_string() || v.is_null()
+    } else if FLAG_METRICS.contains(&key) {
+        v.is_boolean()
+    } else if key == WARNINGS_METRIC {
+        v.as_array().is_some_and(|a| a.iter().all(Value::is_string))
+    } else {
+        v.as_f64().is_some_and(f64::is_finite) || v.is_null()
+    };
+    (!ok).then(|| {
+        if COUNT_METRICS.contains(&key) {
+            "is not a count"
+        } else if TEXT_METRICS.contains(&key) {
+            "is not a text"
+        } else if FLAG_METRICS.contains(&key) {
+            "is not true or false"
+        } else if key == WARNINGS_METRIC {
+            "is not a list of texts"
+        } else {
+            "is not a finite number"
+        }
+    })
+}
+
+impl CaseResult {
+    /// Check a result read back from disk as input, against the case of the plan it
+    /// stands for: the same case (name, folder, kind, overrides), a status that agrees
+    /// with its error, a wall time that is a finite number of seconds ≥ 0, and every
+    /// metric of the kind the tool writes. The first fault found, as `field: why`.
+    pub(crate) fn check(&self, case: &Case) -> Result<(), String> {
+        let fault = |field: &str, why: &str| Err(format!("{field} {why}"));
+        if self.name != case.name || self.slug != case.slug {
+            return fault("name", "is not the case's of this folder");
+        }
+        if self.kind != case.kind || self.overrides != case.overrides {
+            return fault("kind and overrides", "are not the case's in the plan");
+        }
+        if !(self.seconds.is_finite() && self.seconds >= 0.0) {
+            return Err(format!("seconds = {} is not a wall time (finite, ≥ 0)", self.seconds));
+        }
+        match (self.status, &self.error) {
+            (CaseStatus::Ok, Some(_)) => return fault("error", "is given for a case whose status is ok"),
+            (CaseStatus::Failed, None) => return fault("error", "is missing for a failed case"),
+            _ => {}
+        }
+        if let Some((k, why)) = self.metrics.iter().find_map(|(k, v)| metric_fault(k, v).map(|why| (k, why))) {
+            return Err(format!("metric `{k}` {why}"));
+        }
+        Ok(())
+    }
+}
+
+/// The `result.json` of case folder `dir`, read back as input for `case`: `None` when
+/// there is none, `Err(why)` when it is not a valid result of that case (a link or
+/// special file, too large, not JSON of a result, or failing [`CaseResult::check`]).
+pub(crate) fn read_result(dir: &std::path::Path, case: &Case) -> Option<Result<CaseResult, String>> {
+    let path = dir.join("result.json");
+    let bytes = match crate::files::standing(&path) {
+        Ok(crate::files::Standing::Missing) => return None,
+        Ok(crate::files::Standing::File(m)) if m.len() > MAX_RESULT_BYTES => {
+            return Some(Err(format!("{} bytes, more than a result holds", m.len())))
+        }
+        _ => match crate::files::read(&path) {
+            Ok(b) => b,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
+            Err(e) => return Some(Err(e.to_string())),
+        },
+    };
+    Some(
+        serde_json::from_slice::<CaseResult>(&bytes)
+            .map_err(|e| format!("not a result ({e})"))
+            .and_then(|r| r.check(case).map(|()| r)),
+    )
+}

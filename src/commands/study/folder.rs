@@ -96,6 +96,10 @@ pub struct Manifest {
     pub created: BTreeSet<String>,
     /// The temporaries a killed run may leave.
     pub temporaries: String,
+    /// Entries of `created` as found on disk that are not plain names inside the folder
+    /// (`../x`, absolute paths): dropped when read, never followed, and warned about.
+    #[serde(skip)]
+    pub ignored: Vec<String>,
 }
 
 /// Who a study is: its file and its plan.
@@ -122,6 +126,7 @@ impl Manifest {
             case: None,
             created: BTreeSet::new(),
             temporaries: TEMPORARIES.into(),
+            ignored: Vec::new(),
         }
     }
 
@@ -137,11 +142,18 @@ impl Manifest {
             case: Some(name.into()),
             created: BTreeSet::new(),
             temporaries: TEMPORARIES.into(),
+            ignored: Vec::new(),
         }
     }
 
+    /// A manifest read back from disk, checked as input: its format and role, and its
+    /// entries (those that are not plain names are moved to `ignored`).
     pub(crate) fn parse(text: &str, role: Role) -> Result<Manifest, String> {
-        let m: Manifest = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let mut m: Manifest = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let (plain, ignored): (BTreeSet<String>, BTreeSet<String>) =
+            std::mem::take(&mut m.created).into_iter().partition(|n| crate::files::plain_name(n).is_some());
+        m.created = plain;
+        m.ignored = ignored.into_iter().collect();
         if m.format != MANIFEST_FORMAT {
             return Err(format!("format {} (this build reads {MANIFEST_FORMAT})", m.format));
         }
@@ -149,6 +161,25 @@ impl Manifest {
             return Err(format!("role {:?}, expected {role:?}", m.role).to_lowercase());
         }
         Ok(m)
+    }
+}
+
+impl Manifest {
+    /// The warning on the entries dropped when it was read (none if there were none).
+    pub(crate) fn ignored_warning(&self, path: &Path) -> Option<String> {
+        (!self.ignored.is_empty()).then(|| {
+            let shown: Vec<String> =
+                self.ignored.iter().take(LISTED_ENTRIES).map(|n| format!("{n:?}")).collect();
+            format!(
+                "warning: {} records {} entr{} that {} not a plain name inside the folder ({}{}): ignored, never followed, and dropped from the record",
+                path.display(),
+                self.ignored.len(),
+                if self.ignored.len() == 1 { "y" } else { "ies" },
+                if self.ignored.len() == 1 { "is" } else { "are" },
+                shown.join(", "),
+                if self.ignored.len() > LISTED_ENTRIES { ", …" } else { "" }
+            )
+        })
     }
 }
 
@@ -181,6 +212,12 @@ impl Ledger {
     pub(crate) fn flush(&self) -> Result<(), Error> {
         let m = self.record();
         self.save(&m)
+    }
+
+    /// The warning on entries of the manifest as found that were dropped (see
+    /// [`Manifest::ignored_warning`]).
+    pub(crate) fn ignored_warning(&self) -> Option<String> {
+        self.record().ignored_warning(&self.path)
     }
 
     /// Whether the study created `name` in this folder.
@@ -230,7 +267,7 @@ pub(crate) fn inspect_as(
         Err(e) => return Err(output_error(out, e)),
     };
     let other = |owner: String| Error::OtherStudy { dir: out.display().to_string(), owner };
-    let manifest = match std::fs::read_to_string(out.join(MANIFEST)) {
+    let manifest = match crate::files::read_to_string(&out.join(MANIFEST)) {
         Ok(text) => {
             let m = Manifest::parse(&text, Role::Study)
                 .map_err(|e| other(format!("a study manifest {MANIFEST} that cannot be read ({e})")))?;
@@ -292,6 +329,7 @@ pub(crate) fn open_root_with(
     let mut manifest = match found {
         None => Manifest::study(id),
         Some(mut m) => {
+            notes.extend(m.ignored_warning(&out.join(MANIFEST)));
             if m.study != id.study {
                 notes.push(format!(
                     "note: the study file moved from {} (same plan): the manifest now names it",
@@ -321,7 +359,7 @@ pub(crate) fn open_root_with(
 /// The manifest of a study's `--out` folder as it is, for reading (`status`, `merge`, the
 /// shard count of a Slurm task): `None` without one.
 pub(crate) fn read_manifest(out: &Path) -> Result<Option<Manifest>, String> {
-    match std::fs::read_to_string(out.join(MANIFEST)) {
+    match crate::files::read_to_string(&out.join(MANIFEST)) {
         Ok(text) => Manifest::parse(&text, Role::Study).map(Some),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(e.to_string()),
@@ -350,23 +388,25 @@ pub(crate) enum CaseFolder {
 /// written and the temporaries of recorded files removed.
 pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolder, Error> {
     let path = dir.join(CASE_MANIFEST);
-    match std::fs::create_dir(dir) {
+    match crate::files::create_dir(dir) {
         Ok(()) => {}
         Err(e) if e.kind() == io::ErrorKind::AlreadyExists => check_case_folder(dir)?,
         Err(e) => return Err(output_error(dir, e)),
     }
     let lock = match CaseLock::acquire(dir, study)? {
         Ok(lock) => lock,
-        Err(holder) => return Ok(CaseFolder::Busy(holder.map(|h| format!("pid {} on host {}", h.pid, h.host)))),
+        Err(holder) => return Ok(CaseFolder::Busy(holder.shown())),
     };
-    let found = match std::fs::read_to_string(&path) {
+    let found = match crate::files::read_to_string(&path) {
         Ok(text) => Some(Manifest::parse(&text, Role::Case).map_err(|e| output_error(&path, e))?),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-        Err(e) => return Err(output_error(&path, e)),
+        Err(e) => return Err(Error::io(&path, &e)),
     };
-    let fresh = found.is_none();
+    // A new manifest is written at once, and one found with entries that are not plain
+    // names is written back without them.
+    let rewrite = found.as_ref().is_none_or(|m| !m.ignored.is_empty());
     let ledger = Ledger::new(path, found.unwrap_or_else(|| Manifest::case(study, name)));
-    if fresh {
+    if rewrite {
         ledger.flush()?;
     }
     remove_temporaries(dir, |t| t == CASE_MANIFEST || ledger.owns(t)).map_err(|e| output_error(dir, e))?;
@@ -376,11 +416,20 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolde
 /// Whether an existing case folder is the study's (see [`open_case`]).
 fn check_case_folder(dir: &Path) -> Result<(), Error> {
     let not_owned = || Error::NotOwned { path: dir.display().to_string() };
-    if !std::fs::symlink_metadata(dir).map_err(|e| output_error(dir, e))?.is_dir() {
-        return Err(not_owned());
+    // A link in place of a case folder is refused (never followed), a file is the user's.
+    match crate::files::real_dir(dir) {
+        Ok(true) => {}
+        Ok(false) => return Err(output_error(dir, "it disappeared while the study opened it")),
+        Err(e)
+            if e.kind() == io::ErrorKind::InvalidInput
+                && crate::files::standing(dir).is_ok_and(|s| matches!(s, crate::files::Standing::File(_))) =>
+        {
+            return Err(not_owned())
+        }
+        Err(e) => return Err(Error::io(dir, &e)),
     }
     let path = dir.join(CASE_MANIFEST);
-    match std::fs::read_to_string(&path) {
+    match crate::files::read_to_string(&path) {
         Ok(text) => Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e)),
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
             for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
@@ -392,6 +441,6 @@ fn check_case_folder(dir: &Path) -> Result<(), Error> {
             }
             Ok(())
         }
-        Err(e) => Err(output_error(&path, e)),
+        Err(e) => Err(Error::io(&path, &e)),
     }
 }

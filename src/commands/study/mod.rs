@@ -138,6 +138,9 @@ enum Outcome {
     Skipped(CaseResult),
     /// Another task holds it: its name and holder.
     Busy(String, Option<String>),
+    /// Run again (`--force`), but its new result could not be written: the earlier
+    /// result of the same inputs, which the folder still holds, and why.
+    Kept(CaseResult, String),
 }
 
 /// Everything a case needs from its study.
@@ -150,6 +153,9 @@ struct Run<'a> {
     force: bool,
     task: TaskRecord,
     budget: Budget,
+    /// Warnings on what the case folders held (records with entries that are not plain
+    /// names), in the order found.
+    notes: std::sync::Mutex<Vec<String>>,
 }
 
 impl Run<'_> {
@@ -175,13 +181,18 @@ impl Run<'_> {
         let path = self.cases_dir.join(&case.slug);
         // The case lock is held until this function returns: through the commit.
         let (dir, _lock) = match folder::open_case(&path, self.study, &case.name) {
-            Ok(CaseFolder::Held(ledger, lock)) => (OutDir::planned(&path, self.inputs).with_ledger(*ledger), lock),
+            Ok(CaseFolder::Held(ledger, lock)) => {
+                if let Some(w) = ledger.ignored_warning() {
+                    self.notes.lock().unwrap_or_else(|e| e.into_inner()).push(w);
+                }
+                (OutDir::planned(&path, self.inputs).with_ledger(*ledger), lock)
+            }
             Ok(CaseFolder::Busy(holder)) => return Outcome::Busy(case.name.clone(), holder),
             // Not this study's folder: nothing is written into it, not even the result.
             Err(e) => return Outcome::Ran(row(CaseStatus::Failed, Some(e.to_string()), BTreeMap::new())),
         };
         if !self.force {
-            if let Some(r) = finished(&dir, &hash) {
+            if let Some(r) = finished(&dir, &case, &hash) {
                 return Outcome::Skipped(r);
             }
         }
@@ -192,7 +203,7 @@ impl Run<'_> {
         // A failure never replaces a finished result that another task committed meanwhile
         // (on a filesystem whose locks do not reach across nodes).
         if r.status != CaseStatus::Ok {
-            if let Some(done) = finished(&dir, &hash) {
+            if let Some(done) = finished(&dir, &case, &hash) {
                 return Outcome::Skipped(done);
             }
         }
@@ -201,11 +212,16 @@ impl Run<'_> {
             json_pretty(&r, "result.json").and_then(|text| dir.write("result.json", (text + "\n").as_bytes()));
         match written {
             Ok(()) => Outcome::Ran(r),
-            Err(e) => Outcome::Ran(CaseResult {
-                status: CaseStatus::Failed,
-                error: Some(format!("cannot write result.json: {e}")),
-                ..r
-            }),
+            // The earlier result of the same inputs is still what the folder holds (the
+            // write is atomic): it stays what the summary and `study status` show.
+            Err(e) => match finished(&dir, &case, &hash) {
+                Some(done) => Outcome::Kept(done, e.to_string()),
+                None => Outcome::Ran(CaseResult {
+                    status: CaseStatus::Failed,
+                    error: Some(format!("cannot write result.json: {e}")),
+                    ..r
+                }),
+            },
         }
     }
 }
@@ -294,11 +310,8 @@ pub fn study_cmd(
     ledger.claim(CASES, &out.join(CASES))?;
     let root = root.with_ledger(ledger);
     let cases_dir = out.join(CASES);
-    match std::fs::create_dir(&cases_dir) {
-        Ok(()) => {}
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && cases_dir.is_dir() => {}
-        Err(e) => return Err(root.error(CASES, e)),
-    }
+    // A link, file or special file at `cases` is refused, never followed.
+    crate::files::ensure_dir(&cases_dir).map_err(|e| Error::io(&cases_dir, &e))?;
     let lock = if sharded {
         drop(lock);
         None
@@ -320,6 +333,7 @@ pub fn study_cmd(
         force: options.force,
         task: TaskRecord::current(shard),
         budget,
+        notes: std::sync::Mutex::new(Vec::new()),
     };
     // Cases in parallel (the outermost loop), each built from its index when it runs;
     // results in case order.
@@ -331,12 +345,20 @@ pub fn study_cmd(
             r
         })
         .collect();
+    let mut case_notes = std::mem::take(&mut *run.notes.lock().unwrap_or_else(|e| e.into_inner()));
+    case_notes.sort();
+    notes.extend(case_notes);
     let mut rows: Vec<&CaseResult> = Vec::new();
     let mut busy = Vec::new();
+    let mut kept = Vec::new();
     let mut skipped = 0;
     for o in &outcomes {
         match o {
             Outcome::Ran(r) => rows.push(r),
+            Outcome::Kept(r, why) => {
+                rows.push(r);
+                kept.push((&r.name, why));
+            }
             Outcome::Skipped(r) => {
                 rows.push(r);
                 skipped += 1;
@@ -374,6 +396,11 @@ pub fn study_cmd(
     };
     for r in rows.iter().filter(|r| r.status != CaseStatus::Ok) {
         text += &format!("failed: {}: {}\n", r.name, r.error.clone().unwrap_or_default());
+    }
+    for (name, why) in &kept {
+        text += &format!(
+            "not saved: {name}: cannot write result.json ({why}); the earlier result of the same inputs stays, in the summary too\n"
+        );
     }
     for (name, holder) in &busy {
         text += &format!(

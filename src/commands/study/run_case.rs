@@ -127,13 +127,13 @@ pub(super) fn run_case(
     Ok(m)
 }
 
-/// A previous result of this case with the same input, if it succeeded (and the study
-/// wrote it).
-pub(super) fn finished(dir: &OutDir, hash: &str) -> Option<CaseResult> {
+/// A previous result of this case with the same input, if it succeeded, the study wrote
+/// it and it is a valid record of this case ([`CaseResult::check`]; an invalid one is
+/// recomputed).
+pub(super) fn finished(dir: &OutDir, case: &Case, hash: &str) -> Option<CaseResult> {
     if !dir.ledger().is_some_and(|l| l.owns("result.json")) {
         return None;
     }
-    let bytes = crate::problem::read_input(&dir.path("result.json")).ok()?;
-    let r: CaseResult = serde_json::from_slice(&bytes).ok()?;
+    let r = super::case::read_result(&dir.path(""), case)?.ok()?;
     (r.input_hash == hash && r.status == CaseStatus::Ok).then_some(r)
 }

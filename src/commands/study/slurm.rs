@@ -310,11 +310,8 @@ pub fn slurm_cmd(file: &Path, out: &Path, o: &SlurmOptions) -> Result<String, Er
     ledger.claim(SLURM_DIR, &out.join(SLURM_DIR))?;
     let root = root.with_ledger(ledger);
     for d in [out.join(CASES), out.join(SLURM_DIR), out.join(SLURM_DIR).join(LOGS)] {
-        match std::fs::create_dir(&d) {
-            Ok(()) => {}
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && d.is_dir() => {}
-            Err(e) => return Err(root.error(&d.display().to_string(), e)),
-        }
+        // A link, file or special file there is refused, never followed.
+        crate::files::ensure_dir(&d).map_err(|e| Error::io(&d, &e))?;
     }
     drop(lock);
     let abs = std::fs::canonicalize(out).map_err(|e| root.error("", e))?;

@@ -120,7 +120,7 @@ fn folder_key(name: &str) -> u64 {
 
 /// Whether the case folder's manifest records that the study wrote its `result.json`.
 fn owns_result(case_dir: &Path) -> bool {
-    std::fs::read_to_string(case_dir.join(CASE_MANIFEST))
+    crate::files::read_to_string(&case_dir.join(CASE_MANIFEST))
         .ok()
         .and_then(|t| Manifest::parse(&t, Role::Case).ok())
         .is_some_and(|m| m.created.contains("result.json"))
@@ -137,7 +137,7 @@ fn survey(dir: &Path, shards: Option<u32>, owned_only: bool) -> Result<Survey, E
         Err(e) => return Err(not_a_study(e)),
     };
     let loaded = load_study(Path::new(&manifest.study))?;
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<String> = manifest.ignored_warning(&dir.join(MANIFEST)).into_iter().collect();
     if manifest.plan_sha256.as_deref() != Some(&loaded.identity.plan) {
         warnings.push(format!(
             "warning: the study file {} no longer gives the folder's plan (plan {} recorded, {} now): the cases are those of the file as it is now",
@@ -158,14 +158,20 @@ fn survey(dir: &Path, shards: Option<u32>, owned_only: bool) -> Result<Survey, E
     let cases = dir.join(CASES);
     let stale = std::sync::Mutex::new(Vec::new());
     let foreign = std::sync::Mutex::new(Vec::new());
+    let invalid = std::sync::Mutex::new(Vec::new());
     let states: Vec<(CaseState, Option<CaseResult>)> = (0..plan.len())
         .into_par_iter()
         .map(|i| {
             let case = plan.case(i);
             let case_dir = cases.join(&case.slug);
-            let result = crate::problem::read_input(&case_dir.join("result.json"))
-                .ok()
-                .and_then(|b| serde_json::from_slice::<CaseResult>(&b).ok());
+            let result = match super::case::read_result(&case_dir, &case) {
+                Some(Ok(r)) => Some(r),
+                Some(Err(why)) => {
+                    invalid.lock().unwrap_or_else(|e| e.into_inner()).push(format!("{CASES}/{} ({why})", case.slug));
+                    None
+                }
+                None => None,
+            };
             let state = match result {
                 Some(r) if r.input_hash == hasher.of(&case, &plan.study) => {
                     if owned_only && !owns_result(&case_dir) {
@@ -205,6 +211,8 @@ fn survey(dir: &Path, shards: Option<u32>, owned_only: bool) -> Result<Survey, E
     stale.sort();
     let mut foreign = foreign.into_inner().unwrap_or_else(|e| e.into_inner());
     foreign.sort();
+    let mut invalid = invalid.into_inner().unwrap_or_else(|e| e.into_inner());
+    invalid.sort();
     warnings.extend(warn_list(
         "folders not in the plan",
         &outside,
@@ -214,6 +222,11 @@ fn survey(dir: &Path, shards: Option<u32>, owned_only: bool) -> Result<Survey, E
         "results from other inputs",
         &stale,
         "computed for an older plan (other overrides, base or study parameters): ignored, the cases count as missing",
+    ));
+    warnings.extend(warn_list(
+        "results that are not valid records",
+        &invalid,
+        "read back as input and refused: not merged, the cases count as missing and the next run recomputes them",
     ));
     warnings.extend(warn_list(
         "results not written by this study",
