@@ -142,7 +142,7 @@ fn overflowing_shaft_quantities_are_bad_input_at_their_key() {
         let (file, line) = edited(base, name, from, to);
         let e = same_as_check(&file, &["modes"]);
         at_key(&e, &file, line, key);
-        assert!(e.contains("from 1e-150 to 1e150 in SI units"), "{e}");
+        assert!(e.contains("between 1e-150 and 1e150 (SI units; here "), "{e}");
     }
 }
 

@@ -93,7 +93,7 @@ pub(super) fn derived(value: f64, what: &str, factors: &[Factor]) -> Result<f64,
         .max_by(|a, b| weight(a).total_cmp(&weight(b)))
         .map_or((String::new(), value), |f| (f.0.clone(), f.1));
     let range = format!(
-        "one that gives a {what} from {} to {} in SI units (here {})",
+        "one that keeps the {what} between {} and {} (SI units; here {})",
         limits::number(lo),
         limits::number(hi),
         limits::number(value)
