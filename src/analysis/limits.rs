@@ -17,6 +17,13 @@ use thiserror::Error;
 /// of a high φ is small (the steps per period do not grow), so the bound is for sense.
 pub const MAX_PHI: f64 = 1e7;
 
+/// Highest speed Ω (rad/s) of an unbalance response (`unbalance --speeds`,
+/// `[design.response]`): the same 10⁷ rad/s as [`MAX_PHI`], since the unbalance force
+/// m·e·Ω² excites the rotor at the frequency Ω, and a rotor's excitation beyond 1.6 MHz
+/// is a slip of units or digits (at 1e300 rad/s, Ω² overflows and the response cannot be
+/// solved at all). The whirl solvers' speed has no maximum ([`speed`]).
+pub const MAX_RESPONSE_SPEED: f64 = MAX_PHI;
+
 /// Largest ratio hi/lo of a φ range (catalogue, band window, design range): four decades.
 /// The seeds, the guard lattice and the edge marches of a range all grow with its ratio,
 /// and tongues four decades apart belong to unrelated parts of the spectrum: split such a
@@ -293,6 +300,19 @@ pub fn phi_op(phi_op: f64, range: Interval) -> Result<f64, ParamError> {
 /// ([`crate::analysis::cost`]) when Ω makes it too long.
 pub fn speed(speed: f64) -> Result<f64, ParamError> {
     non_negative(Quantity::Speed, speed)
+}
+
+/// A speed Ω (rad/s) of an unbalance response: finite, ≥ 0, at most
+/// [`MAX_RESPONSE_SPEED`].
+pub fn response_speed(speed: f64) -> Result<f64, ParamError> {
+    at_most(Quantity::Speed, non_negative(Quantity::Speed, speed)?, MAX_RESPONSE_SPEED, "rad/s")
+}
+
+/// A speed of an unbalance response given in rpm (n, with Ω = n·π/30): finite, ≥ 0, at
+/// most [`MAX_RESPONSE_SPEED`] in rpm, so the key in rpm is refused in its own unit.
+pub fn response_speed_rpm(rpm: f64) -> Result<f64, ParamError> {
+    let max = MAX_RESPONSE_SPEED * 30.0 / std::f64::consts::PI;
+    at_most(Quantity::Speed, non_negative(Quantity::Speed, rpm)?, max, "rpm")
 }
 
 /// A whole number from `min` to `max`.

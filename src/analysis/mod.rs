@@ -98,7 +98,7 @@ pub enum AnalysisError {
     },
     /// The model has no whirl mode at the speed: every eigenvalue is non-oscillatory
     /// (|Im λ| ≤ oscillation_tolerance·|λ|) or not finite.
-    #[error("no whirl mode at speed {speed} rad/s: all {eigenvalues} eigenvalues are non-oscillatory or not finite (analysis.oscillation_tolerance = {tolerance})")]
+    #[error("no whirl mode at speed {speed} rad/s: all {eigenvalues} eigenvalues are non-oscillatory or not finite (analysis.oscillation_tolerance = {tolerance})", speed = crate::analysis::limits::number(*speed), tolerance = crate::analysis::limits::number(*tolerance))]
     NoWhirlModes {
         /// Ω (rad/s).
         speed: f64,
@@ -129,7 +129,7 @@ pub enum AnalysisError {
     },
     /// The dynamic stiffness is singular at a speed of the grid: the speed is exactly an
     /// undamped critical speed, where the steady-state response is unbounded.
-    #[error("the dynamic stiffness is singular at speed {speed} rad/s: the speed is an undamped critical speed of the model (no damping acts on that mode) and the response there is unbounded; move the speed grid off it or add damping (eta, R)")]
+    #[error("the dynamic stiffness is singular at speed {speed} rad/s: the speed is an undamped critical speed of the model (no damping acts on that mode) and the response there is unbounded; move the speed grid off it or add damping (eta, R)", speed = crate::analysis::limits::number(*speed))]
     SingularAtSpeed {
         /// Ω (rad/s).
         speed: f64,
@@ -150,7 +150,7 @@ pub enum AnalysisError {
         previous: f64,
     },
     /// A whirl mode tag the model does not have at the first speed of a range.
-    #[error("the model has no whirl mode `{label}` at speed {speed} rad/s; its lowest modes there are {}", tag_list(.available))]
+    #[error("the model has no whirl mode `{label}` at speed {speed} rad/s; its lowest modes there are {}", tag_list(.available), speed = crate::analysis::limits::number(*speed))]
     UnknownMode {
         /// The tag asked for, e.g. `fr1`.
         label: String,

@@ -46,13 +46,13 @@ pub enum WarningKind {
         limit: f64,
     },
     /// A ring angle small enough to be a value in radians.
-    #[error("angle_deg = {angle_deg} degrees is at most pi/2: it looks like radians ({angle_deg} rad = {:.4} degrees); the key is in degrees", angle_deg.to_degrees())]
+    #[error("angle_deg = {angle_deg} degrees is at most pi/2: it looks like radians ({angle_deg} rad = {:.4} degrees); the key is in degrees", angle_deg.to_degrees(), angle_deg = crate::analysis::limits::number(*angle_deg))]
     AngleInRadians {
         /// The angle given (degrees).
         angle_deg: f64,
     },
     /// A speed whose peripheral speed no metal rotor survives: likely rpm given as rad/s.
-    #[error("{speed} rad/s gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst: a speed in rpm is given as `{rpm_key}` (or check that the lengths are in m)")]
+    #[error("{speed} rad/s gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst: a speed in rpm is given as `{rpm_key}` (or check that the lengths are in m)", speed = crate::analysis::limits::number(*speed))]
     PeripheralSpeed {
         /// Ω (rad/s).
         speed: f64,
@@ -66,7 +66,7 @@ pub enum WarningKind {
         rpm_key: String,
     },
     /// A speed given in rpm whose peripheral speed no metal rotor survives.
-    #[error("{rpm} rpm gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst")]
+    #[error("{rpm} rpm gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst", rpm = crate::analysis::limits::number(*rpm))]
     PeripheralSpeedRpm {
         /// n (rpm).
         rpm: f64,
@@ -78,7 +78,7 @@ pub enum WarningKind {
         limit: f64,
     },
     /// A φ range above every whirl sum of the reduced model: no region starts in it.
-    #[error("the phi range [{lo}, {hi}] rad/s lies above every whirl sum of the reduced model (largest omega_f + omega_b = {largest_sum:.4e} rad/s at {speed} rad/s): no instability region starts in it; raise analysis.reduced_modes or check the units")]
+    #[error("the phi range [{lo}, {hi}] rad/s lies above every whirl sum of the reduced model (largest omega_f + omega_b = {largest_sum:.4e} rad/s at {speed} rad/s): no instability region starts in it; raise analysis.reduced_modes or check the units", lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi), speed = crate::analysis::limits::number(*speed))]
     RangeAboveWhirls {
         /// φ range (rad/s).
         lo: f64,
@@ -90,7 +90,7 @@ pub enum WarningKind {
         speed: f64,
     },
     /// A φ range below every tongue of the orders the criterion searches.
-    #[error("the phi range [{lo}, {hi}] rad/s lies below every instability tongue of order <= {order} (smallest omega_f + omega_b = {smallest_sum:.4e} rad/s at {speed} rad/s, over {order}: {:.4e} rad/s): check the range and the units", smallest_sum / *order as f64)]
+    #[error("the phi range [{lo}, {hi}] rad/s lies below every instability tongue of order <= {order} (smallest omega_f + omega_b = {smallest_sum:.4e} rad/s at {speed} rad/s, over {order}: {:.4e} rad/s): check the range and the units", smallest_sum / *order as f64, lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi), speed = crate::analysis::limits::number(*speed))]
     RangeBelowWhirls {
         /// φ range (rad/s).
         lo: f64,

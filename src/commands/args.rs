@@ -27,7 +27,10 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
             }
             let n = ((b - a) / step + 1e-9).floor() + 1.0;
             if n > MAX_RANGE_POINTS as f64 {
-                return Err(bad(format!("`{text}` expands to {n} points, more than {MAX_RANGE_POINTS}")));
+                return Err(bad(format!(
+                    "`{text}` expands to {} points, more than {MAX_RANGE_POINTS}",
+                    crate::analysis::limits::number(n)
+                )));
             }
             Ok((0..n as usize).map(|i| a + i as f64 * step).collect())
         }
@@ -51,9 +54,40 @@ pub fn parse_speed_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> 
     }
 }
 
+/// Split a comma-separated flag value (`--nodes 3,16`, `--modes f1,fr1`) into its trimmed
+/// entries: a blank text is no entry, and an empty entry (`3,,4`, `,`, a trailing comma) is
+/// refused naming the flag, rather than skipped.
+pub fn parse_list<'a>(text: &'a str, argument: &str) -> Result<Vec<&'a str>, Error> {
+    if text.trim().is_empty() {
+        return Ok(Vec::new());
+    }
+    let entries: Vec<&str> = text.split(',').map(str::trim).collect();
+    match entries.iter().position(|e| e.is_empty()) {
+        Some(i) => Err(Error::Argument {
+            argument: argument.into(),
+            message: format!(
+                "entry {} of `{text}` is empty: give entries separated by single commas, e.g. `a,b`",
+                i + 1
+            ),
+        }),
+        None => Ok(entries),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lists_refuse_empty_entries() {
+        assert_eq!(parse_list("", "x").unwrap(), Vec::<&str>::new());
+        assert_eq!(parse_list("  ", "x").unwrap(), Vec::<&str>::new());
+        assert_eq!(parse_list(" 3, 16 ", "x").unwrap(), vec!["3", "16"]);
+        for bad in ["3,,4", ",", "3,", ",3", "3, ,4"] {
+            let e = parse_list(bad, "--nodes").unwrap_err().to_string();
+            assert!(e.starts_with("argument `--nodes`: entry "), "{bad}: {e}");
+        }
+    }
 
     #[test]
     fn speed_ranges_in_rpm_are_converted_point_by_point() {

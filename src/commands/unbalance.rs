@@ -40,19 +40,18 @@ pub struct UnbalanceArgs<'a> {
 }
 
 /// The speed grid of `--speeds`: parsed, each speed by its rule, at least one.
-fn speed_grid(text: &str) -> Result<Vec<f64>, Error> {
+fn speed_grid(text: &str, rule: fn(f64) -> Result<f64, limits::ParamError>) -> Result<Vec<f64>, Error> {
     let speeds = super::args::parse_speed_range(text, "--speeds")?;
     for &w in &speeds {
-        bounds::flag("--speeds", limits::speed(w))?;
+        bounds::flag("--speeds", rule(w))?;
     }
     Ok(speeds)
 }
 
-/// `--nodes 3,16` as node indices (empty text: none).
+/// `--nodes 3,16` as node indices (empty text: none; an empty entry is refused).
 fn node_list(text: &str) -> Result<Vec<usize>, Error> {
-    text.split(',')
-        .map(str::trim)
-        .filter(|t| !t.is_empty())
+    super::args::parse_list(text, "--nodes")?
+        .into_iter()
         .map(|t| {
             t.parse::<usize>().map_err(|_| Error::Argument {
                 argument: "--nodes".into(),
@@ -135,7 +134,7 @@ pub fn unbalance_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     let UnbalanceArgs { speeds, nodes, compare, json } = args;
-    let speeds = speed_grid(speeds)?;
+    let speeds = speed_grid(speeds, limits::response_speed)?;
     let nodes = node_list(nodes)?;
     // Every check and estimate before any file is touched, for each configuration.
     let other = match &compare {
@@ -229,8 +228,8 @@ pub fn damping_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speeds = speed_grid(speeds)?;
-    let tags: Vec<String> = modes.split(',').map(str::trim).filter(|t| !t.is_empty()).map(String::from).collect();
+    let speeds = speed_grid(speeds, limits::speed)?;
+    let tags: Vec<String> = super::args::parse_list(modes, "--modes")?.into_iter().map(String::from).collect();
     let threads = rayon::current_num_threads();
     let estimate = cost::dense(&problem.model, Dense::Whirls(speeds.len() + 1), threads);
     bounds::admit(&budget, "the damping ratios", &estimate, &MODEL_ONLY)?;

@@ -348,8 +348,8 @@ impl DesignSpec {
             limits::span(b.clearance).map_err(at(&format!("bands[{i}].clearance")))?;
         }
         if let Some(r) = self.response() {
-            limits::speed(r.speeds.lo).map_err(at("response.speeds[0]"))?;
-            limits::speed(r.speeds.hi).map_err(at("response.speeds[1]"))?;
+            limits::response_speed(r.speeds.lo).map_err(at("response.speeds[0]"))?;
+            limits::response_speed(r.speeds.hi).map_err(at("response.speeds[1]"))?;
             if r.speeds.hi <= r.speeds.lo {
                 let rule = limits::Rule::NotAboveLow { low: r.speeds.lo };
                 return Err((

@@ -91,10 +91,10 @@ fn response(r: &ResponseFile, model: &Model) -> Result<Response, Failure> {
         let message = format!("needs two speeds [lo, hi] (rad/s), found {}", r.speeds.len());
         return Err(("design.response.speeds".into(), K::Schema(message)));
     };
-    let lo = rule("design.response.speeds[0]", limits::speed(lo))?;
-    let hi = rule("design.response.speeds[1]", limits::speed(hi))?;
+    let lo = rule("design.response.speeds[0]", limits::response_speed(lo))?;
+    let hi = rule("design.response.speeds[1]", limits::response_speed(hi))?;
     if hi <= lo {
-        let range = format!("above the low end {lo} rad/s (an empty speed range)");
+        let range = format!("above the low end {} rad/s (an empty speed range)", limits::number(lo));
         return Err(("design.response.speeds[1]".into(), K::OutOfRange { value: hi, range }));
     }
     let points = r.points.unwrap_or(DEFAULT_RESPONSE_POINTS);

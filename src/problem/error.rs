@@ -94,7 +94,7 @@ pub enum ProblemErrorKind {
     #[error("give one of `{0}` or `{1}`")]
     NeitherGiven(String, String),
     /// A disk position off the shaft.
-    #[error("disk position {position} m is outside the shaft (0 to {length} m)")]
+    #[error("disk position {position} m is outside the shaft (0 to {length} m)", position = crate::analysis::limits::number(*position), length = crate::analysis::limits::number(*length))]
     DiskOffShaft {
         /// m.
         position: f64,
@@ -138,7 +138,7 @@ pub enum ProblemErrorKind {
         last: usize,
     },
     /// A support position off the shaft.
-    #[error("position {position} m is outside the shaft (0 to {length} m)")]
+    #[error("position {position} m is outside the shaft (0 to {length} m)", position = crate::analysis::limits::number(*position), length = crate::analysis::limits::number(*length))]
     PositionOffShaft {
         /// m.
         position: f64,
@@ -163,7 +163,7 @@ pub enum ProblemErrorKind {
         supports: usize,
     },
     /// An inner diameter not below the outer one.
-    #[error("inner diameter {inner} m must be below the outer diameter {outer} m")]
+    #[error("inner diameter {inner} m must be below the outer diameter {outer} m", inner = crate::analysis::limits::number(*inner), outer = crate::analysis::limits::number(*outer))]
     InnerNotBelowOuter {
         /// d (m).
         inner: f64,
@@ -171,7 +171,7 @@ pub enum ProblemErrorKind {
         outer: f64,
     },
     /// The sections sum to no length (an empty `sections = []`), or their sum overflows.
-    #[error("the sections sum to {total} m: a shaft needs a finite positive length")]
+    #[error("the sections sum to {total} m: a shaft needs a finite positive length", total = crate::analysis::limits::number(*total))]
     ShaftLength {
         /// The sum (m).
         total: f64,
@@ -230,7 +230,7 @@ pub enum ProblemErrorKind {
     #[error("a closed circuit needs at least one [[circuit.branches]] entry")]
     NoBranches,
     /// A `--set` that does not apply.
-    #[error("cannot apply --set {text}: {reason}")]
+    #[error("cannot apply --set {}: {reason}", super::source::one_line(text))]
     Override {
         /// The override text.
         text: String,
@@ -275,14 +275,18 @@ pub struct ProblemError {
 fn derivation(angle_deg: f64, from_k_eq2: Option<f64>) -> String {
     let mut s = match from_k_eq2 {
         Some(k) => {
-            format!("; here C_p^S = 2 cot^2(beta) theta_p^2 / k_eq2 with k_eq2 = {k:e} N/m and angle_deg = {angle_deg}")
+            format!(
+                "; here C_p^S = 2 cot^2(beta) theta_p^2 / k_eq2 with k_eq2 = {k:e} N/m and angle_deg = {}",
+                number(angle_deg)
+            )
         }
         None => String::new(),
     };
     if angle_deg <= std::f64::consts::FRAC_PI_2 {
         s += &format!(
-            "; angle_deg is in degrees, and {angle_deg} looks like radians ({angle_deg} rad = {:.4} degrees)",
-            angle_deg.to_degrees()
+            "; angle_deg is in degrees, and {a} looks like radians ({a} rad = {:.4} degrees)",
+            angle_deg.to_degrees(),
+            a = number(angle_deg)
         );
     }
     s

@@ -4,7 +4,10 @@
 //! `[ring]`, `[circuit]`) is translated in `validate.rs` onto the same model.
 
 use super::file::*;
-use super::validate::{circuit, non_negative, place, positive, ring, Failure, Placed, MAX_ELEMENTS};
+use super::validate::{
+    circuit, derived, non_negative, place, positive, ring, section_quantities, Failure, Placed, SectionKeys,
+    MAX_ELEMENTS,
+};
 use super::{NameOf, ProblemErrorKind as K};
 use crate::model::{Bearing, RingSupport, Section, Shaft};
 
@@ -42,13 +45,13 @@ pub(super) enum ShaftForm<'a> {
     Sections(&'a [SectionFile]),
 }
 
-/// E and ρ of a material name at `key`.
-fn material(key: &str, name: &str, materials: &[MaterialFile]) -> Result<(f64, f64), Failure> {
-    let m = materials.iter().find(|m| m.name == name).ok_or_else(|| {
+/// E and ρ of a material name at `key`, and the material's index in `[[materials]]`.
+fn material(key: &str, name: &str, materials: &[MaterialFile]) -> Result<(f64, f64, usize), Failure> {
+    let j = materials.iter().position(|m| m.name == name).ok_or_else(|| {
         let known = materials.iter().map(|m| m.name.clone()).collect();
         (key.to_string(), K::UnknownName { what: NameOf::Material, name: name.into(), known })
     })?;
-    Ok((m.youngs_modulus, m.density))
+    Ok((materials[j].youngs_modulus, materials[j].density, j))
 }
 
 /// `[[materials]]`: finite positive E and ρ, unique names.
@@ -68,6 +71,7 @@ fn materials(f: &ProblemFile) -> Result<(), Failure> {
 pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, Failure> {
     materials(f)?;
     let mut sections = Vec::with_capacity(list.len());
+    let mut keys = Vec::with_capacity(list.len());
     let mut total_elements: i64 = 0;
     for (i, s) in list.iter().enumerate() {
         let key = |name: &str| format!("sections[{i}].{name}");
@@ -93,12 +97,27 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
             (Some(_), None, Some(_)) => {
                 return Err((key("density"), K::BothGiven("material".into(), "density".into())))
             }
-            (Some(name), None, None) => material(&key("material"), name, &f.materials)?,
+            (Some(name), None, None) => {
+                let (e, d, j) = material(&key("material"), name, &f.materials)?;
+                keys.push(SectionKeys {
+                    outer: (key("outer_diameter"), outer),
+                    length: key("length"),
+                    youngs_modulus: format!("materials[{j}].youngs_modulus"),
+                    density: format!("materials[{j}].density"),
+                });
+                (e, d)
+            }
             (None, None, _) => {
                 return Err((format!("sections[{i}]"), K::NeitherGiven("material".into(), "youngs_modulus".into())))
             }
             (None, Some(e), d) => {
                 let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
+                keys.push(SectionKeys {
+                    outer: (key("outer_diameter"), outer),
+                    length: key("length"),
+                    youngs_modulus: key("youngs_modulus"),
+                    density: key("density"),
+                });
                 (e, d)
             }
         };
@@ -116,6 +135,7 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
     if !(total.is_finite() && total > 0.0) {
         return Err(("sections".into(), K::ShaftLength { total }));
     }
+    section_quantities(&shaft, &keys)?;
     Ok(shaft)
 }
 
@@ -145,21 +165,27 @@ pub(super) fn disk_geometry(key: &str, d: &DiskFile, f: &ProblemFile) -> Result<
         return Err((k("inner_diameter"), K::InnerNotBelowOuter { inner, outer }));
     }
     let width = positive(&k("width"), d.width.ok_or_else(|| missing("width"))?)?;
-    let density = match (&d.material, d.density) {
+    let (density, density_key) = match (&d.material, d.density) {
         (Some(_), Some(_)) => return Err((k("density"), K::BothGiven("material".into(), "density".into()))),
-        (Some(name), None) => material(&k("material"), name, &f.materials)?.1,
-        (None, Some(rho)) => rho,
+        (Some(name), None) => {
+            let (_, rho, j) = material(&k("material"), name, &f.materials)?;
+            (rho, format!("materials[{j}].density"))
+        }
+        (None, Some(rho)) => (rho, k("density")),
         (None, None) => return Err((key.into(), K::NeitherGiven("material".into(), "density".into()))),
     };
-    let density = positive(&k("density"), density)?;
+    let density = positive(&density_key, density)?;
     let (d2, i2) = (outer * outer, inner * inner);
     let mass = density * std::f64::consts::PI * (d2 - i2) / 4.0 * width;
     let polar = mass * (d2 + i2) / 8.0;
     let diametral = polar / 2.0 + mass * width * width / 12.0;
-    if !(mass.is_finite() && polar.is_finite() && diametral.is_finite() && mass > 0.0) {
-        let range = "one that gives a finite positive mass and inertias".to_string();
-        return Err((k("outer_diameter"), K::OutOfRange { value: outer, range }));
-    }
+    // Each quantity's factors, with the power each enters with (m ∝ ρD²w).
+    let factors = |d_power, w_power| {
+        [(density_key.clone(), density, 1), (k("outer_diameter"), outer, d_power), (k("width"), width, w_power)]
+    };
+    let mass = derived(mass, "disk mass m = rho pi (D^2 - d^2) w / 4", &factors(2, 1))?;
+    let polar = derived(polar, "polar inertia J_p = m (D^2 + d^2) / 8", &factors(4, 1))?;
+    let diametral = derived(diametral, "diametral inertia J_d = J_p / 2 + m w^2 / 12", &factors(4, 3))?;
     Ok(Some((mass, polar, diametral)))
 }
 

@@ -20,7 +20,7 @@ pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
 pub use plausibility::Warning;
 pub use source::Location;
-pub use validate::{MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
+pub use validate::{DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
 
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;
@@ -111,8 +111,8 @@ impl Problem {
         // Before parsing: the parser's memory grows with the text's structure, not its size.
         input::check_parse_cost(text).map_err(|kind| err(Location::Unknown, "", kind))?;
         let mut table: toml::Table = toml::from_str(text).map_err(|e| {
-            let loc = syntax_location(text, e.span());
-            err(loc, "", ProblemErrorKind::Syntax(e.message().trim().to_string()))
+            let (loc, kind) = syntax_error(text, &e);
+            err(loc, "", kind)
         })?;
         if text.trim().is_empty() {
             return Err(err(Location::Unknown, "", ProblemErrorKind::Empty));
@@ -144,9 +144,10 @@ impl Problem {
                     units::remove_path(&mut table, &other);
                 }
             }
-            set_path(&mut table, key, parse_override_value(value.trim())).map_err(|reason| {
-                err(Location::Override, key, ProblemErrorKind::Override { text: o.clone(), reason })
-            })?;
+            let override_error =
+                |reason| err(Location::Override, key, ProblemErrorKind::Override { text: o.clone(), reason });
+            let value = parse_override_value(value.trim()).map_err(override_error)?;
+            set_path(&mut table, key, value).map_err(override_error)?;
             index.mark_overridden(key);
         }
         let rpm = units::convert_rpm(&mut table).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
@@ -237,13 +238,24 @@ impl Problem {
     }
 }
 
-/// Where a TOML syntax error is: its span, or, for the errors the parser reports without
-/// one (a key path nested too deep), the line of the offending key.
-fn syntax_location(text: &str, span: Option<std::ops::Range<usize>>) -> Location {
-    match span {
-        Some(s) => Location::Line(line_of(text, s.start)),
+/// A TOML syntax error of a problem or study text, as one paragraph: the line (its
+/// span's, or, for the errors the parser reports without one, a key path nested too
+/// deep, the line of the offending key), and the parser's message on one line (its lines
+/// joined by `; `) with the column.
+pub fn syntax_error(text: &str, e: &toml::de::Error) -> (Location, ProblemErrorKind) {
+    let message: Vec<&str> = e.message().lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    let mut message = message.join("; ");
+    let location = match e.span() {
+        Some(s) => {
+            let start = s.start.min(text.len());
+            let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+            let column = text.get(line_start..start).map_or(1, |l| l.chars().count() + 1);
+            message += &format!(" (column {column})");
+            Location::Line(line_of(text, start))
+        }
         None => deep_key_line(text).map(Location::Line).unwrap_or(Location::Unknown),
-    }
+    };
+    (location, ProblemErrorKind::Syntax(message))
 }
 
 fn quoted_field(message: &str, prefix: &str) -> Option<String> {

@@ -158,13 +158,47 @@ fn segments(path: &str) -> Option<Vec<Segment<'_>>> {
     Some(out)
 }
 
-/// Parse the value of a `--set` override: any TOML value (`2000`, `5e-6`, `true`,
-/// `"x"`, `[1, 2]`), or else the bare text as a string (`open`).
-pub fn parse_override_value(text: &str) -> toml::Value {
-    toml::from_str::<toml::Table>(&format!("v = {text}"))
-        .ok()
-        .and_then(|mut t| t.remove("v"))
-        .unwrap_or_else(|| toml::Value::String(text.to_string()))
+/// Parse the value of a `--set` override: exactly one TOML value (`2000`, `5e-6`, `true`,
+/// `"x"`, `[1, 2]`, a trailing `# comment` allowed), or else the bare text as a string
+/// (`open`). Anything after the value is refused with the reason: another key or table
+/// (`1000\nspeed=5`, which TOML reads as a second key), or a line break in a bare text.
+pub fn parse_override_value(text: &str) -> Result<toml::Value, String> {
+    match toml::from_str::<toml::Table>(&format!("v = {text}")) {
+        Ok(mut t) => {
+            let value = t.remove("v");
+            match value {
+                Some(v) if t.is_empty() => Ok(v),
+                _ => {
+                    let keys: Vec<String> = t.keys().map(|k| format!("`{k}`")).collect();
+                    Err(format!(
+                        "a --set value is one TOML value, and more follows it: {} {}",
+                        if keys.len() == 1 { "the key" } else { "the keys" },
+                        keys.join(", ")
+                    ))
+                }
+            }
+        }
+        Err(_) if text.contains(['\n', '\r']) => {
+            Err("a --set value is one TOML value on one line, and this one has a line break".into())
+        }
+        Err(_) => Ok(toml::Value::String(text.to_string())),
+    }
+}
+
+/// `text` on one line, for a message: line breaks, tabs and other control characters as
+/// escapes (`\n`, `\u{1b}`).
+pub fn one_line(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_control() => out.push_str(&c.escape_unicode().to_string()),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// Set `path` (e.g. `circuit.branches[1].resistance`) to `value` in `table`, creating

@@ -72,6 +72,8 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
         };
         let key = |k: &str| if parent.is_empty() { k.to_string() } else { format!("{parent}.{k}") };
         let Some(value) = t.get(rpm) else { continue };
+        // A response's speeds are bounded (the unbalance force grows like Ω²).
+        let rule = if parent == "design.response" { limits::response_speed_rpm } else { limits::speed };
         if t.contains_key(rad) {
             return Err((key(rpm), K::BothGiven(rad.into(), rpm.into())));
         }
@@ -80,10 +82,10 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
                 items
                     .iter()
                     .enumerate()
-                    .map(|(i, v)| to_rad_per_s(&format!("{}[{i}]", key(rpm)), v))
+                    .map(|(i, v)| to_rad_per_s(&format!("{}[{i}]", key(rpm)), v, rule))
                     .collect::<Result<_, _>>()?,
             ),
-            v if parent.is_empty() => to_rad_per_s(&key(rpm), v)?,
+            v if parent.is_empty() => to_rad_per_s(&key(rpm), v, rule)?,
             other => {
                 let found = other.type_str();
                 return Err((
@@ -100,7 +102,11 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
 }
 
 /// One speed in rpm as rad/s.
-fn to_rad_per_s(key: &str, v: &toml::Value) -> Result<toml::Value, Failure> {
+fn to_rad_per_s(
+    key: &str,
+    v: &toml::Value,
+    rule: fn(f64) -> Result<f64, limits::ParamError>,
+) -> Result<toml::Value, Failure> {
     let n = match v {
         toml::Value::Float(x) => *x,
         toml::Value::Integer(i) => *i as f64,
@@ -108,7 +114,7 @@ fn to_rad_per_s(key: &str, v: &toml::Value) -> Result<toml::Value, Failure> {
             return Err((key.into(), K::Schema(format!("invalid type: {}, expected a speed in rpm", other.type_str()))))
         }
     };
-    let n = limits::speed(n).map_err(|e| (key.to_string(), K::from(&e)))?;
+    let n = rule(n).map_err(|e| (key.to_string(), K::from(&e)))?;
     Ok(toml::Value::Float(n * RAD_PER_S_PER_RPM))
 }
 

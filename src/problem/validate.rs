@@ -66,6 +66,92 @@ pub(super) fn within(key: &str, v: f64, lo: f64, hi: f64, range: &str) -> Result
     }
 }
 
+/// One factor of a derived quantity: the input key it comes from, the value given there,
+/// and the power it enters the quantity with (a diameter enters an area squared).
+pub(super) type Factor = (String, f64, i32);
+
+/// Range of a quantity derived from inputs (SI units): the dense solvers form products
+/// and squares of matrix entries (Cholesky factors, norms, residuals), so an entry must
+/// leave its square finite and nonzero, below √f64::MAX ≈ 1.3e154 and above its
+/// reciprocal, with room for sums over the elements and the assembly's coefficients. Any
+/// real rotor's masses, inertias and stiffnesses are dozens of decades inside.
+pub const DERIVED_RANGE: (f64, f64) = (1e-150, 1e150);
+
+/// A quantity derived from inputs (a mass, a stiffness, an inertia) must lie in
+/// [`DERIVED_RANGE`]: the analyses cannot run on an infinite or vanished matrix entry.
+/// When it is not, the input blamed is the factor that is out of range, the one furthest
+/// from 1 in orders of magnitude as it enters the quantity (|power · ln x|), at its own key
+/// and with its own value: a huge width names the width, a huge density the density's key.
+pub(super) fn derived(value: f64, what: &str, factors: &[Factor]) -> Result<f64, Failure> {
+    let (lo, hi) = DERIVED_RANGE;
+    if (lo..=hi).contains(&value) {
+        return Ok(value);
+    }
+    let weight = |f: &Factor| (f64::from(f.2) * f.1.abs().ln()).abs();
+    let (key, x) = factors
+        .iter()
+        .max_by(|a, b| weight(a).total_cmp(&weight(b)))
+        .map_or((String::new(), value), |f| (f.0.clone(), f.1));
+    let range = format!(
+        "one that keeps the {what} between {} and {} (SI units; here {})",
+        limits::number(lo),
+        limits::number(hi),
+        limits::number(value)
+    );
+    Err((key, K::OutOfRange { value: x, range }))
+}
+
+/// The keys a section's values come from, for [`section_quantities`].
+pub(super) struct SectionKeys {
+    /// The key of its outer size and the value given there (`shaft.radius` in the
+    /// shorthand).
+    pub outer: (String, f64),
+    /// The length's key.
+    pub length: String,
+    /// The key of E (the section's, the material's or `shaft.youngs_modulus`).
+    pub youngs_modulus: String,
+    /// The key of ρ.
+    pub density: String,
+}
+
+/// Every shaft quantity the assembly builds, in [`DERIVED_RANGE`] ([`derived`]): per
+/// section the area A, the second moment I, and the element terms ρAl, ρAl³, ρI/l, ρIl,
+/// EI/l and EI/l³ (l the element length), then the shaft's mass.
+pub(super) fn section_quantities(shaft: &Shaft, keys: &[SectionKeys]) -> Result<(), Failure> {
+    for (s, k) in shaft.sections.iter().zip(keys) {
+        let outer = |power| (k.outer.0.clone(), k.outer.1, power);
+        let length = |power| (k.length.clone(), s.length, power);
+        let rho = (k.density.clone(), s.density, 1);
+        let e = (k.youngs_modulus.clone(), s.youngs_modulus, 1);
+        let l = s.element_length();
+        let (a, i) = (s.area(), s.inertia());
+        derived(a, "cross-section area A", &[outer(2)])?;
+        derived(i, "second moment of area I", &[outer(4)])?;
+        let terms = [
+            (s.density * a * l, "element mass rho A l", [rho.clone(), outer(2), length(1)]),
+            (s.density * a * l * l * l, "element mass term rho A l^3", [rho.clone(), outer(2), length(3)]),
+            (s.density * i / l, "element rotary inertia term rho I / l", [rho.clone(), outer(4), length(-1)]),
+            (s.density * i * l, "element rotary inertia term rho I l", [rho.clone(), outer(4), length(1)]),
+            (s.youngs_modulus * i / l, "element stiffness term E I / l", [e.clone(), outer(4), length(-1)]),
+            (s.youngs_modulus * i / (l * l * l), "element stiffness E I / l^3", [e.clone(), outer(4), length(-3)]),
+        ];
+        for (value, what, factors) in terms {
+            derived(value, what, &factors)?;
+        }
+    }
+    let mass = shaft.mass();
+    if !(DERIVED_RANGE.0..=DERIVED_RANGE.1).contains(&mass) {
+        // Each section's mass is finite: blame the heaviest one's largest factor.
+        let heaviest = shaft.sections.iter().zip(keys).max_by(|a, b| a.0.mass().total_cmp(&b.0.mass()));
+        if let Some((s, k)) = heaviest {
+            let factors =
+                [(k.density.clone(), s.density, 1), (k.outer.0.clone(), k.outer.1, 2), (k.length.clone(), s.length, 1)];
+            derived(mass, "shaft mass", &factors)?;
+        }
+    }
+    Ok(())
+}
+
 /// A parameter rule's result at `key` ([`crate::analysis::limits`]: the rules every route
 /// shares).
 pub(super) fn rule<T>(key: &str, r: Result<T, ParamError>) -> Result<T, Failure> {
@@ -219,13 +305,21 @@ fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
             K::OutOfRange { value: s.elements as f64, range: format!("a whole number from 1 to {MAX_ELEMENTS}") },
         ));
     }
-    Ok(Shaft::uniform(
+    let shaft = Shaft::uniform(
         positive("shaft.length", s.length)?,
         positive("shaft.radius", s.radius)?,
         s.elements as usize,
         positive("shaft.youngs_modulus", s.youngs_modulus)?,
         positive("shaft.density", s.density)?,
-    ))
+    );
+    let keys = SectionKeys {
+        outer: ("shaft.radius".into(), s.radius),
+        length: "shaft.length".into(),
+        youngs_modulus: "shaft.youngs_modulus".into(),
+        density: "shaft.density".into(),
+    };
+    section_quantities(&shaft, &[keys])?;
+    Ok(shaft)
 }
 
 /// Refuse a model too large to analyse before any per-entry work or allocation.

@@ -359,6 +359,10 @@ pub fn response_with(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<ProbeResponse>, AnalysisError> {
     check_speeds(speeds)?;
+    // The unbalance force grows like Ω²: a response's speeds are bounded.
+    for &w in speeds {
+        super::limits::response_speed(w)?;
+    }
     if let Some(p) = probes.iter().find(|p| p.dof >= a.size()) {
         return Err(AnalysisError::ProbeOffSystem { dof: p.dof, dofs: a.size() });
     }

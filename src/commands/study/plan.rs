@@ -86,7 +86,10 @@ impl Plan {
     /// cases from the counts alone.
     pub(crate) fn read(file: &Path) -> Result<Plan, Error> {
         let text = crate::problem::read_toml(file)?;
-        let de = toml::Deserializer::parse(&text).map_err(|e| study_error(file, e.to_string()))?;
+        let de = toml::Deserializer::parse(&text).map_err(|e| {
+            let (location, kind) = crate::problem::syntax_error(&text, &e);
+            Error::Problem(ProblemError { file: file.display().to_string(), location, key: String::new(), kind })
+        })?;
         let mut study: StudyFile = serde_path_to_error::deserialize(de)
             .map_err(|e| study_error(file, format!("key `{}`: {}", e.path(), e.inner().message().trim())))?;
         let base = file.parent().unwrap_or(Path::new(".")).join(&study.base);

@@ -110,7 +110,7 @@ pub enum Refusal {
         right: f64,
     },
     /// A static axial force or torque.
-    #[error("{key} = {value} {unit}: a static preload whose stiffness ROSS adds to K; rotorshunt's axial load is the problem's P(t) ([load])")]
+    #[error("{key} = {value} {unit}: a static preload whose stiffness ROSS adds to K; rotorshunt's axial load is the problem's P(t) ([load])", value = crate::analysis::limits::number(*value))]
     Preload {
         /// `axial_force` or `torque`.
         key: &'static str,
@@ -121,7 +121,8 @@ pub enum Refusal {
     },
     /// Proportional shaft damping.
     #[error(
-        "{key} = {value}: proportional damping of the shaft (C = alpha·M + beta·K), which rotorshunt does not model"
+        "{key} = {value}: proportional damping of the shaft (C = alpha·M + beta·K), which rotorshunt does not model",
+        value = crate::analysis::limits::number(*value)
     )]
     ShaftDamping {
         /// `alpha` or `beta`.
@@ -134,7 +135,7 @@ pub enum Refusal {
     Numbering(String),
     /// A value out of its range (not finite, not positive, an inner diameter not below
     /// the outer one).
-    #[error("{key} = {value}: {rule}")]
+    #[error("{key} = {value}: {rule}", value = crate::analysis::limits::number(*value))]
     Value {
         /// The key.
         key: String,
@@ -144,7 +145,7 @@ pub enum Refusal {
         rule: String,
     },
     /// Different coefficients in x and y.
-    #[error("{x_key} = {x} {unit} but {y_key} = {y} {unit}: an anisotropic support, and rotorshunt's complex-coordinate model needs isotropic ones")]
+    #[error("{x_key} = {x} {unit} but {y_key} = {y} {unit}: an anisotropic support, and rotorshunt's complex-coordinate model needs isotropic ones", x = crate::analysis::limits::number(*x), y = crate::analysis::limits::number(*y))]
     Anisotropic {
         /// `kxx`, `cxx` or `mxx`.
         x_key: &'static str,
@@ -158,7 +159,7 @@ pub enum Refusal {
         unit: &'static str,
     },
     /// A non-zero cross-coupling coefficient.
-    #[error("{key} = {value} {unit}: a cross-coupled support, and rotorshunt's bearings have no cross terms")]
+    #[error("{key} = {value} {unit}: a cross-coupled support, and rotorshunt's bearings have no cross terms", value = crate::analysis::limits::number(*value))]
     CrossCoupled {
         /// `kxy`, `kyx`, `cxy`, `cyx`, `mxy` or `myx`.
         key: &'static str,
@@ -168,7 +169,7 @@ pub enum Refusal {
         unit: &'static str,
     },
     /// Coefficients tabulated against frequency, and no speed chosen.
-    #[error("its coefficients are tabulated at {points} frequencies from {lo} to {hi} rad/s: they depend on the speed, so give --speed Ω (rad/s) to evaluate them at Ω as ROSS's run_modal does")]
+    #[error("its coefficients are tabulated at {points} frequencies from {lo} to {hi} rad/s: they depend on the speed, so give --speed Ω (rad/s) to evaluate them at Ω as ROSS's run_modal does", lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi))]
     SpeedDependent {
         /// Table length.
         points: usize,
@@ -178,7 +179,7 @@ pub enum Refusal {
         hi: f64,
     },
     /// The chosen speed is outside the bearing's table.
-    #[error("--speed {speed} rad/s is outside its table of coefficients, {lo} to {hi} rad/s, and ROSS's extrapolated spline is not imported: choose a speed inside the table or extend the table in ROSS")]
+    #[error("--speed {speed} rad/s is outside its table of coefficients, {lo} to {hi} rad/s, and ROSS's extrapolated spline is not imported: choose a speed inside the table or extend the table in ROSS", speed = crate::analysis::limits::number(*speed), lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi))]
     OutsideTable {
         /// The chosen speed (rad/s).
         speed: f64,

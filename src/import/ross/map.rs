@@ -243,16 +243,28 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
 }
 
 /// Distinct materials in order of first use, and each element's material index. ROSS
-/// keeps a material per element; one name with different values becomes `name-2`, ….
+/// keeps a material per element; one name with different values becomes `name-2`, …:
+/// the first free suffix, skipping every name the file uses itself (a real `Steel-2`)
+/// and every name already given, so the problem's material names are all distinct.
 fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
+    let ross_names: std::collections::HashSet<&str> = shafts.iter().map(|s| s.material.name.as_str()).collect();
     let mut out: Vec<MaterialOut> = Vec::new();
     let mut index = Vec::with_capacity(shafts.len());
     for s in shafts {
         let m = &s.material;
         let found = out.iter().position(|o| o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho);
         let i = found.unwrap_or_else(|| {
-            let same_name = out.iter().filter(|o| o.ross_name == m.name).count();
-            let name = if same_name == 0 { m.name.clone() } else { format!("{}-{}", m.name, same_name + 1) };
+            let taken = |name: &str| out.iter().any(|o| o.name == name);
+            let name = if taken(&m.name) {
+                // The first variant of a name keeps it; a later variant takes a suffix
+                // that neither the file nor an earlier variant uses.
+                (2u64..)
+                    .map(|k| format!("{}-{k}", m.name))
+                    .find(|n| !ross_names.contains(n.as_str()) && !taken(n))
+                    .unwrap_or_default()
+            } else {
+                m.name.clone()
+            };
             out.push(MaterialOut { name, ross_name: m.name.clone(), youngs_modulus: m.E, density: m.rho });
             out.len() - 1
         });
