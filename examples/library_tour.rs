@@ -1,4 +1,4 @@
-//! The library from end to end, as the README's "Using the library" section shows it:
+//! The library from end to end, as docs/library.md ("Using the library") shows it:
 //! load a problem → whirls → a stability chart → the catalogue of regions → the stable
 //! band around an operating frequency → a shunt design.
 //!

@@ -163,7 +163,7 @@ pub(crate) enum Command {
     /// Run a batch study (STUDY.toml: a base problem and a list or sweep of cases), in
     /// parallel, with per-case reports and a summary; finished cases are skipped on re-runs.
     /// `study plan|status|merge|slurm` list, inspect, summarise and submit a study split
-    /// into shards (README, "Running a study on a cluster").
+    /// into shards (docs/cluster.md).
     Study(StudyArgs),
     /// Convert a rotor saved by ROSS (`Rotor.save`, TOML or JSON) into a problem file: shaft
     /// elements to sections, disks, isotropic bearings to plain bearings (docs/ross-format.md).

@@ -105,7 +105,7 @@ fn a_study_sweeps_the_inductance_over_a_base_tuned_by_frequency() {
         assert_eq!(c["status"], "ok", "{c}");
     }
     // L = 0.9328 H is the base's own tuning (900 rad/s): its case is the base's band
-    // around 1230 rad/s ([1191.625, 1233.75], README); 1.4 H moves the regions.
+    // around 1230 rad/s ([1191.625, 1233.75], docs/regions.md); 1.4 H moves the regions.
     let base = load("fig11-closed-2000.toml", &[]);
     let l_base = base.model.rings[0].circuit.branches[0].inductance;
     assert!(rel(l_base, 0.9328) < 1e-4, "{l_base}");

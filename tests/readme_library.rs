@@ -1,12 +1,13 @@
-//! The README's "Using the library" section is the program `examples/library_tour.rs`,
-//! word for word, and the program prints what the README says it prints.
+//! The "Using the library" section of `docs/library.md` (the library guide the README links
+//! to) is the program `examples/library_tour.rs`, word for word, and the program prints what
+//! the guide says it prints.
 
 mod common;
 
-/// The first ```rust block after the heading "## Using the library".
+/// The first ```rust block after the heading "## Using the library" of `docs/library.md`.
 fn readme_block() -> String {
-    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
-    let section = &readme[readme.find("## Using the library").expect("README has the library section")..];
+    let readme = std::fs::read_to_string(common::root().join("docs/library.md")).unwrap();
+    let section = &readme[readme.find("## Using the library").expect("docs/library.md has the library section")..];
     let start = section.find("```rust\n").expect("a rust block") + "```rust\n".len();
     let end = start + section[start..].find("```").expect("the block ends");
     section[start..end].to_string()
@@ -15,10 +16,10 @@ fn readme_block() -> String {
 #[test]
 fn the_readme_shows_the_example_exactly() {
     let example = std::fs::read_to_string(common::root().join("examples/library_tour.rs")).unwrap();
-    // The example is its module doc followed by the README's code, unchanged.
+    // The example is its module doc followed by the guide's code, unchanged.
     let code: String =
         example.lines().skip_while(|l| l.starts_with("//!") || l.is_empty()).map(|l| format!("{l}\n")).collect();
-    assert_eq!(code, readme_block(), "examples/library_tour.rs differs from the README's library section");
+    assert_eq!(code, readme_block(), "examples/library_tour.rs differs from the library section of docs/library.md");
 }
 
 #[test]
@@ -32,7 +33,7 @@ fn the_example_prints_what_the_readme_says() {
     assert!(out.status.success(), "library_tour failed: {}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     println!("{text}");
-    // The figures the README's paragraph after the program quotes.
+    // The figures the guide's paragraph after the program quotes.
     for claim in [
         "f1     398.6 rad/s",
         "b1     300.1 rad/s",
@@ -44,6 +45,6 @@ fn the_example_prints_what_the_readme_says() {
         "stable band around 1230 rad/s: [1191.62, 1233.75] rad/s",
         "(verified: true)",
     ] {
-        assert!(text.contains(claim), "the README says the tour prints `{claim}`:\n{text}");
+        assert!(text.contains(claim), "docs/library.md says the tour prints `{claim}`:\n{text}");
     }
 }

@@ -1,6 +1,6 @@
 //! The study file (`rotorshunt study STUDY.toml`): a base problem, the kind and
 //! parameters of its cases, and the cases as a list and/or a cartesian sweep of
-//! `--set`-style overrides (README, section Studies). Parsed here; expanded into cases
+//! `--set`-style overrides (docs/studies.md). Parsed here; expanded into cases
 //! by the study command's plan.
 
 use serde::{Deserialize, Serialize};

@@ -36,7 +36,7 @@ const SLUG_HASH_HEX: usize = 16;
 pub struct Case {
     /// Name (listed) or the sweep's key=value pairs joined by commas.
     pub name: String,
-    /// Folder name under `cases/`: the name made safe (README, section Studies).
+    /// Folder name under `cases/`: the name made safe (docs/studies.md, "Case folders").
     pub slug: String,
     /// What the case runs: the listed case's `kind`, else the study's default.
     pub kind: CaseKind,

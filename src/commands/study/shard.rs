@@ -18,7 +18,7 @@ use std::collections::BinaryHeap;
 /// Expected cost of a regions case, in units of [`REGIONS_COST`] (one).
 pub(crate) const REGIONS_COST: u64 = 1;
 /// Expected cost of a design case relative to a regions case. Measured on a 2-core task
-/// (two threads, README section "Running a study on a cluster"): the 12 regions cases of
+/// (two threads, docs/cluster.md, "Measured"): the 12 regions cases of
 /// `problems/studies/resistance-speed.toml` took 19.7 s (1.6 s a case), 4 design cases of
 /// `problems/design-widest-band.toml` at four speeds 139.9 s (35 s a case): a ratio of 21,
 /// rounded to 20, since only its order of magnitude matters for balancing.
