@@ -50,7 +50,7 @@ impl Criterion {
         // Unstable by this criterion's own tolerance (the point's verdict is the declared
         // one's: the same test when the tolerances agree); a failed point's ln max|μ| is
         // f64::MAX, and a NaN is not shown stable.
-        let unstable = !(p.ln_max_multiplier <= self.instability_tolerance.ln());
+        let unstable = p.ln_max_multiplier > self.instability_tolerance.ln() || p.ln_max_multiplier.is_nan();
         // A NaN growth rate (no verdict) counts too.
         unstable && (p.growth_rate >= self.min_growth_rate || p.growth_rate.is_nan())
     }
