@@ -60,6 +60,7 @@ pub mod files;
 pub mod import;
 pub mod linalg;
 pub mod model;
+pub mod numbers;
 pub mod problem;
 pub mod progress;
 pub mod report;

@@ -9,8 +9,9 @@ mod common;
 /// The place of a top-level module in the chain; `None` for modules outside it.
 fn rank(module: &str) -> Option<u32> {
     Some(match module {
-        // Numerical kernels and the file-system layer, which any layer may use.
-        "linalg" | "files" => 0,
+        // Numerical kernels, the file-system layer and the message form of numbers, which
+        // any layer may use.
+        "linalg" | "files" | "numbers" => 0,
         "problem" | "import" => 1,
         "model" => 2,
         "assembly" => 3,

@@ -134,16 +134,7 @@ pub struct ParamError {
     pub rule: Rule,
 }
 
-/// A value as messages show it: in full, except beyond 10¹⁵ or below 10⁻⁶ in magnitude,
-/// where the exponent form keeps 1e300 from printing as 301 digits.
-pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if a != 0.0 && a.is_finite() && !(1e-6..1e15).contains(&a) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
+pub use crate::numbers::number;
 
 /// A limit as a person writes it: 1e6 rather than 1000000 beyond 10⁵ (and below 10⁻⁴).
 pub fn compact(x: f64) -> String {

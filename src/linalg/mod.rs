@@ -39,7 +39,7 @@ pub enum LinalgError {
         what: &'static str,
     },
     /// The shifted pencil is singular: the shift hit an eigenvalue.
-    #[error("the shifted pencil (A − σB) is singular at σ = {shift} rad/s", shift = crate::analysis::limits::number(*shift))]
+    #[error("the shifted pencil (A − σB) is singular at σ = {shift} rad/s", shift = crate::numbers::number(*shift))]
     SingularShift {
         /// The shift (rad/s).
         shift: f64,

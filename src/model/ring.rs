@@ -177,7 +177,7 @@ pub enum BranchError {
         branches: usize,
     },
     /// NaN or infinite.
-    #[error("{parameter} must be a finite number, found {value}", value = crate::analysis::limits::number(*value))]
+    #[error("{parameter} must be a finite number, found {value}", value = crate::numbers::number(*value))]
     NotFinite {
         /// The parameter set.
         parameter: Parameter,
