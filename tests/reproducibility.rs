@@ -115,9 +115,25 @@ fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
         .expect("output directory")
         .map(|e| {
             let p = e.expect("entry").path();
-            (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).expect("read output"))
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            let bytes = std::fs::read(&p).expect("read output");
+            let bytes = if name == OWNERSHIP_RECORD { without_run_identity(&bytes) } else { bytes };
+            (name, bytes)
         })
         .collect()
+}
+
+/// The folder's ownership record (docs/errors.md, "Output-folder errors").
+const OWNERSHIP_RECORD: &str = ".rotorshunt-out.json";
+
+/// The record without `staged_by`, the token, host and pid of the run that staged the
+/// folder: unique to each run by design (they prove which run's leftovers are the tool's).
+/// Everything else in it, the files and their hashes, must be identical.
+fn without_run_identity(bytes: &[u8]) -> Vec<u8> {
+    let mut v: serde_json::Value = serde_json::from_slice(bytes).expect("the record is JSON");
+    let identity = v.as_object_mut().expect("an object").remove("staged_by");
+    assert!(identity.is_some_and(|s| s["token"].as_str().is_some_and(|t| t.len() == 24)), "a run token");
+    serde_json::to_vec(&v).expect("JSON")
 }
 
 /// JSON text without its wall-time lines (`"seconds": …`), the only legitimately
