@@ -7,54 +7,14 @@
 
 mod common;
 
-use std::collections::BTreeMap;
-use std::os::unix::fs::FileTypeExt;
 use std::path::{Path, PathBuf};
-
-/// Path → what stands there: a file's bytes, a link's text, "dir", or the special kind.
-type Tree = BTreeMap<PathBuf, String>;
 
 /// A node the test makes where an output goes: what it is, and how to make it.
 type Maker = (&'static str, Box<dyn Fn(&Path) -> bool>);
 
-/// Everything below `dir` except `skip`, not following links.
-fn tree(dir: &Path, skip: &Path) -> Tree {
-    let mut out = Tree::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p == skip {
-                continue;
-            }
-            let t = std::fs::symlink_metadata(&p).unwrap().file_type();
-            let what = if t.is_symlink() {
-                format!("link {}", std::fs::read_link(&p).unwrap().display())
-            } else if t.is_dir() {
-                stack.push(p.clone());
-                "dir".into()
-            } else if t.is_file() {
-                format!("file {:?}", std::fs::read(&p).unwrap())
-            } else if t.is_fifo() {
-                "fifo".into()
-            } else {
-                "special".into()
-            };
-            out.insert(p, what);
-        }
-    }
-    out
-}
-
 fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::{Digest, Sha256};
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
-
-fn mkfifo(path: &Path) {
-    let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
-    // SAFETY: a valid NUL-terminated path.
-    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0, "mkfifo {}", path.display());
 }
 
 /// A character device like /dev/null at `path`; false when this process may not make
@@ -188,12 +148,12 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
             .unwrap();
         std::fs::create_dir(out.join(".rotorshunt-out.tmp-vm-999997")).unwrap();
         std::fs::write(out.join(".rotorshunt-out.tmp-vm-999997/mine.txt"), "the user's\n").unwrap();
-        let before = tree(&parent, &out);
+        let before = common::tree(&parent, &out);
         let second = run(&c, &out);
         assert!(wrote(&second), "{}: {}", c.name, stderr(&second));
         let e = stderr(&second);
         assert!(e.contains("\"../victim.txt\"") && e.contains("not a plain name"), "{}: {e}", c.name);
-        assert_eq!(tree(&parent, &out), before, "{}: something outside --out changed", c.name);
+        assert_eq!(common::tree(&parent, &out), before, "{}: something outside --out changed", c.name);
         assert!(out.join(".rotorshunt-out.tmp-vm-999997/mine.txt").exists(), "{}: a user's folder in --out", c.name);
         plants += 6;
 
@@ -202,11 +162,11 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
         std::fs::write(&outside_record, m.to_string()).unwrap();
         std::fs::remove_file(&manifest).unwrap();
         std::os::unix::fs::symlink(&outside_record, &manifest).unwrap();
-        let before = tree(&parent, &out);
+        let before = common::tree(&parent, &out);
         let third = run(&c, &out);
         assert!(wrote(&third), "{}: {}", c.name, stderr(&third));
         assert!(stderr(&third).contains("is ignored"), "{}: {}", c.name, stderr(&third));
-        assert_eq!(tree(&parent, &out), before, "{}: the linked record outside changed", c.name);
+        assert_eq!(common::tree(&parent, &out), before, "{}: the linked record outside changed", c.name);
         assert!(!std::fs::symlink_metadata(&manifest).unwrap().file_type().is_symlink());
         plants += 1;
 
@@ -217,7 +177,7 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
             (
                 "a FIFO",
                 Box::new(|p: &Path| {
-                    mkfifo(p);
+                    common::mkfifo(p);
                     true
                 }),
             ),
@@ -230,11 +190,16 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
         for (what, make) in &nodes {
             std::fs::remove_file(&target).unwrap();
             assert!(make(&target), "{}: cannot make {what}", c.name);
-            let before = tree(&parent, &root.join("none"));
+            let before = common::tree(&parent, &root.join("none"));
             let refused = run(&c, &out);
             assert_eq!(refused.status.code(), Some(2), "{} with {what} at {}: {}", c.name, c.output, stderr(&refused));
             assert!(stderr(&refused).contains(what), "{}: {}", c.name, stderr(&refused));
-            assert_eq!(tree(&parent, &root.join("none")), before, "{}: {what} was replaced or followed", c.name);
+            assert_eq!(
+                common::tree(&parent, &root.join("none")),
+                before,
+                "{}: {what} was replaced or followed",
+                c.name
+            );
             plants += 1;
         }
         std::fs::remove_file(&target).unwrap();
@@ -256,7 +221,7 @@ fn import_ross_refuses_links_fifos_and_devices_with_or_without_force() {
     std::os::unix::fs::symlink(&victim, &link).unwrap();
     nodes.push(("a symbolic link", link));
     let fifo = dir.join("fifo.toml");
-    mkfifo(&fifo);
+    common::mkfifo(&fifo);
     nodes.push(("a FIFO", fifo));
     if is_root() {
         let dev = dir.join("null.toml");
@@ -268,7 +233,7 @@ fn import_ross_refuses_links_fifos_and_devices_with_or_without_force() {
     let mut refused = 0;
     for (what, path) in &nodes {
         for force in [false, true] {
-            let before = tree(&dir, &dir.join("none"));
+            let before = common::tree(&dir, &dir.join("none"));
             let mut cmd = common::bin();
             cmd.arg("import-ross").arg(&rotor).arg("--out").arg(path);
             if force {
@@ -277,7 +242,7 @@ fn import_ross_refuses_links_fifos_and_devices_with_or_without_force() {
             let o = cmd.output().unwrap();
             assert_eq!(o.status.code(), Some(2), "{what} force={force}: {}", stderr(&o));
             assert!(stderr(&o).contains(what), "{what}: {}", stderr(&o));
-            assert_eq!(tree(&dir, &dir.join("none")), before, "{what} force={force}: replaced or followed");
+            assert_eq!(common::tree(&dir, &dir.join("none")), before, "{what} force={force}: replaced or followed");
             refused += 1;
         }
     }

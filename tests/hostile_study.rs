@@ -1,7 +1,8 @@
 //! A hostile or careless study folder (issue 26): for `study`, `study --shard`, `study
 //! merge`, `study status` and `study slurm`, links in place of every name the study
 //! records or uses (its lock and manifest, `cases/`, a case folder, a case's lock,
-//! manifest and `result.json`, `summary/`, `slurm/`), hard-linked locks, manifests whose
+//! manifest and `result.json`, `summary/`, `slurm/`), FIFOs where a result or summary
+//! goes, hard-linked locks, manifests whose
 //! entries name `../x` and absolute paths, and a user's folders named like staging
 //! folders. Every file outside `--out` stays byte-identical and in place, and each plant
 //! is refused (the plant named) or ignored with a warning. Then the records read back
@@ -12,59 +13,12 @@
 mod common;
 
 use serde_json::Value;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-/// Path → what stands there: a file's bytes, a link's text, or "dir".
-type Tree = BTreeMap<PathBuf, String>;
-
-/// Everything below `dir` except `skip`, not following links.
-fn tree(dir: &Path, skip: &Path) -> Tree {
-    let mut out = Tree::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p == skip {
-                continue;
-            }
-            let t = std::fs::symlink_metadata(&p).unwrap().file_type();
-            let what = if t.is_symlink() {
-                format!("link {}", std::fs::read_link(&p).unwrap().display())
-            } else if t.is_dir() {
-                stack.push(p.clone());
-                "dir".into()
-            } else {
-                format!("file {:?}", std::fs::read(&p).unwrap())
-            };
-            out.insert(p, what);
-        }
-    }
-    out
-}
-
 /// A study of two quick regions cases on a coarse model, in `dir`.
-fn write_study(dir: &Path) -> PathBuf {
-    let study = dir.join("study.toml");
-    std::fs::write(
-        &study,
-        format!(
-            r#"base = "{}"
-phi = [1150.0, 1350.0]
-beta_max = 0.5
-level = 0.3
-phi_op = 1230.0
-set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
-
-[sweep]
-"circuit.branches[0].resistance" = [0.0, 50.0]
-"#,
-            common::problem_path("design-widest-band.toml")
-        ),
-    )
-    .unwrap();
-    study
+fn two_case_study(dir: &Path) -> PathBuf {
+    common::coarse_study(dir, "study.toml", "[sweep]\n\"circuit.branches[0].resistance\" = [0.0, 50.0]\n")
 }
 
 fn run(args: &[&str], study: &Path, out: &Path, env: &[(&str, &str)]) -> Output {
@@ -99,11 +53,13 @@ fn link(target: &Path, at: &Path) {
     std::os::unix::fs::symlink(target, at).unwrap();
 }
 
-/// One plant: a name, how to make it in `out` (given the parent with its victims), the
-/// command, and what the run must say.
+/// How a plant is made: given the parent with its victims, and `out`.
+type Make = Box<dyn Fn(&Path, &Path)>;
+
+/// One plant: a name, how to make it in `out`, the command, and what the run must say.
 struct Plant {
     name: &'static str,
-    make: Box<dyn Fn(&Path, &Path)>,
+    make: Make,
     args: &'static [&'static str],
     says: &'static [&'static str],
 }
@@ -193,6 +149,26 @@ fn plants() -> Vec<Plant> {
         says: &["not valid records"],
     });
     v.push(Plant {
+        name: "result.json a FIFO",
+        make: Box::new(move |_, out| {
+            let r = case_dirs(out)[0].join("result.json");
+            std::fs::remove_file(&r).unwrap();
+            common::mkfifo(&r);
+        }),
+        args: &["run"],
+        says: &["a FIFO"],
+    });
+    v.push(Plant {
+        name: "a summary a FIFO",
+        make: Box::new(move |_, out| {
+            let f = out.join("summary/summary.md");
+            std::fs::remove_file(&f).unwrap();
+            common::mkfifo(&f);
+        }),
+        args: &["merge"],
+        says: &["a FIFO"],
+    });
+    v.push(Plant {
         name: "summary/ a link",
         make: Box::new(move |p, out| link(&victim_dir(p), &out.join("summary"))),
         args: &["merge"],
@@ -257,13 +233,13 @@ fn every_study_subcommand_refuses_or_ignores_each_plant_and_touches_nothing_outs
     std::fs::create_dir_all(parent.join("victim_dir")).unwrap();
     std::fs::write(parent.join("victim.txt"), "the user's file outside --out\n").unwrap();
     std::fs::write(parent.join("victim_dir/inner.txt"), "inside the user's folder\n").unwrap();
-    let study = write_study(&parent);
+    let study = two_case_study(&parent);
     let out = parent.join("out");
     let mut count = 0;
     for p in plants() {
         bring_back(&out, &study);
         (p.make)(&parent, &out);
-        let before = tree(&parent, &out);
+        let before = common::tree(&parent, &out);
         let staged_users: Vec<PathBuf> = std::fs::read_dir(&out)
             .unwrap()
             .map(|e| e.unwrap().path())
@@ -276,7 +252,13 @@ fn every_study_subcommand_refuses_or_ignores_each_plant_and_touches_nothing_outs
             assert!(text.contains(s), "{} ({:?}): expected {s:?} in: {text}", p.name, p.args);
         }
         assert!(!text.contains("panicked"), "{}: {text}", p.name);
-        assert_eq!(tree(&parent, &out), before, "{} ({:?}): something outside --out changed: {text}", p.name, p.args);
+        assert_eq!(
+            common::tree(&parent, &out),
+            before,
+            "{} ({:?}): something outside --out changed: {text}",
+            p.name,
+            p.args
+        );
         for u in &staged_users {
             assert!(u.join("mine.txt").exists(), "{}: a user's folder in --out was removed", p.name);
         }
@@ -286,6 +268,9 @@ fn every_study_subcommand_refuses_or_ignores_each_plant_and_touches_nothing_outs
     eprintln!("{count} plants over study, --shard, merge, status and slurm: nothing outside --out changed");
     std::fs::remove_dir_all(&parent).unwrap();
 }
+
+/// A tampering of a result: what it is, how it is done, and what the refusal says.
+type Tamper = (&'static str, Box<dyn Fn(&mut Value)>, &'static str);
 
 /// The rows of summary/summary.json.
 fn summary(out: &Path) -> Vec<Value> {
@@ -301,13 +286,13 @@ fn status_counts(out: &Path) -> Value {
 fn tampered_records_are_refused_or_recomputed_never_summarised() {
     let parent = common::tmp("hostile-records");
     std::fs::create_dir_all(&parent).unwrap();
-    let study = write_study(&parent);
+    let study = two_case_study(&parent);
     let out = parent.join("out");
 
     // Results with a metric "NaN" as text, a negative wall time, a wrong type, another
     // case's name: merge leaves them out and says why; status counts them missing; the
     // next run recomputes them, and its summary holds only true records.
-    let tampers: [(&str, Box<dyn Fn(&mut Value)>, &str); 4] = [
+    let tampers: [Tamper; 4] = [
         ("NaN as text", Box::new(|r| r["metrics"]["lowest_onset"] = "NaN".into()), "is not a finite number"),
         ("seconds = -1", Box::new(|r| r["seconds"] = (-1.0).into()), "seconds = -1"),
         ("a count as text", Box::new(|r| r["metrics"]["regions"] = "many".into()), "is not a count"),

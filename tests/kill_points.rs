@@ -130,29 +130,13 @@ fn chart_over_an_existing_folder_is_old_or_new_at_every_kill_point() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A study of two quick regions cases (the coarse model of tests/study_safety.rs).
+/// A study of two quick regions cases on the coarse model.
 fn two_case_study(dir: &Path) -> PathBuf {
-    let study = dir.join("study.toml");
-    let text = format!(
-        r#"base = "{}"
-phi = [1150.0, 1350.0]
-beta_max = 0.5
-level = 0.3
-phi_op = 1230.0
-set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
-
-[[cases]]
-name = "low"
-set = ["speed=1500.0"]
-
-[[cases]]
-name = "high"
-set = ["speed=2500.0"]
-"#,
-        common::problem_path("design-widest-band.toml")
-    );
-    std::fs::write(&study, text).unwrap();
-    study
+    common::coarse_study(
+        dir,
+        "study.toml",
+        "[[cases]]\nname = \"low\"\nset = [\"speed=1500.0\"]\n\n[[cases]]\nname = \"high\"\nset = [\"speed=2500.0\"]\n",
+    )
 }
 
 fn merge(out: &Path, kill_at: Option<u64>) -> std::process::Output {

@@ -27,27 +27,10 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// A study of quick regions cases on a coarse model; `cases` is TOML for `[[cases]]` and
+/// A study of quick regions cases on the coarse model; `cases` is TOML for `[[cases]]` and
 /// `[sweep]`.
 fn write_study(dir: &Path, name: &str, cases: &str) -> PathBuf {
-    let study = dir.join(name);
-    std::fs::write(
-        &study,
-        format!(
-            r#"base = "{}"
-phi = [1150.0, 1350.0]
-beta_max = 0.5
-level = 0.3
-phi_op = 1230.0
-set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
-
-{cases}
-"#,
-            common::problem_path("design-widest-band.toml")
-        ),
-    )
-    .unwrap();
-    study
+    common::coarse_study(dir, name, cases)
 }
 
 fn study(study: &Path, out: &Path, extra: &[&str]) -> Output {

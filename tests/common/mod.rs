@@ -318,3 +318,62 @@ pub fn check_design_report(dir: &std::path::Path) -> ReportLayout {
     assert_eq!(embedded, pngs, "embedded figures differ from the PNGs written");
     ReportLayout { page_one_lines: end, near_region_rows }
 }
+
+/// A study file `dir/NAME` of quick regions cases on a coarse model of
+/// problems/design-widest-band.toml (8 elements, 4 reduced modes, φ 1150–1350 rad/s,
+/// β_max 0.5, level 0.3, φ_op 1230 rad/s); `cases` is TOML for `[[cases]]` and `[sweep]`.
+pub fn coarse_study(dir: &std::path::Path, name: &str, cases: &str) -> std::path::PathBuf {
+    let study = dir.join(name);
+    let text = format!(
+        r#"base = "{}"
+phi = [1150.0, 1350.0]
+beta_max = 0.5
+level = 0.3
+phi_op = 1230.0
+set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
+
+{cases}
+"#,
+        problem_path("design-widest-band.toml")
+    );
+    std::fs::write(&study, text).unwrap_or_else(|e| panic!("{}: {e}", study.display()));
+    study
+}
+
+/// What stands at each path below `dir` (except `skip` and what is below it), not
+/// following links: a file's bytes, a link's target, `dir`, `fifo` or `special`.
+pub fn tree(dir: &std::path::Path, skip: &std::path::Path) -> std::collections::BTreeMap<std::path::PathBuf, String> {
+    use std::os::unix::fs::FileTypeExt;
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p == skip {
+                continue;
+            }
+            let t = std::fs::symlink_metadata(&p).unwrap().file_type();
+            let what = if t.is_symlink() {
+                format!("link {}", std::fs::read_link(&p).unwrap().display())
+            } else if t.is_dir() {
+                stack.push(p.clone());
+                "dir".into()
+            } else if t.is_file() {
+                format!("file {:?}", std::fs::read(&p).unwrap())
+            } else if t.is_fifo() {
+                "fifo".into()
+            } else {
+                "special".into()
+            };
+            out.insert(p, what);
+        }
+    }
+    out
+}
+
+/// A FIFO at `path` (panics when it cannot be made).
+pub fn mkfifo(path: &std::path::Path) {
+    let c = std::ffi::CString::new(path.to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0, "mkfifo {}", path.display());
+}
