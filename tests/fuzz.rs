@@ -26,13 +26,15 @@ use std::time::{Duration, Instant};
 /// Cases of the default (CI) run.
 const FUZZ_CASES_DEFAULT: u32 = 20_000;
 
-/// No single case may take longer than this (a hang or a runaway computation).
-const CASE_LIMIT: Duration = Duration::from_secs(2);
+/// A watchdog, not a timing: no single case may take longer than this (a hang or a
+/// runaway computation is orders of magnitude beyond it; cases take milliseconds, and a
+/// loaded shared machine must not trip it). Timings belong to the benches.
+const CASE_LIMIT: Duration = Duration::from_secs(10);
 /// A long response may take this many times its cost estimate beyond `CASE_LIMIT`: the
-/// estimate is of one quiet core, and the four tests of this binary run at once on CI's
-/// two shared cores (four periods at φ = 1 rad/s: 1.3-2.5 s wall on this host at load 2,
-/// 8.7 s at load 8).
-const ESTIMATE_SLACK: f64 = 6.0;
+/// estimate is of one quiet core, and the four tests of this binary run at once on two
+/// shared cores (four periods at φ = 1 rad/s: 1.3-2.5 s wall on this host at load 2,
+/// 8.7 s at load 8, 10.8 s at load 7 beside two compilers).
+const ESTIMATE_SLACK: f64 = 30.0;
 /// Responses estimated beyond this (s) are not run by the flag test.
 const LONG_RESPONSE: f64 = 3.0;
 
