@@ -4,7 +4,6 @@
 
 mod details;
 mod figures;
-mod margins;
 mod page_one;
 
 pub use figures::figures;
