@@ -26,18 +26,10 @@ fn bin() -> Command {
 /// 15 swept regions cases and one design case (nine output files, written one after the
 /// other, then result.json) on a coarse model, so the whole study takes a few seconds.
 fn write_study(dir: &Path) -> PathBuf {
-    let study = dir.join("study.toml");
-    std::fs::write(
-        &study,
-        format!(
-            r#"base = "{}"
-phi = [1150.0, 1350.0]
-beta_max = 0.5
-level = 0.3
-phi_op = 1230.0
-set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
-
-[[cases]]
+    common::coarse_study(
+        dir,
+        "study.toml",
+        r#"[[cases]]
 name = "design"
 kind = "design"
 set = ["design.starts=1", "design.max_iterations=3", "design.phi_range=[1000.0, 1500.0]"]
@@ -46,11 +38,7 @@ set = ["design.starts=1", "design.max_iterations=3", "design.phi_range=[1000.0, 
 speed = [1000.0, 2000.0, 3000.0]
 "circuit.branches[0].resistance" = [0.0, 10.0, 50.0, 100.0, 200.0]
 "#,
-            common::problem_path("design-widest-band.toml")
-        ),
     )
-    .unwrap();
-    study
 }
 
 /// Run the study to completion; its standard output.
