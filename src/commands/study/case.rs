@@ -121,31 +121,18 @@ const WARNINGS_METRIC: &str = "warnings";
 /// counts, texts, flags and the warning list by name, every other key a number (or
 /// null where there is none).
 fn metric_fault(key: &str, v: &serde_json::Value) -> Option<&'static str> {
-    use serde_json::Value;
-    let ok = if COUNT_METRICS.contains(&key) {
-        v.as_u64().is_some()
+    let (ok, why) = if COUNT_METRICS.contains(&key) {
+        (v.as_u64().is_some(), "is not a count")
     } else if TEXT_METRICS.contains(&key) {
-        v.is_string() || v.is_null()
+        (v.is_string() || v.is_null(), "is not a text")
     } else if FLAG_METRICS.contains(&key) {
-        v.is_boolean()
+        (v.is_boolean(), "is not true or false")
     } else if key == WARNINGS_METRIC {
-        v.as_array().is_some_and(|a| a.iter().all(Value::is_string))
+        (v.as_array().is_some_and(|a| a.iter().all(serde_json::Value::is_string)), "is not a list of texts")
     } else {
-        v.as_f64().is_some_and(f64::is_finite) || v.is_null()
+        (v.as_f64().is_some_and(f64::is_finite) || v.is_null(), "is not a finite number")
     };
-    (!ok).then(|| {
-        if COUNT_METRICS.contains(&key) {
-            "is not a count"
-        } else if TEXT_METRICS.contains(&key) {
-            "is not a text"
-        } else if FLAG_METRICS.contains(&key) {
-            "is not true or false"
-        } else if key == WARNINGS_METRIC {
-            "is not a list of texts"
-        } else {
-            "is not a finite number"
-        }
-    })
+    (!ok).then_some(why)
 }
 
 impl CaseResult {

@@ -416,17 +416,12 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolde
 /// Whether an existing case folder is the study's (see [`open_case`]).
 fn check_case_folder(dir: &Path) -> Result<(), Error> {
     let not_owned = || Error::NotOwned { path: dir.display().to_string() };
-    // A link in place of a case folder is refused (never followed), a file is the user's.
-    match crate::files::real_dir(dir) {
-        Ok(true) => {}
-        Ok(false) => return Err(output_error(dir, "it disappeared while the study opened it")),
-        Err(e)
-            if e.kind() == io::ErrorKind::InvalidInput
-                && crate::files::standing(dir).is_ok_and(|s| matches!(s, crate::files::Standing::File(_))) =>
-        {
-            return Err(not_owned())
-        }
-        Err(e) => return Err(Error::io(dir, &e)),
+    // A file there is the user's; a link or special file is refused (never followed).
+    match crate::files::standing(dir).map_err(|e| Error::io(dir, &e))? {
+        crate::files::Standing::Dir => {}
+        crate::files::Standing::File(_) => return Err(not_owned()),
+        crate::files::Standing::Missing => return Err(output_error(dir, "it disappeared while the study opened it")),
+        _ => return Err(crate::files::real_dir(dir).err().map_or_else(not_owned, |e| Error::io(dir, &e))),
     }
     let path = dir.join(CASE_MANIFEST);
     match crate::files::read_to_string(&path) {
