@@ -126,7 +126,7 @@ fn reporter(cli: &Cli) -> Reporter {
         Command::Chart { .. } => ("chart", &["chart", "files"]),
         Command::Regions { out: Some(_), .. } => ("regions", &["catalogue", "chart", "files"]),
         Command::Regions { .. } => ("regions", &["catalogue"]),
-        Command::Band { .. } => ("band", &["band"]),
+        Command::Band { .. } => ("band", &["band", "margins"]),
         Command::Design { .. } => ("design", &["optimise", "verification", "report"]),
         Command::Study(StudyArgs { action: None, .. }) => ("study", &["cases"]),
         Command::Response { .. } => ("response", &["response", "files"]),

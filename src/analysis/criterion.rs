@@ -5,6 +5,14 @@ use super::floquet::PointSummary;
 use super::Settings;
 use serde::Serialize;
 
+/// The numerical floor of the fast Floquet path on max|μ| (−): with the default 32 CFM4
+/// steps per period max|μ| is within 1e-6 of a converged reference at every tested point
+/// of the paper's problems (`Settings::steps_per_period`, tests/floquet_paths.rs,
+/// tests/convergence.rs). Every band search evaluates on that path, so a max|μ| above
+/// 1 + this floor is growth the path resolves, not its error; the strict criterion
+/// ([`Criterion::strict`]) counts every such point.
+pub const PATH_FLOOR: f64 = 1e-6;
+
 /// When an unstable point or tongue counts.
 ///
 /// A point is unstable when max|μ| exceeds `instability_tolerance` (the paper's rule,
@@ -39,8 +47,26 @@ impl Criterion {
     /// Whether an evaluated point counts as unstable. A point without a verdict (failed
     /// monodromy) counts: it is not shown to be stable.
     pub fn counts(&self, p: &PointSummary) -> bool {
+        // Unstable by this criterion's own tolerance (the point's verdict is the declared
+        // one's: the same test when the tolerances agree); a failed point's ln max|μ| is
+        // f64::MAX, and a NaN is not shown stable.
+        let unstable = p.ln_max_multiplier > self.instability_tolerance.ln() || p.ln_max_multiplier.is_nan();
         // A NaN growth rate (no verdict) counts too.
-        !p.stable && (p.growth_rate >= self.min_growth_rate || p.growth_rate.is_nan())
+        unstable && (p.growth_rate >= self.min_growth_rate || p.growth_rate.is_nan())
+    }
+
+    /// The strict criterion beside this declared one: a point is unstable when max|μ|
+    /// exceeds 1 + [`PATH_FLOOR`] (or the declared tolerance, if that is stricter), and
+    /// every unstable point and tongue counts (no growth-rate or width floor); the same
+    /// order. Its band says how much of a declared band lies in the slack of the
+    /// declared tolerance.
+    pub fn strict(&self) -> Criterion {
+        Criterion {
+            instability_tolerance: self.instability_tolerance.min(1.0 + PATH_FLOOR),
+            min_growth_rate: 0.0,
+            min_tongue_width: 0.0,
+            max_order: self.max_order,
+        }
     }
 
     /// Whether the paper's criterion is declared as it stands (nothing ignored).

@@ -8,8 +8,11 @@ use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::limits::{self, Quantity};
 use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::regions::margins::{band_margins, load_margin};
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, RegionSettings};
+use crate::analysis::regions::{
+    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Margins, RegionSettings,
+};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;
@@ -95,6 +98,19 @@ struct RegionsJson<'a> {
     seconds: f64,
     #[serde(flatten)]
     catalogue: &'a Catalogue,
+    /// The load margin of each stable band at the level (same order as `stable_bands`).
+    band_margins: Vec<BandLoadMargin>,
+}
+
+/// The load margin of one stable band of a catalogue: the lowest onset above the level
+/// among its regions born inside the band (onset/level − 1), searched up to β_max.
+#[derive(Debug, Serialize)]
+struct BandLoadMargin {
+    /// The stable band (rad/s).
+    band: Interval,
+    /// The lowest onset's tongue and margin; null when none is born inside up to β_max
+    /// (the margin is then more than β_max/level − 1).
+    load: Option<crate::analysis::regions::LoadMargin>,
 }
 
 /// What a catalogue is asked on the command line.
@@ -154,6 +170,11 @@ pub fn regions_cmd(
         region_settings: &settings,
         seconds,
         catalogue: &cat,
+        band_margins: cat
+            .stable_bands
+            .iter()
+            .map(|b| BandLoadMargin { band: *b, load: load_margin(&cat.regions, *b, level) })
+            .collect(),
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
     if let Some(dir) = dir {
@@ -207,7 +228,29 @@ pub fn regions_cmd(
     for b in &cat.stable_bands {
         s += &format!(" [{:.1}, {:.1}]", b.lo, b.hi);
     }
-    Ok(s + "\n")
+    s +=
+        "\nload margins of the stable bands (lowest onset above the level of a region born inside, onset/level - 1):\n";
+    for m in &doc.band_margins {
+        s += &match &m.load {
+            Some(l) => format!(
+                "  [{:.1}, {:.1}]: {:+.2} % ({} (k = {}) at {:.2} rad/s, onset {:.4})\n",
+                m.band.lo,
+                m.band.hi,
+                100.0 * l.margin,
+                l.label,
+                l.order,
+                l.start,
+                l.onset
+            ),
+            None => format!(
+                "  [{:.1}, {:.1}]: more than {:.1} % (none born inside up to beta_max = {beta_max})\n",
+                m.band.lo,
+                m.band.hi,
+                100.0 * (beta_max / level - 1.0)
+            ),
+        };
+    }
+    Ok(s)
 }
 
 /// JSON of `band`.
@@ -225,6 +268,11 @@ pub struct BandOutput {
     pub band: Band,
     /// Width (rad/s), when φ_op is stable.
     pub width: Option<f64>,
+    /// The band's margins: load margin (onset/β_op − 1 of the lowest counted tongue born
+    /// inside it, searched up to 2·β_op), frequency margins φ_op − lo and hi − φ_op
+    /// (rad/s), the largest max|μ| sampled inside it and the band by the strict
+    /// criterion; null when φ_op is unstable.
+    pub margins: Option<Margins>,
     /// Wall time (s).
     pub seconds: f64,
 }
@@ -277,7 +325,11 @@ pub fn band_cmd(
     let start = Instant::now();
     progress.phase("band", 0);
     let b = band_with(&fs, &full, &settings, window, phi_op, level, progress)?;
+    progress.phase("margins", 0);
+    let labelled = seeds_for(&fs, Some(&full), window, criterion.max_order)?;
+    let margins = band_margins(&fs, &full, &settings, &labelled, &b, window, progress)?;
     let out = BandOutput {
+        margins,
         provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
         window,
@@ -309,6 +361,9 @@ pub fn band_cmd(
             )
         }
     };
+    if let Some(m) = &out.margins {
+        text += &m.text("  ");
+    }
     for t in &b.ignored {
         let why = match t.ignored {
             Some(crate::analysis::regions::Ignored::SlowGrowth) => "growth below min_growth_rate",

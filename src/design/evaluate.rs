@@ -154,17 +154,56 @@ pub fn operating_bands(
     s: &RegionSettings,
     count: &Counter,
 ) -> Result<Vec<OperatingBand>, DesignError> {
+    operating_bands_at(c, spec, phi_op, spec.level, s, count)
+}
+
+/// The band around φ_op at the load `level` (−) at every speed ([`operating_bands`] at
+/// another level: the margin level of `[design.margins]`).
+pub fn operating_bands_at(
+    c: &Candidate,
+    spec: &DesignSpec,
+    phi_op: f64,
+    level: f64,
+    s: &RegionSettings,
+    count: &Counter,
+) -> Result<Vec<OperatingBand>, DesignError> {
     c.systems
         .iter()
         .enumerate()
         .map(|(k, (speed, fs))| {
             let seeds = c.seeds(k, spec)?;
             let probe = Probe::new(fs, s);
-            let band = band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, phi_op);
+            let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
             count.add(probe.evaluations());
             Ok(OperatingBand { speed: *speed, band })
         })
         .collect()
+}
+
+/// The frequency margin of bands around φ_op (rad/s): the smallest over the speeds of
+/// min(φ_op − lo, hi − φ_op), or minus the distance from φ_op to the nearer edge of the
+/// tongue containing it where φ_op is unstable (continuous, so an optimiser can climb).
+pub fn frequency_margin(bands: &[OperatingBand]) -> f64 {
+    bands
+        .iter()
+        .map(|b| match (b.band.band, b.band.containing) {
+            (Some(x), _) => (b.band.phi_op - x.lo).min(x.hi - b.band.phi_op),
+            (None, Some(t)) => -(b.band.phi_op - t.lo).min(t.hi - b.band.phi_op),
+            (None, None) => 0.0,
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// How far the bands at the margin level miss `[design.margins]` (rad/s, 0 when met):
+/// the shortfall of [`frequency_margin`] below `margins.phi`. With `phi` = 0 a φ_op that
+/// is unstable at the margin level still falls short by its distance into the tongue.
+pub fn margin_shortfall(bands: &[OperatingBand], margins: &super::spec::MarginSpec) -> f64 {
+    let m = frequency_margin(bands);
+    if bands.iter().any(|b| b.band.band.is_none()) {
+        // Unstable at the margin level: short by the margin and the depth into the tongue.
+        return margins.phi - m.min(0.0) + f64::EPSILON;
+    }
+    (margins.phi - m).max(0.0)
 }
 
 /// A counted tongue at β_op that reaches into an operating band widened by its clearance

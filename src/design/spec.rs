@@ -107,6 +107,26 @@ pub struct DampingFloor {
     pub min: f64,
 }
 
+/// `[design.margins]`: the stable band around φ_op must hold for every load up to
+/// (1 + `beta`)·β_op, with φ_op at least `phi` from each of its edges there (issue 27,
+/// point 1). Judged on the band around φ_op at the margin level (1 + `beta`)·β_op: a
+/// tongue whose onset lies below that load is in the unstable set there, so a band at
+/// the margin level has no counted tongue with a lower onset reaching into it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MarginSpec {
+    /// The load margin m (−, relative to β_op), ≥ 0.
+    pub beta: f64,
+    /// The frequency margin (rad/s), ≥ 0: φ_op − lo and hi − φ_op at the margin level.
+    pub phi: f64,
+}
+
+impl MarginSpec {
+    /// The margin level (1 + m)·β_op (−).
+    pub fn level(&self, level: f64) -> f64 {
+        (1.0 + self.beta) * level
+    }
+}
+
 /// Constraints a design of any objective must meet (`[design.constraints]`, and
 /// `[[design.bands]]` for the objectives other than clear-bands).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
@@ -124,17 +144,24 @@ pub struct Constraints {
     /// Damping-ratio floors of named whirls.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub damping: Vec<DampingFloor>,
+    /// Load and frequency margins of the band around φ_op (`[design.margins]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub margins: Option<MarginSpec>,
 }
 
 impl Constraints {
     /// Whether there is no constraint.
     pub fn is_empty(&self) -> bool {
-        self.bands.is_empty() && self.min_band_width.is_none() && self.max_peak.is_none() && self.damping.is_empty()
+        self.bands.is_empty()
+            && self.min_band_width.is_none()
+            && self.max_peak.is_none()
+            && self.damping.is_empty()
+            && self.margins.is_none()
     }
 
-    /// Whether a constraint needs the Floquet analysis (bands or a band width).
+    /// Whether a constraint needs the Floquet analysis (bands, a band width or margins).
     pub fn needs_stability(&self) -> bool {
-        !self.bands.is_empty() || self.min_band_width.is_some()
+        !self.bands.is_empty() || self.min_band_width.is_some() || self.margins.is_some()
     }
 }
 
@@ -369,6 +396,13 @@ impl DesignSpec {
         if let Some(b) = self.constraints.min_band_width {
             limits::phi_op(b.phi_op, self.range()).map_err(at("phi_op"))?;
             limits::positive(Quantity::Limit, b.width).map_err(at("constraints.min_band_width"))?;
+        }
+        if let Some(m) = self.constraints.margins {
+            limits::non_negative(Quantity::Limit, m.beta).map_err(at("margins.beta"))?;
+            limits::non_negative(Quantity::Limit, m.phi).map_err(at("margins.phi"))?;
+            // The margins judge the band around φ_op: a φ_op is needed.
+            limits::count(self.phi_op().is_some() as u64, 1, 1).map_err(at("phi_op"))?;
+            limits::level(m.level(self.level), limits::MAX_BETA).map_err(at("margins.beta"))?;
         }
         for (i, d) in self.constraints.damping.iter().enumerate() {
             limits::non_negative(Quantity::Limit, d.min).map_err(at(&format!("constraints.damping[{i}].min")))?;

@@ -15,12 +15,13 @@
 //! A design that fails any check is reported as not verified, never as improved.
 
 use super::evaluate::{Candidate, OperatingBand};
-use super::spec::{DesignSpec, Objective};
+use super::spec::{DesignSpec, MarginSpec, Objective};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
 use crate::analysis::regions::{
-    band_around, catalogue_with, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, Probe, RegionSettings,
+    band_around, catalogue_with, margins, seeds_for, Band, Catalogue, CatalogueRequest, Counter, Level, Margins, Probe,
+    RegionSettings,
 };
 use crate::analysis::{Criterion, Interval};
 use crate::progress::Progress;
@@ -94,8 +95,36 @@ pub struct DesignAtSpeed {
     pub centres: Vec<CentreCheck>,
     /// Grid charts over the band or the widened operating bands.
     pub grids: Vec<GridCheck>,
+    /// The margins of the band around φ_op ([`crate::analysis::regions::margins`]): load
+    /// margin from this catalogue's regions (onsets up to the design's β_max), frequency
+    /// margins, the largest max|μ| sampled inside and the strict-criterion band.
+    pub margins: Option<Margins>,
+    /// For the result with `[design.margins]`: the check at the margin level.
+    pub margin_check: Option<MarginCheck>,
     /// What failed, in words (empty when verified).
     pub failures: Vec<String>,
+}
+
+/// `[design.margins]` checked on the result at one speed, by routes the optimiser does
+/// not take: the full catalogue at the margin level (its stable band containing φ_op and
+/// its counted tongues), and a grid at that level over the catalogue's band.
+#[derive(Debug, Clone, Serialize)]
+pub struct MarginCheck {
+    /// The margin level (1 + beta)·β_op (−).
+    pub level: f64,
+    /// The catalogue's stable band containing φ_op at that level (rad/s).
+    pub band: Option<Interval>,
+    /// φ_op − lo (rad/s).
+    pub phi_below: Option<f64>,
+    /// hi − φ_op (rad/s).
+    pub phi_above: Option<f64>,
+    /// Counted tongues of that catalogue with an onset below the margin level that reach
+    /// within the frequency margin of φ_op: (label, extent at the margin level).
+    pub intruders: Vec<(String, Interval)>,
+    /// The grid at the margin level over the catalogue's band.
+    pub grid: Option<GridCheck>,
+    /// Monodromy evaluations of the check.
+    pub evaluations: usize,
 }
 
 /// Whirls per direction listed in the report.
@@ -127,13 +156,17 @@ pub fn describe(
                 );
             }
             let catalogue_band = spec.phi_op().and_then(|p| cat.band_containing(p));
-            let band = match spec.phi_op() {
+            let (band, margins) = match spec.phi_op() {
                 Some(p) => {
                     let seeds = seeds_for(fs, Some(&full), spec.range(), c.criterion().max_order)?;
                     let probe = Probe::reporting(fs, s, progress);
-                    Some(band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, p))
+                    let band = band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, p);
+                    let strict = margins::strict_band(fs, s, &seeds, &band, spec.range());
+                    let tolerance = c.criterion().strict().instability_tolerance;
+                    let m = margins::assemble(&band, strict, &cat.regions, spec.beta_max, tolerance);
+                    (Some(band), m)
                 }
-                None => None,
+                None => (None, None),
             };
             Ok(DesignAtSpeed {
                 speed: *w,
@@ -143,6 +176,8 @@ pub fn describe(
                 band,
                 centres: Vec::new(),
                 grids: Vec::new(),
+                margins,
+                margin_check: None,
                 failures: Vec::new(),
             })
         })
@@ -289,7 +324,84 @@ pub fn verify(
                 ));
             }
         }
+        if let (Some(m), Some(phi_op)) = (spec.constraints.margins, spec.phi_op()) {
+            let check = margin_check(c, k, spec, &m, phi_op, progress);
+            match check {
+                Ok(mc) => {
+                    count.add(mc.evaluations);
+                    d.failures.extend(margin_failures(&mc, &m, phi_op));
+                    d.margin_check = Some(mc);
+                }
+                Err(e) => d.failures.push(format!("the margin check's catalogue failed: {e}")),
+            }
+        }
         passed &= d.failures.is_empty();
     }
     passed
+}
+
+/// The margin check at speed index `k` ([`MarginCheck`]).
+fn margin_check(
+    c: &Candidate,
+    k: usize,
+    spec: &DesignSpec,
+    m: &MarginSpec,
+    phi_op: f64,
+    progress: &dyn Progress,
+) -> Result<MarginCheck, DesignError> {
+    let (w, fs) = (&c.systems[k].0, &c.systems[k].1);
+    let level = m.level(spec.level);
+    let full = whirl_modes_of(&c.rotor, &c.problem.settings, *w)?;
+    let req = CatalogueRequest { range: spec.range(), beta_max: spec.beta_max.max(level), level, track: false };
+    let cat = catalogue_with(fs, &full, &c.problem.regions, &req, progress)?;
+    let band = cat.band_containing(phi_op);
+    let guarded = Interval::new(phi_op - m.phi, phi_op + m.phi);
+    let intruders = tongues(&cat)
+        .into_iter()
+        .filter(|(_, e, counted)| *counted && e.hi > guarded.lo + SAME_EDGE && e.lo < guarded.hi - SAME_EDGE)
+        .map(|(label, e, _)| (label, e))
+        .collect();
+    let count = Counter::default();
+    let grid = band.map(|b| grid(fs, &c.criterion(), b, level, &count, progress));
+    Ok(MarginCheck {
+        level,
+        band,
+        phi_below: band.map(|b| phi_op - b.lo),
+        phi_above: band.map(|b| b.hi - phi_op),
+        intruders,
+        grid,
+        evaluations: cat.evaluations + count.get(),
+    })
+}
+
+/// What a margin check found wrong, in words.
+fn margin_failures(mc: &MarginCheck, m: &MarginSpec, phi_op: f64) -> Vec<String> {
+    let mut out = Vec::new();
+    match (mc.phi_below, mc.phi_above) {
+        (Some(below), Some(above)) => {
+            if below < m.phi - SAME_EDGE || above < m.phi - SAME_EDGE {
+                out.push(format!(
+                    "margins: at beta = {:.6} phi_op - lo = {below:.3} and hi - phi_op = {above:.3} rad/s, less than the {} rad/s asked",
+                    mc.level, m.phi
+                ));
+            }
+        }
+        _ => out.push(format!("margins: phi_op = {phi_op} rad/s is unstable at beta = {:.6}", mc.level)),
+    }
+    for (label, e) in &mc.intruders {
+        out.push(format!(
+            "margins: catalogued tongue {label} at {e:.3} (beta = {:.6}) reaches within {} rad/s of phi_op",
+            mc.level, m.phi
+        ));
+    }
+    if let Some(g) = mc.grid.as_ref().filter(|g| !g.unstable.is_empty()) {
+        out.push(format!(
+            "margins: {} point(s) of the {} rad/s grid over {:.3} at beta = {:.6} are unstable",
+            g.unstable.len(),
+            g.step,
+            g.window,
+            mc.level
+        ));
+    }
+    out
 }

@@ -33,7 +33,9 @@
 //! R_opt = √(3/2)·K/(C·ω_E); Eq. (4) (with C_p^T) converts L to the branch's
 //! `tuning_frequency`.
 
-use super::evaluate::{intrusions, operating_bands, problem_at, Candidate};
+use super::evaluate::{
+    frequency_margin, intrusions, margin_shortfall, operating_bands, operating_bands_at, problem_at, Candidate,
+};
 use super::spec::{DesignSpec, Parameter, Response};
 use super::DesignError;
 use crate::analysis::damping::mode_damping;
@@ -94,7 +96,17 @@ pub enum ConstraintKind {
     /// A whirl's damping ratio at least a limit: value = its smallest ζ over the
     /// operating speeds (−).
     Damping,
+    /// `[design.margins]`: value = the frequency margin min(φ_op − lo, hi − φ_op) of the
+    /// band around φ_op at the margin level (1 + beta)·β_op, the smallest over the speeds
+    /// (rad/s; minus the depth into the tongue where φ_op is unstable there), limit `phi`.
+    Margins,
 }
+
+/// Scale of the margin constraint's relative violation (rad/s): a shortfall is judged
+/// relative to the frequency margin asked, or to this where less is asked (a margin of
+/// 0 only asks φ_op to be stable at the margin level): 10 rad/s is 50 lattice cells of
+/// the band edges (0.125 rad/s) and under 1 % of the paper's φ_op.
+pub const MARGIN_SCALE: f64 = 10.0;
 
 /// One constraint judged on one design.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -152,6 +164,23 @@ pub fn check_constraints(
             width,
             w.width,
         ));
+    }
+    if let (Some(m), Some(phi_op)) = (k.margins, spec.phi_op()) {
+        let bands = operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?;
+        let shortfall = margin_shortfall(&bands, &m);
+        out.push(ConstraintCheck {
+            kind: ConstraintKind::Margins,
+            name: format!(
+                "band around {phi_op} rad/s at beta = {:.6} ((1 + {}) beta_op) with phi_op >= {} rad/s from each edge",
+                m.level(spec.level),
+                m.beta,
+                m.phi
+            ),
+            value: frequency_margin(&bands),
+            limit: m.phi,
+            met: shortfall == 0.0,
+            violation: shortfall / m.phi.max(MARGIN_SCALE),
+        });
     }
     if let (Some(limit), Some(p)) = (k.max_peak, peak) {
         let met = p.amplitude <= limit;

@@ -8,8 +8,8 @@ use super::{NameOf, ProblemErrorKind as K};
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use crate::design::spec::{
-    Band, BandWidth, Constraints, DampingFloor, DesignSpec, Objective, ObjectiveKind, Parameter, Response, Variable,
-    MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_RESPONSE_POINTS,
+    Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Objective, ObjectiveKind, Parameter, Response,
+    Variable, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_RESPONSE_POINTS,
 };
 use crate::model::{CircuitState, Model};
 
@@ -254,7 +254,18 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         Objective::MinPeakResponse { response } => Some(response),
         _ => response.as_ref(),
     };
-    let constraints = constraints(d, bands, phi_op, judged)?;
+    let mut constraints = constraints(d, bands, phi_op, judged)?;
+    if let Some(m) = &d.margins {
+        let beta = non_negative("design.margins.beta", m.beta.unwrap_or(0.0))?;
+        let phi = non_negative("design.margins.phi", m.phi.unwrap_or(0.0))?;
+        if phi_op.is_none() {
+            let message = "margins judge the stable band around `design.phi_op` (rad/s): add `phi_op` (widest-stable-band, or with `constraints.min_band_width`)";
+            return Err(("design.margins".into(), K::Schema(message.into())));
+        }
+        let margin = MarginSpec { beta, phi };
+        rule("design.margins.beta", limits::level(margin.level(level), limits::MAX_BETA))?;
+        constraints.margins = Some(margin);
+    }
     if d.variables.is_empty() {
         return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));
     }

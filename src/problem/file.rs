@@ -102,6 +102,23 @@ pub struct DesignFile {
     /// `[design.constraints]`: what the result must meet, whatever the objective.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub constraints: Option<ConstraintsFile>,
+    /// `[design.margins]`: load and frequency margins of the band around `phi_op`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margins: Option<MarginsFile>,
+}
+
+/// `[design.margins]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MarginsFile {
+    /// Load margin (−, relative to β_op, ≥ 0): the band holds for every β up to
+    /// (1 + beta)·β_op; default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta: Option<f64>,
+    /// Frequency margin (rad/s, ≥ 0): φ_op at least this far from each edge of that band;
+    /// default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phi: Option<f64>,
 }
 
 /// `[design.response]`: the unbalance response at a shaft node over a speed range.

@@ -56,6 +56,12 @@ pub struct Band {
     pub ignored: Vec<Tongue>,
     /// What the band guarantees, in words.
     pub guarantee: String,
+    /// The largest max|μ| (−) among the points the band search evaluated at β_op inside
+    /// the band (ends included): φ_op, the guard-lattice points it visited and the march
+    /// and refinement steps on the stable side of each edge. None without a band.
+    pub max_multiplier: Option<f64>,
+    /// How many such points there were.
+    pub sampled: usize,
     /// Monodromy evaluations used.
     pub evaluations: usize,
 }
@@ -94,6 +100,8 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
         right: None,
         ignored: Vec::new(),
         guarantee: criterion.guarantee(level.beta()),
+        max_multiplier: None,
+        sampled: 0,
         evaluations: 0,
     };
     if level.counts(phi_op) {
@@ -150,6 +158,10 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     let slow = level.slow_tongues(seeds, found, &bounds);
     out.ignored.extend(slow.into_iter().filter(|t| t.extent.hi > found.lo && t.extent.lo < found.hi));
     out.ignored.sort_by(|a, b| a.extent.lo.total_cmp(&b.extent.lo));
+    if let Some((largest, n)) = level.largest_inside(found) {
+        out.max_multiplier = Some(largest);
+        out.sampled = n;
+    }
     out.evaluations = level.probe().evaluations() - start;
     out
 }

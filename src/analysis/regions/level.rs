@@ -43,6 +43,9 @@ pub struct Level<'p> {
     pub(super) group_of: (Vec<usize>, Vec<usize>),
     /// Each group search is made once, whichever of its seeds asks first.
     pub(super) searched: Mutex<HashMap<GroupKey, Arc<OnceLock<Vec<GroupHit>>>>>,
+    /// (φ, max|μ|) of every point evaluated by [`Level::point`] (guard-lattice points,
+    /// march steps, edge refinements): the samples a band's largest max|μ| is read from.
+    pub(super) seen: Mutex<Vec<(f64, f64)>>,
 }
 
 impl<'p> Level<'p> {
@@ -72,6 +75,7 @@ impl<'p> Level<'p> {
             groups,
             group_of,
             searched: Mutex::new(HashMap::new()),
+            seen: Mutex::new(Vec::new()),
         }
     }
 
@@ -97,7 +101,18 @@ impl<'p> Level<'p> {
 
     /// The Floquet point at (φ, β_op); one evaluation.
     pub fn point(&self, phi: f64) -> PointSummary {
-        self.probe.point(phi, self.beta)
+        let p = self.probe.point(phi, self.beta);
+        self.seen.lock().unwrap_or_else(|e| e.into_inner()).push((phi, p.max_multiplier));
+        p
+    }
+
+    /// The largest max|μ| among the points this level evaluated inside `band` (ends
+    /// included), and how many there were; None without one.
+    pub fn largest_inside(&self, band: Interval) -> Option<(f64, usize)> {
+        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        let inside: Vec<f64> = seen.iter().filter(|(phi, _)| band.contains(*phi)).map(|(_, m)| *m).collect();
+        let largest = inside.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (!inside.is_empty()).then_some((largest, inside.len()))
     }
 
     /// Whether (φ, β_op) counts as unstable by the criterion; one evaluation.

@@ -82,6 +82,19 @@ pub(super) fn run_case(
                     m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
                     m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
                 }
+                // The tuned band's margins (the smallest over the speeds; docs/studies.md).
+                let after: Vec<&crate::analysis::regions::Margins> =
+                    o.after_speeds.iter().filter_map(|d| d.margins.as_ref()).collect();
+                if !after.is_empty() {
+                    let least = |f: &dyn Fn(&crate::analysis::regions::Margins) -> f64| {
+                        after.iter().map(|x| f(x)).fold(f64::INFINITY, f64::min)
+                    };
+                    m.insert("load_margin_after".into(), metric(least(&|x| x.load_margin())));
+                    m.insert("phi_margin_below_after".into(), metric(least(&|x| x.phi_below)));
+                    m.insert("phi_margin_above_after".into(), metric(least(&|x| x.phi_above)));
+                    let width = least(&|x| x.strict_band.map_or(0.0, |b| b.width()));
+                    m.insert("strict_band_width_after".into(), metric(width));
+                }
             }
             if let Some(spec) = problem.design.as_ref() {
                 if !spec.objective.bands().is_empty() {

@@ -359,6 +359,7 @@ fn signed_margin(c: &ConstraintCheck) -> f64 {
         K::Peak => (c.limit - c.value) / scale,
         K::BandWidth | K::Damping => (c.value - c.limit) / scale,
         K::BandsClear => -c.violation,
+        K::Margins => (c.value - c.limit) / c.limit.max(crate::design::vibration::MARGIN_SCALE),
     }
 }
 

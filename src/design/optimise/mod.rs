@@ -1,7 +1,10 @@
 //! The design runs: multi-start Nelder–Mead for the widest stable band, sequential convex
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
-use super::evaluate::{follow, intrusions, operating_bands, values_of, Candidate, Intrusion, OperatingBand};
+use super::evaluate::{
+    follow, intrusions, margin_shortfall, operating_bands, operating_bands_at, values_of, Candidate, Intrusion,
+    OperatingBand,
+};
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
 use super::verify::{describe, verify};
@@ -79,14 +82,31 @@ impl Context<'_> {
         operating_bands(c, self.spec, phi_op, &self.regions, &self.floquet)
     }
 
-    /// Smallest signed band width over the speeds (rad/s) of the design at `u` (scaled).
+    /// Smallest signed band width over the speeds (rad/s) of the design at `u` (scaled),
+    /// less the margin penalty ([`Context::penalty`]).
     fn band_objective(&self, u: &[f64], phi_op: f64) -> f64 {
-        match self.candidate(u).and_then(|c| self.bands(&c, phi_op)) {
-            Ok(b) => smallest(&b),
-            Err(_) => -FAILED_COST,
-        }
+        let judged = self.candidate(u).and_then(|c| {
+            let b = self.bands(&c, phi_op)?;
+            Ok(smallest(&b) - self.penalty(&c, phi_op)?)
+        });
+        judged.unwrap_or(-FAILED_COST)
+    }
+
+    /// The penalty (rad/s) of `[design.margins]` on a candidate: [`MARGIN_PENALTY`] per
+    /// rad/s by which the band around φ_op at the margin level misses the frequency
+    /// margin at some speed (0 without margins).
+    fn penalty(&self, c: &Candidate, phi_op: f64) -> Result<f64, DesignError> {
+        let Some(m) = self.spec.constraints.margins else { return Ok(0.0) };
+        let at = operating_bands_at(c, self.spec, phi_op, m.level(self.spec.level), &self.regions, &self.floquet)?;
+        Ok(MARGIN_PENALTY * margin_shortfall(&at, &m))
     }
 }
+
+/// Penalty per rad/s of frequency-margin shortfall at the margin level, in rad/s of band
+/// width: an exact penalty needs more than the width one rad/s of margin can buy (a
+/// bounding tongue moved by δ changes the width and the margin by δ each, so 1 would be
+/// the break-even), and 10 keeps the optimiser's steps on the feasible side.
+const MARGIN_PENALTY: f64 = 10.0;
 
 /// The smallest signed band width over the speeds (rad/s).
 fn smallest(bands: &[OperatingBand]) -> f64 {

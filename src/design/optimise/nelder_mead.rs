@@ -143,20 +143,26 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
         out.starts.push(report);
     }
     let before = ctx.bands(&ctx.reference, phi_op)?;
-    // The widest band over the starts' best points, by the same band function as the
-    // objective (ties: the earlier start).
-    let banded: Vec<Result<Vec<OperatingBand>, DesignError>> =
-        finals.par_iter().map(|u| ctx.bands(&Candidate::new(ctx.base, spec, &ctx.values(u))?, phi_op)).collect();
+    let before_value = smallest(&before) - ctx.penalty(&ctx.reference, phi_op)?;
+    // The widest band over the starts' best points, by the same band function and margin
+    // penalty as the objective (ties: the earlier start).
+    let banded: Vec<Result<(f64, Vec<OperatingBand>), DesignError>> = finals
+        .par_iter()
+        .map(|u| {
+            let c = Candidate::new(ctx.base, spec, &ctx.values(u))?;
+            let b = ctx.bands(&c, phi_op)?;
+            Ok((smallest(&b) - ctx.penalty(&c, phi_op)?, b))
+        })
+        .collect();
     let mut best: Option<(f64, usize, Vec<OperatingBand>)> = None;
     for (k, b) in banded.into_iter().enumerate() {
-        let b = b?;
-        let w = smallest(&b);
+        let (w, b) = b?;
         if best.as_ref().is_none_or(|x| w > x.0) {
             best = Some((w, k, b));
         }
     }
     let after = match best {
-        Some((w, k, bands)) if w > smallest(&before) => {
+        Some((w, k, bands)) if w > before_value => {
             out.status = Status::Improved;
             out.after = ctx.values(&finals[k]);
             bands

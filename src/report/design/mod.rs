@@ -4,6 +4,7 @@
 
 mod details;
 mod figures;
+mod margins;
 mod page_one;
 
 pub use figures::figures;

@@ -110,6 +110,7 @@ pub(super) fn page_one(r: &DesignReport) -> String {
         Objective::MinPeakResponse { .. } => peak_table(&mut s, o),
     }
     constraints_table(&mut s, o);
+    super::margins::margins_table(&mut s, o);
     verification_sentences(&mut s, o);
     if let Some(f) = r.files.iter().find(|f| f.ends_with(".png")) {
         let _ = writeln!(s, "\n![{}]({f})", figure_caption(f));
