@@ -285,8 +285,14 @@ pub fn default_window(phi_op: f64) -> Interval {
 
 fn bound_text(b: &Option<Bound>) -> String {
     match b {
-        Some(Bound::Tongue { edge, label, inside }) => {
-            format!("{label} (edge {edge:.3} rad/s, unstable at {inside:.3} rad/s)")
+        Some(Bound::Tongue { edge, label, inside, unexplained }) => {
+            let why = unexplained.as_ref().map_or_else(String::new, |u| {
+                format!(
+                    "; no catalogued tongue has this edge: unstable Floquet exponent at {:.3} rad/s, nearest whirl combination {} = {:.3} rad/s",
+                    u.exponent_frequency, u.nearest, u.nearest_frequency
+                )
+            });
+            format!("{label} (edge {edge:.3} rad/s, unstable at {inside:.3} rad/s{why})")
         }
         _ => "the end of the search window".into(),
     }

@@ -12,6 +12,8 @@ use super::seeds::Seed;
 use super::tongues::{Hit, Ignored, Tongue};
 use super::Level;
 use super::CENTRE_WINDOW;
+use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::modes::{ModesResult, Whirl};
 use crate::analysis::Interval;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -19,6 +21,101 @@ use serde::Serialize;
 /// Searches evaluated together (in parallel) before the nearest tongue is updated: enough
 /// to keep two threads busy, few enough that little work lands beyond the tongue.
 const BATCH: usize = 8;
+
+/// Two computations of the same tongue edge (rad/s) are the same edge when they differ by
+/// at most this: a band's edges and a catalogue's are the same lattice-refined numbers
+/// ([`super::level`]), so only round-off may separate them.
+pub const SAME_EDGE: f64 = 1e-9;
+
+/// The name of a bound that no catalogued tongue has: no seed's pair was identified in
+/// the tongue (found by the guard lattice or beside a seed).
+pub const UNLABELLED: &str = "unlabelled";
+
+/// A catalogued tongue that may name a band's bound: the label and order k of a seed whose
+/// pair collides in it (the catalogue's region of that seed), and its extent at β_op.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedTongue {
+    /// The seed's whirl pair, e.g. `f1+r2`.
+    pub label: String,
+    /// Order k of its resonance.
+    pub order: usize,
+    /// The tongue's extent at β_op (rad/s).
+    pub extent: Interval,
+}
+
+/// The side of φ_op a bound lies on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// The bound below the band (its tongue's upper edge is the band's lower edge).
+    Below,
+    /// The bound above the band (its tongue's lower edge is the band's upper edge).
+    Above,
+}
+
+/// The one rule naming what bounds a band (used by `band`, the design report's page one
+/// and its region table): among `tongues`, those whose edge facing the band (the upper
+/// edge for the bound below, the lower edge for the bound above) equals `edge` within
+/// [`SAME_EDGE`]; the lowest order k wins, equal orders by the label (byte order). The
+/// name reads `label (k = k)`; None when no catalogued tongue has that edge.
+pub fn bound_name(tongues: &[NamedTongue], side: Side, edge: f64) -> Option<String> {
+    let facing = |t: &NamedTongue| match side {
+        Side::Below => t.extent.hi,
+        Side::Above => t.extent.lo,
+    };
+    tongues
+        .iter()
+        .filter(|t| (facing(t) - edge).abs() <= SAME_EDGE)
+        .min_by(|a, b| a.order.cmp(&b.order).then_with(|| a.label.cmp(&b.label)))
+        .map(|t| format!("{} (k = {})", t.label, t.order))
+}
+
+/// What is known of an unlabelled bound's tongue: the frequency of its unstable Floquet
+/// exponent and the whirl frequency nearest to it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unexplained {
+    /// Where the exponent was taken: the tongue's counted point (rad/s).
+    pub phi: f64,
+    /// |Im λ| of the largest multiplier μ = e^{λT} there, folded into [0, φ/2]
+    /// (rad/s): |arg μ|·φ/(2π).
+    pub exponent_frequency: f64,
+    /// The nearest whirl-frequency combination, `tag − m·φ` (or `tag`, m = 0): the whirl
+    /// frequency ω folded by whole multiples m of φ nearest the exponent frequency.
+    pub nearest: String,
+    /// |ω − m·φ| of that combination (rad/s).
+    pub nearest_frequency: f64,
+}
+
+/// Whirls per direction looked at for the nearest combination of an unlabelled bound.
+const EXPLAIN_WHIRLS: usize = 8;
+
+/// The unstable Floquet exponent's frequency at `phi` (β = `level`, reference DSTM path)
+/// and the whirl frequency folded by multiples of φ nearest to it ([`Unexplained`]).
+pub fn unexplained(fs: &FloquetSystem, full: &ModesResult, phi: f64, level: f64) -> Unexplained {
+    let p = fs.point_dstm(phi, level, fs.settings.reference_steps);
+    let arg = p
+        .multipliers
+        .iter()
+        .max_by(|a, b| a[0].hypot(a[1]).total_cmp(&b[0].hypot(b[1])))
+        .map_or(0.0, |m| m[1].atan2(m[0]));
+    let nu = arg.abs() * phi / std::f64::consts::TAU;
+    let mut best: Option<(String, f64, f64)> = None;
+    for dir in [Whirl::Forward, Whirl::Backward] {
+        for m in full.modes.iter().filter(|m| m.whirl == dir).take(EXPLAIN_WHIRLS) {
+            // The fold of ω nearest ν: |ω − k·φ| for the k (≥ 0) nearest ω/φ and its
+            // neighbours.
+            let k0 = (m.frequency / phi).round();
+            for k in [k0 - 1.0, k0, k0 + 1.0].into_iter().filter(|k| *k >= 0.0) {
+                let folded = (m.frequency - k * phi).abs();
+                if best.as_ref().is_none_or(|b| (folded - nu).abs() < (b.1 - nu).abs()) {
+                    let name = if k == 0.0 { m.tag() } else { format!("{} − {k}·φ", m.tag()) };
+                    best = Some((name, folded, k));
+                }
+            }
+        }
+    }
+    let (nearest, nearest_frequency) = best.map_or_else(|| ("none".to_string(), f64::NAN), |b| (b.0, b.1));
+    Unexplained { phi, exponent_frequency: nu, nearest, nearest_frequency }
+}
 
 /// What bounds a band on one side.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -32,8 +129,13 @@ pub enum Bound {
         edge: f64,
         /// A counted point inside it (rad/s).
         inside: f64,
-        /// Label and order of the seed whose pair collides there, or `unlabelled`.
+        /// The lowest-order catalogued tongue with that edge ([`bound_name`]), or
+        /// `unlabelled`.
         label: String,
+        /// For an unlabelled bound: its exponent's frequency and the nearest whirl
+        /// combination ([`unexplained`]); absent otherwise, and before the bound is named.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        unexplained: Option<Unexplained>,
     },
 }
 
@@ -67,6 +169,25 @@ pub struct Band {
 }
 
 impl Band {
+    /// Name both bounds by [`bound_name`] from the catalogued tongues `tongues`; a bound no
+    /// catalogued tongue has is `unlabelled`, with `explain`'s account of it.
+    pub fn name_bounds(&mut self, tongues: &[NamedTongue], explain: &dyn Fn(f64) -> Unexplained) {
+        for (bound, side) in [(&mut self.left, Side::Below), (&mut self.right, Side::Above)] {
+            if let Some(Bound::Tongue { edge, inside, label, unexplained }) = bound {
+                match bound_name(tongues, side, *edge) {
+                    Some(name) => {
+                        *label = name;
+                        *unexplained = None;
+                    }
+                    None => {
+                        *label = UNLABELLED.to_string();
+                        *unexplained = Some(explain(*inside));
+                    }
+                }
+            }
+        }
+    }
+
     /// The band's width (rad/s) if φ_op is stable; otherwise minus the distance from φ_op
     /// to the nearer edge of the tongue containing it (continuous across the transition,
     /// so an optimiser can climb out of a tongue).
@@ -272,7 +393,7 @@ fn side(
             continue;
         }
         let edge = if dir > 0.0 { extent.lo } else { extent.hi };
-        return (Some(Bound::Tongue { edge, inside: hit.phi, label: tongue.label() }), ignored);
+        return (Some(Bound::Tongue { edge, inside: hit.phi, label: tongue.label(), unexplained: None }), ignored);
     }
 }
 

@@ -28,7 +28,9 @@ pub mod start;
 pub mod tongues;
 pub mod track;
 
-pub use band::{band_around, Band, Bound};
+pub use band::{
+    band_around, bound_name, unexplained, Band, Bound, NamedTongue, Side, Unexplained, SAME_EDGE, UNLABELLED,
+};
 pub use centre::{ModeBasis, CENTRE_WINDOW};
 pub use critical::CriticalLoad;
 pub use level::Level;
@@ -207,8 +209,32 @@ pub fn band_with(
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(fs, Some(full), range, criterion.max_order)?;
     let probe = Probe::reporting(fs, s, progress);
-    Ok(band_around(&Level::new(&probe, criterion, level, range), &seeds, phi_op))
+    let at = Level::new(&probe, criterion, level, range);
+    let mut b = band_around(&at, &seeds, phi_op);
+    // The bounds named by the catalogue ([`band::bound_name`]) of each bounding tongue's
+    // neighbourhood: its full extent widened by [`NAMING_REACH`] on each side, in the window.
+    let mut tongues = Vec::new();
+    let mut spent = 0;
+    for bound in [&b.left, &b.right] {
+        let Some(Bound::Tongue { inside, .. }) = bound else { continue };
+        let Some(e) = at.extent(*inside) else { continue };
+        let near =
+            Interval::new((e.lo * (1.0 - NAMING_REACH)).max(range.lo), (e.hi * (1.0 + NAMING_REACH)).min(range.hi));
+        let req = CatalogueRequest { range: near, beta_max: level, level, track: false };
+        let cat = catalogue_with(fs, full, s, &req, progress)?;
+        spent += cat.evaluations;
+        tongues.extend(cat.named_tongues());
+    }
+    b.name_bounds(&tongues, &|phi| unexplained(fs, full, phi, level));
+    b.evaluations = probe.evaluations() + spent;
+    Ok(b)
 }
+
+/// The catalogue that names a band's bound covers the bounding tongue's extent widened by
+/// this fraction of its edges on each side: every seed whose collision lies in the tongue
+/// is within its search window ([`CENTRE_WINDOW`]) of it, so it is among the catalogue's
+/// seeds; 1e-3 keeps the neighbouring tongues' clipped edges away from the band's edge.
+const NAMING_REACH: f64 = 1e-3;
 
 /// Catalogue every region with onset below β_max in the range, and the unstable set at
 /// the level (the request is checked first, [`CatalogueRequest::check`]): starts and
@@ -355,6 +381,18 @@ pub fn catalogue_with(
 }
 
 impl Catalogue {
+    /// The counted tongues of its regions at the level, each under its region's label and
+    /// order: what names a band's bounds ([`band::bound_name`]).
+    pub fn named_tongues(&self) -> Vec<NamedTongue> {
+        self.regions
+            .iter()
+            .filter(|r| r.counted)
+            .filter_map(|r| {
+                Some(NamedTongue { label: r.label.clone(), order: r.order, extent: Interval::new(r.left?, r.right?) })
+            })
+            .collect()
+    }
+
     /// The stable band containing φ (rad/s), if φ lies in one.
     pub fn band_containing(&self, phi: f64) -> Option<Interval> {
         self.stable_bands.iter().copied().find(|b| b.contains(phi))

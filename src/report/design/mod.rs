@@ -66,6 +66,10 @@ pub(super) fn band_text(b: &Band) -> String {
 
 pub(super) fn bound_text(b: &Option<Bound>) -> String {
     match b {
+        Some(Bound::Tongue { label, edge, unexplained: Some(u), .. }) => format!(
+            "{label} at {edge:.2} (Floquet exponent {:.2} rad/s; nearest {} = {:.2})",
+            u.exponent_frequency, u.nearest, u.nearest_frequency
+        ),
         Some(Bound::Tongue { label, edge, .. }) => format!("{label} at {edge:.2}"),
         _ => "window end".into(),
     }
