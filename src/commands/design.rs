@@ -255,7 +255,15 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     for c in &o.constraints_after {
         s += &format!("\nconstraint {}: {:.6e} ({})", c.name, c.value, if c.met { "met" } else { "NOT met" });
     }
-    s += &format!("\nverification: {}", if o.verified { "passed" } else { "FAILED" });
+    s += &format!("\nverification: {}", o.verification.verdict);
+    for p in &o.verification.parts {
+        let status = match p.status {
+            crate::design::verify::PartStatus::Passed => continue,
+            crate::design::verify::PartStatus::Failed => "FAILED",
+            crate::design::verify::PartStatus::NotApplicable => "not applicable",
+        };
+        s += &format!("\n  {} {status}: {}", p.part, p.summary);
+    }
     for d in &o.after_speeds {
         for f in &d.failures {
             s += &format!("\n  at Ω = {}: {f}", d.speed);

@@ -7,7 +7,7 @@ use super::evaluate::{
 };
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
-use super::verify::{describe, verify};
+use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
 use super::DesignError;
 use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
 use crate::problem::Problem;
@@ -199,6 +199,7 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         before_speeds: Vec::new(),
         after_speeds: Vec::new(),
         verified: false,
+        verification: Verification::of(Vec::new(), None),
         starts: Vec::new(),
         history: Vec::new(),
         convex_steps: Vec::new(),
@@ -232,7 +233,7 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
     out.after_speeds = describe(&tuned, spec, &ctx.regions, progress)?;
     count.add(out.before_speeds.iter().chain(&out.after_speeds).map(|d| d.catalogue.evaluations).sum());
     let mut after_speeds = std::mem::take(&mut out.after_speeds);
-    out.verified = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count, progress);
+    let mut parts = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count, progress);
     out.after_speeds = after_speeds;
     match &mut out.findings {
         // Intrusions named after the full model's whirls: the catalogue's region with the
@@ -273,9 +274,65 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
             if let Some(d) = out.after_speeds.first_mut() {
                 d.failures.push(message);
             }
-            out.verified = false;
         }
+        let failed = out.constraints_after.iter().filter(|c| !c.met).count();
+        let names: Vec<String> = out
+            .constraints_after
+            .iter()
+            .map(|c| format!("{} ({:.6e}: {})", c.name, c.value, if c.met { "met" } else { "NOT met" }))
+            .collect();
+        parts.push(VerificationPart::of(
+            "constraints",
+            out.constraints_after.len(),
+            failed,
+            format!(
+                "{} constraint(s) judged afresh on the rebuilt tuned design (bands by the same search as `rotorshunt band`), {failed} not met: {}",
+                out.constraints_after.len(),
+                names.join("; ")
+            ),
+            "the constraint list judged empty",
+        ));
     }
+    // The min-peak design's peak found again on a finer grid by another refinement.
+    let mut recheck = None;
+    if let (Some(r), Some(f)) = (spec.response(), out.peak_findings()) {
+        let optimiser = f.after.peak;
+        let (again, points) = crate::design::vibration::peak_recheck(&tuned.rotor, r, PEAK_GRID_FACTOR)?;
+        let relative_difference = (again.amplitude - optimiser.amplitude).abs() / optimiser.amplitude.abs();
+        let agree = relative_difference <= PEAK_AGREEMENT;
+        parts.push(VerificationPart::of(
+            "peak",
+            1,
+            usize::from(!agree),
+            format!(
+                "the tuned design's peak at node {} over {}..{} rad/s found again on {points} speeds ({PEAK_GRID_FACTOR}× the optimiser's {}), every local maximum refined by parabolic steps: {:.6e} m at {:.3} rad/s against the optimiser's {:.6e} m at {:.3} rad/s, {:.4} % apart (at most {} %)",
+                r.node,
+                r.speeds.lo,
+                r.speeds.hi,
+                r.points,
+                again.amplitude,
+                again.speed,
+                optimiser.amplitude,
+                optimiser.speed,
+                100.0 * relative_difference,
+                100.0 * PEAK_AGREEMENT
+            ),
+            "no peak to recheck",
+        ));
+        if !agree {
+            if let Some(d) = out.after_speeds.first_mut() {
+                d.failures.push(format!(
+                    "the peak found again ({:.6e} m) differs from the optimiser's ({:.6e} m) by {:.3} %",
+                    again.amplitude,
+                    optimiser.amplitude,
+                    100.0 * relative_difference
+                ));
+            }
+        }
+        recheck = Some(PeakRecheck { optimiser, recheck: again, points, relative_difference });
+    }
+    out.verification = Verification::of(parts, recheck);
+    out.verified = out.verification.passed;
     if let Some(r) = spec.response() {
         let vibration = |values: &[f64]| -> Result<_, DesignError> {
             let (p, rotor) = crate::design::vibration::rotor_at(base, spec, values)?;

@@ -148,6 +148,9 @@ pub struct DesignOutcome {
     pub after_speeds: Vec<DesignAtSpeed>,
     /// Whether the tuned design passed every verification check.
     pub verified: bool,
+    /// The verification part by part (passed, failed or not applicable, with counts) and
+    /// its verdict.
+    pub verification: crate::design::verify::Verification,
     /// Nelder–Mead starts (or the clear-bands global pass).
     pub starts: Vec<StartReport>,
     /// Objective or intrusion history.
@@ -230,6 +233,7 @@ struct OutcomeJson<'a> {
     before_speeds: &'a [DesignAtSpeed],
     after_speeds: &'a [DesignAtSpeed],
     verified: bool,
+    verification: &'a crate::design::verify::Verification,
     starts: &'a [StartReport],
     history: &'a [HistoryPoint],
     convex_steps: &'a [ConvexStep],
@@ -262,6 +266,7 @@ impl Serialize for DesignOutcome {
             before_speeds: &self.before_speeds,
             after_speeds: &self.after_speeds,
             verified: self.verified,
+            verification: &self.verification,
             starts: &self.starts,
             history: &self.history,
             convex_steps: &self.convex_steps,

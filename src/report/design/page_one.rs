@@ -2,7 +2,6 @@
 //! constraints, verification and the key figure.
 
 use super::*;
-use crate::analysis::Interval;
 use crate::design::spec::Objective;
 use crate::design::{DesignOutcome, Status};
 use std::fmt::Write;
@@ -232,54 +231,28 @@ fn constraints_table(s: &mut String, o: &DesignOutcome) {
     }
 }
 
-/// The independent verification, one sentence per check (each over every speed).
+/// The independent verification, one sentence per part (each over every speed): its
+/// status, what it checked with counts, or why it is not applicable.
 fn verification_sentences(s: &mut String, o: &DesignOutcome) {
-    let spec = &o.spec;
-    let _ = writeln!(
-        s,
-        "\n**Verification: {}** (independent of the optimiser, on the tuned design):\n",
-        if o.verified { "passed" } else { "FAILED" }
-    );
-    let each = |f: &dyn Fn(&crate::design::verify::DesignAtSpeed) -> String| {
-        o.after_speeds.iter().map(|d| format!("at Ω = {} rad/s {}", d.speed, f(d))).collect::<Vec<_>>().join("; ")
-    };
-    let _ = writeln!(
-        s,
-        "- Catalogue: the full region catalogue over φ = {}..{} rad/s, {}.",
-        spec.phi_range.0,
-        spec.phi_range.1,
-        each(&|d| match d.catalogue_band {
-            Some(b) => format!("gives the band [{:.2}, {:.2}]", b.lo, b.hi),
-            None => {
-                let bands: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded()).collect();
-                let inside =
-                    super::details::near_rows(&d.catalogue, &bands).iter().filter(|r| r.distance == 0.0).count();
-                format!(
-                    "finds {} regions, {inside} of them at β_op in a band widened by its clearance",
-                    d.catalogue.regions.len()
-                )
-            }
-        })
-    );
-    let _ = writeln!(
-        s,
-        "- Tongue centres: the reference (DSTM) Floquet point at every catalogued tongue centre near the band(s), {}.",
-        each(&|d| {
-            let inside = d.centres.iter().filter(|c| c.inside).count();
-            let bad = d.centres.iter().filter(|c| c.inside && c.unstable).count();
-            format!("{} centres near the band(s), {inside} of them inside, {bad} unstable inside", d.centres.len())
-        })
-    );
-    let _ = writeln!(
-        s,
-        "- Grid: the fast path on a fine grid over the band(s) at β_op, {}.",
-        each(&|d| {
-            let points: usize = d.grids.iter().map(|g| g.points).sum();
-            let bad: usize = d.grids.iter().map(|g| g.unstable.len()).sum();
-            let step = d.grids.first().map_or(0.0, |g| g.step);
-            format!("{points} points {step} rad/s apart, {bad} unstable")
-        })
-    );
+    use crate::design::verify::PartStatus;
+    let v = &o.verification;
+    let _ = writeln!(s, "\n**Verification: {}** (independent of the optimiser, on the tuned design):\n", v.verdict);
+    for p in &v.parts {
+        let name = match p.part.as_str() {
+            "catalogue" => "Catalogue",
+            "centres" => "Tongue centres",
+            "grid" => "Grid",
+            "constraints" => "Constraints",
+            "peak" => "Peak",
+            other => other,
+        };
+        let status = match p.status {
+            PartStatus::Passed => "passed",
+            PartStatus::Failed => "**FAILED**",
+            PartStatus::NotApplicable => "*not applicable*",
+        };
+        let _ = writeln!(s, "- {name}: {status}, {}.", p.summary);
+    }
     for d in &o.after_speeds {
         for f in &d.failures {
             let _ = writeln!(s, "- Failed at Ω = {} rad/s: {f}", d.speed);
