@@ -27,8 +27,7 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
 use crate::analysis::regions::{
     band_around, catalogue_with, margins, seeds_for, unexplained, Band, Catalogue, CatalogueRequest, Counter, Level,
-    Margins, Probe,
-    RegionSettings,
+    Margins, Probe, RegionSettings,
 };
 use crate::analysis::{Criterion, Interval};
 use crate::progress::Progress;

@@ -231,10 +231,11 @@ pub fn band_with(
 }
 
 /// The catalogue that names a band's bound covers the bounding tongue's extent widened by
-/// this fraction of its edges on each side: every seed whose collision lies in the tongue
-/// is within its search window ([`CENTRE_WINDOW`]) of it, so it is among the catalogue's
-/// seeds; 1e-3 keeps the neighbouring tongues' clipped edges away from the band's edge.
-const NAMING_REACH: f64 = 1e-3;
+/// this fraction of its edges on each side: a seed's tongue is located within
+/// [`CENTRE_WINDOW`] of the seed's start, so every seed whose tongue can lie in the
+/// bounding one is among that catalogue's seeds. (A reach of 1e-3 named a bound by a
+/// higher-order tongue where a bent order-1 tongue, started farther away, shares the edge.)
+const NAMING_REACH: f64 = CENTRE_WINDOW;
 
 /// Catalogue every region with onset below β_max in the range, and the unstable set at
 /// the level (the request is checked first, [`CatalogueRequest::check`]): starts and
