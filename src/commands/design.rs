@@ -216,6 +216,9 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             if let Some(b) = o.after_bands().first() {
                 s += &format!("\nguarantee: {}", b.band.guarantee);
             }
+            if let Some(r) = &o.robustness {
+                s += &format!("\nas built ({}): {}", r.tolerances.text(), crate::design::robust::guaranteed_text(r));
+            }
         }
         Objective::ClearBands { .. } => {
             s += &format!(
@@ -247,6 +250,22 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         );
         if let Some(c) = &f.classic_design {
             s += &format!("; classic tuning {}", p(c));
+        }
+        for b in f.baselines.iter().filter(|b| b.design != "tuned") {
+            s += &match (b.peak.unbounded, b.amplification_factor) {
+                (true, _) => format!(
+                    "\nbaseline {}: unbounded at {:.2} rad/s (an undamped critical speed in the range)",
+                    b.design, b.peak.speed
+                ),
+                (false, af) => format!(
+                    "\nbaseline {}: {:.4e} m at {:.2} rad/s ({}); tuned {:+.1} %",
+                    b.design,
+                    b.peak.amplitude,
+                    b.peak.speed,
+                    af.map_or("no half-power band in the range".to_string(), |a| format!("AF {a:.1}")),
+                    100.0 * (f.after.peak.amplitude / b.peak.amplitude - 1.0)
+                ),
+            };
         }
         if let Some(price) = f.price {
             s += &format!("\nprice of the constraints: {:+.4e} m ({:+.2} %)", price.metres, price.percent);

@@ -514,3 +514,48 @@ pub fn rotor_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<(Pr
     let rotor = Rotor::new(&problem.model)?;
     Ok((problem, rotor))
 }
+
+/// One design the tuned shunt is compared with in a min-peak report (issue 27, point 6):
+/// its largest response at the objective's node and the amplification factor of that peak.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Baseline {
+    /// `open circuit` (every ring's electrodes open: the machine without the shunt's
+    /// resonance), `reference circuit`, `classic tuning` or `tuned`.
+    pub design: String,
+    /// The largest amplitude over the response range, peaks refined (m), and its speed.
+    pub peak: PeakValue,
+    /// API 684 amplification factor Ω_peak/(Ω₂ − Ω₁) of that peak (−); None when the
+    /// largest amplitude is at an end of the range or a half-power speed lies beyond it.
+    pub amplification_factor: Option<f64>,
+}
+
+/// The [`Baseline`] of `model` over the response range `r`.
+pub fn baseline(design: &str, model: &Model, r: &Response) -> Result<Baseline, DesignError> {
+    let out = response_of(&Rotor::new(model)?, r)?;
+    let p = &out.probes[0];
+    let (speed, amplitude, unbounded) = p.largest(&out.speeds);
+    // The amplification factor of the refined peak that is the largest amplitude.
+    let amplification_factor =
+        p.peaks.iter().find(|k| k.speed == speed && k.amplitude == amplitude).and_then(|k| k.amplification_factor);
+    Ok(Baseline { design: design.to_string(), peak: PeakValue { speed, amplitude, unbounded }, amplification_factor })
+}
+
+/// The baselines of a min-peak report: the open circuit of the base model, the reference
+/// circuit (`before`), the classic tuning (when there is one) and the tuned design
+/// (`after`), each by the same response computation ([`baseline`]).
+pub fn baselines(
+    base: &Problem,
+    spec: &DesignSpec,
+    before: &[f64],
+    classic: Option<&[f64]>,
+    after: &[f64],
+) -> Result<Vec<Baseline>, DesignError> {
+    let Some(r) = spec.response() else { return Ok(Vec::new()) };
+    let mut out = vec![baseline("open circuit", &base.model.with_state(CircuitState::Open), r)?];
+    out.push(baseline("reference circuit", &problem_at(base, spec, before)?.model, r)?);
+    if let Some(c) = classic {
+        out.push(baseline("classic tuning", &problem_at(base, spec, c)?.model, r)?);
+    }
+    out.push(baseline("tuned", &problem_at(base, spec, after)?.model, r)?);
+    Ok(out)
+}

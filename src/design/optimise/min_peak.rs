@@ -6,7 +6,8 @@
 use super::convex::linearise;
 use super::*;
 use crate::design::vibration::{
-    check_constraints, classic_tuning, peak_of, rotor_at, ClassicTuning, ConstraintCheck, PeakValue,
+    baselines, check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck,
+    PeakValue,
 };
 
 /// Nelder–Mead stops when the simplex's costs (ln of the peak in m) differ by less than
@@ -122,6 +123,9 @@ pub struct PeakFindings {
     pub price: Option<Price>,
     /// The sequential convex steps after the penalised Nelder–Mead.
     pub convex_steps: Vec<PeakStep>,
+    /// The tuned design beside the open circuit, the reference circuit and the classic
+    /// tuning, each by peak and amplification factor ([`crate::design::vibration::baselines`]).
+    pub baselines: Vec<Baseline>,
 }
 
 impl Context<'_> {
@@ -433,7 +437,10 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         let metres = best.peak.amplitude - free.peak.amplitude;
         Price { metres, percent: 100.0 * metres / free.peak.amplitude }
     });
+    let classic_values = classic.as_ref().map(|c| ctx.values(&to_unit(spec, &c.values)));
+    let baselines = baselines(ctx.base, spec, &out.before, classic_values.as_deref(), &out.after)?;
     out.findings = Findings::MinPeak(Box::new(PeakFindings {
+        baselines,
         before: ctx.report(&before),
         after: ctx.report(&best),
         unconstrained: ctx.report(&free),

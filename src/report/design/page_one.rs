@@ -66,6 +66,9 @@ fn status_sentence(status: Status) -> &'static str {
         Status::NotVerified => {
             "**Not verified**: the design found failed its independent verification (below); `best-effort.toml` is not a result."
         }
+        Status::NotRobust => {
+            "**Not robust**: the design holds at its nominal component values but not at every build of the tolerance box (the failing build is named below); `best-effort.toml` is not a result."
+        }
     }
 }
 
@@ -136,6 +139,14 @@ fn widest_band_table(s: &mut String, o: &DesignOutcome) {
             band_text(&a.band),
             bound_text(&a.band.left),
             bound_text(&a.band.right)
+        );
+    }
+    if let Some(r) = &o.robustness {
+        let _ = writeln!(
+            s,
+            "\nAs built, with parts inside the tolerances ({}): {}.",
+            r.tolerances.text(),
+            crate::design::robust::guaranteed_text(r)
         );
     }
     for a in o.after_bands() {
@@ -210,11 +221,39 @@ fn peak_table(s: &mut String, o: &DesignOutcome) {
             if d.constraints.is_empty() { "–".to_string() } else { d.feasible.to_string() }
         );
     }
+    baseline_table(s, &f.baselines);
     if let Some(price) = f.price {
         let _ = writeln!(
             s,
             "\nPrice of the constraints: tuned peak − unconstrained peak = {:+.4e} m ({:+.2} %).",
             price.metres, price.percent
+        );
+    }
+}
+
+/// The tuned shunt beside the open circuit, the reference circuit and the classic tuning:
+/// peak, amplification factor and the tuned peak relative to each.
+fn baseline_table(s: &mut String, rows: &[crate::design::vibration::Baseline]) {
+    let Some(tuned) = rows.iter().find(|b| b.design == "tuned") else { return };
+    let _ = writeln!(
+        s,
+        "\nBaselines (the same response computation for each):\n\n| design | peak (m) | at (rad/s) | amplification factor (−) | tuned peak vs it |\n|---|---|---|---|---|"
+    );
+    for b in rows {
+        let af =
+            b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| format!("{a:.1}"));
+        let vs = if b.design == "tuned" {
+            "–".to_string()
+        } else {
+            format!("{:+.1} %", 100.0 * (tuned.peak.amplitude / b.peak.amplitude - 1.0))
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {:.4e}{} | {:.2} | {af} | {vs} |",
+            b.design,
+            b.peak.amplitude,
+            if b.peak.unbounded { " (unbounded)" } else { "" },
+            b.peak.speed
         );
     }
 }
@@ -244,6 +283,8 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
             "grid" => "Grid",
             "constraints" => "Constraints",
             "peak" => "Peak",
+            "tolerances" => "Tolerances",
+            "margins" => "Margins",
             other => other,
         };
         let status = match p.status {
