@@ -189,6 +189,7 @@ mod exit {
     pub const INFEASIBLE: u8 = 3;
     pub const NOT_VERIFIED: u8 = 4;
     pub const STUDY_FAILED_CASES: u8 = 5;
+    pub const NOT_ROBUST: u8 = 6;
 }
 
 /// The text for standard output and the exit code of a run that produced output.
@@ -235,6 +236,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
             let code = match outcome.status {
                 rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,
                 rotorshunt::design::Status::NotVerified => exit::NOT_VERIFIED,
+                rotorshunt::design::Status::NotRobust => exit::NOT_ROBUST,
                 _ => 0,
             };
             Ok((text, code))

@@ -116,6 +116,18 @@ impl Candidate {
         Ok(Candidate { problem, rotor, systems })
     }
 
+    /// The candidate as built with the component factors `p`
+    /// ([`crate::design::tolerance::Perturbation::apply`]), under this candidate's P_cr.
+    pub fn perturbed(
+        &self,
+        spec: &DesignSpec,
+        p: &crate::design::tolerance::Perturbation,
+    ) -> Result<Candidate, DesignError> {
+        let problem = Problem { model: p.apply(&self.problem.model, self.rotor.critical_load), ..self.problem.clone() };
+        let rotor = Rotor::new(&problem.model)?;
+        Candidate::from_parts(problem, rotor, spec, true)
+    }
+
     /// The declared criterion of the candidate (that of the problem file).
     pub fn criterion(&self) -> Criterion {
         Criterion::of(&self.problem.settings)

@@ -30,7 +30,9 @@ pub mod content;
 pub mod evaluate;
 pub mod optimise;
 pub mod qp;
+pub mod robust;
 pub mod spec;
+pub mod tolerance;
 pub mod verify;
 pub mod vibration;
 

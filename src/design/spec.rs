@@ -3,6 +3,7 @@
 
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
+pub use crate::design::tolerance::Tolerances;
 use serde::{Deserialize, Serialize};
 
 /// The kind of objective, as `design.objective` names it in a problem file.
@@ -262,6 +263,9 @@ pub struct DesignSpec {
     pub response: Option<Response>,
     /// Constraints on the result, whatever the objective.
     pub constraints: Constraints,
+    /// Component tolerances (`[design.tolerances]`): the objective and constraints judged
+    /// at the worst corner of the tolerance box, the result checked by Monte Carlo.
+    pub tolerances: Option<Tolerances>,
 }
 
 /// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys
@@ -282,6 +286,8 @@ struct SpecJson<'a> {
     response: Option<&'a Response>,
     #[serde(skip_serializing_if = "Constraints::is_empty")]
     constraints: &'a Constraints,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tolerances: Option<&'a Tolerances>,
 }
 
 impl Serialize for DesignSpec {
@@ -299,6 +305,7 @@ impl Serialize for DesignSpec {
             max_iterations: self.max_iterations,
             response: self.response(),
             constraints: &self.constraints,
+            tolerances: self.tolerances.as_ref(),
         }
         .serialize(serializer)
     }

@@ -11,6 +11,7 @@ use crate::design::spec::{
     Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Objective, ObjectiveKind, Parameter, Response,
     Variable, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_RESPONSE_POINTS,
 };
+use crate::design::tolerance::Tolerances;
 use crate::model::{CircuitState, Model};
 
 /// The circuit file of each ring, in model order (the shorthand: `[circuit]` for both).
@@ -326,12 +327,12 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         }
         variables.push(var);
     }
-    let count = |key: &str, v: Option<i64>, default: i64, hi: u64| -> Result<usize, Failure> {
-        let v = v.unwrap_or(default);
-        let n = u64::try_from(v).unwrap_or(0);
-        rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
+    let tolerances = match &d.tolerances {
+        None => None,
+        Some(t) => Some(tolerances(t, &objective)?),
     };
     Ok(Some(DesignSpec {
+        tolerances,
         objective,
         level,
         phi_range: (range.lo, range.hi),
@@ -343,4 +344,49 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         response,
         constraints,
     }))
+}
+
+/// Default Monte Carlo samples of the tolerance check (`design.tolerances.samples`).
+const DEFAULT_SAMPLES: i64 = 200;
+/// Most Monte Carlo samples (one band search each, per speed).
+const MAX_SAMPLES: u64 = 10_000;
+
+/// `[design.tolerances]`, validated: each tolerance in [0, 1) (a part at −100 % is no
+/// part), for the widest-stable-band objective (the one the optimiser judges at the
+/// tolerance box's corners).
+fn tolerances(t: &TolerancesFile, objective: &Objective) -> Result<Tolerances, Failure> {
+    let one = |name: &str, v: Option<f64>| -> Result<f64, Failure> {
+        let key = format!("design.tolerances.{name}");
+        let v = non_negative(&key, v.unwrap_or(0.0))?;
+        if v >= 1.0 {
+            return Err((
+                key,
+                K::OutOfRange { value: v, range: "a relative tolerance in [0, 1), e.g. 0.05 for ±5 %".into() },
+            ));
+        }
+        Ok(v)
+    };
+    let out = Tolerances {
+        inductance: one("inductance", t.inductance)?,
+        resistance: one("resistance", t.resistance)?,
+        c_f: one("c_f", t.c_f)?,
+        cp_t: one("cp_t", t.cp_t)?,
+        samples: count("design.tolerances.samples", t.samples, DEFAULT_SAMPLES, MAX_SAMPLES)?,
+    };
+    if !matches!(objective, Objective::WidestStableBand { .. }) {
+        let message = "component tolerances are judged by the widest-stable-band objective only (its band at the tolerance box's corners); remove [design.tolerances] or use `objective = \"widest-stable-band\"`";
+        return Err(("design.tolerances".into(), K::Schema(message.into())));
+    }
+    if !out.any() {
+        let message = "every tolerance is 0: give at least one of inductance, resistance, c_f, cp_t above 0, or remove [design.tolerances]";
+        return Err(("design.tolerances".into(), K::Schema(message.into())));
+    }
+    Ok(out)
+}
+
+/// A whole number at `key` from 1 to `hi`, `default` when absent.
+fn count(key: &str, v: Option<i64>, default: i64, hi: u64) -> Result<usize, Failure> {
+    let v = v.unwrap_or(default);
+    let n = u64::try_from(v).unwrap_or(0);
+    rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
 }

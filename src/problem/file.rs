@@ -105,6 +105,31 @@ pub struct DesignFile {
     /// `[design.margins]`: load and frequency margins of the band around `phi_op`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub margins: Option<MarginsFile>,
+    /// `[design.tolerances]`: relative tolerances of the shunt's components.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerances: Option<TolerancesFile>,
+}
+
+/// `[design.tolerances]`: relative tolerances (−, each in [0, 1), default 0) of every
+/// component of a kind, and the Monte Carlo samples of the check on the result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TolerancesFile {
+    /// Of every inductance L (−).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inductance: Option<f64>,
+    /// Of every resistance R (−).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resistance: Option<f64>,
+    /// Of every branch capacitance C_f (−).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub c_f: Option<f64>,
+    /// Of every stack capacitance C_p^T (−).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cp_t: Option<f64>,
+    /// Monte Carlo samples of the check (1–10 000); default 200.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<i64>,
 }
 
 /// `[design.margins]`.

@@ -1,10 +1,7 @@
 //! The design runs: multi-start Nelder–Mead for the widest stable band, sequential convex
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
-use super::evaluate::{
-    follow, intrusions, margin_shortfall, operating_bands, operating_bands_at, values_of, Candidate, Intrusion,
-    OperatingBand,
-};
+use super::evaluate::{follow, intrusions, values_of, Candidate, Intrusion, OperatingBand};
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
 use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
@@ -77,28 +74,31 @@ impl Context<'_> {
         }
     }
 
-    /// The bands around φ_op (rad/s) of a candidate, at every speed.
-    fn bands(&self, c: &Candidate, phi_op: f64) -> Result<Vec<OperatingBand>, DesignError> {
-        operating_bands(c, self.spec, phi_op, &self.regions, &self.floquet)
-    }
-
     /// Smallest signed band width over the speeds (rad/s) of the design at `u` (scaled),
-    /// less the margin penalty ([`Context::penalty`]).
+    /// less the margin penalty, at the worst build of the tolerance box ([`Context::judged`]).
     fn band_objective(&self, u: &[f64], phi_op: f64) -> f64 {
-        let judged = self.candidate(u).and_then(|c| {
-            let b = self.bands(&c, phi_op)?;
-            Ok(smallest(&b) - self.penalty(&c, phi_op)?)
-        });
-        judged.unwrap_or(-FAILED_COST)
+        self.candidate(u).and_then(|c| Ok(self.judged(&c, phi_op)?.0)).unwrap_or(-FAILED_COST)
     }
 
-    /// The penalty (rad/s) of `[design.margins]` on a candidate: [`MARGIN_PENALTY`] per
-    /// rad/s by which the band around φ_op at the margin level misses the frequency
-    /// margin at some speed (0 without margins).
-    fn penalty(&self, c: &Candidate, phi_op: f64) -> Result<f64, DesignError> {
-        let Some(m) = self.spec.constraints.margins else { return Ok(0.0) };
-        let at = operating_bands_at(c, self.spec, phi_op, m.level(self.spec.level), &self.regions, &self.floquet)?;
-        Ok(MARGIN_PENALTY * margin_shortfall(&at, &m))
+    /// What the widest-band objective steers by for a candidate (rad/s): the smallest
+    /// signed band width over the speeds, less [`MARGIN_PENALTY`] per rad/s by which the
+    /// band at the margin level misses `[design.margins]`; with `[design.tolerances]`, the
+    /// smallest of that over the centre and corners of the tolerance box
+    /// ([`crate::design::tolerance::Tolerances::corners`]). With the nominal bands.
+    fn judged(&self, c: &Candidate, phi_op: f64) -> Result<(f64, Vec<OperatingBand>), DesignError> {
+        let (mut value, bands) = robust::judged(c, self.spec, phi_op, &self.regions, &self.floquet, MARGIN_PENALTY)?;
+        if let Some(t) = &self.spec.tolerances {
+            let corners = t.corners();
+            let worst = corners[1..]
+                .par_iter()
+                .map(|p| {
+                    let built = c.perturbed(self.spec, p)?;
+                    Ok(robust::judged(&built, self.spec, phi_op, &self.regions, &self.floquet, MARGIN_PENALTY)?.0)
+                })
+                .collect::<Result<Vec<f64>, DesignError>>()?;
+            value = worst.into_iter().fold(value, f64::min);
+        }
+        Ok((value, bands))
     }
 }
 
@@ -108,10 +108,7 @@ impl Context<'_> {
 /// the break-even), and 10 keeps the optimiser's steps on the feasible side.
 const MARGIN_PENALTY: f64 = 10.0;
 
-/// The smallest signed band width over the speeds (rad/s).
-fn smallest(bands: &[OperatingBand]) -> f64 {
-    bands.iter().map(OperatingBand::signed_width).fold(f64::INFINITY, f64::min)
-}
+use super::robust;
 
 fn to_unit(spec: &DesignSpec, values: &[f64]) -> Vec<f64> {
     spec.variables.iter().zip(values).map(|(v, &x)| v.to_unit(x).clamp(0.0, 1.0)).collect()
@@ -211,6 +208,7 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         verification_cost: Cost::default(),
         constraints_after: Vec::new(),
         vibration: None,
+        robustness: None,
     };
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
@@ -331,6 +329,14 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         }
         recheck = Some(PeakRecheck { optimiser, recheck: again, points, relative_difference });
     }
+    // The tuned design as built: every corner of the tolerance box and Monte Carlo samples.
+    if let (Some(t), Some(phi_op)) = (&spec.tolerances, spec.phi_op()) {
+        progress.extend((t.corners().len() + t.samples) as u64);
+        let r = robust::check(&tuned, spec, t, phi_op, &ctx.regions, &|| progress.advance(1))?;
+        count.add(r.evaluations);
+        parts.push(VerificationPart::of("tolerances", r.checked(), r.failed(), robust::summary(&r, phi_op), ""));
+        out.robustness = Some(r);
+    }
     out.verification = Verification::of(parts, recheck);
     out.verified = out.verification.passed;
     if let Some(r) = spec.response() {
@@ -353,7 +359,15 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
             Some(VibrationReport { response: r.clone(), before, after, unconstrained, damping_before, damping_after });
     }
     if !out.verified && out.status != Status::Infeasible {
-        out.status = Status::NotVerified;
+        // Not robust when the builds of the tolerance box are all that failed.
+        let failed: Vec<&str> = out
+            .verification
+            .parts
+            .iter()
+            .filter(|p| p.status == super::verify::PartStatus::Failed)
+            .map(|p| p.part.as_str())
+            .collect();
+        out.status = if failed == ["tolerances"] { Status::NotRobust } else { Status::NotVerified };
     }
     out.verification_cost = Cost { evaluations: count.get(), seconds: checked.elapsed().as_secs_f64() };
     Ok(out)

@@ -142,18 +142,11 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
         out.history.extend(history);
         out.starts.push(report);
     }
-    let before = ctx.bands(&ctx.reference, phi_op)?;
-    let before_value = smallest(&before) - ctx.penalty(&ctx.reference, phi_op)?;
-    // The widest band over the starts' best points, by the same band function and margin
-    // penalty as the objective (ties: the earlier start).
-    let banded: Vec<Result<(f64, Vec<OperatingBand>), DesignError>> = finals
-        .par_iter()
-        .map(|u| {
-            let c = Candidate::new(ctx.base, spec, &ctx.values(u))?;
-            let b = ctx.bands(&c, phi_op)?;
-            Ok((smallest(&b) - ctx.penalty(&c, phi_op)?, b))
-        })
-        .collect();
+    let (before_value, before) = ctx.judged(&ctx.reference, phi_op)?;
+    // The widest band over the starts' best points, by the same band function, margin
+    // penalty and tolerance corners as the objective (ties: the earlier start).
+    let banded: Vec<Result<(f64, Vec<OperatingBand>), DesignError>> =
+        finals.par_iter().map(|u| ctx.judged(&Candidate::new(ctx.base, spec, &ctx.values(u))?, phi_op)).collect();
     let mut best: Option<(f64, usize, Vec<OperatingBand>)> = None;
     for (k, b) in banded.into_iter().enumerate() {
         let (w, b) = b?;

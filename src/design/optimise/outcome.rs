@@ -22,6 +22,10 @@ pub enum Status {
     /// The design the optimiser found failed its independent verification
     /// ([`crate::design::verify`]): its band or clearances are not shown to hold.
     NotVerified,
+    /// The design holds at its nominal component values but not at every build of its
+    /// tolerance box (`[design.tolerances]`, [`crate::design::robust`]): the failing build
+    /// is named in the verification.
+    NotRobust,
 }
 
 impl Status {
@@ -174,6 +178,8 @@ pub struct DesignOutcome {
     pub constraints_after: Vec<crate::design::vibration::ConstraintCheck>,
     /// The unbalance response and damping ratios before and after (with a response).
     pub vibration: Option<VibrationReport>,
+    /// The tuned design over its tolerance box (with `[design.tolerances]`).
+    pub robustness: Option<crate::design::robust::Robustness>,
 }
 
 impl DesignOutcome {
@@ -250,6 +256,8 @@ struct OutcomeJson<'a> {
     constraints_after: &'a [crate::design::vibration::ConstraintCheck],
     #[serde(skip_serializing_if = "Option::is_none")]
     vibration: Option<&'a VibrationReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    robustness: Option<&'a crate::design::robust::Robustness>,
 }
 
 impl Serialize for DesignOutcome {
@@ -280,6 +288,7 @@ impl Serialize for DesignOutcome {
             min_peak: self.peak_findings(),
             constraints_after: &self.constraints_after,
             vibration: self.vibration.as_ref(),
+            robustness: self.robustness.as_ref(),
         }
         .serialize(serializer)
     }
