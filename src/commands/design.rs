@@ -216,6 +216,12 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             if let Some(b) = o.after_bands().first() {
                 s += &format!("\nguarantee: {}", b.band.guarantee);
             }
+            if let Some(r) = &o.speed_check {
+                s += &format!(
+                    "\nspeed range {}",
+                    crate::design::robust::speed_range_text(o.speed_check_before.as_ref(), r)
+                );
+            }
             if let Some(r) = &o.robustness {
                 s += &format!("\nas built ({}): {}", r.tolerances.text(), crate::design::robust::guaranteed_text(r));
             }

@@ -181,15 +181,29 @@ pub fn operating_bands_at(
 ) -> Result<Vec<OperatingBand>, DesignError> {
     c.systems
         .iter()
-        .enumerate()
-        .map(|(k, (speed, fs))| {
-            let seeds = c.seeds(k, spec)?;
-            let probe = Probe::new(fs, s);
-            let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
-            count.add(probe.evaluations());
-            Ok(OperatingBand { speed: *speed, band })
+        .map(|(speed, fs)| {
+            Ok(OperatingBand { speed: *speed, band: band_of_system(c, spec, fs, phi_op, level, s, count)? })
         })
         .collect()
+}
+
+/// The band around φ_op at the load `level` (−) of one reduced system `fs` of candidate
+/// `c` (at one of its speeds, or another: the speed-range refinement and check), over the
+/// design's φ range, with the seeds of that range ([`Candidate::seeds`]).
+pub fn band_of_system(
+    c: &Candidate,
+    spec: &DesignSpec,
+    fs: &FloquetSystem,
+    phi_op: f64,
+    level: f64,
+    s: &RegionSettings,
+    count: &Counter,
+) -> Result<Band, DesignError> {
+    let seeds = seeds_for(fs, None, spec.range(), c.criterion().max_order)?;
+    let probe = Probe::new(fs, s);
+    let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
+    count.add(probe.evaluations());
+    Ok(band)
 }
 
 /// The frequency margin of bands around φ_op (rad/s): the smallest over the speeds of

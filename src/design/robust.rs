@@ -10,10 +10,13 @@
 //! the tolerances. A design whose builds do not all hold is `not-robust`, with the first
 //! failing build named (a corner before a sample).
 
-use super::evaluate::{margin_shortfall, operating_bands, operating_bands_at, Candidate, OperatingBand};
+use super::evaluate::{
+    band_of_system, margin_shortfall, operating_bands, operating_bands_at, Candidate, OperatingBand,
+};
 use super::spec::DesignSpec;
 use super::tolerance::{Perturbation, Tolerances};
 use super::DesignError;
+use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{Counter, RegionSettings};
 use crate::analysis::Interval;
 use rayon::prelude::*;
@@ -84,11 +87,67 @@ pub fn judged(
 ) -> Result<(f64, Vec<OperatingBand>), DesignError> {
     let bands = operating_bands(c, spec, phi_op, s, count)?;
     let mut value = smallest(&bands);
+    if spec.speed_range.is_some() {
+        value = value.min(refined_worst(c, spec, phi_op, &bands, s, count)?.1);
+    }
     if let Some(m) = spec.constraints.margins {
         let at = operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?;
         value -= penalty * margin_shortfall(&at, &m);
     }
     Ok((value, bands))
+}
+
+/// Golden-section steps refining the worst speed of a speed range's grid.
+pub const SPEED_REFINEMENTS: usize = 4;
+
+/// The worst speed of a speed range refined (speed in rad/s, signed band width in rad/s):
+/// golden-section steps ([`SPEED_REFINEMENTS`]) minimising the signed width between the
+/// grid neighbours of the grid's worst speed, each at a reduced system built at that
+/// speed. Region starts move with speed, so the worst speed need not be an end or a grid
+/// speed; the fine verification grid checks what the refinement cannot promise.
+pub fn refined_worst(
+    c: &Candidate,
+    spec: &DesignSpec,
+    phi_op: f64,
+    bands: &[OperatingBand],
+    s: &RegionSettings,
+    count: &Counter,
+) -> Result<(f64, f64), DesignError> {
+    let (k, worst) = bands
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.signed_width().total_cmp(&b.1.signed_width()))
+        .map(|(k, b)| (k, b.signed_width()))
+        .ok_or_else(|| DesignError::Optimiser("no operating speed".into()))?;
+    let at = |w: f64| -> Result<f64, DesignError> {
+        let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+        Ok(band_of_system(c, spec, &fs, phi_op, spec.level, s, count)?.signed_width())
+    };
+    let speeds: Vec<f64> = bands.iter().map(|b| b.speed).collect();
+    let (mut a, mut b) = (speeds[k.saturating_sub(1)], speeds[(k + 1).min(speeds.len() - 1)]);
+    let mut best = (speeds[k], worst);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+    let (mut f1, mut f2) = (at(x1)?, at(x2)?);
+    for _ in 2..SPEED_REFINEMENTS {
+        if f1 < f2 {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - g * (b - a);
+            f1 = at(x1)?;
+        } else {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + g * (b - a);
+            f2 = at(x2)?;
+        }
+    }
+    for (w, f) in [(x1, f1), (x2, f2)] {
+        if f < best.1 {
+            best = (w, f);
+        }
+    }
+    Ok(best)
 }
 
 /// The smallest signed band width over the speeds (rad/s).
@@ -235,4 +294,104 @@ pub fn guaranteed_text(r: &Robustness) -> String {
         r.worst.perturbation.name,
         if r.holds() { String::new() } else { format!(", {} build(s) failing: NOT ROBUST", r.failed()) }
     )
+}
+
+/// The tuned design over its speed range, on the verification's fine grid.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpeedCheck {
+    /// The range (rad/s).
+    pub range: Interval,
+    /// (speed in rad/s, band around φ_op in rad/s or None where φ_op is unstable) at each
+    /// speed of the grid ([`crate::design::spec::VERIFY_SPEEDS`]).
+    pub bands: Vec<(f64, Option<Interval>)>,
+    /// The speeds where the design does not hold, with why.
+    pub failing: Vec<(f64, String)>,
+    /// The speed of the narrowest band (rad/s) and its signed width (rad/s).
+    pub narrowest: (f64, f64),
+    /// Monodromy evaluations of the check.
+    pub evaluations: usize,
+}
+
+/// The tuned design `c` at every speed of the fine grid over its speed range: φ_op stable,
+/// the band at least the band-width constraint's width, the margins met; `tick` per speed.
+pub fn speed_check(
+    c: &Candidate,
+    spec: &DesignSpec,
+    range: Interval,
+    phi_op: f64,
+    s: &RegionSettings,
+    tick: &(dyn Fn() + Sync),
+) -> Result<SpeedCheck, DesignError> {
+    let count = Counter::default();
+    let grid = crate::design::spec::speed_grid(range, crate::design::spec::VERIFY_SPEEDS);
+    let judged: Vec<(f64, crate::analysis::regions::Band, Option<String>)> = grid
+        .par_iter()
+        .map(|&w| {
+            let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+            let band = band_of_system(c, spec, &fs, phi_op, spec.level, s, &count)?;
+            let mut why = None;
+            if band.band.is_none() {
+                why = Some(format!("phi_op = {phi_op} rad/s is unstable"));
+            } else if let Some(min) = spec.constraints.min_band_width.filter(|m| band.signed_width() < m.width) {
+                why = Some(format!("the band is {:.3} rad/s wide, below {} rad/s", band.signed_width(), min.width));
+            } else if let Some(m) = spec.constraints.margins {
+                let at = band_of_system(c, spec, &fs, phi_op, m.level(spec.level), s, &count)?;
+                let short = margin_shortfall(&[OperatingBand { speed: w, band: at }], &m);
+                if short > 0.0 {
+                    why = Some(format!("the frequency margin at the margin level is short by {short:.3} rad/s"));
+                }
+            }
+            tick();
+            Ok((w, band, why))
+        })
+        .collect::<Result<_, DesignError>>()?;
+    let narrowest = judged
+        .iter()
+        .map(|(w, b, _)| (*w, b.signed_width()))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap_or((range.lo, f64::NAN));
+    Ok(SpeedCheck {
+        range,
+        bands: judged.iter().map(|(w, b, _)| (*w, b.band)).collect(),
+        failing: judged.iter().filter_map(|(w, _, why)| why.clone().map(|y| (*w, y))).collect(),
+        narrowest,
+        evaluations: count.get(),
+    })
+}
+
+/// The speed part's sentence.
+pub fn speed_summary(r: &SpeedCheck, phi_op: f64) -> String {
+    let mut s = format!(
+        "the band around phi_op = {phi_op} rad/s at {} speeds over Omega = {}..{} rad/s, {} failing; narrowest at Omega = {:.2} rad/s: signed width {:.2} rad/s",
+        r.bands.len(),
+        r.range.lo,
+        r.range.hi,
+        r.failing.len(),
+        r.narrowest.0,
+        r.narrowest.1
+    );
+    if let Some((w, why)) = r.failing.first() {
+        s += &format!("; first failing speed {w:.2} rad/s: {why}");
+    }
+    s
+}
+
+/// Over the speed range, before and after, in words: how many of the grid's speeds fail.
+pub fn speed_range_text(before: Option<&SpeedCheck>, after: &SpeedCheck) -> String {
+    let one = |r: &SpeedCheck| match r.failing.first() {
+        Some((w, why)) => {
+            format!("fails at {} of {} speeds (first Omega = {w:.2} rad/s: {why})", r.failing.len(), r.bands.len())
+        }
+        None => format!(
+            "holds at all {} speeds (narrowest band at Omega = {:.2} rad/s, {:.2} rad/s)",
+            r.bands.len(),
+            r.narrowest.0,
+            r.narrowest.1
+        ),
+    };
+    let mut s = format!("over Omega = {}..{} rad/s", after.range.lo, after.range.hi);
+    if let Some(b) = before {
+        s += &format!(": the reference {}", one(b));
+    }
+    s + &format!("; the tuned design {}", one(after))
 }

@@ -263,6 +263,10 @@ pub struct DesignSpec {
     pub response: Option<Response>,
     /// Constraints on the result, whatever the objective.
     pub constraints: Constraints,
+    /// The range of operating speeds (`design.speed_range`, rad/s): `speeds` is then its
+    /// grid ([`range_speeds`]), refined near the worst speed by the widest-band objective
+    /// and verified on a finer grid ([`VERIFY_SPEEDS`]).
+    pub speed_range: Option<Interval>,
     /// Component tolerances (`[design.tolerances]`): the objective and constraints judged
     /// at the worst corner of the tolerance box, the result checked by Monte Carlo.
     pub tolerances: Option<Tolerances>,
@@ -287,6 +291,8 @@ struct SpecJson<'a> {
     #[serde(skip_serializing_if = "Constraints::is_empty")]
     constraints: &'a Constraints,
     #[serde(skip_serializing_if = "Option::is_none")]
+    speed_range: Option<Interval>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     tolerances: Option<&'a Tolerances>,
 }
 
@@ -305,10 +311,29 @@ impl Serialize for DesignSpec {
             max_iterations: self.max_iterations,
             response: self.response(),
             constraints: &self.constraints,
+            speed_range: self.speed_range,
             tolerances: self.tolerances.as_ref(),
         }
         .serialize(serializer)
     }
+}
+
+/// Speeds of the optimiser's grid over a `design.speed_range`, ends included: the ends
+/// and three interior speeds, so a worst case inside the range is bracketed before the
+/// refinement near it ([`crate::design::robust::SPEED_REFINEMENTS`]).
+pub const RANGE_SPEEDS: usize = 5;
+/// Speeds of the verification's grid over a `design.speed_range`, ends included: eight
+/// times finer than the optimiser's.
+pub const VERIFY_SPEEDS: usize = 33;
+
+/// `n` equally spaced speeds over `range` (rad/s), ends included.
+pub fn speed_grid(range: Interval, n: usize) -> Vec<f64> {
+    (0..n).map(|i| range.lo + range.width() * i as f64 / (n - 1) as f64).collect()
+}
+
+/// The optimiser's speeds over a speed range ([`RANGE_SPEEDS`]).
+pub fn range_speeds(range: Interval) -> Vec<f64> {
+    speed_grid(range, RANGE_SPEEDS)
 }
 
 /// Most Nelder–Mead starts and iterations (or convex steps) of a design, as the file

@@ -189,6 +189,14 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
             .collect::<Result<Vec<_>, _>>()?,
         None => vec![f.speed],
     };
+    let speed_range = match &d.speed_range {
+        None => None,
+        Some(_) if d.speeds.is_some() => {
+            return Err(("design.speed_range".into(), K::BothGiven("speeds".into(), "speed_range".into())))
+        }
+        Some(v) => Some(speed_range(v)?),
+    };
+    let speeds = speed_range.map_or(speeds, |r| crate::design::spec::range_speeds(r));
     let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
     let bands = d
         .bands
@@ -332,6 +340,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         Some(t) => Some(tolerances(t, &objective)?),
     };
     Ok(Some(DesignSpec {
+        speed_range,
         tolerances,
         objective,
         level,
@@ -389,4 +398,20 @@ fn count(key: &str, v: Option<i64>, default: i64, hi: u64) -> Result<usize, Fail
     let v = v.unwrap_or(default);
     let n = u64::try_from(v).unwrap_or(0);
     rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
+}
+
+/// `design.speed_range = [lo, hi]` (rad/s; `speed_range_rpm` is converted before), each a
+/// speed, lo < hi.
+fn speed_range(v: &[f64]) -> Result<Interval, Failure> {
+    let [lo, hi] = v[..] else {
+        let message = format!("needs two speeds [lo, hi] (rad/s), found {}", v.len());
+        return Err(("design.speed_range".into(), K::Schema(message)));
+    };
+    let lo = rule("design.speed_range[0]", limits::speed(lo))?;
+    let hi = rule("design.speed_range[1]", limits::speed(hi))?;
+    if hi <= lo {
+        let range = format!("above the range's low end, {} rad/s", limits::number(lo));
+        return Err(("design.speed_range[1]".into(), K::OutOfRange { value: hi, range }));
+    }
+    Ok(Interval::new(lo, hi))
 }

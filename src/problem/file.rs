@@ -84,6 +84,10 @@ pub struct DesignFile {
     /// Operating speeds Ω (rad/s); default the file's `speed`.
     #[serde(default)]
     pub speeds: Option<Vec<f64>>,
+    /// A range of operating speeds [lo, hi] (rad/s) over which the design must hold
+    /// (instead of `speeds`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed_range: Option<Vec<f64>>,
     /// `[[design.bands]]`: operating bands with clearances (clear-bands).
     #[serde(default)]
     pub bands: Vec<BandFile>,

@@ -2,7 +2,8 @@
 //! before it is read into [`super::ProblemFile`]:
 //!
 //! - a speed may be given in rpm by the key with the suffix `_rpm` (`speed_rpm`,
-//!   `design.speeds_rpm`, `design.response.speeds_rpm`); it is converted at load,
+//!   `design.speeds_rpm`, `design.speed_range_rpm`, `design.response.speeds_rpm`); it is
+//!   converted at load,
 //!   Ω = n·π/30 rad/s, and the rest of the program sees the rad/s key only
 //!   ([`RPM_KEYS`]); on the command line, a speed range takes the suffix `rpm`
 //!   (`--speeds 0:30000:500rpm`, parsed by the CLI layer);
@@ -19,19 +20,24 @@ pub const RAD_PER_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 
 /// Speed keys that have an rpm form: (table path, key in rad/s, key in rpm). The table
 /// path is empty for the top level, dotted for a nested table.
-pub const RPM_KEYS: [(&str, &str, &str); 3] =
-    [("", "speed", "speed_rpm"), ("design", "speeds", "speeds_rpm"), ("design.response", "speeds", "speeds_rpm")];
+pub const RPM_KEYS: [(&str, &str, &str); 4] = [
+    ("", "speed", "speed_rpm"),
+    ("design", "speeds", "speeds_rpm"),
+    ("design", "speed_range", "speed_range_rpm"),
+    ("design.response", "speeds", "speeds_rpm"),
+];
 
 /// Pairs of keys of one table of which a file gives one: a `--set` of either replaces the
 /// other. `node`/`position` place disks, bearings and rings; `inductance`/
 /// `tuning_frequency` set a branch's L (Eq. 4); `cp_s`/`k_eq2` a ring's C_p^S (Eq. 1);
 /// the speeds' rad/s and rpm forms.
-pub const ALTERNATIVES: [(&str, &str); 5] = [
+pub const ALTERNATIVES: [(&str, &str); 6] = [
     ("node", "position"),
     ("inductance", "tuning_frequency"),
     ("cp_s", "k_eq2"),
     ("speed", "speed_rpm"),
     ("speeds", "speeds_rpm"),
+    ("speed_range", "speed_range_rpm"),
 ];
 
 /// The key that a `--set` of `path` replaces: the other key of its pair, in the same table

@@ -209,6 +209,8 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         constraints_after: Vec::new(),
         vibration: None,
         robustness: None,
+        speed_check: None,
+        speed_check_before: None,
     };
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
@@ -336,6 +338,30 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         count.add(r.evaluations);
         parts.push(VerificationPart::of("tolerances", r.checked(), r.failed(), robust::summary(&r, phi_op), ""));
         out.robustness = Some(r);
+    }
+    // The tuned design over its speed range, on a grid finer than the optimiser's.
+    if let Some(range) = spec.speed_range {
+        match spec.phi_op() {
+            Some(phi_op) => {
+                progress.extend(super::spec::VERIFY_SPEEDS as u64);
+                let r = robust::speed_check(&tuned, spec, range, phi_op, &ctx.regions, &|| progress.advance(1))?;
+                count.add(r.evaluations);
+                let summary = robust::speed_summary(&r, phi_op);
+                parts.push(VerificationPart::of("speeds", r.bands.len(), r.failing.len(), summary, ""));
+                out.speed_check = Some(r);
+                // The reference on the same grid, for the report: where it failed.
+                let before = robust::speed_check(&reference, spec, range, phi_op, &ctx.regions, &|| {})?;
+                count.add(before.evaluations);
+                out.speed_check_before = Some(before);
+            }
+            None => parts.push(VerificationPart::of(
+                "speeds",
+                0,
+                0,
+                String::new(),
+                "the design has no band around phi_op to follow over the speed range; its bands are checked at the optimiser's speeds only",
+            )),
+        }
     }
     out.verification = Verification::of(parts, recheck);
     out.verified = out.verification.passed;

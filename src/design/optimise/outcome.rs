@@ -180,6 +180,10 @@ pub struct DesignOutcome {
     pub vibration: Option<VibrationReport>,
     /// The tuned design over its tolerance box (with `[design.tolerances]`).
     pub robustness: Option<crate::design::robust::Robustness>,
+    /// The tuned design over its speed range (with `design.speed_range`).
+    pub speed_check: Option<crate::design::robust::SpeedCheck>,
+    /// The reference design on the same speed grid (with `design.speed_range`).
+    pub speed_check_before: Option<crate::design::robust::SpeedCheck>,
 }
 
 impl DesignOutcome {
@@ -258,6 +262,10 @@ struct OutcomeJson<'a> {
     vibration: Option<&'a VibrationReport>,
     #[serde(skip_serializing_if = "Option::is_none")]
     robustness: Option<&'a crate::design::robust::Robustness>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    speed_check: Option<&'a crate::design::robust::SpeedCheck>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    speed_check_before: Option<&'a crate::design::robust::SpeedCheck>,
 }
 
 impl Serialize for DesignOutcome {
@@ -289,6 +297,8 @@ impl Serialize for DesignOutcome {
             constraints_after: &self.constraints_after,
             vibration: self.vibration.as_ref(),
             robustness: self.robustness.as_ref(),
+            speed_check: self.speed_check.as_ref(),
+            speed_check_before: self.speed_check_before.as_ref(),
         }
         .serialize(serializer)
     }

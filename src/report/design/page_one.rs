@@ -141,6 +141,10 @@ fn widest_band_table(s: &mut String, o: &DesignOutcome) {
             bound_text(&a.band.right)
         );
     }
+    if let Some(r) = &o.speed_check {
+        let _ =
+            writeln!(s, "\nSpeed range {}.", crate::design::robust::speed_range_text(o.speed_check_before.as_ref(), r));
+    }
     if let Some(r) = &o.robustness {
         let _ = writeln!(
             s,
@@ -284,6 +288,7 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
             "constraints" => "Constraints",
             "peak" => "Peak",
             "tolerances" => "Tolerances",
+            "speeds" => "Speed range",
             "margins" => "Margins",
             other => other,
         };
