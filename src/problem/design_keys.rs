@@ -196,7 +196,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         }
         Some(v) => Some(speed_range(v)?),
     };
-    let speeds = speed_range.map_or(speeds, |r| crate::design::spec::range_speeds(r));
+    let speeds = speed_range.map_or(speeds, crate::design::spec::range_speeds);
     let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
     let bands = d
         .bands
