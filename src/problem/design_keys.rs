@@ -88,16 +88,7 @@ fn response(r: &ResponseFile, model: &Model) -> Result<Response, Failure> {
     let Some(node) = node else {
         return Err(("design.response.node".into(), K::NodeOffShaft { node: r.node, last }));
     };
-    let [lo, hi] = r.speeds[..] else {
-        let message = format!("needs two speeds [lo, hi] (rad/s), found {}", r.speeds.len());
-        return Err(("design.response.speeds".into(), K::Schema(message)));
-    };
-    let lo = rule("design.response.speeds[0]", limits::response_speed(lo))?;
-    let hi = rule("design.response.speeds[1]", limits::response_speed(hi))?;
-    if hi <= lo {
-        let range = format!("above the low end {} rad/s (an empty speed range)", limits::number(lo));
-        return Err(("design.response.speeds[1]".into(), K::OutOfRange { value: hi, range }));
-    }
+    let speeds = speed_pair("design.response.speeds", &r.speeds, limits::response_speed)?;
     let points = r.points.unwrap_or(DEFAULT_RESPONSE_POINTS);
     let n = u64::try_from(points).unwrap_or(0);
     let points = rule(
@@ -105,7 +96,7 @@ fn response(r: &ResponseFile, model: &Model) -> Result<Response, Failure> {
         limits::count(n, MIN_RESPONSE_POINTS, MAX_RESPONSE_POINTS)
             .map_err(|e| ParamError { value: points as f64, ..e }),
     )?;
-    Ok(Response { node, speeds: Interval::new(lo, hi), points: points as usize })
+    Ok(Response { node, speeds, points: points as usize })
 }
 
 /// `[design.constraints]` and the band constraints, each limit checked: a band width and
@@ -194,7 +185,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         Some(_) if d.speeds.is_some() => {
             return Err(("design.speed_range".into(), K::BothGiven("speeds".into(), "speed_range".into())))
         }
-        Some(v) => Some(speed_range(v)?),
+        Some(v) => Some(speed_pair("design.speed_range", v, limits::speed)?),
     };
     let speeds = speed_range.map_or(speeds, crate::design::spec::range_speeds);
     let phi_op = d.phi_op.map(|p| rule("design.phi_op", limits::phi_op(p, range))).transpose()?;
@@ -400,18 +391,19 @@ fn count(key: &str, v: Option<i64>, default: i64, hi: u64) -> Result<usize, Fail
     rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
 }
 
-/// `design.speed_range = [lo, hi]` (rad/s; `speed_range_rpm` is converted before), each a
-/// speed, lo < hi.
-fn speed_range(v: &[f64]) -> Result<Interval, Failure> {
+/// A speed range [lo, hi] (rad/s) at `key`: two speeds, each by `speed_rule` at its own
+/// index, lo < hi (`design.response.speeds`, `design.speed_range`; their rpm forms are
+/// converted before).
+fn speed_pair(key: &str, v: &[f64], speed_rule: fn(f64) -> Result<f64, ParamError>) -> Result<Interval, Failure> {
     let [lo, hi] = v[..] else {
         let message = format!("needs two speeds [lo, hi] (rad/s), found {}", v.len());
-        return Err(("design.speed_range".into(), K::Schema(message)));
+        return Err((key.into(), K::Schema(message)));
     };
-    let lo = rule("design.speed_range[0]", limits::speed(lo))?;
-    let hi = rule("design.speed_range[1]", limits::speed(hi))?;
+    let lo = rule(&format!("{key}[0]"), speed_rule(lo))?;
+    let hi = rule(&format!("{key}[1]"), speed_rule(hi))?;
     if hi <= lo {
-        let range = format!("above the range's low end, {} rad/s", limits::number(lo));
-        return Err(("design.speed_range[1]".into(), K::OutOfRange { value: hi, range }));
+        let range = format!("above the low end {} rad/s (an empty speed range)", limits::number(lo));
+        return Err((format!("{key}[1]"), K::OutOfRange { value: hi, range }));
     }
     Ok(Interval::new(lo, hi))
 }

@@ -165,9 +165,11 @@ impl Problem {
                     key = if key.is_empty() { field } else { format!("{key}.{field}") };
                 }
             }
+            let key = units::file_key(&key, &rpm);
             err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
         })?;
         let (model, settings) = validate::translate(&data).map_err(|(key, kind)| {
+            let key = units::file_key(&key, &rpm);
             // Two alternatives given: blame --set if either came from the command line.
             let location = match (&kind, key.rsplit_once('.')) {
                 (ProblemErrorKind::BothGiven(a, b), Some((parent, _)))
@@ -180,7 +182,10 @@ impl Problem {
             };
             err(location, &key, kind)
         })?;
-        let design = design_keys::design(&data, &model).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
+        let design = design_keys::design(&data, &model).map_err(|(key, kind)| {
+            let key = units::file_key(&key, &rpm);
+            err(index.locate(&key), &key, kind)
+        })?;
         if let Some(spec) = &design {
             // Only a file read checks the whirl tags (a candidate's are the file's).
             design_keys::modes_exist(spec, &model, &settings)

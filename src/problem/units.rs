@@ -83,15 +83,18 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
         if t.contains_key(rad) {
             return Err((key(rpm), K::BothGiven(rad.into(), rpm.into())));
         }
+        // `speed` is one speed; the others are lists. A value of the other shape is refused
+        // at the rpm key, where the file has it.
+        let list = !parent.is_empty();
         let converted = match value {
-            toml::Value::Array(items) => toml::Value::Array(
+            toml::Value::Array(items) if list => toml::Value::Array(
                 items
                     .iter()
                     .enumerate()
                     .map(|(i, v)| to_rad_per_s(&format!("{}[{i}]", key(rpm)), v, rule))
                     .collect::<Result<_, _>>()?,
             ),
-            v if parent.is_empty() => to_rad_per_s(&key(rpm), v, rule)?,
+            v if !list => to_rad_per_s(&key(rpm), v, rule)?,
             other => {
                 let found = other.type_str();
                 return Err((
@@ -166,6 +169,26 @@ fn lookup_table<'a>(table: &'a mut toml::Table, path: &str) -> Option<&'a mut to
     Some(cur)
 }
 
+/// The key a failure at `key` is blamed on in the file: a key converted from rpm
+/// (`converted`, as [`convert_rpm`] returns them) or an entry of it (`design.speeds[1]`)
+/// is named by the rpm key the file gives (`design.speeds_rpm[1]`); other keys as they are.
+pub fn file_key(key: &str, converted: &[String]) -> String {
+    for rad in converted {
+        let rest = match key.strip_prefix(rad.as_str()) {
+            Some(r) if r.is_empty() || r.starts_with('[') => r,
+            _ => continue,
+        };
+        if let Some((_, _, rpm)) = RPM_KEYS.iter().find(|(parent, r, _)| {
+            let full = if parent.is_empty() { r.to_string() } else { format!("{parent}.{r}") };
+            &full == rad
+        }) {
+            let parent = &rad[..rad.len() - rad.rsplit('.').next().unwrap_or(rad).len()];
+            return format!("{parent}{rpm}{rest}");
+        }
+    }
+    key.to_string()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -202,5 +225,14 @@ mod tests {
         let (key, kind) = convert_rpm(&mut negative).unwrap_err();
         assert_eq!(key, "design.speeds_rpm[1]");
         assert_eq!(kind, K::Negative(-3.0));
+    }
+
+    #[test]
+    fn keys_converted_from_rpm_are_blamed_on_the_rpm_key() {
+        let converted = vec!["speed".to_string(), "design.speed_range".to_string()];
+        assert_eq!(super::file_key("speed", &converted), "speed_rpm");
+        assert_eq!(super::file_key("design.speed_range[1]", &converted), "design.speed_range_rpm[1]");
+        assert_eq!(super::file_key("design.speeds[0]", &converted), "design.speeds[0]");
+        assert_eq!(super::file_key("speedx", &converted), "speedx");
     }
 }
