@@ -490,6 +490,8 @@ fn dependent(changed: &str, blamed: &str) -> bool {
         || dep(".name", ".ring")
         || dep(".lo", ".hi")
         || dep(".min", ".max")
+        // A speed given in rpm that is dropped is missing at its rad/s key (either form).
+        || changed == format!("{blamed}_rpm")
         || dep("design.phi_range[0]", "design.phi_range[1]")
         || (changed.starts_with("design.phi_range") && blamed.ends_with("design.phi_op"))
         || dep("design.level", "design.beta_max")

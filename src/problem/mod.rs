@@ -166,6 +166,11 @@ impl Problem {
                 }
             }
             let key = units::file_key(&key, &rpm);
+            // A missing speed may be given in rpm: name both keys.
+            if let Some(rpm_key) = units::rpm_form(&key).filter(|_| message.starts_with("missing field")) {
+                let rad = key.rsplit('.').next().unwrap_or(&key).to_string();
+                return err(index.locate(&key), &key, ProblemErrorKind::NeitherGiven(rad, rpm_key));
+            }
             err(index.locate(&key), &key, ProblemErrorKind::Schema(message))
         })?;
         let (model, settings) = validate::translate(&data).map_err(|(key, kind)| {

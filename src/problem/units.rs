@@ -189,6 +189,15 @@ pub fn file_key(key: &str, converted: &[String]) -> String {
     key.to_string()
 }
 
+/// The rpm form's name (`speed_rpm`) of a rad/s key that has one (`speed`,
+/// `design.speeds`, …), given by its full path; None for other keys.
+pub fn rpm_form(path: &str) -> Option<String> {
+    RPM_KEYS.iter().find_map(|(parent, rad, rpm)| {
+        let full = if parent.is_empty() { rad.to_string() } else { format!("{parent}.{rad}") };
+        (full == path).then(|| rpm.to_string())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,5 +243,12 @@ mod tests {
         assert_eq!(super::file_key("design.speed_range[1]", &converted), "design.speed_range_rpm[1]");
         assert_eq!(super::file_key("design.speeds[0]", &converted), "design.speeds[0]");
         assert_eq!(super::file_key("speedx", &converted), "speedx");
+    }
+
+    #[test]
+    fn speed_keys_know_their_rpm_form() {
+        assert_eq!(super::rpm_form("speed").as_deref(), Some("speed_rpm"));
+        assert_eq!(super::rpm_form("design.speed_range").as_deref(), Some("speed_range_rpm"));
+        assert_eq!(super::rpm_form("shaft.length"), None);
     }
 }
