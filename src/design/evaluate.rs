@@ -136,7 +136,13 @@ impl Candidate {
     /// The seeds of the design's φ range at speed index `k`, without full-model labels
     /// (the same list, in the same order, as a labelled catalogue of the range takes).
     pub fn seeds(&self, k: usize, spec: &DesignSpec) -> Result<Vec<Seed>, DesignError> {
-        Ok(seeds_for(&self.systems[k].1, None, spec.range(), self.criterion().max_order)?)
+        self.seeds_of(&self.systems[k].1, spec)
+    }
+
+    /// The seeds of the design's φ range on a reduced system `fs` of this candidate (one
+    /// of its speeds or another), without full-model labels.
+    pub fn seeds_of(&self, fs: &FloquetSystem, spec: &DesignSpec) -> Result<Vec<Seed>, DesignError> {
+        Ok(seeds_for(fs, None, spec.range(), self.criterion().max_order)?)
     }
 }
 
@@ -189,7 +195,7 @@ pub fn operating_bands_at(
 
 /// The band around φ_op at the load `level` (−) of one reduced system `fs` of candidate
 /// `c` (at one of its speeds, or another: the speed-range refinement and check), over the
-/// design's φ range, with the seeds of that range ([`Candidate::seeds`]).
+/// design's φ range, with the seeds of that range ([`Candidate::seeds_of`]).
 pub fn band_of_system(
     c: &Candidate,
     spec: &DesignSpec,
@@ -199,7 +205,7 @@ pub fn band_of_system(
     s: &RegionSettings,
     count: &Counter,
 ) -> Result<Band, DesignError> {
-    let seeds = seeds_for(fs, None, spec.range(), c.criterion().max_order)?;
+    let seeds = c.seeds_of(fs, spec)?;
     let probe = Probe::new(fs, s);
     let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
     count.add(probe.evaluations());

@@ -529,33 +529,38 @@ pub struct Baseline {
     pub amplification_factor: Option<f64>,
 }
 
-/// The [`Baseline`] of `model` over the response range `r`.
-pub fn baseline(design: &str, model: &Model, r: &Response) -> Result<Baseline, DesignError> {
-    let out = response_of(&Rotor::new(model)?, r)?;
-    let p = &out.probes[0];
-    let (speed, amplitude, unbounded) = p.largest(&out.speeds);
-    // The amplification factor of the refined peak that is the largest amplitude.
-    let amplification_factor =
-        p.peaks.iter().find(|k| k.speed == speed && k.amplitude == amplitude).and_then(|k| k.amplification_factor);
-    Ok(Baseline { design: design.to_string(), peak: PeakValue { speed, amplitude, unbounded }, amplification_factor })
+impl Baseline {
+    /// The baseline `design` read from its response at the node ([`response_of`]).
+    pub fn of(design: &str, response: &UnbalanceResult) -> Baseline {
+        let p = &response.probes[0];
+        let (speed, amplitude, unbounded) = p.largest(&response.speeds);
+        // The amplification factor of the refined peak that is the largest amplitude.
+        let amplification_factor =
+            p.peaks.iter().find(|k| k.speed == speed && k.amplitude == amplitude).and_then(|k| k.amplification_factor);
+        Baseline { design: design.to_string(), peak: PeakValue { speed, amplitude, unbounded }, amplification_factor }
+    }
 }
 
-/// The baselines of a min-peak report: the open circuit of the base model, the reference
-/// circuit (`before`), the classic tuning (when there is one) and the tuned design
-/// (`after`), each by the same response computation ([`baseline`]).
+/// The baselines of a min-peak report over the response range `r`: the open circuit of
+/// the base model and the classic tuning (its `classic` values, when there is one), each
+/// computed here, beside the reference circuit and the tuned design from their responses
+/// the report already has (`before`, `after`); the same response computation for all.
 pub fn baselines(
     base: &Problem,
     spec: &DesignSpec,
-    before: &[f64],
+    r: &Response,
     classic: Option<&[f64]>,
-    after: &[f64],
+    before: &UnbalanceResult,
+    after: &UnbalanceResult,
 ) -> Result<Vec<Baseline>, DesignError> {
-    let Some(r) = spec.response() else { return Ok(Vec::new()) };
-    let mut out = vec![baseline("open circuit", &base.model.with_state(CircuitState::Open), r)?];
-    out.push(baseline("reference circuit", &problem_at(base, spec, before)?.model, r)?);
+    let of_model = |design: &str, model: &Model| -> Result<Baseline, DesignError> {
+        Ok(Baseline::of(design, &response_of(&Rotor::new(model)?, r)?))
+    };
+    let mut out = vec![of_model("open circuit", &base.model.with_state(CircuitState::Open))?];
+    out.push(Baseline::of("reference circuit", before));
     if let Some(c) = classic {
-        out.push(baseline("classic tuning", &problem_at(base, spec, c)?.model, r)?);
+        out.push(of_model("classic tuning", &problem_at(base, spec, c)?.model)?);
     }
-    out.push(baseline("tuned", &problem_at(base, spec, after)?.model, r)?);
+    out.push(Baseline::of("tuned", after));
     Ok(out)
 }

@@ -76,7 +76,7 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
                 None => continue,
             }
         };
-        let key = |k: &str| if parent.is_empty() { k.to_string() } else { format!("{parent}.{k}") };
+        let key = |k: &str| full_key(parent, k);
         let Some(value) = t.get(rpm) else { continue };
         // A response's speeds are bounded (the unbalance force grows like Ω²).
         let rule = if parent == "design.response" { limits::response_speed_rpm } else { limits::speed };
@@ -178,12 +178,8 @@ pub fn file_key(key: &str, converted: &[String]) -> String {
             Some(r) if r.is_empty() || r.starts_with('[') => r,
             _ => continue,
         };
-        if let Some((_, _, rpm)) = RPM_KEYS.iter().find(|(parent, r, _)| {
-            let full = if parent.is_empty() { r.to_string() } else { format!("{parent}.{r}") };
-            &full == rad
-        }) {
-            let parent = &rad[..rad.len() - rad.rsplit('.').next().unwrap_or(rad).len()];
-            return format!("{parent}{rpm}{rest}");
+        if let Some((parent, _, rpm)) = RPM_KEYS.iter().find(|(parent, r, _)| full_key(parent, r) == *rad) {
+            return format!("{}{rest}", full_key(parent, rpm));
         }
     }
     key.to_string()
@@ -192,10 +188,16 @@ pub fn file_key(key: &str, converted: &[String]) -> String {
 /// The rpm form's name (`speed_rpm`) of a rad/s key that has one (`speed`,
 /// `design.speeds`, …), given by its full path; None for other keys.
 pub fn rpm_form(path: &str) -> Option<String> {
-    RPM_KEYS.iter().find_map(|(parent, rad, rpm)| {
-        let full = if parent.is_empty() { rad.to_string() } else { format!("{parent}.{rad}") };
-        (full == path).then(|| rpm.to_string())
-    })
+    RPM_KEYS.iter().find_map(|(parent, rad, rpm)| (full_key(parent, rad) == path).then(|| rpm.to_string()))
+}
+
+/// The full path of `key` in the table at `parent` (empty: the top level).
+fn full_key(parent: &str, key: &str) -> String {
+    if parent.is_empty() {
+        key.to_string()
+    } else {
+        format!("{parent}.{key}")
+    }
 }
 
 #[cfg(test)]

@@ -6,8 +6,7 @@
 use super::convex::linearise;
 use super::*;
 use crate::design::vibration::{
-    baselines, check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck,
-    PeakValue,
+    check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck, PeakValue,
 };
 
 /// Nelder–Mead stops when the simplex's costs (ln of the peak in m) differ by less than
@@ -437,10 +436,9 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         let metres = best.peak.amplitude - free.peak.amplitude;
         Price { metres, percent: 100.0 * metres / free.peak.amplitude }
     });
-    let classic_values = classic.as_ref().map(|c| ctx.values(&to_unit(spec, &c.values)));
-    let baselines = baselines(ctx.base, spec, &out.before, classic_values.as_deref(), &out.after)?;
     out.findings = Findings::MinPeak(Box::new(PeakFindings {
-        baselines,
+        // Filled by the run with the responses of its report ([`crate::design::vibration::baselines`]).
+        baselines: Vec::new(),
         before: ctx.report(&before),
         after: ctx.report(&best),
         unconstrained: ctx.report(&free),

@@ -377,6 +377,10 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         };
         let (before, damping_before) = vibration(&out.before)?;
         let (after, damping_after) = vibration(&out.after)?;
+        if let Findings::MinPeak(f) = &mut out.findings {
+            let classic = f.classic_design.as_ref().map(|j| j.values.clone());
+            f.baselines = crate::design::vibration::baselines(base, spec, r, classic.as_deref(), &before, &after)?;
+        }
         let unconstrained = match out.peak_findings().filter(|f| !f.unconstrained.constraints.is_empty()) {
             Some(f) => Some(vibration(&f.unconstrained.values.clone())?.0),
             None => None,
