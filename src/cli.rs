@@ -159,6 +159,11 @@ pub(crate) enum Command {
         /// Output directory (created if missing).
         #[arg(long)]
         out: PathBuf,
+        /// Trace the trade-off between the peak unbalance response and the stable band
+        /// around phi_op with K verified designs, from the best damping to the widest band
+        /// (tuned-1.toml … tuned-K.toml, the front's table and plot; docs/design.md).
+        #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(rotorshunt::design::pareto::MIN_POINTS as u64..=rotorshunt::design::pareto::MAX_POINTS as u64))]
+        pareto: Option<u64>,
     },
     /// Run a batch study (STUDY.toml: a base problem and a list or sweep of cases), in
     /// parallel, with per-case reports and a summary; finished cases are skipped on re-runs.

@@ -127,6 +127,7 @@ fn reporter(cli: &Cli) -> Reporter {
         Command::Regions { out: Some(_), .. } => ("regions", &["catalogue", "chart", "files"]),
         Command::Regions { .. } => ("regions", &["catalogue"]),
         Command::Band { .. } => ("band", &["band", "margins"]),
+        Command::Design { pareto: Some(_), .. } => ("design", &["front", "report"]),
         Command::Design { .. } => ("design", &["optimise", "verification", "report"]),
         Command::Study(StudyArgs { action: None, .. }) => ("study", &["cases"]),
         Command::Response { .. } => ("response", &["response", "files"]),
@@ -231,7 +232,11 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error>
         Command::Band { input, phi_op, level, phi, json } => {
             plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, progress, budget))
         }
-        Command::Design { input, out } => {
+        Command::Design { input, out, pareto: Some(k) } => {
+            let (text, front) = commands::pareto_cmd(&load(&input)?, k as usize, &out, progress, budget)?;
+            Ok((text, if front.verified() { 0 } else { exit::NOT_VERIFIED }))
+        }
+        Command::Design { input, out, pareto: None } => {
             let (text, outcome) = commands::design_cmd(&load(&input)?, &out, progress, budget)?;
             let code = match outcome.status {
                 rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,

@@ -70,6 +70,7 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::Override { .. } => "Override",
         K::ClampedCapacitance { .. } => "ClampedCapacitance",
         K::UnknownMode { .. } => "UnknownMode",
+        K::NoTradeOff(_) => "NoTradeOff",
     }
 }
 
@@ -103,6 +104,9 @@ fn design_kind(e: &DesignError) -> &'static str {
         DesignError::Optimiser(_) => "Optimiser",
         DesignError::Qp(_) => "Qp",
         DesignError::NoResponse => "NoResponse",
+        // The command line refuses it as the file's `NoTradeOff`, at the key.
+        DesignError::NoTradeOff(_) => "NoTradeOff",
+        DesignError::FrontPoints(_) => "FrontPoints",
         DesignError::Spec { error, .. } => problem_kind(&ProblemErrorKind::from(error)),
     }
 }
@@ -181,6 +185,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::UnknownMode { mode: s(), speed: 0.0, available: Box::new([]) },
         ProblemErrorKind::Override { text: s(), reason: s() },
         ProblemErrorKind::ClampedCapacitance { cp_s: 0.0, cp_t: 0.0, angle_deg: 0.0, from_k_eq2: None },
+        ProblemErrorKind::NoTradeOff(s()),
     ];
     let analysis = [
         AnalysisError::Linalg(LinalgError::NotPositiveDefinite { what: "stiffness" }),
@@ -243,6 +248,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),
         Error::Design(DesignError::NoResponse),
+        Error::Design(DesignError::FrontPoints(0)),
         Error::Design(DesignError::Candidate {
             variable: 0,
             name: s(),

@@ -308,3 +308,76 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     );
     s
 }
+
+/// `rotorshunt design FILE --pareto K --out DIR`: the front of the file's trade-off
+/// ([`design::pareto::front`]) with its report (report.md, report.html, report.json),
+/// the plot of the front (pareto.svg, pareto.png) and every point's design file
+/// (`tuned-k.toml`, or `best-effort-k.toml` for a point that is not a verified result).
+/// A design without a trade-off is refused at its key and line, before any folder is
+/// made. Progress: `front` (the runs' candidates and verification points), `report`.
+pub fn pareto_cmd(
+    problem: &Problem,
+    points: usize,
+    out: &Path,
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<(String, design::pareto::Front), Error> {
+    use crate::problem::ProblemErrorKind;
+    use crate::report::design::pareto::{front_plot, markdown, point_file, point_line, FrontReport};
+    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    design::pareto::trade_off(spec).map_err(|e| problem.refuse(&e.key, ProblemErrorKind::NoTradeOff(e.reason)))?;
+    // A front is its points' runs, and a point run again when it is dominated.
+    let one = design_estimate(problem, spec, &budget)?;
+    let runs = (2 * points) as f64;
+    bounds::admit(&budget, "the Pareto front", &one.times(runs, Driver::Candidates, "design runs"), &DESIGN)?;
+    let dir = OutDir::create(out, &problem.file)?;
+    let front = design::pareto::front(problem, points, progress)?;
+    progress.phase("report", (front.points.len() + 4) as u64);
+    let design_files: Vec<String> = front.points.iter().map(point_file).collect();
+    let mut files: Vec<String> =
+        ["report.md", "report.html", "report.json", "pareto.svg", "pareto.png"].iter().map(|s| s.to_string()).collect();
+    files.extend(design_files.iter().cloned());
+    let report = FrontReport {
+        provenance: super::Provenance::of(problem),
+        title: title(problem),
+        branches_before: branch_rows(&problem.model),
+        variables: spec.variables.iter().map(|v| format!("{} ({})", v.name(), v.parameter.unit())).collect(),
+        front,
+        design_files,
+        files,
+    };
+    for (p, file) in report.front.points.iter().zip(&report.design_files) {
+        dir.write(file, super::tuned_toml(problem, &p.outcome)?.as_bytes())?;
+        progress.advance(1);
+    }
+    dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
+    let text = markdown(&report);
+    dir.write("report.md", text.as_bytes())?;
+    dir.figure("pareto", &front_plot(&report))?;
+    dir.write("report.html", crate::report::html::page(&report.title, &text, &dir).as_bytes())?;
+    progress.advance(4);
+    dir.commit("design", progress)?;
+    let f = &report.front;
+    let mut s = format!(
+        "design --pareto {points}: {} points from the best damping to the widest band around phi_op = {} rad/s at beta = {}; front {}{}\n",
+        f.points.len(),
+        f.phi_op,
+        f.level,
+        if f.monotone { "monotone" } else { "NOT monotone" },
+        if f.collapsed { " (no trade-off: the best-damped design has the widest band)" } else { "" }
+    );
+    for p in &f.points {
+        s += &point_line(p, &report.variables);
+        s.push('\n');
+    }
+    s += &format!(
+        "{} design runs, {} candidates, {} Floquet evaluations, {:.1} s; wrote report.md, report.html, report.json, pareto.svg, pareto.png and {} to {}\n",
+        f.runs,
+        f.candidates,
+        f.evaluations,
+        f.seconds,
+        report.design_files.join(", "),
+        out.display()
+    );
+    Ok((s, report.front))
+}

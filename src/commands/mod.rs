@@ -15,7 +15,7 @@ mod unbalance;
 
 pub use args::parse_range;
 pub use compare::{compared, Compared};
-pub use design::{design_cmd, design_file_name, design_report, status_word, summary_text};
+pub use design::{design_cmd, design_file_name, design_report, pareto_cmd, status_word, summary_text};
 pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
 pub use import::import_ross_cmd;
 pub use out::{check_folder, remove_unfinished, OutDir};

@@ -29,6 +29,7 @@
 pub mod content;
 pub mod evaluate;
 pub mod optimise;
+pub mod pareto;
 pub mod qp;
 pub mod robust;
 pub mod spec;
@@ -36,7 +37,7 @@ pub mod tolerance;
 pub mod verify;
 pub mod vibration;
 
-pub use optimise::{run, DesignOutcome, Status};
+pub use optimise::{run, run_with, DesignOutcome, RunOptions, Status};
 pub use spec::DesignSpec;
 
 use thiserror::Error;
@@ -77,6 +78,13 @@ pub enum DesignError {
     /// (a spec built in code; the file layer asks for `[design.response]`).
     #[error("the design judges an unbalance response but has none: add [design.response] (node, speeds)")]
     NoResponse,
+    /// `--pareto` on a design without a trade-off between the peak response and the band
+    /// around φ_op ([`pareto::trade_off`]).
+    #[error("no Pareto front for key `{}`: {}", .0.key, .0.reason)]
+    NoTradeOff(pareto::NoTradeOff),
+    /// A front asked with too few or too many points.
+    #[error("a Pareto front has {min} to {max} points (its two ends and the points between), not {0}", min = pareto::MIN_POINTS, max = pareto::MAX_POINTS)]
+    FrontPoints(usize),
     /// The convex step failed to solve.
     #[error("the convex tuning step failed: {0}")]
     Qp(String),

@@ -79,6 +79,10 @@ pub enum ProblemErrorKind {
     /// < 0 where a non-negative value is needed.
     #[error("must not be negative, found {}", number(*.0))]
     Negative(f64),
+    /// `design --pareto` on a `[design]` table without a trade-off between the peak
+    /// response and the band around φ_op ([`crate::design::pareto::trade_off`]).
+    #[error("no Pareto front (--pareto): {0}")]
+    NoTradeOff(String),
     /// Outside an allowed range.
     #[error("must be {range}, found {}", number(*value))]
     OutOfRange {

@@ -50,6 +50,9 @@ pub struct Problem {
     pub input_sha256: String,
     /// Values that look like unit mistakes ([`plausibility`]); empty for a plausible file.
     pub warnings: Vec<Warning>,
+    /// The file's text as read (before the overrides), so that a later refusal can name
+    /// a key's line ([`Problem::locate`]); empty for data built in code.
+    pub text: std::sync::Arc<str>,
 }
 
 /// SHA-256 (hex) of a problem text and its overrides.
@@ -65,6 +68,23 @@ pub fn input_hash(text: &str, overrides: &[String]) -> String {
 }
 
 impl Problem {
+    /// Where a key path of the file is: its line, `--set` when an override set it, or
+    /// unknown (data built in code, or a key the file does not have).
+    pub fn locate(&self, key: &str) -> Location {
+        let mut index = LineIndex::new(&self.text);
+        for o in &self.overrides {
+            if let Some((k, _)) = o.split_once('=') {
+                index.mark_overridden(k.trim());
+            }
+        }
+        index.locate(key)
+    }
+
+    /// A refusal of `key` with `kind`, located in the file ([`Problem::locate`]).
+    pub fn refuse(&self, key: &str, kind: ProblemErrorKind) -> ProblemError {
+        ProblemError { file: self.file.clone(), location: self.locate(key), key: key.to_string(), kind }
+    }
+
     /// The assembled rotor of the problem's model, P_cr computed or given.
     pub fn rotor(&self) -> Result<crate::analysis::Rotor, crate::analysis::AnalysisError> {
         crate::analysis::Rotor::new(&self.model)
@@ -211,6 +231,7 @@ impl Problem {
             overrides: overrides.to_vec(),
             input_sha256: input_hash(text, overrides),
             warnings,
+            text: text.into(),
         })
     }
 }
@@ -244,6 +265,7 @@ impl Problem {
             overrides: overrides.to_vec(),
             input_sha256,
             warnings,
+            text: "".into(),
         })
     }
 }

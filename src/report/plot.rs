@@ -19,6 +19,9 @@ pub const SIZE: (u32, u32) = (1000, 700);
 
 /// Points between two markers on a marked curve.
 const MARKER_EVERY: usize = 8;
+/// A marked piece of at most this many points has every point marked: its points are
+/// the data (e.g. the designs of a front), not samples of a curve.
+const MARK_EVERY_POINT: usize = 2 * MARKER_EVERY;
 
 /// One polyline of a plot.
 #[derive(Debug, Clone)]
@@ -291,10 +294,14 @@ where
         };
         if c.marker != Marker::None {
             let area = chart.plotting_area();
-            for p in piece.iter().step_by(MARKER_EVERY) {
+            // `map_coordinate` gives pixels of the whole image; the stripped area draws
+            // relative to its own corner.
+            let (xs, ys) = area.get_pixel_range();
+            let strip = area.strip_coord_spec();
+            let every = if piece.len() <= MARK_EVERY_POINT { 1 } else { MARKER_EVERY };
+            for p in piece.iter().step_by(every) {
                 let at = area.map_coordinate(p);
-                let strip = area.strip_coord_spec();
-                style::draw_marker(&strip, c.marker, c.color, at)?;
+                style::draw_marker(&strip, c.marker, c.color, (at.0 - xs.start, at.1 - ys.start))?;
             }
         }
     }

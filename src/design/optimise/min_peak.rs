@@ -376,6 +376,7 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
     if let Some(c) = &classic {
         first.push(("classic tuning".to_string(), to_unit(spec, &c.values)));
     }
+    first.extend(ctx.extra_starts.iter().cloned());
     let constrained = !spec.constraints.is_empty();
     // The reference at its own values (they may lie outside the bounds).
     let before = ctx.judge_values(&reference, &out.before, true)?;
@@ -383,20 +384,25 @@ pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         Some(c) => Some(ctx.judge(&to_unit(spec, &c.values), true)?),
         None => None,
     };
-    // Without constraints: the design that damps best.
-    let free_starts = starts_of(ctx, first.clone(), &reference);
-    let runs = nelder_mead(ctx, &free_starts, false, 0)?;
-    let mut free: Option<Judged> = None;
-    for (report, history, best) in runs {
-        out.starts.push(report);
-        out.history.extend(history);
-        if let Some(b) = best {
-            if free.as_ref().is_none_or(|f| b.peak.amplitude < f.peak.amplitude) {
-                free = Some(b);
+    // Without constraints: the design that damps best (the caller's, when given).
+    let free = match &ctx.unconstrained {
+        Some(u) => ctx.judge(u, false)?,
+        None => {
+            let free_starts = starts_of(ctx, first.clone(), &reference);
+            let runs = nelder_mead(ctx, &free_starts, false, 0)?;
+            let mut free: Option<Judged> = None;
+            for (report, history, best) in runs {
+                out.starts.push(report);
+                out.history.extend(history);
+                if let Some(b) = best {
+                    if free.as_ref().is_none_or(|f| b.peak.amplitude < f.peak.amplitude) {
+                        free = Some(b);
+                    }
+                }
             }
+            free.ok_or_else(|| DesignError::Optimiser("no start evaluated a design".into()))?
         }
-    }
-    let free = free.ok_or_else(|| DesignError::Optimiser("no start evaluated a design".into()))?;
+    };
     // The constraints judged on the unconstrained optimum (a fresh evaluation).
     let free = if constrained { ctx.judge(&free.u, true)? } else { free };
     let mut convex = Vec::new();

@@ -46,6 +46,25 @@ struct Context<'a> {
     progress: &'a dyn Progress,
     /// The reference design (the file's values), built once and checked reliable.
     reference: Candidate,
+    /// Starts given by the caller ([`RunOptions::extra_starts`]), scaled to [0, 1].
+    extra_starts: Vec<(String, Vec<f64>)>,
+    /// The caller's unconstrained optimum ([`RunOptions::unconstrained`]), scaled.
+    unconstrained: Option<Vec<f64>>,
+}
+
+/// What a caller adds to a design run beyond its `[design]` table.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// More Nelder–Mead starts of the min-peak-response runs, by name, in variable values
+    /// (SI units, as in the problem file), tried beside the classic tuning, the reference
+    /// and the Halton points: e.g. a design known to meet a tighter constraint, which the
+    /// run then can only improve on ([`crate::design::pareto`] chains its points so).
+    pub extra_starts: Vec<(String, Vec<f64>)>,
+    /// The min-peak-response design that damps best with no constraint, in variable values
+    /// (SI units), when an earlier run of the same objective, variables and bounds found it
+    /// (it does not depend on the constraints): its Nelder–Mead runs are skipped and this
+    /// design is judged in their place.
+    pub unconstrained: Option<Vec<f64>>,
 }
 
 impl Context<'_> {
@@ -158,6 +177,11 @@ pub fn most_candidates(spec: &DesignSpec) -> usize {
 /// [`verify`]). The result is verified independently ([`crate::design::verify`]); the
 /// catalogues of the reference and the tuned design (for the report) come with it.
 pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
+    run_with(base, &RunOptions::default(), progress)
+}
+
+/// [`run`] with a caller's [`RunOptions`].
+pub fn run_with(base: &Problem, options: &RunOptions, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
     let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
@@ -180,6 +204,8 @@ pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, Des
         first_failure: std::sync::Mutex::new(None),
         progress,
         reference,
+        extra_starts: options.extra_starts.iter().map(|(name, v)| (name.clone(), to_unit(spec, v))).collect(),
+        unconstrained: options.unconstrained.as_ref().map(|v| to_unit(spec, v)),
     };
     let mut out = DesignOutcome {
         spec: spec.clone(),

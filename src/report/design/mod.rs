@@ -6,6 +6,7 @@ mod details;
 mod figures;
 mod margins;
 mod page_one;
+pub mod pareto;
 
 pub use figures::figures;
 
