@@ -123,9 +123,16 @@ impl Candidate {
         spec: &DesignSpec,
         p: &crate::design::tolerance::Perturbation,
     ) -> Result<Candidate, DesignError> {
+        let built = self.perturbed_rotor(p)?;
+        Candidate::from_parts(built.problem, built.rotor, spec, true)
+    }
+
+    /// The candidate as built with the component factors `p`, its rotor only (no reduced
+    /// system: for judging at a speed of the caller's choice).
+    pub fn perturbed_rotor(&self, p: &crate::design::tolerance::Perturbation) -> Result<Candidate, DesignError> {
         let problem = Problem { model: p.apply(&self.problem.model, self.rotor.critical_load), ..self.problem.clone() };
         let rotor = Rotor::new(&problem.model)?;
-        Candidate::from_parts(problem, rotor, spec, true)
+        Ok(Candidate { problem, rotor, systems: Vec::new() })
     }
 
     /// The declared criterion of the candidate (that of the problem file).

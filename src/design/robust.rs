@@ -27,7 +27,11 @@ use serde::Serialize;
 pub struct Build {
     /// The factors on the components.
     pub perturbation: Perturbation,
-    /// The band around φ_op at each operating speed (rad/s); None where φ_op is unstable.
+    /// The speeds it was judged at (rad/s): every operating speed, or, for a Monte Carlo
+    /// sample over a speed range, the one where the box's corners leave the narrowest
+    /// guaranteed band ([`check`]).
+    pub speeds: Vec<f64>,
+    /// The band around φ_op at each of those speeds (rad/s); None where φ_op is unstable.
     pub bands: Vec<Option<Interval>>,
     /// The smallest signed band width over the speeds (rad/s).
     pub width: f64,
@@ -40,6 +44,10 @@ pub struct Build {
 pub struct Robustness {
     /// The tolerances judged.
     pub tolerances: Tolerances,
+    /// Over a speed range, the one speed the samples were judged at (rad/s): where the
+    /// corners leave the narrowest guaranteed band; None: the samples were judged at every
+    /// operating speed.
+    pub sample_speed: Option<f64>,
     /// The centre and corners of the box, judged.
     pub corners: Vec<Build>,
     /// Monte Carlo samples judged.
@@ -74,9 +82,27 @@ impl Robustness {
     }
 }
 
-/// The value the optimiser steers by for one build of a candidate (rad/s): its smallest
-/// signed band width over the speeds, less `penalty` per rad/s of margin shortfall at the
-/// margin level; with the bands.
+/// What the optimiser steers by for one build of a candidate, on the speed grid.
+#[derive(Debug, Clone)]
+pub struct Judged {
+    /// The smallest signed band width over the grid's speeds (rad/s).
+    pub smallest: f64,
+    /// The margin penalty (rad/s of width): `penalty` per rad/s of frequency-margin
+    /// shortfall at the margin level; 0 without `[design.margins]`.
+    pub penalty: f64,
+    /// The band around φ_op at each speed of the grid.
+    pub bands: Vec<OperatingBand>,
+}
+
+impl Judged {
+    /// The value on the grid: the smallest width less the penalty (rad/s).
+    pub fn value(&self) -> f64 {
+        self.smallest - self.penalty
+    }
+}
+
+/// One build of a candidate judged on the speed grid ([`Judged`]), with `penalty` per
+/// rad/s of margin shortfall.
 pub fn judged(
     c: &Candidate,
     spec: &DesignSpec,
@@ -84,17 +110,38 @@ pub fn judged(
     s: &RegionSettings,
     count: &Counter,
     penalty: f64,
-) -> Result<(f64, Vec<OperatingBand>), DesignError> {
+) -> Result<Judged, DesignError> {
     let bands = operating_bands(c, spec, phi_op, s, count)?;
-    let mut value = smallest(&bands);
-    if spec.speed_range.is_some() {
-        value = value.min(refined_worst(c, spec, phi_op, &bands, s, count)?.1);
-    }
-    if let Some(m) = spec.constraints.margins {
-        let at = operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?;
-        value -= penalty * margin_shortfall(&at, &m);
-    }
-    Ok((value, bands))
+    let penalty = match spec.constraints.margins {
+        Some(m) => penalty * margin_shortfall(&operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?, &m),
+        None => 0.0,
+    };
+    Ok(Judged { smallest: smallest(&bands), penalty, bands })
+}
+
+/// One build of a candidate judged at one speed `w` (rad/s) outside its grid: the signed
+/// width of its band around φ_op there, less `penalty` per rad/s of margin shortfall at
+/// the margin level there.
+pub fn judged_at(
+    c: &Candidate,
+    spec: &DesignSpec,
+    phi_op: f64,
+    w: f64,
+    s: &RegionSettings,
+    count: &Counter,
+    penalty: f64,
+) -> Result<f64, DesignError> {
+    let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+    let band = OperatingBand { speed: w, band: band_of_system(c, spec, &fs, phi_op, spec.level, s, count)? };
+    let penalty = match spec.constraints.margins {
+        Some(m) => {
+            let at =
+                OperatingBand { speed: w, band: band_of_system(c, spec, &fs, phi_op, m.level(spec.level), s, count)? };
+            penalty * margin_shortfall(&[at], &m)
+        }
+        None => 0.0,
+    };
+    Ok(band.signed_width() - penalty)
 }
 
 /// Golden-section steps refining the worst speed of a speed range's grid.
@@ -155,16 +202,15 @@ pub fn smallest(bands: &[OperatingBand]) -> f64 {
     bands.iter().map(OperatingBand::signed_width).fold(f64::INFINITY, f64::min)
 }
 
-/// One build judged ([`Build`]).
+/// One build judged ([`Build`]) at the speeds of `built`'s reduced systems.
 fn build(
-    c: &Candidate,
+    built: &Candidate,
     spec: &DesignSpec,
     phi_op: f64,
     p: &Perturbation,
     s: &RegionSettings,
     count: &Counter,
 ) -> Result<Build, DesignError> {
-    let built = c.perturbed(spec, p)?;
     let bands = operating_bands(&built, spec, phi_op, s, count)?;
     let mut failure = None;
     if let Some(b) = bands.iter().find(|b| b.band.band.is_none()) {
@@ -189,6 +235,7 @@ fn build(
     }
     Ok(Build {
         perturbation: p.clone(),
+        speeds: bands.iter().map(|b| b.speed).collect(),
         bands: bands.iter().map(|b| b.band.band).collect(),
         width: smallest(&bands),
         failure,
@@ -206,30 +253,65 @@ pub fn check(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Robustness, DesignError> {
     let count = Counter::default();
-    let judge = |p: &Perturbation| {
-        let b = build(c, spec, phi_op, p, s, &count);
-        tick();
-        b
+    let corners: Vec<Build> = t
+        .corners()
+        .par_iter()
+        .map(|p| {
+            let b = build(&c.perturbed(spec, p)?, spec, phi_op, p, s, &count);
+            tick();
+            b
+        })
+        .collect::<Result<_, _>>()?;
+    let guaranteed = |builds: &[&Build]| -> Vec<Option<Interval>> {
+        spec.speeds
+            .iter()
+            .map(|&w| {
+                builds
+                    .iter()
+                    .filter_map(|b| b.speeds.iter().position(|&x| x == w).map(|i| b.bands[i]))
+                    .try_fold(None::<Interval>, |acc, band| {
+                        let band = band?;
+                        Some(Some(match acc {
+                            None => band,
+                            Some(a) => Interval::new(a.lo.max(band.lo), a.hi.min(band.hi)),
+                        }))
+                    })
+                    .flatten()
+            })
+            .collect()
     };
-    let corners: Vec<Build> = t.corners().par_iter().map(judge).collect::<Result<_, _>>()?;
-    let samples: Vec<Build> = t.draw().par_iter().map(judge).collect::<Result<_, _>>()?;
+    // Over a speed range the samples are judged where the corners leave the narrowest
+    // guaranteed band (an unstable φ_op first): the corners bound the box at every speed,
+    // and the samples check, where it is tightest, that no build inside does worse.
+    let sample_speed = spec.speed_range.map(|_| {
+        let by_corners = guaranteed(&corners.iter().collect::<Vec<_>>());
+        let width = |k: usize| by_corners[k].map_or(f64::NEG_INFINITY, |b| b.width());
+        let k = (0..spec.speeds.len()).min_by(|&a, &b| width(a).total_cmp(&width(b))).unwrap_or(0);
+        spec.speeds[k]
+    });
+    let samples: Vec<Build> = t
+        .draw()
+        .par_iter()
+        .map(|p| {
+            let built = match sample_speed {
+                Some(w) => {
+                    let mut b = c.perturbed_rotor(p)?;
+                    b.systems = vec![(w, FloquetSystem::new(&b.rotor, &b.problem.settings, w)?)];
+                    b
+                }
+                None => c.perturbed(spec, p)?,
+            };
+            let b = build(&built, spec, phi_op, p, s, &count);
+            tick();
+            b
+        })
+        .collect::<Result<_, _>>()?;
     let all = || corners.iter().chain(&samples);
     let worst = all().min_by(|a, b| a.width.total_cmp(&b.width)).cloned().unwrap_or_else(|| corners[0].clone());
     let failing = all().find(|b| b.failure.is_some()).cloned();
-    let guaranteed = (0..spec.speeds.len())
-        .map(|k| {
-            all()
-                .try_fold(None::<Interval>, |acc, b| {
-                    let band = b.bands.get(k).copied().flatten()?;
-                    Some(Some(match acc {
-                        None => band,
-                        Some(a) => Interval::new(a.lo.max(band.lo), a.hi.min(band.hi)),
-                    }))
-                })
-                .flatten()
-        })
-        .collect();
+    let guaranteed = guaranteed(&all().collect::<Vec<_>>());
     Ok(Robustness {
+        sample_speed,
         tolerances: *t,
         samples_failed: samples.iter().filter(|b| b.failure.is_some()).count(),
         samples: samples.len(),
@@ -249,10 +331,11 @@ pub fn summary(r: &Robustness, phi_op: f64) -> String {
     };
     let bands = |v: &[Option<Interval>]| v.iter().map(band).collect::<Vec<_>>().join(", ");
     let mut s = format!(
-        "the band around phi_op = {phi_op} rad/s at every build of the tolerance box ({}): its centre and {} corners, and {} Monte Carlo samples, {} of {} builds failing; worst build `{}`: band {} (smallest width {:.2} rad/s); guaranteed band (the intersection over every build) {}",
+        "the band around phi_op = {phi_op} rad/s at every build of the tolerance box ({}): its centre and {} corners at every speed, and {} Monte Carlo samples{}, {} of {} builds failing; worst build `{}`: band {} (smallest width {:.2} rad/s); guaranteed band (the intersection over every build) {}",
         r.tolerances.text(),
         r.corners.len() - 1,
         r.samples,
+        sample_speed_text(r),
         r.failed(),
         r.checked(),
         r.worst.perturbation.name,
@@ -274,6 +357,13 @@ pub fn summary(r: &Robustness, phi_op: f64) -> String {
     s
 }
 
+/// Where the samples were judged, in words: empty when at every speed.
+fn sample_speed_text(r: &Robustness) -> String {
+    r.sample_speed.map_or(String::new(), |w| {
+        format!(" at Omega = {w} rad/s (where the corners leave the narrowest guaranteed band)")
+    })
+}
+
 /// The guaranteed band in words: at each speed `[lo, hi] (width) rad/s` or that φ_op is
 /// unstable at some build, with the number of builds and the worst one.
 pub fn guaranteed_text(r: &Robustness) -> String {
@@ -286,11 +376,12 @@ pub fn guaranteed_text(r: &Robustness) -> String {
         })
         .collect();
     format!(
-        "guaranteed band {} over {} builds (centre, {} corners, {} samples), worst build `{}`{}",
+        "guaranteed band {} over {} builds (centre, {} corners, {} samples{}), worst build `{}`{}",
         bands.join(", "),
         r.checked(),
         r.corners.len() - 1,
         r.samples,
+        sample_speed_text(r),
         r.worst.perturbation.name,
         if r.holds() { String::new() } else { format!(", {} build(s) failing: NOT ROBUST", r.failed()) }
     )

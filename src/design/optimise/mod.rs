@@ -101,23 +101,35 @@ impl Context<'_> {
 
     /// What the widest-band objective steers by for a candidate (rad/s): the smallest
     /// signed band width over the speeds, less [`MARGIN_PENALTY`] per rad/s by which the
-    /// band at the margin level misses `[design.margins]`; with `[design.tolerances]`, the
-    /// smallest of that over the centre and corners of the tolerance box
-    /// ([`crate::design::tolerance::Tolerances::corners`]). With the nominal bands.
+    /// band at the margin level misses `[design.margins]`; over a speed range, with the
+    /// worst speed of the grid refined ([`robust::refined_worst`]). With
+    /// `[design.tolerances]`, the smallest of that over the centre and corners of the
+    /// tolerance box ([`crate::design::tolerance::Tolerances::corners`]); over a speed
+    /// range the corners are judged at the nominal design's refined worst speed alone
+    /// ([`robust::judged_at`]), the cheaper set docs/decisions.md ("Design speed")
+    /// measures against every corner at every speed. With the nominal bands.
     fn judged(&self, c: &Candidate, phi_op: f64) -> Result<(f64, Vec<OperatingBand>), DesignError> {
-        let (mut value, bands) = robust::judged(c, self.spec, phi_op, &self.regions, &self.floquet, MARGIN_PENALTY)?;
-        if let Some(t) = &self.spec.tolerances {
+        let (spec, s, count) = (self.spec, &self.regions, &self.floquet);
+        let nominal = robust::judged(c, spec, phi_op, s, count, MARGIN_PENALTY)?;
+        let (worst_speed, mut value) = match spec.speed_range {
+            Some(_) => {
+                let (w, width) = robust::refined_worst(c, spec, phi_op, &nominal.bands, s, count)?;
+                (Some(w), nominal.smallest.min(width) - nominal.penalty)
+            }
+            None => (None, nominal.value()),
+        };
+        if let Some(t) = &spec.tolerances {
             let corners = t.corners();
             let worst = corners[1..]
                 .par_iter()
-                .map(|p| {
-                    let built = c.perturbed(self.spec, p)?;
-                    Ok(robust::judged(&built, self.spec, phi_op, &self.regions, &self.floquet, MARGIN_PENALTY)?.0)
+                .map(|p| match worst_speed {
+                    Some(w) => robust::judged_at(&c.perturbed_rotor(p)?, spec, phi_op, w, s, count, MARGIN_PENALTY),
+                    None => Ok(robust::judged(&c.perturbed(spec, p)?, spec, phi_op, s, count, MARGIN_PENALTY)?.value()),
                 })
                 .collect::<Result<Vec<f64>, DesignError>>()?;
             value = worst.into_iter().fold(value, f64::min);
         }
-        Ok((value, bands))
+        Ok((value, nominal.bands))
     }
 }
 

@@ -1,0 +1,120 @@
+//! What a design costs, and where (issue 27, point 8): run by hand with
+//! `cargo bench --bench design` (a plain harness: whole design runs are seconds to
+//! minutes, too long for criterion's samples).
+//!
+//! 1. The cost of one Floquet evaluation over φ on the design problems' reference
+//!    designs: the fast path's steps per period (`FloquetSystem::steps_for`: the alias
+//!    guard 2·ω_max/φ of the reduced basis, and the phase step on its lowest mode) and
+//!    the time of one point, one thread.
+//! 2. `rotorshunt design` end to end on `problems/design-widest-band.toml` and
+//!    `problems/design-compressor.toml`, alternating, three times each, in the same run:
+//!    wall time, the ratio, candidates and evaluations, and the time share of each phase
+//!    (optimising, verification, report) from report.json.
+//! 3. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
+//!    (`problems/design-robust-speed-range.toml`) and a 5-point Pareto front of
+//!    `problems/design-min-peak.toml`, once each.
+
+use rotorshunt::design::evaluate::{values_of, Candidate};
+use rotorshunt::problem::Problem;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+fn problem(name: &str) -> Problem {
+    Problem::from_path(format!("{}/problems/{name}", env!("CARGO_MANIFEST_DIR")), &[]).unwrap()
+}
+
+/// Repetitions of one point when timing it: enough for a stable median.
+const POINT_REPEATS: usize = 15;
+
+fn cost_over_phi(name: &str, level: f64, phis: &[f64]) {
+    let p = problem(name);
+    let spec = p.design.as_ref().expect("a [design] table");
+    let c = Candidate::new(&p, spec, &values_of(&p, spec)).unwrap();
+    let fs = &c.systems[0].1;
+    let f = &fs.reduced.frequencies;
+    let (lo, hi) = f.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &w| (a.min(w), b.max(w)));
+    println!("{name} at Ω = {:.1} rad/s: reduced basis of {} modes, {lo:.1} to {hi:.1} rad/s", c.systems[0].0, f.len());
+    println!("  phi (rad/s)  steps/period  us/point (fast, 1 thread)");
+    for &phi in phis {
+        let mut times: Vec<f64> = (0..POINT_REPEATS)
+            .map(|_| {
+                let t = Instant::now();
+                std::hint::black_box(fs.point_fast(&fs.table(phi, level), level));
+                t.elapsed().as_secs_f64()
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        println!("  {phi:>10.0}  {:>12}  {:>10.1}", fs.steps_for(phi), 1e6 * times[POINT_REPEATS / 2]);
+    }
+}
+
+/// One `design` run: wall time (s) and its report.json.
+fn design(args: &[&str], out: &Path) -> (f64, serde_json::Value) {
+    let _ = std::fs::remove_dir_all(out);
+    let t = Instant::now();
+    let status = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+        .arg("design")
+        .args(args)
+        .arg("--quiet")
+        .arg("--out")
+        .arg(out)
+        .status()
+        .unwrap();
+    let wall = t.elapsed().as_secs_f64();
+    assert!(status.success() || status.code() == Some(4), "{args:?}: {status}");
+    let report = serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    (wall, report)
+}
+
+fn phases(name: &str, wall: f64, r: &serde_json::Value) {
+    let o = &r["outcome"];
+    let optimise = o["seconds"].as_f64().unwrap_or(0.0);
+    let verify = o["verification_cost"]["seconds"].as_f64().unwrap_or(0.0);
+    let candidates = o["candidates"].as_u64().unwrap_or(0);
+    let evaluations = o["floquet_evaluations"].as_u64().unwrap_or(0);
+    println!(
+        "{name}: {wall:.2} s end to end; optimising {optimise:.2} s ({:.0} %), verification {verify:.2} s ({:.0} %), report and the rest {:.2} s ({:.0} %); {candidates} candidates, {evaluations} evaluations ({:.0} per candidate), verification {} evaluations",
+        100.0 * optimise / wall,
+        100.0 * verify / wall,
+        wall - optimise - verify,
+        100.0 * (wall - optimise - verify) / wall,
+        evaluations as f64 / candidates.max(1) as f64,
+        o["verification_cost"]["evaluations"]
+    );
+}
+
+fn main() {
+    // `cargo bench` passes --bench; nothing to parse.
+    cost_over_phi("design-widest-band.toml", 0.3, &[250.0, 500.0, 1000.0, 1230.0, 2000.0, 4000.0, 8000.0]);
+    cost_over_phi("design-compressor.toml", 0.1, &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 6000.0]);
+    let dir: PathBuf = std::env::temp_dir().join(format!("rotorshunt-bench-design-{}", std::process::id()));
+    let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    let (paper, compressor) = (files("design-widest-band.toml"), files("design-compressor.toml"));
+    let mut walls = (Vec::new(), Vec::new());
+    for round in 0..3 {
+        let (w, r) = design(&[&paper], &dir.join("paper"));
+        phases(&format!("paper widest band, run {}", round + 1), w, &r);
+        walls.0.push(w);
+        let (w, r) = design(&[&compressor], &dir.join("compressor"));
+        phases(&format!("compressor widest band, run {}", round + 1), w, &r);
+        walls.1.push(w);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let (p, c) = (median(&mut walls.0), median(&mut walls.1));
+    println!("medians: paper {p:.2} s, compressor {c:.2} s: compressor / paper = {:.2}", c / p);
+    if std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1") {
+        let (w, r) = design(&[&files("design-robust-speed-range.toml")], &dir.join("robust"));
+        phases("robust with a speed range", w, &r);
+        let (w, r) = design(&[&files("design-min-peak.toml"), "--pareto", "5"], &dir.join("pareto"));
+        let f = &r["front"];
+        println!(
+            "Pareto front of design-min-peak.toml, 5 points: {w:.2} s end to end; {} runs, {} candidates, {} evaluations; monotone {}",
+            f["runs"], f["candidates"], f["evaluations"], f["monotone"]
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
