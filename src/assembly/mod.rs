@@ -137,19 +137,34 @@ impl SystemMatrices {
 
         let mut first_element = 0;
         for section in &model.shaft.sections {
-            let (l, rho, a, i) = (section.element_length(), section.density, section.area(), section.inertia());
-            let me = element::translational_mass(rho, a, l);
-            let mr = element::rotary_mass(rho, i, l);
-            let ke = element::bending_stiffness(section.youngs_modulus, i, l);
-            let se = element::geometric(l);
-            let ge = element::gyroscopic(rho, i, l);
-            for e in first_element..first_element + section.elements {
-                let first = dofs.deflection(e);
-                add_element(&mut m, first, &me);
-                add_element(&mut m, first, &mr);
-                add_element(&mut k, first, &ke);
-                add_element(&mut s, first, &se);
-                add_element(&mut g, first, &ge);
+            if section.is_uniform_rayleigh() {
+                // The paper's closed forms, in the order they always were added (bits).
+                let (l, rho, a, i) = (section.element_length(), section.density, section.area(), section.inertia());
+                let me = element::translational_mass(rho, a, l);
+                let mr = element::rotary_mass(rho, i, l);
+                let ke = element::bending_stiffness(section.youngs_modulus, i, l);
+                let se = element::geometric(l);
+                let ge = element::gyroscopic(rho, i, l);
+                for e in first_element..first_element + section.elements {
+                    let first = dofs.deflection(e);
+                    add_element(&mut m, first, &me);
+                    add_element(&mut m, first, &mr);
+                    add_element(&mut k, first, &ke);
+                    add_element(&mut s, first, &se);
+                    add_element(&mut g, first, &ge);
+                }
+            } else {
+                // Timoshenko or tapered: each element from its own geometry (a uniform
+                // section's are all alike, computed once).
+                let uniform = section.is_uniform().then(|| element::beam(&section.element(0)));
+                for local in 0..section.elements {
+                    let b = uniform.unwrap_or_else(|| element::beam(&section.element(local)));
+                    let first = dofs.deflection(first_element + local);
+                    add_element(&mut m, first, &b.mass);
+                    add_element(&mut k, first, &b.stiffness);
+                    add_element(&mut s, first, &b.geometric);
+                    add_element(&mut g, first, &b.gyroscopic);
+                }
             }
             first_element += section.elements;
         }

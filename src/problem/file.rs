@@ -246,9 +246,27 @@ pub struct MaterialFile {
     pub youngs_modulus: f64,
     /// ρ (kg/m³).
     pub density: f64,
+    /// Shear modulus G (Pa), needed by Timoshenko sections; or give `poisson_ratio`.
+    /// E/(2G) − 1 must lie in (−1, 0.5): G > E/3.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Poisson's ratio ν (−), in (−1, 0.5): G = E/(2(1 + ν)); or give `shear_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
 }
 
-/// `[[sections]]`: a uniform, solid or hollow, section of the shaft.
+/// `beam` of a `[[sections]]` entry: the beam theory of its elements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum BeamKind {
+    /// Rayleigh beams (bending, rotary inertia, gyroscopic; no shear deformation).
+    #[default]
+    Rayleigh,
+    /// Timoshenko beams (Rayleigh plus shear deformation).
+    Timoshenko,
+}
+
+/// `[[sections]]`: a solid or hollow section of the shaft, uniform or tapered.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SectionFile {
@@ -259,6 +277,13 @@ pub struct SectionFile {
     /// Inner diameter d (m); default 0 (solid); below D.
     #[serde(default)]
     pub inner_diameter: f64,
+    /// Outer diameter at the right end (m), for a tapered section (D varies linearly
+    /// from `outer_diameter` at the left end); default `outer_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter_right: Option<f64>,
+    /// Inner diameter at the right end (m), for a tapered bore; default `inner_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter_right: Option<f64>,
     /// A `[[materials]]` name; or give `youngs_modulus` and `density` here.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
@@ -268,7 +293,20 @@ pub struct SectionFile {
     /// ρ (kg/m³).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
-    /// Number of Rayleigh elements in the section (≥ 1).
+    /// Shear modulus G (Pa) with `youngs_modulus` here (no `material`); or `poisson_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Poisson's ratio ν (−) with `youngs_modulus` here (no `material`); or `shear_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// `rayleigh` (default) or `timoshenko`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beam: Option<BeamKind>,
+    /// Shear coefficient κ (−, > 0) of a Timoshenko section; default Cowper's (1966) for
+    /// a circular tube, from Poisson's ratio and each element's d/D (docs/model.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_coefficient: Option<f64>,
+    /// Number of equal elements in the section (≥ 1).
     pub elements: i64,
 }
 
