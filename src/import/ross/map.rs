@@ -1,10 +1,12 @@
-//! From ROSS's elements to rotorshunt's general form: materials, sections, disks and
-//! plain bearings, or a refusal naming the element. The rules are in
+//! From ROSS's elements to rotorshunt's general form: materials, sections (Rayleigh or
+//! Timoshenko, uniform or tapered), disks and plain bearings, or a refusal naming the
+//! element. The rules are in
 //! `docs/ross-format.md` (section "Mapping to rotorshunt").
 
 use super::error::{ElementRef, Refusal, RossErrorKind};
 use super::parse::{Bearing, Coefficient, RossFile, Shaft};
 use super::table;
+use crate::model::element;
 
 /// Relative tolerance within which consecutive shaft elements have "the same" length and
 /// may share a section. ROSS writes lengths in Python's shortest round-trip form, and a
@@ -44,9 +46,15 @@ pub struct MaterialOut {
     pub youngs_modulus: f64,
     /// ρ (kg/m³).
     pub density: f64,
+    /// G (Pa), ROSS's `G_s`.
+    pub shear_modulus: f64,
+    /// Whether a Timoshenko section uses the material (then its `shear_modulus` is
+    /// written).
+    pub timoshenko: bool,
 }
 
-/// A `[[sections]]` entry: a run of consecutive uniform ROSS shaft elements.
+/// A `[[sections]]` entry: a run of consecutive uniform ROSS shaft elements of one beam
+/// theory, or one tapered element.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SectionOut {
     /// Total length (m), the sum of the elements' L.
@@ -55,6 +63,12 @@ pub struct SectionOut {
     pub outer_diameter: f64,
     /// Inner diameter (m).
     pub inner_diameter: f64,
+    /// Outer and inner diameter at the right end (m), ROSS's odr and idr, when they
+    /// differ from the left end's (a tapered element, alone in its section).
+    pub right: Option<(f64, f64)>,
+    /// Timoshenko elements (ROSS's `shear_effects = true`), with the shear coefficient to
+    /// write: `None` for ROSS's default Cowper formula (rotorshunt's default too).
+    pub timoshenko: Option<Option<f64>>,
     /// Material name (a [`MaterialOut::name`]).
     pub material: String,
     /// Number of elements.
@@ -211,7 +225,16 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     check("material.rho", s.material.rho, true)?;
     check("material.E", s.material.E, true)?;
     if s.shear_effects {
-        return Err(Refusal::Timoshenko);
+        check("material.G_s", s.material.G_s, true)?;
+        let poisson = s.material.E / (2.0 * s.material.G_s) - 1.0;
+        if !(poisson > -1.0 && poisson < 0.5) {
+            let rule = format!(
+                "Poisson's ratio E/(2 G_s) - 1 = {} must lie between -1 and 0.5 (an isotropic material) for a Timoshenko element",
+                crate::analysis::limits::number(poisson)
+            );
+            return Err(Refusal::Value { key: "material.G_s".into(), value: s.material.G_s, rule });
+        }
+        shear_method(s)?;
     }
     if !s.rotary_inertia {
         return Err(Refusal::EffectOff("rotary_inertia"));
@@ -219,15 +242,11 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     if !s.gyroscopic {
         return Err(Refusal::EffectOff("gyroscopic"));
     }
-    if s.odl != s.odr {
-        return Err(Refusal::Tapered { left_key: "odl", left: s.odl, right_key: "odr", right: s.odr });
-    }
-    if s.idl != s.idr {
-        return Err(Refusal::Tapered { left_key: "idl", left: s.idl, right_key: "idr", right: s.idr });
-    }
-    if s.idl >= s.odl {
-        let rule = format!("the inner diameter must be below the outer one, odl = {} m", s.odl);
-        return Err(Refusal::Value { key: "idl".into(), value: s.idl, rule });
+    for (key, inner, outer_key, outer) in [("idl", s.idl, "odl", s.odl), ("idr", s.idr, "odr", s.odr)] {
+        if inner >= outer {
+            let rule = format!("the inner diameter must be below the outer one, {outer_key} = {} m", outer);
+            return Err(Refusal::Value { key: key.into(), value: inner, rule });
+        }
     }
     for (key, value, unit) in [("axial_force", s.axial_force, "N"), ("torque", s.torque, "N·m")] {
         if value != 0.0 {
@@ -242,6 +261,21 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     Ok(())
 }
 
+/// The shear coefficient to write for a Timoshenko element: `None` for ROSS's default
+/// `cowper` (rotorshunt's default formula, evaluated on the same diameters), the value
+/// ROSS computes for `hutchinson`; any other name is not ROSS's.
+fn shear_method(s: &Shaft) -> Result<Option<f64>, Refusal> {
+    match s.shear_method_calc.as_deref().unwrap_or("cowper") {
+        "cowper" => Ok(None),
+        "hutchinson" => {
+            let poisson = s.material.E / (2.0 * s.material.G_s) - 1.0;
+            let ratio = ((s.idl + s.idr) / 2.0) / ((s.odl + s.odr) / 2.0);
+            Ok(Some(element::ross_hutchinson_shear_coefficient(poisson, ratio)))
+        }
+        other => Err(Refusal::ShearMethod(other.to_string())),
+    }
+}
+
 /// Distinct materials in order of first use, and each element's material index. ROSS
 /// keeps a material per element; one name with different values becomes `name-2`, …:
 /// the first free suffix, skipping every name the file uses itself (a real `Steel-2`)
@@ -252,7 +286,9 @@ fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
     let mut index = Vec::with_capacity(shafts.len());
     for s in shafts {
         let m = &s.material;
-        let found = out.iter().position(|o| o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho);
+        let found = out.iter().position(|o| {
+            o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho && o.shear_modulus == m.G_s
+        });
         let i = found.unwrap_or_else(|| {
             let taken = |name: &str| out.iter().any(|o| o.name == name);
             let name = if taken(&m.name) {
@@ -265,21 +301,36 @@ fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
             } else {
                 m.name.clone()
             };
-            out.push(MaterialOut { name, ross_name: m.name.clone(), youngs_modulus: m.E, density: m.rho });
+            out.push(MaterialOut {
+                name,
+                ross_name: m.name.clone(),
+                youngs_modulus: m.E,
+                density: m.rho,
+                shear_modulus: m.G_s,
+                timoshenko: false,
+            });
             out.len() - 1
         });
+        out[i].timoshenko |= s.shear_effects;
         index.push(i);
     }
     (out, index)
 }
 
-/// Runs of consecutive elements with the same diameters, material and length.
+/// Runs of consecutive uniform elements with the same diameters, material, length and
+/// beam theory; a tapered element is a section of its own.
 fn sections(shafts: &[&Shaft], materials: &[MaterialOut], material: &[usize]) -> Vec<SectionOut> {
     let mut out: Vec<SectionOut> = Vec::new();
     let mut last_material = usize::MAX;
     for (s, &m) in shafts.iter().zip(material) {
+        let right = (s.odl != s.odr || s.idl != s.idr).then_some((s.odr, s.idr));
+        // Checked by `shaft` before: a Timoshenko element's method is ROSS's.
+        let timoshenko = s.shear_effects.then(|| shear_method(s).ok().flatten());
         let same = out.last().is_some_and(|sec| {
             m == last_material
+                && right.is_none()
+                && sec.right.is_none()
+                && sec.timoshenko == timoshenko
                 && sec.outer_diameter == s.odl
                 && sec.inner_diameter == s.idl
                 && (s.L - sec.element_length).abs() <= SAME_LENGTH_RTOL * sec.element_length
@@ -294,6 +345,8 @@ fn sections(shafts: &[&Shaft], materials: &[MaterialOut], material: &[usize]) ->
                 length: s.L,
                 outer_diameter: s.odl,
                 inner_diameter: s.idl,
+                right,
+                timoshenko,
                 material: materials[m].name.clone(),
                 elements: 1,
                 first_n: s.n,

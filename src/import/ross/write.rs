@@ -46,8 +46,9 @@ pub fn render(r: &Imported, source: &str) -> String {
     ));
     out.push_str(
         "# The mapping is in docs/ross-format.md. Units: SI, rad/s. ROSS's axial and torsional\n\
-         # coefficients (kzz, czz, mzz, G_s) act on motion rotorshunt's lateral model does not\n\
-         # have, and are left out. There is no vibration ring: add [[rings]] by editing.\n",
+         # coefficients (kzz, czz, mzz; G_s of Rayleigh elements) act on motion rotorshunt's\n\
+         # lateral model does not have, and are left out. There is no vibration ring: add\n\
+         # [[rings]] by editing.\n",
     );
     out.push_str("version = 1\n");
     out.push_str(&format!("title = {}\n", string(&format!("{stem} (imported from ROSS)"))));
@@ -71,6 +72,9 @@ pub fn render(r: &Imported, source: &str) -> String {
         line(&mut out, &format!("name = {}", string(&m.name)), "");
         line(&mut out, &format!("youngs_modulus = {}", num(m.youngs_modulus)), "E (Pa), ROSS material.E");
         line(&mut out, &format!("density = {}", num(m.density)), "ρ (kg/m³), ROSS material.rho");
+        if m.timoshenko {
+            line(&mut out, &format!("shear_modulus = {}", num(m.shear_modulus)), "G (Pa), ROSS material.G_s");
+        }
     }
     for s in &r.sections {
         out.push('\n');
@@ -86,14 +90,42 @@ pub fn render(r: &Imported, source: &str) -> String {
             &format!("length = {}", num(s.length)),
             &format!("m: Σ L of {} element(s) of L = {} m", s.elements, num(s.element_length)),
         );
-        line(&mut out, &format!("outer_diameter = {}", num(s.outer_diameter)), "m, ROSS odl = odr");
-        line(&mut out, &format!("inner_diameter = {}", num(s.inner_diameter)), "m, ROSS idl = idr");
+        match s.right {
+            None => {
+                line(&mut out, &format!("outer_diameter = {}", num(s.outer_diameter)), "m, ROSS odl = odr");
+                line(&mut out, &format!("inner_diameter = {}", num(s.inner_diameter)), "m, ROSS idl = idr");
+            }
+            Some((outer, inner)) => {
+                line(&mut out, &format!("outer_diameter = {}", num(s.outer_diameter)), "m, ROSS odl (tapered)");
+                line(&mut out, &format!("inner_diameter = {}", num(s.inner_diameter)), "m, ROSS idl");
+                line(&mut out, &format!("outer_diameter_right = {}", num(outer)), "m, ROSS odr");
+                line(&mut out, &format!("inner_diameter_right = {}", num(inner)), "m, ROSS idr");
+            }
+        }
         line(&mut out, &format!("material = {}", string(&s.material)), "");
-        line(
-            &mut out,
-            &format!("elements = {}", s.elements),
-            "Rayleigh elements (ROSS: shear_effects = false, rotary_inertia and gyroscopic = true)",
-        );
+        match s.timoshenko {
+            None => line(
+                &mut out,
+                &format!("elements = {}", s.elements),
+                "Rayleigh elements (ROSS: shear_effects = false, rotary_inertia and gyroscopic = true)",
+            ),
+            Some(kappa) => {
+                line(
+                    &mut out,
+                    "beam = \"timoshenko\"",
+                    "ROSS shear_effects = true (rotary_inertia, gyroscopic = true)",
+                );
+                match kappa {
+                    None => out.push_str("# shear coefficient: Cowper's, as ROSS's shear_method_calc = \"cowper\"\n"),
+                    Some(k) => line(
+                        &mut out,
+                        &format!("shear_coefficient = {}", num(k)),
+                        "κ (−), as ROSS computes it for shear_method_calc = \"hutchinson\"",
+                    ),
+                }
+                line(&mut out, &format!("elements = {}", s.elements), "Timoshenko elements");
+            }
+        }
     }
     for d in &r.disks {
         out.push('\n');
