@@ -250,3 +250,19 @@ fn tapered_shafts_match_a_fine_staircase_of_uniform_sections() {
         }
     }
 }
+
+#[test]
+fn a_set_shear_modulus_replaces_the_files_poisson_ratio() {
+    // The good fixture gives ν = 0.3 (G = E/2.6); --set of G replaces it, as the other
+    // pairs of alternative keys do (problems/README.md, "Overrides").
+    let path = common::root().join("tests/fixtures/good/timoshenko_tapered.toml");
+    let g_of = |p: &Problem| match p.model.shaft.sections[1].beam {
+        rotorshunt::model::Beam::Timoshenko { shear_modulus, .. } => shear_modulus,
+        rotorshunt::model::Beam::Rayleigh => panic!("section 2 is Timoshenko"),
+    };
+    let file = Problem::from_path(&path, &[]).unwrap();
+    assert!(rel(g_of(&file), 2.11e11 / 2.6) < 1e-15);
+    let set = Problem::from_path(&path, &["materials[0].shear_modulus=8e10".to_string()]).unwrap();
+    assert_eq!(g_of(&set), 8e10);
+}
+
