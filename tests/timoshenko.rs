@@ -266,3 +266,35 @@ fn a_set_shear_modulus_replaces_the_files_poisson_ratio() {
     assert_eq!(g_of(&set), 8e10);
 }
 
+#[test]
+fn a_layer_adds_its_tube_to_its_section() {
+    // Rayleigh tubes add: A and I of a solid core of D = 0.05 m and a sleeve 0.05/0.08 m
+    // are those of a solid D = 0.08 m shaft, so the layered shaft and the solid one have
+    // the same matrices up to round-off, and the same frequencies.
+    const ROUND_OFF: f64 = 1e-10;
+    let text = |sections: &str| {
+        format!(
+            "version = 1\nspeed = 300.0\n\n{sections}\n[[bearings]]\nnode = 0\nstiffness = 1e7\n\n[[bearings]]\nnode = 20\nstiffness = 1e7\n\n[load]\nalpha = 0.0\n"
+        )
+    };
+    let solid = "[[sections]]\nlength = 1.0\nouter_diameter = 0.08\nyoungs_modulus = 2.11e11\ndensity = 7810.0\nelements = 20\n";
+    let layered = "[[sections]]\nlength = 1.0\nouter_diameter = 0.05\nyoungs_modulus = 2.11e11\ndensity = 7810.0\nelements = 20\n\n[[sections.layers]]\nouter_diameter = 0.08\ninner_diameter = 0.05\nyoungs_modulus = 2.11e11\ndensity = 7810.0\n";
+    let whirls = |t: &str| {
+        let p = Problem::from_text(&text(t), "layer.toml", &[]).unwrap_or_else(|e| panic!("{e}"));
+        let m = whirl_modes(&p.model, &p.settings, p.model.speed).unwrap();
+        (
+            p.model.shaft.mass(),
+            m.forward()
+                .take(4)
+                .map(|w| w.frequency)
+                .chain(m.backward().take(4).map(|w| w.frequency))
+                .collect::<Vec<_>>(),
+        )
+    };
+    let (m_solid, w_solid) = whirls(solid);
+    let (m_layered, w_layered) = whirls(layered);
+    assert!(rel(m_layered, m_solid) < ROUND_OFF);
+    for (a, b) in w_layered.iter().zip(&w_solid) {
+        assert!(rel(*a, *b) < ROUND_OFF, "{a} vs {b}");
+    }
+}

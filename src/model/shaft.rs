@@ -46,6 +46,12 @@ pub struct Section {
     pub inner_diameter_right: f64,
     /// The beam theory of its elements.
     pub beam: Beam,
+    /// Concentric layers over the same nodes (ROSS's shaft elements of one `n`, e.g. a
+    /// sleeve), each with its own diameters, material and beam theory: their element
+    /// matrices add to the section's. Their `length`, `elements` and `layers` are the
+    /// section's (and none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub layers: Vec<Section>,
 }
 
 impl Section {
@@ -61,6 +67,7 @@ impl Section {
             outer_diameter_right: outer,
             inner_diameter_right: inner,
             beam: Beam::Rayleigh,
+            layers: Vec::new(),
         }
     }
     /// Whether both diameters are the same at both ends.
@@ -126,6 +133,13 @@ impl Section {
     /// Section mass (kg): ρAL, or for a tapered section ρ times the frustum's volume
     /// πL/12·((D₁² + D₁D₂ + D₂²) − (d₁² + d₁d₂ + d₂²)).
     pub fn mass(&self) -> f64 {
+        if self.layers.is_empty() {
+            return self.own_mass();
+        }
+        self.own_mass() + self.layers.iter().map(Section::own_mass).sum::<f64>()
+    }
+    /// The mass of the section's own tube, without its layers (kg).
+    fn own_mass(&self) -> f64 {
         if self.is_uniform() {
             return self.density * self.area() * self.length;
         }

@@ -100,10 +100,10 @@ fn materials(f: &ProblemFile) -> Result<Vec<Option<f64>>, Failure> {
     Ok(shear)
 }
 
-/// The left- and right-end diameters of section `i` (m): D > 0 and 0 ≤ d < D at both
+/// The left- and right-end diameters of the section (or layer) at `prefix` (m): D > 0 and 0 ≤ d < D at both
 /// ends; the right end's default to the left end's (a uniform section).
-fn section_diameters(i: usize, s: &SectionFile) -> Result<[f64; 4], Failure> {
-    let key = |name: &str| format!("sections[{i}].{name}");
+fn section_diameters(prefix: &str, s: &SectionFile) -> Result<[f64; 4], Failure> {
+    let key = |name: &str| format!("{prefix}.{name}");
     let outer = positive(&key("outer_diameter"), s.outer_diameter)?;
     let inner = non_negative(&key("inner_diameter"), s.inner_diameter)?;
     if inner >= outer {
@@ -138,88 +138,19 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
             return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
         }
         let length = positive(&key("length"), s.length)?;
-        let [outer, inner, outer_right, inner_right] = section_diameters(i, s)?;
-        let outer_keys = |left: (String, f64)| {
-            let right = s.outer_diameter_right.map(|d| (key("outer_diameter_right"), d));
-            (left, right)
-        };
-        // E, ρ, the shear modulus (if any), the keys they come from, and how the section
-        // names its material in a message.
-        let (youngs_modulus, density, shear, section_keys, named) = match (&s.material, s.youngs_modulus, s.density) {
-            (Some(_), Some(_), _) => {
-                return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
-            }
-            (Some(_), None, Some(_)) => {
-                return Err((key("density"), K::BothGiven("material".into(), "density".into())))
-            }
-            (Some(name), None, None) => {
-                for (given, k) in
-                    [(s.shear_modulus.is_some(), "shear_modulus"), (s.poisson_ratio.is_some(), "poisson_ratio")]
-                {
-                    if given {
-                        return Err((key(k), K::BothGiven("material".into(), k.into())));
-                    }
-                }
-                let (e, d, j) = material(&key("material"), name, &f.materials)?;
-                let m = &f.materials[j];
-                let shear_key = if m.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
-                let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
-                let keys = SectionKeys {
-                    outer,
-                    outer_right,
-                    length: key("length"),
-                    youngs_modulus: format!("materials[{j}].youngs_modulus"),
-                    density: format!("materials[{j}].density"),
-                    shear_modulus: format!("materials[{j}].{shear_key}"),
-                };
-                (e, d, material_shear[j], keys, format!("material `{name}` (materials[{j}])"))
-            }
-            (None, None, _) => {
-                return Err((format!("sections[{i}]"), K::NeitherGiven("material".into(), "youngs_modulus".into())))
-            }
-            (None, Some(e), d) => {
-                let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
-                let e = positive(&key("youngs_modulus"), e)?;
-                let g = shear_modulus(&format!("sections[{i}]"), e, s.shear_modulus, s.poisson_ratio)?;
-                let shear_key = if s.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
-                let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
-                let keys = SectionKeys {
-                    outer,
-                    outer_right,
-                    length: key("length"),
-                    youngs_modulus: key("youngs_modulus"),
-                    density: key("density"),
-                    shear_modulus: key(shear_key),
-                };
-                (e, d, g, keys, format!("this section (sections[{i}])"))
-            }
-        };
-        let beam = match s.beam.unwrap_or_default() {
-            BeamKind::Rayleigh => {
-                if s.shear_coefficient.is_some() {
-                    return Err((key("shear_coefficient"), K::TimoshenkoOnly("shear_coefficient".into())));
-                }
-                Beam::Rayleigh
-            }
-            BeamKind::Timoshenko => {
-                let shear_modulus = shear.ok_or_else(|| (key("beam"), K::NoShearModulus { material: named }))?;
-                let shear_coefficient =
-                    s.shear_coefficient.map(|k| positive(&key("shear_coefficient"), k)).transpose()?;
-                Beam::Timoshenko { shear_modulus, shear_coefficient }
-            }
-        };
+        let prefix = format!("sections[{i}]");
+        let (mut section, mut section_keys) = tube(f, &prefix, s, &material_shear, length)?;
+        for (j, layer) in s.layers.iter().enumerate() {
+            let layer_prefix = format!("{prefix}.layers[{j}]");
+            let (mut l, mut k) =
+                tube(f, &layer_prefix, &layer.as_section(length, s.elements), &material_shear, length)?;
+            k.length = key("length");
+            l.layers.clear();
+            section.layers.push(l);
+            section_keys.layers.push(k);
+        }
         keys.push(section_keys);
-        sections.push(Section {
-            length,
-            outer_diameter: outer,
-            inner_diameter: inner,
-            elements: s.elements as usize,
-            youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
-            density: positive(&key("density"), density)?,
-            outer_diameter_right: outer_right,
-            inner_diameter_right: inner_right,
-            beam,
-        });
+        sections.push(section);
     }
     let shaft = Shaft { sections };
     let total = shaft.length();
@@ -228,6 +159,101 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
     }
     section_quantities(&shaft, &keys)?;
     Ok(shaft)
+}
+
+/// One tube of the shaft at `prefix` (a section, or a layer of one, given as a section
+/// of the section's `length` and elements): its diameters, material and beam theory, and
+/// the keys its quantities come from.
+fn tube(
+    f: &ProblemFile,
+    prefix: &str,
+    s: &SectionFile,
+    material_shear: &[Option<f64>],
+    length: f64,
+) -> Result<(Section, SectionKeys), Failure> {
+    let key = |name: &str| format!("{prefix}.{name}");
+    let [outer, inner, outer_right, inner_right] = section_diameters(prefix, s)?;
+    let outer_keys = |left: (String, f64)| {
+        let right = s.outer_diameter_right.map(|d| (key("outer_diameter_right"), d));
+        (left, right)
+    };
+    // E, ρ, the shear modulus (if any), the keys they come from, and how the section
+    // names its material in a message.
+    let (youngs_modulus, density, shear, section_keys, named) = match (&s.material, s.youngs_modulus, s.density) {
+        (Some(_), Some(_), _) => {
+            return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
+        }
+        (Some(_), None, Some(_)) => return Err((key("density"), K::BothGiven("material".into(), "density".into()))),
+        (Some(name), None, None) => {
+            for (given, k) in
+                [(s.shear_modulus.is_some(), "shear_modulus"), (s.poisson_ratio.is_some(), "poisson_ratio")]
+            {
+                if given {
+                    return Err((key(k), K::BothGiven("material".into(), k.into())));
+                }
+            }
+            let (e, d, j) = material(&key("material"), name, &f.materials)?;
+            let m = &f.materials[j];
+            let shear_key = if m.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+            let keys = SectionKeys {
+                outer,
+                outer_right,
+                length: key("length"),
+                youngs_modulus: format!("materials[{j}].youngs_modulus"),
+                density: format!("materials[{j}].density"),
+                shear_modulus: format!("materials[{j}].{shear_key}"),
+                layers: Vec::new(),
+            };
+            (e, d, material_shear[j], keys, format!("material `{name}` (materials[{j}])"))
+        }
+        (None, None, _) => {
+            return Err((prefix.to_string(), K::NeitherGiven("material".into(), "youngs_modulus".into())))
+        }
+        (None, Some(e), d) => {
+            let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
+            let e = positive(&key("youngs_modulus"), e)?;
+            let g = shear_modulus(prefix, e, s.shear_modulus, s.poisson_ratio)?;
+            let shear_key = if s.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+            let keys = SectionKeys {
+                outer,
+                outer_right,
+                length: key("length"),
+                youngs_modulus: key("youngs_modulus"),
+                density: key("density"),
+                shear_modulus: key(shear_key),
+                layers: Vec::new(),
+            };
+            (e, d, g, keys, format!("this section ({prefix})"))
+        }
+    };
+    let beam = match s.beam.unwrap_or_default() {
+        BeamKind::Rayleigh => {
+            if s.shear_coefficient.is_some() {
+                return Err((key("shear_coefficient"), K::TimoshenkoOnly("shear_coefficient".into())));
+            }
+            Beam::Rayleigh
+        }
+        BeamKind::Timoshenko => {
+            let shear_modulus = shear.ok_or_else(|| (key("beam"), K::NoShearModulus { material: named }))?;
+            let shear_coefficient = s.shear_coefficient.map(|k| positive(&key("shear_coefficient"), k)).transpose()?;
+            Beam::Timoshenko { shear_modulus, shear_coefficient }
+        }
+    };
+    let section = Section {
+        length,
+        outer_diameter: outer,
+        inner_diameter: inner,
+        elements: s.elements as usize,
+        youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
+        density: positive(&key("density"), density)?,
+        outer_diameter_right: outer_right,
+        inner_diameter_right: inner_right,
+        beam,
+        layers: Vec::new(),
+    };
+    Ok((section, section_keys))
 }
 
 /// A disk of the geometry form (m = ρπ(D² − d²)/4·w, J_p = m(D² + d²)/8,
