@@ -45,6 +45,9 @@ What it writes into `tests/fixtures/ross/` (or `--out DIR`), all SI units, rad/s
   materials, hollow sections, three disks and damped bearings, written to check the
   import on a rotor never used while the Timoshenko and taper code was written (see
   `held_out` below).
+* `layered.toml` and `compressor_shaft.toml` (+ `.modal.json`): concentric layers (shaft
+  elements of one `n`), on the rotor_example geometry and on ROSS's compressor shaft
+  (its 91 elements and 7 disks on isotropic bearings, no seals).
 * `rotor_example.toml`, `compressor_example.toml`: ROSS's own `rs.rotor_example()` and
   `rs.compressor_example()`, saved as ROSS saves them (`Rotor.save` with its defaults);
   their `.modal.json` hold the lowest 8 lateral whirls of `run_modal` at three speeds
@@ -274,6 +277,32 @@ def held_out():
     return rs.Rotor(shaft, disks, bearings)
 
 
+# A sleeve material as ROSS's compressor example has one (`shaft_mat_2`): mass, and a
+# stiffness of 1 psi, i.e. none.
+SLEEVE = rs.Material(name="Sleeve", rho=7833.412, E=6894.75, G_s=6894.75)
+
+
+def layered():
+    """rotor_example_timoshenko with concentric layers (elements of one n): a massless-
+    stiffness sleeve over elements 1 and 2 (od 0.05 -> 0.09 m), a steel sleeve over
+    element 4 (od 0.05 -> 0.07 m, Rayleigh) and a tapered steel sleeve over element 5."""
+    shaft = [timoshenko(0.25, 0.0, 0.05, STEEL, n=k, tag=f"Core {k}") for k in range(6)]
+    for k in (1, 2):
+        shaft.append(timoshenko(0.25, 0.05, 0.09, SLEEVE, n=k, tag=f"Sleeve {k}"))
+    shaft.append(rayleigh(0.25, 0.05, 0.07, STEEL, n=4, tag="Steel sleeve 4"))
+    shaft.append(timoshenko(0.25, 0.05, 0.08, STEEL, idr=0.05, odr=0.06, n=5, tag="Tapered sleeve 5"))
+    return rs.Rotor(shaft, example_disks(), example_bearings())
+
+
+def compressor_shaft():
+    """ROSS's compressor example's shaft and disks (91 Timoshenko elements, 36 of them
+    concentric layers) on isotropic damped bearings at its bearings' nodes 7 and 48,
+    without seals: its shaft checked against ROSS before anisotropic supports exist."""
+    example = rs.compressor_example()
+    bearings = [rs.BearingElement(n=n, kxx=1.0e8, cxx=2.0e3) for n in (7, 48)]
+    return rs.Rotor(example.shaft_elements, example.disk_elements, bearings)
+
+
 def rotor_example():
     """ROSS's own example, as it is: Timoshenko elements, anisotropic bearings."""
     return rs.rotor_example()
@@ -329,6 +358,8 @@ ROTORS = {
     "rotor_example_timoshenko": (rotor_example_timoshenko, [0.0, 500.0, 1500.0]),
     "tapered": (tapered, [0.0, 500.0, 1500.0]),
     "held_out": (held_out, [0.0, 1000.0, 3000.0]),
+    "layered": (layered, [0.0, 500.0, 1500.0]),
+    "compressor_shaft": (compressor_shaft, [0.0, 500.0, 1000.0]),
     "refuse_anisotropic": (refuse_anisotropic, None),
     "refuse_anisotropic_damping": (refuse_anisotropic_damping, None),
     "refuse_cross_coupled": (refuse_cross_coupled, None),
