@@ -136,26 +136,33 @@ fn check_against_ross(json_name: &str, toml_name: &str) {
     assert_eq!(out["version"].as_integer(), Some(1));
     assert_eq!(num(&out["load"], "alpha"), 0.0);
     assert_eq!(num(&toml::Value::Table(out.clone()), "speed"), 0.0);
-    // Shaft: the sections, expanded into elements, are ROSS's elements in order of n.
+    // Shaft: the sections and their layers, expanded into elements, are ROSS's elements
+    // in order of n (the layers of one n innermost first).
     let mut shafts: Vec<&Value> = ross.iter().filter(|(k, _)| k.starts_with("ShaftElement_")).map(|(_, v)| v).collect();
-    shafts.sort_by_key(|v| v["n"].as_i64().unwrap());
+    shafts.sort_by(|a, b| (a["n"].as_i64(), f(a, "idl")).partial_cmp(&(b["n"].as_i64(), f(b, "idl"))).unwrap());
     let materials = array(&out, "materials");
     let mut expanded = Vec::new();
     for s in array(&out, "sections") {
-        let name = s["material"].as_str().unwrap();
-        let m = materials.iter().find(|m| m["name"].as_str() == Some(name)).expect("material defined");
         let n = int(s, "elements");
-        let left = (num(s, "outer_diameter"), num(s, "inner_diameter"));
-        let opt = |key: &str, default: f64| if s.get(key).is_some() { num(s, key) } else { default };
-        let right = (opt("outer_diameter_right", left.0), opt("inner_diameter_right", left.1));
-        // A tapered ROSS element is a section of its own (docs/ross-format.md).
-        assert!(left == right || n == 1, "{toml_name}: a tapered section of {n} elements");
-        let timoshenko = s.get("beam").and_then(toml::Value::as_str) == Some("timoshenko");
-        let g = timoshenko.then(|| num(m, "shear_modulus"));
-        let kappa = s.get("shear_coefficient").map(|_| num(s, "shear_coefficient"));
+        let l = num(s, "length") / n as f64;
+        let tubes: Vec<&toml::Value> =
+            std::iter::once(s).chain(s.get("layers").and_then(toml::Value::as_array).into_iter().flatten()).collect();
+        let mut per_element = Vec::new();
+        for t in tubes {
+            let name = t["material"].as_str().unwrap();
+            let m = materials.iter().find(|m| m["name"].as_str() == Some(name)).expect("material defined");
+            let opt = |key: &str, default: f64| if t.get(key).is_some() { num(t, key) } else { default };
+            let left = (num(t, "outer_diameter"), opt("inner_diameter", 0.0));
+            let right = (opt("outer_diameter_right", left.0), opt("inner_diameter_right", left.1));
+            // A tapered ROSS element is a section of its own (docs/ross-format.md).
+            assert!(left == right || n == 1, "{toml_name}: a tapered section of {n} elements");
+            let timoshenko = t.get("beam").and_then(toml::Value::as_str) == Some("timoshenko");
+            let g = timoshenko.then(|| num(m, "shear_modulus"));
+            let kappa = t.get("shear_coefficient").map(|_| num(t, "shear_coefficient"));
+            per_element.push((l, left, right, num(m, "youngs_modulus"), num(m, "density"), g, kappa));
+        }
         for _ in 0..n {
-            let l = num(s, "length") / n as f64;
-            expanded.push((l, left, right, num(m, "youngs_modulus"), num(m, "density"), g, kappa));
+            expanded.extend(per_element.iter().cloned());
         }
     }
     assert_eq!(expanded.len(), shafts.len(), "{toml_name}: element count");
@@ -236,6 +243,33 @@ fn timoshenko_and_tapered_elements_are_imported_with_their_shear_and_taper() {
 }
 
 #[test]
+fn concentric_layers_are_imported_as_layers_of_their_section() {
+    // layered: core elements 0 to 5, a sleeve over 1 and 2 (one section of two elements
+    // with one layer), a Rayleigh steel sleeve over 4, a tapered sleeve over 5 (a section
+    // of its own). compressor_shaft: ROSS's compressor shaft, 91 elements on 55 nodes.
+    check_against_ross("layered.toml", "layered.toml");
+    check_against_ross("compressor_shaft.toml", "compressor_shaft.toml");
+    let out = imported("layered.toml", None);
+    let shape: Vec<(i64, usize)> = array(&out, "sections")
+        .iter()
+        .map(|s| (int(s, "elements"), s.get("layers").and_then(toml::Value::as_array).map_or(0, Vec::len)))
+        .collect();
+    assert_eq!(shape, [(1, 0), (2, 1), (1, 0), (1, 1), (1, 1)]);
+    let compressor = imported("compressor_shaft.toml", None);
+    let nodes: i64 = array(&compressor, "sections").iter().map(|s| int(s, "elements")).sum();
+    assert_eq!(nodes, 55);
+    // A layer of another length than its element is refused, naming it.
+    let text = std::fs::read_to_string(fixture("layered.toml")).unwrap();
+    let start = text.find("[\"ShaftElement_Sleeve 1\"]").unwrap();
+    let at = start + text[start..].find("L = 0.25").unwrap();
+    let text = format!("{}L = 0.2{}", &text[..at], &text[at + "L = 0.25".len()..]);
+    let e = rotorshunt::import::ross::import_text(&text, "layered.toml", Options::default()).unwrap_err();
+    let RossErrorKind::Refused { element: found, reason } = e.kind else { panic!("{e}") };
+    assert_eq!(found.map(|e| *e), element("ShaftElement", "Sleeve 1", 1));
+    assert!(matches!(*reason, Refusal::Numbering(ref m) if m.contains("concentric layer")), "{reason}");
+}
+
+#[test]
 fn json_and_toml_of_one_rotor_give_the_same_problem() {
     for rotor in ["rotor_example_rayleigh", "stepped_hollow"] {
         let mut a = imported(&format!("{rotor}.toml"), None);
@@ -304,9 +338,14 @@ fn mutated_ross_files_never_panic() {
     let replacements = ["-1.0", "nan", "inf", "0", "\"x\"", "[]", "[ 1.0, 2.0,]", "true", "1e308"];
     let mut runs = 0;
     let mut refused = 0;
-    for name in
-        ["rotor_example_rayleigh.toml", "stepped_hollow.toml", "speed_dependent.toml", "refuse_linked_bearing.toml"]
-    {
+    for name in [
+        "rotor_example_rayleigh.toml",
+        "stepped_hollow.toml",
+        "speed_dependent.toml",
+        "refuse_linked_bearing.toml",
+        "tapered.toml",
+        "layered.toml",
+    ] {
         let text = std::fs::read_to_string(fixture(name)).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         for i in 0..lines.len() {

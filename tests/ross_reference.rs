@@ -172,6 +172,23 @@ fn held_out_tapered_timoshenko_rotor_matches_ross() {
 }
 
 #[test]
+fn concentric_layers_match_ross_at_rest_and_two_speeds() {
+    // rotor_example_timoshenko with sleeves (elements of one n): a stiffless one over two
+    // elements, a Rayleigh steel one, a tapered one.
+    let rows = compare("layered", false);
+    assert_within("layered", &rows, 3);
+}
+
+#[test]
+fn compressor_shaft_matches_ross_at_rest_and_two_speeds() {
+    // ROSS's compressor example's 91 elements (36 concentric layers) and 7 disks, on
+    // isotropic bearings at its bearings' nodes (its own bearings and seals are
+    // anisotropic and cross-coupled).
+    let rows = compare("compressor_shaft", false);
+    assert_within("compressor_shaft", &rows, 3);
+}
+
+#[test]
 fn the_catalogue_rotor_is_the_imported_rotor_example() {
     // problems/ross-rotor-example.toml is `import-ross` of the fixture, unedited, so the
     // comparison above is its check (expected values: problems/README.md).
