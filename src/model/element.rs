@@ -205,7 +205,7 @@ fn add_outer(target: &mut ElementMatrix, a: &[f64; 4], scale: f64) {
 }
 
 /// The matrices of a Timoshenko or Rayleigh element, uniform or tapered, from its
-/// energies integrated exactly over the shape functions of [`shape`] with Φ of the
+/// energies integrated exactly over Nelson's shape functions with Φ of the
 /// element's middle section (docs/model.md):
 /// - mass ∫ρA NᵀN + ∫ρI PᵀP, gyroscopic 2∫ρI PᵀP;
 /// - stiffness ∫EI P′ᵀP′ + ∫κGA (N′ − P)ᵀ(N′ − P) (the second term only with shear);
