@@ -100,8 +100,8 @@ fn materials(f: &ProblemFile) -> Result<Vec<Option<f64>>, Failure> {
     Ok(shear)
 }
 
-/// The left- and right-end diameters of the section (or layer) at `prefix` (m): D > 0 and 0 ≤ d < D at both
-/// ends; the right end's default to the left end's (a uniform section).
+/// The left- and right-end diameters of the section (or layer) at `prefix` (m): D > 0
+/// and 0 ≤ d < D at both ends; the right end's default to the left end's (uniform).
 fn section_diameters(prefix: &str, s: &SectionFile) -> Result<[f64; 4], Failure> {
     let key = |name: &str| format!("{prefix}.{name}");
     let outer = positive(&key("outer_diameter"), s.outer_diameter)?;
@@ -142,10 +142,9 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
         let (mut section, mut section_keys) = tube(f, &prefix, s, &material_shear, length)?;
         for (j, layer) in s.layers.iter().enumerate() {
             let layer_prefix = format!("{prefix}.layers[{j}]");
-            let (mut l, mut k) =
-                tube(f, &layer_prefix, &layer.as_section(length, s.elements), &material_shear, length)?;
+            let (l, mut k) = tube(f, &layer_prefix, &layer.as_section(length, s.elements), &material_shear, length)?;
+            // A layer's length is its section's.
             k.length = key("length");
-            l.layers.clear();
             section.layers.push(l);
             section_keys.layers.push(k);
         }

@@ -208,7 +208,8 @@ pub fn map(file: &RossFile, speed: Option<f64>) -> Result<Imported, RossErrorKin
 /// innermost first (by inner diameter, then tag).
 fn shafts(file: &RossFile) -> Result<Vec<Vec<&Shaft>>, RossErrorKind> {
     let mut shafts: Vec<&Shaft> = file.shafts.iter().collect();
-    shafts.sort_by(|a, b| (a.n, a.idl, &a.tag).partial_cmp(&(b.n, b.idl, &b.tag)).unwrap_or(std::cmp::Ordering::Equal));
+    // A total order even on a NaN diameter (refused below, after sorting).
+    shafts.sort_by(|a, b| a.n.cmp(&b.n).then(a.idl.total_cmp(&b.idl)).then_with(|| a.tag.cmp(&b.tag)));
     if shafts.is_empty() {
         return Err(RossErrorKind::Schema {
             key: String::new(),
