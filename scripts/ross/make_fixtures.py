@@ -38,6 +38,8 @@ What it writes into `tests/fixtures/ross/` (or `--out DIR`), all SI units, rad/s
   default Timoshenko elements (`shear_effects=True`, Cowper's shear coefficient), on the
   same isotropic bearings: the Timoshenko path checked against ROSS before anisotropic
   bearings exist.
+  Its `.unbalance.json` is `run_unbalance_response` with 1e-3 kg m on the disk at node 2,
+  at nodes 2, 3 and 4 over the 100 speeds of rotor_example's.
 * `tapered.toml` and `.modal.json`: the rotor_example geometry with Timoshenko elements,
   two of them tapered in the outer diameter (a bulge), one with a tapered bore and
   ROSS's `hutchinson` shear coefficient.
@@ -379,6 +381,9 @@ EXAMPLE_WHIRLS = 8
 # phase 0) on 100 speeds from 10 to 1000 rad/s (no speed 0, where the response is 0),
 # recorded at nodes 2, 3 and 4 (the disks and mid-span).
 UNBALANCE = {"node": 3, "magnitude": 10.0, "phase": 0.0}
+# rotor_example_timoshenko's unbalance, on the disk at node 2 (where rotorshunt places an
+# unbalance, as a disk's eccentricity): 1e-3 kg m at phase 0, the same speeds and nodes.
+UNBALANCE_ISOTROPIC = {"node": 2, "magnitude": 1.0e-3, "phase": 0.0}
 UNBALANCE_SPEEDS = [10.0 * (k + 1) for k in range(100)]
 UNBALANCE_NODES = [2, 3, 4]
 
@@ -678,15 +683,15 @@ def example_file(rotor, name, speeds):
     }
 
 
-def unbalance_file(rotor, name):
+def unbalance_file(rotor, name, unbalance=UNBALANCE):
     """run_unbalance_response of the rotor: x and y amplitude and phase at
     UNBALANCE_NODES over UNBALANCE_SPEEDS. ROSS applies F_x = m e^{jp} w^2,
     F_y = -j m e^{jp} w^2 at the node (a forward rotating force) and returns the complex
     amplitudes X, Y with x(t) = Re(X e^{jwt})."""
     response = rotor.run_unbalance_response(
-        node=UNBALANCE["node"],
-        unbalance_magnitude=UNBALANCE["magnitude"],
-        unbalance_phase=UNBALANCE["phase"],
+        node=unbalance["node"],
+        unbalance_magnitude=unbalance["magnitude"],
+        unbalance_phase=unbalance["phase"],
         frequency=np.array(UNBALANCE_SPEEDS),
     )
     nodes = []
@@ -709,9 +714,9 @@ def unbalance_file(rotor, name):
         "call": "Rotor.load(rotor_file).run_unbalance_response(node, unbalance_magnitude, "
         "unbalance_phase, frequency=speeds)",
         "unbalance": {
-            "node": UNBALANCE["node"],
-            "magnitude": UNBALANCE["magnitude"],
-            "phase": UNBALANCE["phase"],
+            "node": unbalance["node"],
+            "magnitude": unbalance["magnitude"],
+            "phase": unbalance["phase"],
         },
         "units": {"speeds": "rad/s", "magnitude": "kg m", "phase": "rad", "amplitude": "m"},
         "notes": [
@@ -803,6 +808,10 @@ def main():
             data = modal_file(loaded, name, speeds)
             text = json.dumps(data, indent=1, allow_nan=False) + "\n"
             (args.out / f"{name}.modal.json").write_text(text)
+            if name == "rotor_example_timoshenko":
+                data = unbalance_file(loaded, name, UNBALANCE_ISOTROPIC)
+                text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+                (args.out / f"{name}.unbalance.json").write_text(text)
         print(f"wrote {name}")
 
 
