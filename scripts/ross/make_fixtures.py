@@ -34,9 +34,31 @@ What it writes into `tests/fixtures/ross/` (or `--out DIR`), all SI units, rad/s
   bearings whose (isotropic) coefficients are tabulated against frequency; importable
   only once a speed is chosen. Its modal file is at a tabulated speed (1000 rad/s) and
   between two (750 rad/s, where ROSS's spline is checked to be the table's line).
+* `rotor_example_timoshenko.toml` and `.modal.json`: rotor_example_rayleigh with ROSS's
+  default Timoshenko elements (`shear_effects=True`, Cowper's shear coefficient), on the
+  same isotropic bearings: the Timoshenko path checked against ROSS before anisotropic
+  bearings exist.
+  Its `.unbalance.json` is `run_unbalance_response` with 1e-3 kg m on the disk at node 2,
+  at nodes 2, 3 and 4 over the 100 speeds of rotor_example's.
+* `tapered.toml` and `.modal.json`: the rotor_example geometry with Timoshenko elements,
+  two of them tapered in the outer diameter (a bulge), one with a tapered bore and
+  ROSS's `hutchinson` shear coefficient.
+* `held_out.toml` and `.modal.json`: a Timoshenko rotor with three tapered elements, two
+  materials, hollow sections, three disks and damped bearings, written to check the
+  import on a rotor never used while the Timoshenko and taper code was written (see
+  `held_out` below).
+* `layered.toml` and `compressor_shaft.toml` (+ `.modal.json`): concentric layers (shaft
+  elements of one `n`), on the rotor_example geometry and on ROSS's compressor shaft
+  (its 91 elements and 7 disks on isotropic bearings, no seals).
+* `rotor_example.toml`, `compressor_example.toml`: ROSS's own `rs.rotor_example()` and
+  `rs.compressor_example()`, saved as ROSS saves them (`Rotor.save` with its defaults);
+  their `.modal.json` hold the lowest 8 lateral whirls of `run_modal` at three speeds
+  (wd, ROSS's whirl_direction() and the orbit's shape), and
+  `rotor_example.unbalance.json` holds `run_unbalance_response` at three nodes over 100
+  speeds. Both rotors have anisotropic or cross-coupled supports (and the compressor
+  concentric shaft layers and seals), which rotorshunt does not represent yet.
 * `refuse_*.toml`: rotors the importer must refuse; where one element is at fault its
-  tag starts with `Refused`: Timoshenko elements (all of them), a tapered outer
-  diameter, a tapered bore, an anisotropic bearing (kxx != kyy), anisotropic bearing
+  tag starts with `Refused`: an anisotropic bearing (kxx != kyy), anisotropic bearing
   damping (cxx != cyy), a cross-coupled bearing (kxy, kyx != 0), and a bearing linked to
   a point mass (n_link).
 
@@ -196,20 +218,102 @@ def check_speed_dependent(loaded):
         sys.exit(f"speed_dependent: tabulated and constant coefficients differ by {gap:.3e}")
 
 
-def refuse_timoshenko():
-    return rs.Rotor(example_shaft(shear_effects=True), example_disks(), example_bearings())
+def timoshenko(L, idl, odl, material, idr=None, odr=None, tag=None, **kw):
+    """A ROSS shaft element with ROSS's defaults: Timoshenko, rotary inertia, gyroscopic,
+    Cowper's shear coefficient (unless `shear_method_calc` is given)."""
+    return rs.ShaftElement(L=L, idl=idl, odl=odl, idr=idr, odr=odr, material=material, tag=tag, **kw)
 
 
-def refuse_tapered_outer():
-    shaft = example_shaft()
-    shaft[3] = rayleigh(0.25, 0.0, 0.05, STEEL, idr=0.0, odr=0.06, tag="Refused tapered")
+def rotor_example_timoshenko():
+    """rotor_example_rayleigh with ROSS's default (Timoshenko) elements."""
+    shaft = [timoshenko(0.25, 0.0, 0.05, STEEL) for _ in range(6)]
     return rs.Rotor(shaft, example_disks(), example_bearings())
 
 
-def refuse_tapered_bore():
-    shaft = example_shaft()
-    shaft[3] = rayleigh(0.25, 0.01, 0.05, STEEL, idr=0.02, odr=0.05, tag="Refused bore")
+def tapered():
+    """The rotor_example geometry, Timoshenko: elements 1 and 2 a bulge of the outer
+    diameter (0.05 -> 0.07 -> 0.05 m), element 4 hollow with a tapered bore
+    (0.01 -> 0.02 m) and ROSS's hutchinson shear coefficient."""
+    shaft = [
+        timoshenko(0.25, 0.0, 0.05, STEEL),
+        timoshenko(0.25, 0.0, 0.05, STEEL, idr=0.0, odr=0.07, tag="Bulge up"),
+        timoshenko(0.25, 0.0, 0.07, STEEL, idr=0.0, odr=0.05, tag="Bulge down"),
+        timoshenko(0.25, 0.0, 0.05, STEEL),
+        timoshenko(
+            0.25, 0.01, 0.05, STEEL, idr=0.02, odr=0.05, shear_method_calc="hutchinson", tag="Tapered bore"
+        ),
+        timoshenko(0.25, 0.0, 0.05, STEEL),
+    ]
     return rs.Rotor(shaft, example_disks(), example_bearings())
+
+
+# A second material for the held-out rotor: ROSS's own docstring example (materials.py).
+AISI4140 = rs.Material(name="AISI4140", rho=7850.0, E=203.2e9, G_s=80e9)
+
+
+def held_out():
+    """Held out: written before any comparison of tapered Timoshenko rotors with ROSS and
+    compared only once the code was done (tests/ross_reference.rs). 16 Timoshenko
+    elements: a solid steel journal, a taper up, a hollow AISI4140 span, a taper of both
+    diameters (hutchinson), a hollow span (hutchinson), a taper down to a solid steel
+    stub; an overhung disk at each end and one by mass mid-span; damped isotropic
+    bearings at interior nodes 2 and 13."""
+    shaft = (
+        [timoshenko(0.08, 0.0, 0.06, STEEL) for _ in range(2)]
+        + [timoshenko(0.05, 0.0, 0.06, STEEL, idr=0.0, odr=0.09)]
+        + [timoshenko(0.1, 0.03, 0.09, AISI4140) for _ in range(6)]
+        + [timoshenko(0.06, 0.03, 0.09, AISI4140, idr=0.02, odr=0.07, shear_method_calc="hutchinson")]
+        + [timoshenko(0.07, 0.02, 0.07, AISI4140, shear_method_calc="hutchinson") for _ in range(3)]
+        + [timoshenko(0.05, 0.0, 0.07, STEEL, idr=0.0, odr=0.05)]
+        + [timoshenko(0.06, 0.0, 0.05, STEEL) for _ in range(2)]
+    )
+    disks = [
+        rs.DiskElement.from_geometry(n=0, material=STEEL, width=0.04, i_d=0.06, o_d=0.25),
+        rs.DiskElement(n=6, m=25.0, Id=0.2, Ip=0.35),
+        rs.DiskElement.from_geometry(n=16, material=STEEL, width=0.03, i_d=0.05, o_d=0.2),
+    ]
+    bearings = [
+        rs.BearingElement(n=2, kxx=5.0e7, cxx=2.0e3),
+        rs.BearingElement(n=13, kxx=3.0e7, cxx=1.0e3),
+    ]
+    return rs.Rotor(shaft, disks, bearings)
+
+
+# A sleeve material as ROSS's compressor example has one (`shaft_mat_2`): mass, and a
+# stiffness of 1 psi, i.e. none.
+SLEEVE = rs.Material(name="Sleeve", rho=7833.412, E=6894.75, G_s=6894.75)
+
+
+def layered():
+    """rotor_example_timoshenko with concentric layers (elements of one n): a massless-
+    stiffness sleeve over elements 1 and 2 (od 0.05 -> 0.09 m), a steel sleeve over
+    element 4 (od 0.05 -> 0.07 m, Rayleigh) and a tapered steel sleeve over element 5."""
+    shaft = [timoshenko(0.25, 0.0, 0.05, STEEL, n=k, tag=f"Core {k}") for k in range(6)]
+    for k in (1, 2):
+        shaft.append(timoshenko(0.25, 0.05, 0.09, SLEEVE, n=k, tag=f"Sleeve {k}"))
+    shaft.append(rayleigh(0.25, 0.05, 0.07, STEEL, n=4, tag="Steel sleeve 4"))
+    shaft.append(timoshenko(0.25, 0.05, 0.08, STEEL, idr=0.05, odr=0.06, n=5, tag="Tapered sleeve 5"))
+    return rs.Rotor(shaft, example_disks(), example_bearings())
+
+
+def compressor_shaft():
+    """ROSS's compressor example's shaft and disks (91 Timoshenko elements, 36 of them
+    concentric layers) on isotropic damped bearings at its bearings' nodes 7 and 48,
+    without seals: its shaft checked against ROSS before anisotropic supports exist."""
+    example = rs.compressor_example()
+    bearings = [rs.BearingElement(n=n, kxx=1.0e8, cxx=2.0e3) for n in (7, 48)]
+    return rs.Rotor(example.shaft_elements, example.disk_elements, bearings)
+
+
+def rotor_example():
+    """ROSS's own example, as it is: Timoshenko elements, anisotropic bearings."""
+    return rs.rotor_example()
+
+
+def compressor_example():
+    """ROSS's own compressor example, as it is: 91 Timoshenko elements (some stacked as
+    concentric layers), 7 disks, two bearings and 12 seals with speed tables."""
+    return rs.compressor_example()
 
 
 def refuse_anisotropic():
@@ -253,14 +357,36 @@ ROTORS = {
     # Speeds where no two lateral whirls are within 2 % of each other.
     "stepped_hollow": (stepped_hollow, [0.0, 800.0, 2500.0]),
     "speed_dependent": (speed_dependent, [SPEED_DEPENDENT_AT, SPEED_BETWEEN]),
-    "refuse_timoshenko": (refuse_timoshenko, None),
-    "refuse_tapered_outer": (refuse_tapered_outer, None),
-    "refuse_tapered_bore": (refuse_tapered_bore, None),
+    "rotor_example_timoshenko": (rotor_example_timoshenko, [0.0, 500.0, 1500.0]),
+    "tapered": (tapered, [0.0, 500.0, 1500.0]),
+    "held_out": (held_out, [0.0, 1000.0, 3000.0]),
+    "layered": (layered, [0.0, 500.0, 1500.0]),
+    "compressor_shaft": (compressor_shaft, [0.0, 500.0, 1000.0]),
     "refuse_anisotropic": (refuse_anisotropic, None),
     "refuse_anisotropic_damping": (refuse_anisotropic_damping, None),
     "refuse_cross_coupled": (refuse_cross_coupled, None),
     "refuse_linked_bearing": (refuse_linked_bearing, None),
 }
+# ROSS's own examples, saved as they are: name -> (builder, speeds of the whirl file).
+# The compressor's speeds lie inside every one of its bearing and seal tables (419 to
+# 1152 rad/s), where ROSS interpolates rather than extrapolates.
+EXAMPLES = {
+    "rotor_example": (rotor_example, [0.0, 500.0, 1500.0]),
+    "compressor_example": (compressor_example, [500.0, 800.0, 1100.0]),
+}
+# The lowest lateral whirls recorded per speed for ROSS's examples.
+EXAMPLE_WHIRLS = 8
+
+# run_unbalance_response of rotor_example: ROSS's own docstring call (node 3, 10 kg m,
+# phase 0) on 100 speeds from 10 to 1000 rad/s (no speed 0, where the response is 0),
+# recorded at nodes 2, 3 and 4 (the disks and mid-span).
+UNBALANCE = {"node": 3, "magnitude": 10.0, "phase": 0.0}
+# rotor_example_timoshenko's unbalance, on the disk at node 2 (where rotorshunt places an
+# unbalance, as a disk's eccentricity): 1e-3 kg m at phase 0, the same speeds and nodes.
+UNBALANCE_ISOTROPIC = {"node": 2, "magnitude": 1.0e-3, "phase": 0.0}
+UNBALANCE_SPEEDS = [10.0 * (k + 1) for k in range(100)]
+UNBALANCE_NODES = [2, 3, 4]
+
 # Rotors also saved as JSON (Rotor.save picks the format from the extension).
 ALSO_JSON = {"rotor_example_rayleigh", "stepped_hollow"}
 
@@ -331,6 +457,64 @@ def check_rayleigh_element(element):
         coupling = np.abs(ross_matrix[np.ix_(lateral, other)]).max()
         if not (gap <= ELEMENT_MATCH and coupling == 0.0):
             sys.exit(f"ROSS's Rayleigh element {label} is not the textbook one ({gap:.3e})")
+
+
+def check_timoshenko_element(element):
+    """ROSS's Timoshenko element (Genta & Gugliotta's conical element as ROSS writes it)
+    is the exact integral of the beam energies over Nelson's (1980) shape functions, with
+    the shear parameter phi = 12 E I / (kappa G A L^2) of the element's middle section:
+
+        M = int rho A N^T N + int rho I P^T P,   G = 2 int rho I P^T P (as ROSS's disk),
+        K = int E I P'^T P' + int kappa G A (N' - P)^T (N' - P),
+
+    A(z) and I(z) of the linearly varying diameters, per lateral plane on (u, du/dz) at
+    both ends. rotorshunt builds its elements this way (src/model/element.rs), so this
+    check is what lets its Timoshenko and tapered elements be ROSS's. Integrated here by
+    8-point Gauss-Legendre (exact: the integrands are polynomials of degree <= 8).
+    """
+    L, E, G, rho = element.L, element.material.E, element.material.G_s, element.material.rho
+    odl, odr, idl, idr = element.odl, element.odr, element.idl, element.idr
+
+    def area(t):
+        do, di = odl + (odr - odl) * t, idl + (idr - idl) * t
+        return math.pi * (do**2 - di**2) / 4
+
+    def inertia(t):
+        do, di = odl + (odr - odl) * t, idl + (idr - idl) * t
+        return math.pi * (do**4 - di**4) / 64
+
+    phi = element.phi
+    d = 1 + phi
+    mass, stiff, gyro = np.zeros((4, 4)), np.zeros((4, 4)), np.zeros((4, 4))
+    points, weights = np.polynomial.legendre.leggauss(8)
+    for p, w in zip(points, weights):
+        t, w = (p + 1) / 2, w * L / 2
+        n = np.array([1 - 3 * t**2 + 2 * t**3 + phi * (1 - t), L * (t - 2 * t**2 + t**3 + phi / 2 * (t - t**2)),
+                      3 * t**2 - 2 * t**3 + phi * t, L * (-t**2 + t**3 + phi / 2 * (t**2 - t))]) / d
+        dn = np.array([-6 * t + 6 * t**2 - phi, L * (1 - 4 * t + 3 * t**2 + phi / 2 * (1 - 2 * t)),
+                       6 * t - 6 * t**2 + phi, L * (-2 * t + 3 * t**2 + phi / 2 * (2 * t - 1))]) / (d * L)
+        r = np.array([6 * (t**2 - t) / L, 1 - 4 * t + 3 * t**2 + phi * (1 - t),
+                      6 * (t - t**2) / L, -2 * t + 3 * t**2 + phi * t]) / d
+        dr = np.array([6 * (2 * t - 1) / L, -4 + 6 * t - phi, 6 * (1 - 2 * t) / L, -2 + 6 * t + phi]) / (d * L)
+        mass += w * rho * (area(t) * np.outer(n, n) + inertia(t) * np.outer(r, r))
+        gyro += w * 2 * rho * inertia(t) * np.outer(r, r)
+        stiff += w * E * inertia(t) * np.outer(dr, dr)
+        if phi > 0:
+            kappa_g = 12 * E * inertia(0.5) / (phi * area(0.5) * L**2)
+            strain = dn - r
+            stiff += w * kappa_g * area(t) * np.outer(strain, strain)
+    x_plane = [0, 4, 6, 10]  # x, beta = dx/dz at both ends
+    for label, ross_matrix, textbook in (("M", element.M(), mass), ("K", element.K(), stiff)):
+        block = ross_matrix[np.ix_(x_plane, x_plane)]
+        gap = np.abs(block - textbook).max() / np.abs(block).max()
+        if not gap <= ELEMENT_MATCH:
+            sys.exit(f"ROSS's Timoshenko element {label} is not the integral over Nelson's shapes ({gap:.3e})")
+    # G couples the planes: G[y-plane rows (y, alpha = -dy/dz), x-plane columns] = -g.
+    y_plane, sign = [1, 3, 7, 9], np.diag([1.0, -1.0, 1.0, -1.0])
+    block = sign @ element.G()[np.ix_(y_plane, x_plane)]
+    gap = np.abs(block + gyro).max() / np.abs(gyro).max()
+    if not gap <= ELEMENT_MATCH:
+        sys.exit(f"ROSS's Timoshenko element G is not the integral over Nelson's shapes ({gap:.3e})")
 
 
 def whirl_index(modal, i, number_dof):
@@ -430,6 +614,123 @@ def modal_record(rotor, name, speed):
     return result
 
 
+def example_whirls(rotor, name, speed):
+    """The lowest EXAMPLE_WHIRLS lateral modes of run_modal at `speed`, axial and
+    torsional ones (whirl "None") left out: wd with ROSS's whirl_direction() verbatim,
+    the amplitude-weighted orbit sense (whirl_index) and, per mode, the largest ratio of
+    minor to major semi-axis over the nodes (1 circular, 0 a line)."""
+    modal = rotor.run_modal(speed=speed, num_modes=NUM_MODES)
+    dense = rotor.run_modal(speed=speed, num_modes=NUM_MODES, sparse=False)
+    n = len(modal.wd)
+    gap = np.max(np.abs(modal.evalues[:n] - dense.evalues[:n]) / np.abs(dense.evalues[:n]))
+    if not gap <= SOLVER_AGREEMENT:
+        sys.exit(f"{name} at {speed} rad/s: sparse and dense eigenvalues differ by {gap:.3e}")
+    whirls = modal.whirl_direction()
+    modes = []
+    for i in range(n):
+        ross_whirl = "None" if whirls[i] is None else str(whirls[i])
+        if ross_whirl == "None":
+            continue
+        v = modal.evectors[: modal.ndof, i]
+        nodes = len(modal.nodes)
+        x = v[0 : rotor.number_dof * nodes : rotor.number_dof]
+        y = v[1 : rotor.number_dof * nodes : rotor.number_dof]
+        # Semi-axes of the ellipse traced by (Re X e^{jwt}, Re Y e^{jwt}): x + jy is a
+        # forward circle of radius |X + jY|/2 plus a backward one of radius |X - jY|/2,
+        # so major = sum of the radii and minor = their difference.
+        forward = np.abs(x + 1j * y) / 2
+        backward = np.abs(x - 1j * y) / 2
+        major = forward + backward
+        big = major > 1e-3 * np.max(major)
+        ratio = float(np.max(np.abs(forward - backward)[big] / major[big]))
+        modes.append(
+            {
+                "wd": finite(modal.wd[i], "wd"),
+                "wn": finite(modal.wn[i], "wn"),
+                "damping_ratio": finite(modal.damping_ratio[i], "damping ratio"),
+                "eigenvalue_re": finite(modal.evalues[i].real, "Re eigenvalue"),
+                "eigenvalue_im": finite(modal.evalues[i].imag, "Im eigenvalue"),
+                "mode_type": modal.shapes[i].mode_type,
+                "whirl": ross_whirl,
+                "whirl_index": whirl_index(modal, i, rotor.number_dof),
+                "max_minor_to_major": ratio,
+            }
+        )
+    modes.sort(key=lambda m: m["wd"])
+    if len(modes) < EXAMPLE_WHIRLS:
+        sys.exit(f"{name} at {speed} rad/s: only {len(modes)} lateral modes")
+    return {"speed": float(speed), "modes": modes[:EXAMPLE_WHIRLS]}
+
+
+def example_file(rotor, name, speeds):
+    return {
+        "ross_version": rs.__version__,
+        "generator": "scripts/ross/make_fixtures.py",
+        "rotor_file": f"{name}.toml",
+        "call": "Rotor.load(rotor_file).run_modal(speed=speed, num_modes=num_modes)",
+        "num_modes": NUM_MODES,
+        "units": {"speed": "rad/s", "wd": "rad/s (ROSS: Im eigenvalue)", "wn": "rad/s (ROSS: |eigenvalue|)"},
+        "notes": [
+            f"per speed, the lowest {EXAMPLE_WHIRLS} lateral modes by wd; ROSS's axial and "
+            "torsional modes (whirl 'None') are left out",
+            "whirl is ROSS's whirl_direction() verbatim (Forward, Backward or Mixed)",
+            "whirl_index is the amplitude-weighted orbit sense (+1 forward circular, -1 "
+            "backward circular); max_minor_to_major the largest minor/major semi-axis "
+            "ratio over the nodes that move (1 circular, 0 a straight line)",
+        ],
+        "speeds": [float(w) for w in speeds],
+        "results": [example_whirls(rotor, name, w) for w in speeds],
+    }
+
+
+def unbalance_file(rotor, name, unbalance=UNBALANCE):
+    """run_unbalance_response of the rotor: x and y amplitude and phase at
+    UNBALANCE_NODES over UNBALANCE_SPEEDS. ROSS applies F_x = m e^{jp} w^2,
+    F_y = -j m e^{jp} w^2 at the node (a forward rotating force) and returns the complex
+    amplitudes X, Y with x(t) = Re(X e^{jwt})."""
+    response = rotor.run_unbalance_response(
+        node=unbalance["node"],
+        unbalance_magnitude=unbalance["magnitude"],
+        unbalance_phase=unbalance["phase"],
+        frequency=np.array(UNBALANCE_SPEEDS),
+    )
+    nodes = []
+    for node in UNBALANCE_NODES:
+        x = response.forced_resp[rotor.number_dof * node]
+        y = response.forced_resp[rotor.number_dof * node + 1]
+        nodes.append(
+            {
+                "node": node,
+                "x_amplitude": [finite(a, "x amplitude") for a in np.abs(x)],
+                "x_phase": [finite(a, "x phase") for a in np.angle(x)],
+                "y_amplitude": [finite(a, "y amplitude") for a in np.abs(y)],
+                "y_phase": [finite(a, "y phase") for a in np.angle(y)],
+            }
+        )
+    return {
+        "ross_version": rs.__version__,
+        "generator": "scripts/ross/make_fixtures.py",
+        "rotor_file": f"{name}.toml",
+        "call": "Rotor.load(rotor_file).run_unbalance_response(node, unbalance_magnitude, "
+        "unbalance_phase, frequency=speeds)",
+        "unbalance": {
+            "node": unbalance["node"],
+            "magnitude": unbalance["magnitude"],
+            "phase": unbalance["phase"],
+        },
+        "units": {"speeds": "rad/s", "magnitude": "kg m", "phase": "rad", "amplitude": "m"},
+        "notes": [
+            "ROSS's force at the node: F_x = m e^(j phase) w^2, F_y = -j m e^(j phase) w^2 "
+            "(forward); x(t) = Re(X e^(j w t)), amplitude |X|, phase arg X (rad, numpy's "
+            "angle, in (-pi, pi])",
+            "the rotor is undamped: amplitudes grow without bound at its critical speeds, "
+            "which the speeds (10 to 1000 rad/s in steps of 10) do not hit",
+        ],
+        "speeds": [float(w) for w in UNBALANCE_SPEEDS],
+        "nodes": nodes,
+    }
+
+
 def modal_file(rotor, name, speeds):
     return {
         "ross_version": rs.__version__,
@@ -477,6 +778,22 @@ def main():
     check_rayleigh_element(rayleigh(0.25, 0.0, 0.05, STEEL))
     check_rayleigh_element(rayleigh(0.1, 0.04, 0.08, TITANIUM))
 
+    check_timoshenko_element(timoshenko(0.25, 0.0, 0.05, STEEL))
+    check_timoshenko_element(timoshenko(0.1, 0.04, 0.08, TITANIUM, idr=0.03, odr=0.06))
+
+    for name, (build, speeds) in EXAMPLES.items():
+        built = build()
+        path = args.out / f"{name}.toml"
+        built.save(path)
+        check_round_trip(built, rs.Rotor.load(path), path.name)
+        loaded = rs.Rotor.load(path)
+        text = json.dumps(example_file(loaded, name, speeds), indent=1, allow_nan=False) + "\n"
+        (args.out / f"{name}.modal.json").write_text(text)
+        if name == "rotor_example":
+            text = json.dumps(unbalance_file(loaded, name), indent=1, allow_nan=False) + "\n"
+            (args.out / f"{name}.unbalance.json").write_text(text)
+        print(f"wrote {name}")
+
     for name, (build, speeds) in ROTORS.items():
         built = build()
         suffixes = [".toml", ".json"] if name in ALSO_JSON else [".toml"]
@@ -491,6 +808,10 @@ def main():
             data = modal_file(loaded, name, speeds)
             text = json.dumps(data, indent=1, allow_nan=False) + "\n"
             (args.out / f"{name}.modal.json").write_text(text)
+            if name == "rotor_example_timoshenko":
+                data = unbalance_file(loaded, name, UNBALANCE_ISOTROPIC)
+                text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+                (args.out / f"{name}.unbalance.json").write_text(text)
         print(f"wrote {name}")
 
 

@@ -4,7 +4,7 @@
 //! `M, C, K, S, G` are real symmetric and independent of speed; they are built once and
 //! the speed enters only through [`SystemMatrices::damping_at`].
 
-use crate::model::{element, CircuitState, Model, RingSupport};
+use crate::model::{element, CircuitState, Model, RingSupport, Section};
 use faer::{c64, Mat};
 use serde::Serialize;
 
@@ -116,6 +116,20 @@ fn add_element(target: &mut Mat<f64>, first: usize, e: &element::ElementMatrix) 
     }
 }
 
+/// The elements of a Timoshenko or tapered section (or layer) from their own geometry,
+/// into `[M, K, S, G]` from element `first_element` on (a uniform section's are all
+/// alike, computed once).
+fn add_beams(targets: &mut [&mut Mat<f64>; 4], dofs: &DofMap, first_element: usize, section: &Section) {
+    let uniform = section.is_uniform().then(|| element::beam(&section.element(0)));
+    for local in 0..section.elements {
+        let b = uniform.unwrap_or_else(|| element::beam(&section.element(local)));
+        let first = dofs.deflection(first_element + local);
+        for (target, e) in targets.iter_mut().zip([&b.mass, &b.stiffness, &b.geometric, &b.gyroscopic]) {
+            add_element(target, first, e);
+        }
+    }
+}
+
 fn add_spring(target: &mut Mat<f64>, a: usize, b: usize, k: f64) {
     target[(a, a)] += k;
     target[(b, b)] += k;
@@ -137,19 +151,28 @@ impl SystemMatrices {
 
         let mut first_element = 0;
         for section in &model.shaft.sections {
-            let (l, rho, a, i) = (section.element_length(), section.density, section.area(), section.inertia());
-            let me = element::translational_mass(rho, a, l);
-            let mr = element::rotary_mass(rho, i, l);
-            let ke = element::bending_stiffness(section.youngs_modulus, i, l);
-            let se = element::geometric(l);
-            let ge = element::gyroscopic(rho, i, l);
-            for e in first_element..first_element + section.elements {
-                let first = dofs.deflection(e);
-                add_element(&mut m, first, &me);
-                add_element(&mut m, first, &mr);
-                add_element(&mut k, first, &ke);
-                add_element(&mut s, first, &se);
-                add_element(&mut g, first, &ge);
+            if section.is_uniform_rayleigh() {
+                // The paper's closed forms, in the order they always were added (bits).
+                let (l, rho, a, i) = (section.element_length(), section.density, section.area(), section.inertia());
+                let me = element::translational_mass(rho, a, l);
+                let mr = element::rotary_mass(rho, i, l);
+                let ke = element::bending_stiffness(section.youngs_modulus, i, l);
+                let se = element::geometric(l);
+                let ge = element::gyroscopic(rho, i, l);
+                for e in first_element..first_element + section.elements {
+                    let first = dofs.deflection(e);
+                    add_element(&mut m, first, &me);
+                    add_element(&mut m, first, &mr);
+                    add_element(&mut k, first, &ke);
+                    add_element(&mut s, first, &se);
+                    add_element(&mut g, first, &ge);
+                }
+            } else {
+                add_beams(&mut [&mut m, &mut k, &mut s, &mut g], &dofs, first_element, section);
+            }
+            // Concentric layers over the same nodes add their own elements.
+            for layer in &section.layers {
+                add_beams(&mut [&mut m, &mut k, &mut s, &mut g], &dofs, first_element, layer);
             }
             first_element += section.elements;
         }

@@ -9,7 +9,7 @@ mod support;
 
 pub use ring::{Branch, BranchError, Circuit, CircuitState, Given, Parameter, Ring};
 use serde::Serialize;
-pub use shaft::{Section, Shaft};
+pub use shaft::{Beam, Section, Shaft};
 pub use support::{Bearing, RingSupport};
 
 /// A rigid disk lumped at a shaft node (Eq. 6).

@@ -202,6 +202,16 @@ pub enum ProblemErrorKind {
     /// The shorthand and the general form given for one topic.
     #[error("give either the shorthand `{0}` or the general form `{1}`, not both")]
     MixedForms(String, String),
+    /// A Timoshenko section whose material gives neither a shear modulus nor a Poisson's
+    /// ratio.
+    #[error("beam = \"timoshenko\" needs the shear modulus of {material}: give `shear_modulus` (Pa) or `poisson_ratio` there")]
+    NoShearModulus {
+        /// Where the section's material is given, e.g. ``material `steel` ([[materials]] entry 1)``.
+        material: String,
+    },
+    /// A key of Timoshenko sections (`shear_coefficient`) on a Rayleigh section.
+    #[error("`{0}` applies to Timoshenko sections only: give beam = \"timoshenko\" or remove it")]
+    TimoshenkoOnly(String),
     /// C_p^S (given, or from k_eq2 by Eq. 1) not below C_p^T: physically impossible, a
     /// piezo stack's capacitance at constant strain is always below its capacitance at
     /// constant stress (C_p^S = C_p^T·(1 − k²), k its coupling factor).

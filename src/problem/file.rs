@@ -246,9 +246,27 @@ pub struct MaterialFile {
     pub youngs_modulus: f64,
     /// ρ (kg/m³).
     pub density: f64,
+    /// Shear modulus G (Pa), needed by Timoshenko sections; or give `poisson_ratio`.
+    /// E/(2G) − 1 must lie in (−1, 0.5): G > E/3.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Poisson's ratio ν (−), in (−1, 0.5): G = E/(2(1 + ν)); or give `shear_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
 }
 
-/// `[[sections]]`: a uniform, solid or hollow, section of the shaft.
+/// `beam` of a `[[sections]]` entry: the beam theory of its elements.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum BeamKind {
+    /// Rayleigh beams (bending, rotary inertia, gyroscopic; no shear deformation).
+    #[default]
+    Rayleigh,
+    /// Timoshenko beams (Rayleigh plus shear deformation).
+    Timoshenko,
+}
+
+/// `[[sections]]`: a solid or hollow section of the shaft, uniform or tapered.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SectionFile {
@@ -259,6 +277,13 @@ pub struct SectionFile {
     /// Inner diameter d (m); default 0 (solid); below D.
     #[serde(default)]
     pub inner_diameter: f64,
+    /// Outer diameter at the right end (m), for a tapered section (D varies linearly
+    /// from `outer_diameter` at the left end); default `outer_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter_right: Option<f64>,
+    /// Inner diameter at the right end (m), for a tapered bore; default `inner_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter_right: Option<f64>,
     /// A `[[materials]]` name; or give `youngs_modulus` and `density` here.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
@@ -268,8 +293,86 @@ pub struct SectionFile {
     /// ρ (kg/m³).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
-    /// Number of Rayleigh elements in the section (≥ 1).
+    /// Shear modulus G (Pa) with `youngs_modulus` here (no `material`); or `poisson_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Poisson's ratio ν (−) with `youngs_modulus` here (no `material`); or `shear_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// `rayleigh` (default) or `timoshenko`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beam: Option<BeamKind>,
+    /// Shear coefficient κ (−, > 0) of a Timoshenko section; default Cowper's (1966) for
+    /// a circular tube, from Poisson's ratio and each element's d/D (docs/model.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_coefficient: Option<f64>,
+    /// Number of equal elements in the section (≥ 1).
     pub elements: i64,
+    /// `[[sections.layers]]`: concentric layers over the section's nodes (a sleeve).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub layers: Vec<LayerFile>,
+}
+
+/// `[[sections.layers]]`: a concentric tube over its section's length and elements, of its
+/// own diameters, material and beam theory; its element matrices add to the section's
+/// (ROSS's shaft elements of one `n`). The keys mean what they mean in `[[sections]]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerFile {
+    /// Outer diameter D (m), at the left end when tapered.
+    pub outer_diameter: f64,
+    /// Inner diameter d (m); default 0; below D.
+    #[serde(default)]
+    pub inner_diameter: f64,
+    /// Outer diameter at the right end (m); default `outer_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub outer_diameter_right: Option<f64>,
+    /// Inner diameter at the right end (m); default `inner_diameter`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inner_diameter_right: Option<f64>,
+    /// A `[[materials]]` name; or give `youngs_modulus` and `density` here.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// E (Pa).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub youngs_modulus: Option<f64>,
+    /// ρ (kg/m³).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Shear modulus G (Pa) with `youngs_modulus` here; or `poisson_ratio`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_modulus: Option<f64>,
+    /// Poisson's ratio ν (−) with `youngs_modulus` here; or `shear_modulus`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson_ratio: Option<f64>,
+    /// `rayleigh` (default) or `timoshenko`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beam: Option<BeamKind>,
+    /// Shear coefficient κ (−, > 0) of a Timoshenko layer; default Cowper's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_coefficient: Option<f64>,
+}
+
+impl LayerFile {
+    /// The layer as a section of `length` (m) and `elements`, to share its checks.
+    pub fn as_section(&self, length: f64, elements: i64) -> SectionFile {
+        SectionFile {
+            length,
+            outer_diameter: self.outer_diameter,
+            inner_diameter: self.inner_diameter,
+            outer_diameter_right: self.outer_diameter_right,
+            inner_diameter_right: self.inner_diameter_right,
+            material: self.material.clone(),
+            youngs_modulus: self.youngs_modulus,
+            density: self.density,
+            shear_modulus: self.shear_modulus,
+            poisson_ratio: self.poisson_ratio,
+            beam: self.beam,
+            shear_coefficient: self.shear_coefficient,
+            elements,
+            layers: Vec::new(),
+        }
+    }
 }
 
 /// `[[bearings]]`: a plain isotropic bearing, placed by `node` or `position`.

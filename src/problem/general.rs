@@ -5,11 +5,11 @@
 
 use super::file::*;
 use super::validate::{
-    circuit, derived, non_negative, place, positive, ring, section_quantities, Failure, Placed, SectionKeys,
+    circuit, derived, non_negative, place, positive, ring, section_quantities, within, Failure, Placed, SectionKeys,
     MAX_ELEMENTS,
 };
 use super::{NameOf, ProblemErrorKind as K};
-use crate::model::{Bearing, RingSupport, Section, Shaft};
+use crate::model::{Beam, Bearing, RingSupport, Section, Shaft};
 
 /// The key of the shaft topic's and of the supports topic's forms: mixing them in one
 /// topic, or leaving a topic out, is refused here (before any value is read).
@@ -54,22 +54,75 @@ fn material(key: &str, name: &str, materials: &[MaterialFile]) -> Result<(f64, f
     Ok((materials[j].youngs_modulus, materials[j].density, j))
 }
 
-/// `[[materials]]`: finite positive E and ρ, unique names.
-fn materials(f: &ProblemFile) -> Result<(), Failure> {
+/// The shear modulus G (Pa) of a material's `shear_modulus` or `poisson_ratio` keys
+/// (`prefix` their table, E its Young's modulus), each checked; `None` when neither is
+/// given. ν = E/(2G) − 1 must lie in (−1, 0.5), the range of an isotropic material: for
+/// G, G > E/3.
+fn shear_modulus(prefix: &str, e: f64, g: Option<f64>, nu: Option<f64>) -> Result<Option<f64>, Failure> {
+    match (g, nu) {
+        (Some(_), Some(_)) => {
+            Err((format!("{prefix}.poisson_ratio"), K::BothGiven("shear_modulus".into(), "poisson_ratio".into())))
+        }
+        (Some(g), None) => {
+            let key = format!("{prefix}.shear_modulus");
+            let g = positive(&key, g)?;
+            if g <= e / 3.0 {
+                let range = format!(
+                    "above E/3 = {} Pa (Poisson's ratio E/(2G) - 1 below 0.5)",
+                    crate::analysis::limits::number(e / 3.0)
+                );
+                return Err((key, K::OutOfRange { value: g, range }));
+            }
+            Ok(Some(g))
+        }
+        (None, Some(nu)) => {
+            let key = format!("{prefix}.poisson_ratio");
+            let nu = within(&key, nu, -1.0, 0.5, "between -1 and 0.5, exclusive (an isotropic material)")?;
+            Ok(Some(e / (2.0 * (1.0 + nu))))
+        }
+        (None, None) => Ok(None),
+    }
+}
+
+/// `[[materials]]`: finite positive E and ρ, a valid shear modulus or Poisson's ratio if
+/// given, unique names. Returns each material's shear modulus.
+fn materials(f: &ProblemFile) -> Result<Vec<Option<f64>>, Failure> {
+    let mut shear = Vec::with_capacity(f.materials.len());
     for (i, m) in f.materials.iter().enumerate() {
         let key = format!("materials[{i}]");
         if f.materials[..i].iter().any(|n| n.name == m.name) {
             return Err((format!("{key}.name"), K::BadName { name: m.name.clone(), reason: "defined twice".into() }));
         }
-        positive(&format!("{key}.youngs_modulus"), m.youngs_modulus)?;
+        let e = positive(&format!("{key}.youngs_modulus"), m.youngs_modulus)?;
         positive(&format!("{key}.density"), m.density)?;
+        shear.push(shear_modulus(&key, e, m.shear_modulus, m.poisson_ratio)?);
     }
-    Ok(())
+    Ok(shear)
+}
+
+/// The left- and right-end diameters of the section (or layer) at `prefix` (m): D > 0
+/// and 0 ≤ d < D at both ends; the right end's default to the left end's (uniform).
+fn section_diameters(prefix: &str, s: &SectionFile) -> Result<[f64; 4], Failure> {
+    let key = |name: &str| format!("{prefix}.{name}");
+    let outer = positive(&key("outer_diameter"), s.outer_diameter)?;
+    let inner = non_negative(&key("inner_diameter"), s.inner_diameter)?;
+    if inner >= outer {
+        return Err((key("inner_diameter"), K::InnerNotBelowOuter { inner, outer }));
+    }
+    // A taper to a zero outer diameter is `NotPositive` at its key.
+    let outer_right = s.outer_diameter_right.map(|d| positive(&key("outer_diameter_right"), d)).transpose()?;
+    let inner_right = s.inner_diameter_right.map(|d| non_negative(&key("inner_diameter_right"), d)).transpose()?;
+    let (o, i_r) = (outer_right.unwrap_or(outer), inner_right.unwrap_or(inner));
+    if i_r >= o {
+        let at = if s.inner_diameter_right.is_some() { "inner_diameter_right" } else { "outer_diameter_right" };
+        return Err((key(at), K::InnerNotBelowOuter { inner: i_r, outer: o }));
+    }
+    Ok([outer, inner, o, i_r])
 }
 
 /// `[[sections]]` as the shaft.
 pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, Failure> {
-    materials(f)?;
+    let material_shear = materials(f)?;
     let mut sections = Vec::with_capacity(list.len());
     let mut keys = Vec::with_capacity(list.len());
     let mut total_elements: i64 = 0;
@@ -85,50 +138,18 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
             return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
         }
         let length = positive(&key("length"), s.length)?;
-        let outer = positive(&key("outer_diameter"), s.outer_diameter)?;
-        let inner = non_negative(&key("inner_diameter"), s.inner_diameter)?;
-        if inner >= outer {
-            return Err((key("inner_diameter"), K::InnerNotBelowOuter { inner, outer }));
+        let prefix = format!("sections[{i}]");
+        let (mut section, mut section_keys) = tube(f, &prefix, s, &material_shear, length)?;
+        for (j, layer) in s.layers.iter().enumerate() {
+            let layer_prefix = format!("{prefix}.layers[{j}]");
+            let (l, mut k) = tube(f, &layer_prefix, &layer.as_section(length, s.elements), &material_shear, length)?;
+            // A layer's length is its section's.
+            k.length = key("length");
+            section.layers.push(l);
+            section_keys.layers.push(k);
         }
-        let (youngs_modulus, density) = match (&s.material, s.youngs_modulus, s.density) {
-            (Some(_), Some(_), _) => {
-                return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
-            }
-            (Some(_), None, Some(_)) => {
-                return Err((key("density"), K::BothGiven("material".into(), "density".into())))
-            }
-            (Some(name), None, None) => {
-                let (e, d, j) = material(&key("material"), name, &f.materials)?;
-                keys.push(SectionKeys {
-                    outer: (key("outer_diameter"), outer),
-                    length: key("length"),
-                    youngs_modulus: format!("materials[{j}].youngs_modulus"),
-                    density: format!("materials[{j}].density"),
-                });
-                (e, d)
-            }
-            (None, None, _) => {
-                return Err((format!("sections[{i}]"), K::NeitherGiven("material".into(), "youngs_modulus".into())))
-            }
-            (None, Some(e), d) => {
-                let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
-                keys.push(SectionKeys {
-                    outer: (key("outer_diameter"), outer),
-                    length: key("length"),
-                    youngs_modulus: key("youngs_modulus"),
-                    density: key("density"),
-                });
-                (e, d)
-            }
-        };
-        sections.push(Section {
-            length,
-            outer_diameter: outer,
-            inner_diameter: inner,
-            elements: s.elements as usize,
-            youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
-            density: positive(&key("density"), density)?,
-        });
+        keys.push(section_keys);
+        sections.push(section);
     }
     let shaft = Shaft { sections };
     let total = shaft.length();
@@ -137,6 +158,101 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
     }
     section_quantities(&shaft, &keys)?;
     Ok(shaft)
+}
+
+/// One tube of the shaft at `prefix` (a section, or a layer of one, given as a section
+/// of the section's `length` and elements): its diameters, material and beam theory, and
+/// the keys its quantities come from.
+fn tube(
+    f: &ProblemFile,
+    prefix: &str,
+    s: &SectionFile,
+    material_shear: &[Option<f64>],
+    length: f64,
+) -> Result<(Section, SectionKeys), Failure> {
+    let key = |name: &str| format!("{prefix}.{name}");
+    let [outer, inner, outer_right, inner_right] = section_diameters(prefix, s)?;
+    let outer_keys = |left: (String, f64)| {
+        let right = s.outer_diameter_right.map(|d| (key("outer_diameter_right"), d));
+        (left, right)
+    };
+    // E, ρ, the shear modulus (if any), the keys they come from, and how the section
+    // names its material in a message.
+    let (youngs_modulus, density, shear, section_keys, named) = match (&s.material, s.youngs_modulus, s.density) {
+        (Some(_), Some(_), _) => {
+            return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
+        }
+        (Some(_), None, Some(_)) => return Err((key("density"), K::BothGiven("material".into(), "density".into()))),
+        (Some(name), None, None) => {
+            for (given, k) in
+                [(s.shear_modulus.is_some(), "shear_modulus"), (s.poisson_ratio.is_some(), "poisson_ratio")]
+            {
+                if given {
+                    return Err((key(k), K::BothGiven("material".into(), k.into())));
+                }
+            }
+            let (e, d, j) = material(&key("material"), name, &f.materials)?;
+            let m = &f.materials[j];
+            let shear_key = if m.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+            let keys = SectionKeys {
+                outer,
+                outer_right,
+                length: key("length"),
+                youngs_modulus: format!("materials[{j}].youngs_modulus"),
+                density: format!("materials[{j}].density"),
+                shear_modulus: format!("materials[{j}].{shear_key}"),
+                layers: Vec::new(),
+            };
+            (e, d, material_shear[j], keys, format!("material `{name}` (materials[{j}])"))
+        }
+        (None, None, _) => {
+            return Err((prefix.to_string(), K::NeitherGiven("material".into(), "youngs_modulus".into())))
+        }
+        (None, Some(e), d) => {
+            let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
+            let e = positive(&key("youngs_modulus"), e)?;
+            let g = shear_modulus(prefix, e, s.shear_modulus, s.poisson_ratio)?;
+            let shear_key = if s.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+            let keys = SectionKeys {
+                outer,
+                outer_right,
+                length: key("length"),
+                youngs_modulus: key("youngs_modulus"),
+                density: key("density"),
+                shear_modulus: key(shear_key),
+                layers: Vec::new(),
+            };
+            (e, d, g, keys, format!("this section ({prefix})"))
+        }
+    };
+    let beam = match s.beam.unwrap_or_default() {
+        BeamKind::Rayleigh => {
+            if s.shear_coefficient.is_some() {
+                return Err((key("shear_coefficient"), K::TimoshenkoOnly("shear_coefficient".into())));
+            }
+            Beam::Rayleigh
+        }
+        BeamKind::Timoshenko => {
+            let shear_modulus = shear.ok_or_else(|| (key("beam"), K::NoShearModulus { material: named }))?;
+            let shear_coefficient = s.shear_coefficient.map(|k| positive(&key("shear_coefficient"), k)).transpose()?;
+            Beam::Timoshenko { shear_modulus, shear_coefficient }
+        }
+    };
+    let section = Section {
+        length,
+        outer_diameter: outer,
+        inner_diameter: inner,
+        elements: s.elements as usize,
+        youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
+        density: positive(&key("density"), density)?,
+        outer_diameter_right: outer_right,
+        inner_diameter_right: inner_right,
+        beam,
+        layers: Vec::new(),
+    };
+    Ok((section, section_keys))
 }
 
 /// A disk of the geometry form (m = ρπ(D² − d²)/4·w, J_p = m(D² + d²)/8,

@@ -124,6 +124,9 @@ pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[String]) -> Vec<(Stri
     let shaft_mass: f64 = sections
         .iter()
         .map(|s| {
+            if !s.is_uniform() {
+                return s.mass();
+            }
             let area = std::f64::consts::PI * (s.outer_diameter.powi(2) - s.inner_diameter.powi(2)) / 4.0;
             s.density * area * s.length
         })
@@ -133,7 +136,7 @@ pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[String]) -> Vec<(Stri
         out.push((key.into(), WarningKind::Mass { what: "shaft", mass: shaft_mass, limit: MAX_MASS }));
     }
     let length = model.shaft.length();
-    let diameter = sections.iter().map(|s| s.outer_diameter).fold(0.0, f64::max);
+    let diameter = sections.iter().map(|s| s.outer_diameter.max(s.outer_diameter_right)).fold(0.0, f64::max);
     let ratio = length / diameter;
     if ratio > MAX_SLENDERNESS {
         let key = if shorthand { "shaft.length" } else { "sections" };

@@ -30,11 +30,12 @@ pub const RPM_KEYS: [(&str, &str, &str); 4] = [
 /// Pairs of keys of one table of which a file gives one: a `--set` of either replaces the
 /// other. `node`/`position` place disks, bearings and rings; `inductance`/
 /// `tuning_frequency` set a branch's L (Eq. 4); `cp_s`/`k_eq2` a ring's C_p^S (Eq. 1);
-/// the speeds' rad/s and rpm forms.
-pub const ALTERNATIVES: [(&str, &str); 6] = [
+/// the speeds' rad/s and rpm forms; `shear_modulus`/`poisson_ratio` a material's G.
+pub const ALTERNATIVES: [(&str, &str); 7] = [
     ("node", "position"),
     ("inductance", "tuning_frequency"),
     ("cp_s", "k_eq2"),
+    ("shear_modulus", "poisson_ratio"),
     ("speed", "speed_rpm"),
     ("speeds", "speeds_rpm"),
     ("speed_range", "speed_range_rpm"),

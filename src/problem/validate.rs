@@ -106,25 +106,51 @@ pub(super) struct SectionKeys {
     /// The key of its outer size and the value given there (`shaft.radius` in the
     /// shorthand).
     pub outer: (String, f64),
+    /// The key of a tapered section's right-end outer diameter and its value.
+    pub outer_right: Option<(String, f64)>,
     /// The length's key.
     pub length: String,
     /// The key of E (the section's, the material's or `shaft.youngs_modulus`).
     pub youngs_modulus: String,
     /// The key of ρ.
     pub density: String,
+    /// The key of the shear modulus (or Poisson's ratio) of a Timoshenko section.
+    pub shear_modulus: String,
+    /// The keys of the section's concentric layers, in order.
+    pub layers: Vec<SectionKeys>,
 }
 
 /// Every shaft quantity the assembly builds, in [`DERIVED_RANGE`] ([`derived`]): per
-/// section the area A, the second moment I, and the element terms ρAl, ρAl³, ρI/l, ρIl,
-/// EI/l and EI/l³ (l the element length), then the shaft's mass.
+/// section, at each end of a tapered one, the area A, the second moment I, and the element
+/// terms ρAl, ρAl³, ρI/l, ρIl, EI/l and EI/l³ (l the element length), for a Timoshenko
+/// section the shear stiffness κGA/l, then the shaft's mass.
 pub(super) fn section_quantities(shaft: &Shaft, keys: &[SectionKeys]) -> Result<(), Failure> {
     for (s, k) in shaft.sections.iter().zip(keys) {
-        let outer = |power| (k.outer.0.clone(), k.outer.1, power);
+        tube_quantities(s, k)?;
+        for (layer, layer_keys) in s.layers.iter().zip(&k.layers) {
+            tube_quantities(layer, layer_keys)?;
+        }
+    }
+    shaft_mass(shaft, keys)
+}
+
+/// [`section_quantities`] of one section or layer.
+fn tube_quantities(s: &crate::model::Section, k: &SectionKeys) -> Result<(), Failure> {
+    let ends = if s.is_uniform() { 1 } else { 2 };
+    for end in 0..ends {
+        let outer_key = if end == 0 { &k.outer } else { k.outer_right.as_ref().unwrap_or(&k.outer) };
+        let outer = |power| (outer_key.0.clone(), outer_key.1, power);
         let length = |power| (k.length.clone(), s.length, power);
         let rho = (k.density.clone(), s.density, 1);
         let e = (k.youngs_modulus.clone(), s.youngs_modulus, 1);
         let l = s.element_length();
-        let (a, i) = (s.area(), s.inertia());
+        let (a, i) = if end == 0 {
+            (s.area(), s.inertia())
+        } else {
+            let (o, d) = s.diameters_at(1.0);
+            let pi = std::f64::consts::PI;
+            (pi * (o * o - d * d) / 4.0, pi * (o.powi(4) - d.powi(4)) / 64.0)
+        };
         derived(a, "cross-section area A", &[outer(2)])?;
         derived(i, "second moment of area I", &[outer(4)])?;
         let terms = [
@@ -138,7 +164,17 @@ pub(super) fn section_quantities(shaft: &Shaft, keys: &[SectionKeys]) -> Result<
         for (value, what, factors) in terms {
             derived(value, what, &factors)?;
         }
+        if let crate::model::Beam::Timoshenko { shear_modulus, .. } = s.beam {
+            let kappa_g = s.element(0).shear.unwrap_or(shear_modulus);
+            let g = (k.shear_modulus.clone(), shear_modulus, 1);
+            derived(kappa_g * a / l, "element shear stiffness kappa G A / l", &[g, outer(2), length(-1)])?;
+        }
     }
+    Ok(())
+}
+
+/// The shaft's mass in [`DERIVED_RANGE`].
+fn shaft_mass(shaft: &Shaft, keys: &[SectionKeys]) -> Result<(), Failure> {
     let mass = shaft.mass();
     if !(DERIVED_RANGE.0..=DERIVED_RANGE.1).contains(&mass) {
         // Each section's mass is finite: blame the heaviest one's largest factor.
@@ -314,9 +350,12 @@ fn shaft(s: &ShaftFile) -> Result<Shaft, Failure> {
     );
     let keys = SectionKeys {
         outer: ("shaft.radius".into(), s.radius),
+        outer_right: None,
         length: "shaft.length".into(),
         youngs_modulus: "shaft.youngs_modulus".into(),
         density: "shaft.density".into(),
+        shear_modulus: String::new(),
+        layers: Vec::new(),
     };
     section_quantities(&shaft, &[keys])?;
     Ok(shaft)

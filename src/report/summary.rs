@@ -2,7 +2,7 @@
 
 use crate::analysis::modes::WhirlMode;
 use crate::analysis::Rotor;
-use crate::model::{Circuit, CircuitState, Model, Ring, RingSupport};
+use crate::model::{Beam, Circuit, CircuitState, Model, Ring, RingSupport, Section};
 use std::fmt::Write;
 
 fn ring_lines(out: &mut String, header: &str, r: &Ring) {
@@ -71,7 +71,7 @@ fn paper_layout(m: &Model) -> Option<(&RingSupport, &RingSupport)> {
 fn shaft_lines(out: &mut String, m: &Model) {
     let shaft = &m.shaft;
     if let [s] = &shaft.sections[..] {
-        if s.inner_diameter == 0.0 {
+        if s.inner_diameter == 0.0 && s.is_uniform_rayleigh() && s.layers.is_empty() {
             let _ = writeln!(
                 out,
                 "  shaft: L = {} m, r = {} m, {} Rayleigh elements ({} nodes), mass {:.4} kg",
@@ -84,35 +84,83 @@ fn shaft_lines(out: &mut String, m: &Model) {
             return;
         }
     }
+    let timoshenko: usize =
+        shaft.sections.iter().filter(|s| matches!(s.beam, Beam::Timoshenko { .. })).map(|s| s.elements).sum();
+    let kinds = match timoshenko {
+        0 => format!("{} Rayleigh elements", shaft.elements()),
+        t if t == shaft.elements() => format!("{t} Timoshenko elements"),
+        t => format!("{} elements ({} Rayleigh, {t} Timoshenko)", shaft.elements(), shaft.elements() - t),
+    };
     let _ = writeln!(
         out,
-        "  shaft: L = {:.4} m, {} section(s), {} Rayleigh elements ({} nodes), mass {:.4} kg",
+        "  shaft: L = {:.4} m, {} section(s), {kinds} ({} nodes), mass {:.4} kg",
         shaft.length(),
         shaft.sections.len(),
-        shaft.elements(),
         shaft.nodes(),
         shaft.mass()
     );
     let (mut x, mut node) = (0.0, 0);
     for (i, s) in shaft.sections.iter().enumerate() {
-        let _ = writeln!(
-            out,
-            "    section {}: x = {:.4} to {:.4} m (nodes {} to {}), D = {} m, d = {} m, E = {:.4e} Pa, rho = {} kg/m^3, A = {:.4e} m^2, I = {:.4e} m^4",
-            i + 1,
-            x,
-            x + s.length,
-            node,
-            node + s.elements,
-            s.outer_diameter,
-            s.inner_diameter,
-            s.youngs_modulus,
-            s.density,
-            s.area(),
-            s.inertia()
-        );
+        if s.is_uniform_rayleigh() && s.layers.is_empty() {
+            let _ = writeln!(
+                out,
+                "    section {}: x = {:.4} to {:.4} m (nodes {} to {}), D = {} m, d = {} m, E = {:.4e} Pa, rho = {} kg/m^3, A = {:.4e} m^2, I = {:.4e} m^4",
+                i + 1,
+                x,
+                x + s.length,
+                node,
+                node + s.elements,
+                s.outer_diameter,
+                s.inner_diameter,
+                s.youngs_modulus,
+                s.density,
+                s.area(),
+                s.inertia()
+            );
+        } else {
+            let _ = writeln!(
+                out,
+                "    section {}: x = {:.4} to {:.4} m (nodes {} to {}), {}",
+                i + 1,
+                x,
+                x + s.length,
+                node,
+                node + s.elements,
+                tube_text(s)
+            );
+        }
+        for (j, layer) in s.layers.iter().enumerate() {
+            let _ = writeln!(out, "      layer {}: {}", j + 2, tube_text(layer));
+        }
         x += s.length;
         node += s.elements;
     }
+}
+
+/// A Timoshenko, tapered or layer tube in words: diameters, material, beam theory.
+fn tube_text(s: &Section) -> String {
+    let diameters = if s.is_uniform() {
+        format!("D = {} m, d = {} m", s.outer_diameter, s.inner_diameter)
+    } else {
+        format!(
+            "tapered D = {} to {} m, d = {} to {} m",
+            s.outer_diameter, s.outer_diameter_right, s.inner_diameter, s.inner_diameter_right
+        )
+    };
+    let beam = match s.beam {
+        Beam::Rayleigh => "Rayleigh".to_string(),
+        Beam::Timoshenko { shear_modulus, shear_coefficient } => {
+            let e = s.element(0);
+            let kappa = e.shear.map_or(0.0, |kg| kg / shear_modulus);
+            let given = if shear_coefficient.is_some() { "given" } else { "Cowper" };
+            format!(
+                "Timoshenko, G = {shear_modulus:.4e} Pa, kappa = {kappa:.4} ({given}{}), Phi = {:.4e}",
+                if s.is_uniform() { "" } else { ", first element" },
+                e.shear_parameter()
+            )
+        }
+    };
+    format!("{diameters}, E = {:.4e} Pa, rho = {} kg/m^3, {beam}", s.youngs_modulus, s.density)
 }
 
 /// The `check` summary: DOF counts, ring stiffnesses (per ring), branch inductances, P_cr.

@@ -91,24 +91,14 @@ pub enum Refusal {
     /// A class other than `ShaftElement`, `DiskElement` and `BearingElement`.
     #[error("rotorshunt imports ShaftElement, DiskElement and BearingElement only; a {0} has no equivalent")]
     UnknownClass(String),
-    /// `shear_effects = true`.
-    #[error("shear_effects = true makes it a Timoshenko element, and rotorshunt's shaft is made of Rayleigh beams: build the rotor in ROSS with shear_effects=False and save it again")]
-    Timoshenko,
+    /// A `shear_method_calc` other than ROSS's `cowper` and `hutchinson`.
+    #[error(
+        "shear_method_calc = \"{0}\": ROSS 2.3.0 computes the shear coefficient by \"cowper\" or \"hutchinson\" only"
+    )]
+    ShearMethod(String),
     /// `rotary_inertia = false` or `gyroscopic = false`.
-    #[error("{0} = false, but rotorshunt's Rayleigh beam always has rotary inertia and gyroscopic effects: build it in ROSS with {0}=True")]
+    #[error("{0} = false, but rotorshunt's beam elements always have rotary inertia and gyroscopic effects: build it in ROSS with {0}=True")]
     EffectOff(&'static str),
-    /// Different diameters at the two ends.
-    #[error("{left_key} = {left} m but {right_key} = {right} m: a tapered element, and rotorshunt's sections are uniform: split it in ROSS into uniform elements")]
-    Tapered {
-        /// `odl` or `idl`.
-        left_key: &'static str,
-        /// Its value (m).
-        left: f64,
-        /// `odr` or `idr`.
-        right_key: &'static str,
-        /// Its value (m).
-        right: f64,
-    },
     /// A static axial force or torque.
     #[error("{key} = {value} {unit}: a static preload whose stiffness ROSS adds to K; rotorshunt's axial load is the problem's P(t) ([load])", value = crate::analysis::limits::number(*value))]
     Preload {

@@ -1,10 +1,12 @@
-//! From ROSS's elements to rotorshunt's general form: materials, sections, disks and
-//! plain bearings, or a refusal naming the element. The rules are in
+//! From ROSS's elements to rotorshunt's general form: materials, sections (Rayleigh or
+//! Timoshenko, uniform or tapered), disks and plain bearings, or a refusal naming the
+//! element. The rules are in
 //! `docs/ross-format.md` (section "Mapping to rotorshunt").
 
 use super::error::{ElementRef, Refusal, RossErrorKind};
 use super::parse::{Bearing, Coefficient, RossFile, Shaft};
 use super::table;
+use crate::model::element;
 
 /// Relative tolerance within which consecutive shaft elements have "the same" length and
 /// may share a section. ROSS writes lengths in Python's shortest round-trip form, and a
@@ -44,9 +46,15 @@ pub struct MaterialOut {
     pub youngs_modulus: f64,
     /// ρ (kg/m³).
     pub density: f64,
+    /// G (Pa), ROSS's `G_s`.
+    pub shear_modulus: f64,
+    /// Whether a Timoshenko section uses the material (then its `shear_modulus` is
+    /// written).
+    pub timoshenko: bool,
 }
 
-/// A `[[sections]]` entry: a run of consecutive uniform ROSS shaft elements.
+/// A `[[sections]]` entry: a run of consecutive uniform ROSS shaft elements of one beam
+/// theory, or one tapered element.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SectionOut {
     /// Total length (m), the sum of the elements' L.
@@ -55,6 +63,12 @@ pub struct SectionOut {
     pub outer_diameter: f64,
     /// Inner diameter (m).
     pub inner_diameter: f64,
+    /// Outer and inner diameter at the right end (m), ROSS's odr and idr, when they
+    /// differ from the left end's (a tapered element, alone in its section).
+    pub right: Option<(f64, f64)>,
+    /// Timoshenko elements (ROSS's `shear_effects = true`), with the shear coefficient to
+    /// write: `None` for ROSS's default Cowper formula (rotorshunt's default too).
+    pub timoshenko: Option<Option<f64>>,
     /// Material name (a [`MaterialOut::name`]).
     pub material: String,
     /// Number of elements.
@@ -65,6 +79,26 @@ pub struct SectionOut {
     pub tags: (String, String),
     /// L of the first element (m).
     pub element_length: f64,
+    /// Concentric layers over the section's elements (ROSS's other elements of the same
+    /// `n`s), outermost last.
+    pub layers: Vec<LayerOut>,
+}
+
+/// A `[[sections.layers]]` entry: ROSS's elements stacked on a section's elements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LayerOut {
+    /// Outer diameter (m).
+    pub outer_diameter: f64,
+    /// Inner diameter (m).
+    pub inner_diameter: f64,
+    /// Outer and inner diameter at the right end (m), when tapered.
+    pub right: Option<(f64, f64)>,
+    /// As [`SectionOut::timoshenko`].
+    pub timoshenko: Option<Option<f64>>,
+    /// Material name (a [`MaterialOut::name`]).
+    pub material: String,
+    /// Tags of the first and last element of the layer.
+    pub tags: (String, String),
 }
 
 /// A `[[disks]]` entry.
@@ -120,10 +154,11 @@ fn check(key: &str, value: f64, positive: bool) -> Result<(), Refusal> {
 
 /// Map a parsed file; `speed` (rad/s) evaluates tabulated bearing coefficients.
 pub fn map(file: &RossFile, speed: Option<f64>) -> Result<Imported, RossErrorKind> {
-    let shafts = shafts(file)?;
-    let last_node = shafts.len() as i64;
-    let (materials, element_material) = materials(&shafts);
-    let sections = sections(&shafts, &materials, &element_material);
+    let groups = shafts(file)?;
+    let last_node = groups.len() as i64;
+    let flat: Vec<&Shaft> = groups.iter().flatten().copied().collect();
+    let (materials, element_material) = materials(&flat);
+    let sections = sections(&groups, &materials, &element_material);
     let mut disks = Vec::new();
     for d in &file.disks {
         let fail = |r| refused("DiskElement", &d.tag, Some(d.n), r);
@@ -168,37 +203,44 @@ pub fn map(file: &RossFile, speed: Option<f64>) -> Result<Imported, RossErrorKin
     Ok(Imported { ross_version: file.ross_version.clone(), speed, materials, sections, disks, bearings })
 }
 
-/// The shaft elements sorted by `n`, each checked, numbered 0…N−1.
-fn shafts(file: &RossFile) -> Result<Vec<&Shaft>, RossErrorKind> {
+/// The shaft elements grouped by `n`, each checked, numbered 0…N−1: per `n` the
+/// element or, for ROSS's concentric layers (several elements of one `n`), all of them,
+/// innermost first (by inner diameter, then tag).
+fn shafts(file: &RossFile) -> Result<Vec<Vec<&Shaft>>, RossErrorKind> {
     let mut shafts: Vec<&Shaft> = file.shafts.iter().collect();
-    shafts.sort_by(|a, b| (a.n, &a.tag).cmp(&(b.n, &b.tag)));
+    // A total order even on a NaN diameter (refused below, after sorting).
+    shafts.sort_by(|a, b| a.n.cmp(&b.n).then(a.idl.total_cmp(&b.idl)).then_with(|| a.tag.cmp(&b.tag)));
     if shafts.is_empty() {
         return Err(RossErrorKind::Schema {
             key: String::new(),
             message: "the file has no ShaftElement: a rotor needs a shaft".into(),
         });
     }
-    for (i, s) in shafts.iter().enumerate() {
+    let mut groups: Vec<Vec<&Shaft>> = Vec::new();
+    for s in shafts {
         let fail = |r| refused("ShaftElement", &s.tag, Some(s.n), r);
         shaft(s).map_err(fail)?;
-        let i = i as i64;
+        if let Some(group) = groups.last_mut().filter(|g| g[0].n == s.n) {
+            // A concentric layer: ROSS places nodes by the elements' L, so one n has one L.
+            if s.L != group[0].L {
+                let message = format!(
+                    "n = {} is also the n of ShaftElement \"{}\" (a concentric layer), but L = {} m there and {} m here: the layers of one element span the same nodes",
+                    s.n, group[0].tag, group[0].L, s.L
+                );
+                return Err(fail(Refusal::Numbering(message)));
+            }
+            group.push(s);
+            continue;
+        }
+        let i = groups.len() as i64;
         if s.n != i {
-            let message = if i > 0 && shafts[i as usize - 1].n == s.n {
-                format!(
-                    "n = {} is also the n of ShaftElement \"{}\": ROSS stacks elements of one n as concentric layers, which rotorshunt does not model",
-                    s.n,
-                    shafts[i as usize - 1].tag
-                )
-            } else {
-                format!(
-                    "n = {} but no shaft element has n = {i}: ROSS numbers a shaft's elements 0 to N−1, each once",
-                    s.n
-                )
-            };
+            let message =
+                format!("n = {} but no shaft element has n = {i}: ROSS numbers a shaft's elements 0 to N−1", s.n);
             return Err(fail(Refusal::Numbering(message)));
         }
+        groups.push(vec![s]);
     }
-    Ok(shafts)
+    Ok(groups)
 }
 
 /// One shaft element's refusals, in the order docs/ross-format.md lists them.
@@ -211,7 +253,16 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     check("material.rho", s.material.rho, true)?;
     check("material.E", s.material.E, true)?;
     if s.shear_effects {
-        return Err(Refusal::Timoshenko);
+        check("material.G_s", s.material.G_s, true)?;
+        let poisson = s.material.E / (2.0 * s.material.G_s) - 1.0;
+        if !(poisson > -1.0 && poisson < 0.5) {
+            let rule = format!(
+                "Poisson's ratio E/(2 G_s) - 1 = {} must lie between -1 and 0.5 (an isotropic material) for a Timoshenko element",
+                crate::analysis::limits::number(poisson)
+            );
+            return Err(Refusal::Value { key: "material.G_s".into(), value: s.material.G_s, rule });
+        }
+        shear_method(s)?;
     }
     if !s.rotary_inertia {
         return Err(Refusal::EffectOff("rotary_inertia"));
@@ -219,15 +270,11 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     if !s.gyroscopic {
         return Err(Refusal::EffectOff("gyroscopic"));
     }
-    if s.odl != s.odr {
-        return Err(Refusal::Tapered { left_key: "odl", left: s.odl, right_key: "odr", right: s.odr });
-    }
-    if s.idl != s.idr {
-        return Err(Refusal::Tapered { left_key: "idl", left: s.idl, right_key: "idr", right: s.idr });
-    }
-    if s.idl >= s.odl {
-        let rule = format!("the inner diameter must be below the outer one, odl = {} m", s.odl);
-        return Err(Refusal::Value { key: "idl".into(), value: s.idl, rule });
+    for (key, inner, outer_key, outer) in [("idl", s.idl, "odl", s.odl), ("idr", s.idr, "odr", s.odr)] {
+        if inner >= outer {
+            let rule = format!("the inner diameter must be below the outer one, {outer_key} = {} m", outer);
+            return Err(Refusal::Value { key: key.into(), value: inner, rule });
+        }
     }
     for (key, value, unit) in [("axial_force", s.axial_force, "N"), ("torque", s.torque, "N·m")] {
         if value != 0.0 {
@@ -242,6 +289,21 @@ fn shaft(s: &Shaft) -> Result<(), Refusal> {
     Ok(())
 }
 
+/// The shear coefficient to write for a Timoshenko element: `None` for ROSS's default
+/// `cowper` (rotorshunt's default formula, evaluated on the same diameters), the value
+/// ROSS computes for `hutchinson`; any other name is not ROSS's.
+fn shear_method(s: &Shaft) -> Result<Option<f64>, Refusal> {
+    match s.shear_method_calc.as_deref().unwrap_or("cowper") {
+        "cowper" => Ok(None),
+        "hutchinson" => {
+            let poisson = s.material.E / (2.0 * s.material.G_s) - 1.0;
+            let ratio = ((s.idl + s.idr) / 2.0) / ((s.odl + s.odr) / 2.0);
+            Ok(Some(element::ross_hutchinson_shear_coefficient(poisson, ratio)))
+        }
+        other => Err(Refusal::ShearMethod(other.to_string())),
+    }
+}
+
 /// Distinct materials in order of first use, and each element's material index. ROSS
 /// keeps a material per element; one name with different values becomes `name-2`, …:
 /// the first free suffix, skipping every name the file uses itself (a real `Steel-2`)
@@ -252,7 +314,9 @@ fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
     let mut index = Vec::with_capacity(shafts.len());
     for s in shafts {
         let m = &s.material;
-        let found = out.iter().position(|o| o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho);
+        let found = out.iter().position(|o| {
+            o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho && o.shear_modulus == m.G_s
+        });
         let i = found.unwrap_or_else(|| {
             let taken = |name: &str| out.iter().any(|o| o.name == name);
             let name = if taken(&m.name) {
@@ -265,43 +329,87 @@ fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
             } else {
                 m.name.clone()
             };
-            out.push(MaterialOut { name, ross_name: m.name.clone(), youngs_modulus: m.E, density: m.rho });
+            out.push(MaterialOut {
+                name,
+                ross_name: m.name.clone(),
+                youngs_modulus: m.E,
+                density: m.rho,
+                shear_modulus: m.G_s,
+                timoshenko: false,
+            });
             out.len() - 1
         });
+        out[i].timoshenko |= s.shear_effects;
         index.push(i);
     }
     (out, index)
 }
 
-/// Runs of consecutive elements with the same diameters, material and length.
-fn sections(shafts: &[&Shaft], materials: &[MaterialOut], material: &[usize]) -> Vec<SectionOut> {
+/// What makes a tube (an element, or a layer of one) a section's or a layer's: its
+/// material, diameters (and right-end ones when tapered) and beam theory.
+type Tube = (usize, f64, f64, Option<(f64, f64)>, Option<Option<f64>>);
+
+fn tube(s: &Shaft, material: usize) -> Tube {
+    let right = (s.odl != s.odr || s.idl != s.idr).then_some((s.odr, s.idr));
+    // Checked by `shaft` before: a Timoshenko element's method is ROSS's.
+    let timoshenko = s.shear_effects.then(|| shear_method(s).ok().flatten());
+    (material, s.odl, s.idl, right, timoshenko)
+}
+
+/// Runs of consecutive `n` whose elements (and layers) are uniform with the same
+/// diameters, materials, beam theory and length; an `n` with a tapered element is a
+/// section of its own.
+fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize]) -> Vec<SectionOut> {
     let mut out: Vec<SectionOut> = Vec::new();
-    let mut last_material = usize::MAX;
-    for (s, &m) in shafts.iter().zip(material) {
+    let mut last: Vec<Tube> = Vec::new();
+    let mut index = 0;
+    for group in groups {
+        let tubes: Vec<Tube> = group.iter().enumerate().map(|(k, s)| tube(s, material[index + k])).collect();
+        index += group.len();
+        let s = group[0];
+        let uniform = tubes.iter().all(|t| t.3.is_none());
         let same = out.last().is_some_and(|sec| {
-            m == last_material
-                && sec.outer_diameter == s.odl
-                && sec.inner_diameter == s.idl
-                && (s.L - sec.element_length).abs() <= SAME_LENGTH_RTOL * sec.element_length
+            uniform && tubes == last && (s.L - sec.element_length).abs() <= SAME_LENGTH_RTOL * sec.element_length
         });
         match out.last_mut().filter(|_| same) {
             Some(sec) => {
                 sec.length += s.L;
                 sec.elements += 1;
                 sec.tags.1 = s.tag.clone();
+                for (layer, e) in sec.layers.iter_mut().zip(&group[1..]) {
+                    layer.tags.1 = e.tag.clone();
+                }
             }
-            None => out.push(SectionOut {
-                length: s.L,
-                outer_diameter: s.odl,
-                inner_diameter: s.idl,
-                material: materials[m].name.clone(),
-                elements: 1,
-                first_n: s.n,
-                tags: (s.tag.clone(), s.tag.clone()),
-                element_length: s.L,
-            }),
+            None => {
+                let layers = group[1..]
+                    .iter()
+                    .zip(&tubes[1..])
+                    .map(|(e, t)| LayerOut {
+                        outer_diameter: t.1,
+                        inner_diameter: t.2,
+                        right: t.3,
+                        timoshenko: t.4,
+                        material: materials[t.0].name.clone(),
+                        tags: (e.tag.clone(), e.tag.clone()),
+                    })
+                    .collect();
+                let t = &tubes[0];
+                out.push(SectionOut {
+                    length: s.L,
+                    outer_diameter: t.1,
+                    inner_diameter: t.2,
+                    right: t.3,
+                    timoshenko: t.4,
+                    material: materials[t.0].name.clone(),
+                    elements: 1,
+                    first_n: s.n,
+                    tags: (s.tag.clone(), s.tag.clone()),
+                    element_length: s.L,
+                    layers,
+                })
+            }
         }
-        last_material = m;
+        last = tubes;
     }
     out
 }

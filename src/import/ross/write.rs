@@ -32,6 +32,41 @@ fn line(out: &mut String, assignment: &str, comment: &str) {
     out.push_str(&format!("{assignment}{}# {}\n", " ".repeat(pad), plain(comment)));
 }
 
+/// The diameters, material and beam theory of a section or a layer.
+fn tube_lines(
+    out: &mut String,
+    right: Option<(f64, f64)>,
+    outer: f64,
+    inner: f64,
+    material: &str,
+    timoshenko: Option<Option<f64>>,
+) {
+    match right {
+        None => {
+            line(out, &format!("outer_diameter = {}", num(outer)), "m, ROSS odl = odr");
+            line(out, &format!("inner_diameter = {}", num(inner)), "m, ROSS idl = idr");
+        }
+        Some((outer_right, inner_right)) => {
+            line(out, &format!("outer_diameter = {}", num(outer)), "m, ROSS odl (tapered)");
+            line(out, &format!("inner_diameter = {}", num(inner)), "m, ROSS idl");
+            line(out, &format!("outer_diameter_right = {}", num(outer_right)), "m, ROSS odr");
+            line(out, &format!("inner_diameter_right = {}", num(inner_right)), "m, ROSS idr");
+        }
+    }
+    line(out, &format!("material = {}", string(material)), "");
+    if let Some(kappa) = timoshenko {
+        line(out, "beam = \"timoshenko\"", "ROSS shear_effects = true (rotary_inertia, gyroscopic = true)");
+        match kappa {
+            None => out.push_str("# shear coefficient: Cowper's, as ROSS's shear_method_calc = \"cowper\"\n"),
+            Some(k) => line(
+                out,
+                &format!("shear_coefficient = {}", num(k)),
+                "κ (−), as ROSS computes it for shear_method_calc = \"hutchinson\"",
+            ),
+        }
+    }
+}
+
 /// The problem file of an imported rotor. `source` is the ROSS file as given.
 pub fn render(r: &Imported, source: &str) -> String {
     let version = r.ross_version.as_deref().unwrap_or("(version not recorded)");
@@ -46,8 +81,9 @@ pub fn render(r: &Imported, source: &str) -> String {
     ));
     out.push_str(
         "# The mapping is in docs/ross-format.md. Units: SI, rad/s. ROSS's axial and torsional\n\
-         # coefficients (kzz, czz, mzz, G_s) act on motion rotorshunt's lateral model does not\n\
-         # have, and are left out. There is no vibration ring: add [[rings]] by editing.\n",
+         # coefficients (kzz, czz, mzz; G_s of Rayleigh elements) act on motion rotorshunt's\n\
+         # lateral model does not have, and are left out. There is no vibration ring: add\n\
+         # [[rings]] by editing.\n",
     );
     out.push_str("version = 1\n");
     out.push_str(&format!("title = {}\n", string(&format!("{stem} (imported from ROSS)"))));
@@ -71,6 +107,9 @@ pub fn render(r: &Imported, source: &str) -> String {
         line(&mut out, &format!("name = {}", string(&m.name)), "");
         line(&mut out, &format!("youngs_modulus = {}", num(m.youngs_modulus)), "E (Pa), ROSS material.E");
         line(&mut out, &format!("density = {}", num(m.density)), "ρ (kg/m³), ROSS material.rho");
+        if m.timoshenko {
+            line(&mut out, &format!("shear_modulus = {}", num(m.shear_modulus)), "G (Pa), ROSS material.G_s");
+        }
     }
     for s in &r.sections {
         out.push('\n');
@@ -86,14 +125,29 @@ pub fn render(r: &Imported, source: &str) -> String {
             &format!("length = {}", num(s.length)),
             &format!("m: Σ L of {} element(s) of L = {} m", s.elements, num(s.element_length)),
         );
-        line(&mut out, &format!("outer_diameter = {}", num(s.outer_diameter)), "m, ROSS odl = odr");
-        line(&mut out, &format!("inner_diameter = {}", num(s.inner_diameter)), "m, ROSS idl = idr");
-        line(&mut out, &format!("material = {}", string(&s.material)), "");
-        line(
-            &mut out,
-            &format!("elements = {}", s.elements),
-            "Rayleigh elements (ROSS: shear_effects = false, rotary_inertia and gyroscopic = true)",
-        );
+        tube_lines(&mut out, s.right, s.outer_diameter, s.inner_diameter, &s.material, s.timoshenko);
+        let kind = if s.timoshenko.is_some() { "Timoshenko" } else { "Rayleigh" };
+        let note = match s.timoshenko {
+            None => "Rayleigh elements (ROSS: shear_effects = false, rotary_inertia and gyroscopic = true)".to_string(),
+            Some(_) => format!("{kind} elements"),
+        };
+        line(&mut out, &format!("elements = {}", s.elements), &note);
+        for layer in &s.layers {
+            let from = if layer.tags.0 == layer.tags.1 {
+                format!("ROSS ShaftElement \"{}\", a concentric layer", layer.tags.0)
+            } else {
+                format!("ROSS ShaftElements \"{}\" … \"{}\", concentric layers", layer.tags.0, layer.tags.1)
+            };
+            line(&mut out, "[[sections.layers]]", &from);
+            tube_lines(
+                &mut out,
+                layer.right,
+                layer.outer_diameter,
+                layer.inner_diameter,
+                &layer.material,
+                layer.timoshenko,
+            );
+        }
     }
     for d in &r.disks {
         out.push('\n');
