@@ -270,3 +270,91 @@ fn real_coordinates_reproduce_the_complex_unbalance_response() {
         }
     }
 }
+
+/// The fast path against the DSTM on a chart of the anisotropic rotor: the same bound as
+/// tests/convergence.rs puts on the fast path's step rule (|Δ max|μ|| / max(1, max|μ|));
+/// the DSTM at its 4096 reference steps is ~1e-8 from converged.
+const PATHS_AGREE: f64 = 1e-5;
+
+#[test]
+fn dstm_and_fast_path_agree_on_a_chart_of_the_anisotropic_rotor() {
+    use rotorshunt::analysis::chart::chart;
+    use rotorshunt::analysis::floquet::FloquetSystem;
+    use rotorshunt::analysis::{MonodromyMethod, Rotor};
+    let path = common::root().join("tests/fixtures/aniso/stepped-aniso.toml");
+    let p = Problem::from_path(&path, &["analysis.reduced_modes=4".into()]).unwrap();
+    let rotor = Rotor::new(&p.model).unwrap();
+    assert!(rotor.real);
+    let fast = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
+    let mut reference = p.settings.clone();
+    reference.method = MonodromyMethod::Dstm;
+    let dstm = FloquetSystem::new(&rotor, &reference, p.model.speed).unwrap();
+    let phis: Vec<f64> = (0..40).map(|i| 300.0 + 95.0 * i as f64).collect();
+    let betas = [0.1, 0.3, 0.6];
+    let a = chart(&fast, &phis, &betas, &rotorshunt::progress::Silent);
+    let b = chart(&dstm, &phis, &betas, &rotorshunt::progress::Silent);
+    let (mut worst, mut unstable) = (0.0f64, 0);
+    for (x, y) in a.points.iter().zip(&b.points) {
+        let d = (x.max_multiplier - y.max_multiplier).abs() / x.max_multiplier.max(y.max_multiplier).max(1.0);
+        worst = worst.max(d);
+        assert_eq!(x.stable, y.stable, "verdicts at phi = {}, beta = {}", x.phi, x.beta);
+        unstable += usize::from(!x.stable);
+    }
+    eprintln!("anisotropic chart: worst difference {worst:.2e}, {unstable} unstable points of {}", a.points.len());
+    assert!(worst < PATHS_AGREE, "{worst:e}");
+    assert!(unstable > 0, "the chart crosses instability regions");
+    assert_eq!(a.failed + b.failed, 0);
+}
+
+/// The two paths' monodromies at the same reduced basis (span of the complex one's M
+/// modes in both planes): only round-off apart (measured 8.2e-12 on max|μ|).
+const FLOQUET_CONTINUITY: f64 = 1e-9;
+
+#[test]
+fn real_coordinates_reproduce_the_complex_floquet_chart_and_band() {
+    use rotorshunt::analysis::chart::chart;
+    use rotorshunt::analysis::floquet::FloquetSystem;
+    use rotorshunt::analysis::Rotor;
+    let complex = common::load("fig11-closed-2000.toml", &[]);
+    let real = common::load("fig11-closed-2000.toml", &["analysis.coordinates=\"real\""]);
+    let (ra, rb) = (Rotor::new(&complex.model).unwrap(), Rotor::new(&real.model).unwrap());
+    let a = FloquetSystem::new(&ra, &complex.settings, 2000.0).unwrap();
+    let b = FloquetSystem::new(&rb, &real.settings, 2000.0).unwrap();
+    let phis: Vec<f64> = (0..30).map(|i| 400.0 + 97.0 * i as f64).collect();
+    let betas = [0.2, 0.5, 1.0];
+    let silent = rotorshunt::progress::Silent;
+    let (x, y) = (chart(&a, &phis, &betas, &silent), chart(&b, &phis, &betas, &silent));
+    let mut worst = 0.0f64;
+    for (p, q) in x.points.iter().zip(&y.points) {
+        let d = (p.max_multiplier - q.max_multiplier).abs() / p.max_multiplier.max(1.0);
+        worst = worst.max(d);
+        assert!(
+            d < FLOQUET_CONTINUITY,
+            "phi = {}, beta = {}: {} vs {}",
+            p.phi,
+            p.beta,
+            p.max_multiplier,
+            q.max_multiplier
+        );
+        assert_eq!(p.stable, q.stable);
+    }
+    eprintln!("Floquet continuity: worst difference {worst:.2e}");
+    // The README's band: the same edges from both paths (each path's seeds: the real
+    // coordinates also probe the f+f and b+b sums, which an isotropic rotor leaves stable).
+    use rotorshunt::analysis::modes::whirl_modes_of;
+    use rotorshunt::analysis::regions::{band, RegionSettings};
+    use rotorshunt::analysis::Interval;
+    let complex = common::load("design-widest-band.toml", &[]);
+    let real = common::load("design-widest-band.toml", &["analysis.coordinates=\"real\""]);
+    let mut edges = Vec::new();
+    for p in [&complex, &real] {
+        let rotor = Rotor::new(&p.model).unwrap();
+        let fs = FloquetSystem::new(&rotor, &p.settings, 2000.0).unwrap();
+        let full = whirl_modes_of(&rotor, &p.settings, 2000.0).unwrap();
+        let b = band(&fs, &full, &RegionSettings::default(), Interval::new(100.0, 8000.0), 1230.0, 0.3).unwrap();
+        let found = b.band.expect("a stable band around 1230 rad/s");
+        edges.push((found.lo, found.hi));
+    }
+    eprintln!("band: complex {:?}, real {:?}", edges[0], edges[1]);
+    assert_eq!(edges[0], edges[1]);
+}
