@@ -147,7 +147,7 @@ fn every_coefficient_error_of_a_file_is_reported_at_once() {
             let kind = match e.kind {
                 ProblemErrorKind::TableSpeedsNotIncreasing { .. } => "speeds",
                 ProblemErrorKind::TableLength { values: 5, speeds: 6 } => "length",
-                ProblemErrorKind::NegativeStiffness { value, speed: None } if value == -2.0e6 => "negative",
+                ProblemErrorKind::NegativeStiffness { value: -2.0e6, speed: None } => "negative",
                 ProblemErrorKind::DampingNotSemiDefinite { .. } => "damping",
                 _ => "other",
             };
@@ -252,7 +252,7 @@ fn real_coordinates_reproduce_the_complex_unbalance_response() {
         let rb = unbalance_response(&b, &speeds, &probes(&b, &[]).unwrap(), &|| {}).unwrap();
         for (x, y) in ra.probes.iter().zip(&rb.probes) {
             let o = y.orbit.as_ref().unwrap();
-            for i in 0..speeds.len() {
+            for (i, speed) in speeds.iter().enumerate() {
                 let top = x.amplitude.iter().copied().fold(0.0, f64::max);
                 assert!(top > 0.0, "{name}: an unbalance");
                 let d = (x.amplitude[i] - y.amplitude[i]).abs() / top;
@@ -260,7 +260,7 @@ fn real_coordinates_reproduce_the_complex_unbalance_response() {
                     d < RESPONSE_CONTINUITY,
                     "{name} {} at {}: {} vs {} (top {top})",
                     x.probe.name,
-                    speeds[i],
+                    speed,
                     x.amplitude[i],
                     y.amplitude[i]
                 );

@@ -282,6 +282,7 @@ fn warning_kinds() -> Vec<&'static str> {
         W::PeripheralSpeedRpm { rpm: x, radius: x, peripheral: x, limit: x },
         W::RangeAboveWhirls { lo: x, hi: x, largest_sum: x, speed: x },
         W::RangeBelowWhirls { lo: x, hi: x, smallest_sum: x, order: 1, speed: x },
+        W::OutsideTable { speed: x, lo: x, hi: x },
     ];
     all.iter()
         .map(|w| match w {
@@ -292,7 +293,8 @@ fn warning_kinds() -> Vec<&'static str> {
             | W::PeripheralSpeed { .. }
             | W::PeripheralSpeedRpm { .. }
             | W::RangeAboveWhirls { .. }
-            | W::RangeBelowWhirls { .. } => w.name(),
+            | W::RangeBelowWhirls { .. }
+            | W::OutsideTable { .. } => w.name(),
         })
         .collect()
 }

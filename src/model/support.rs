@@ -206,13 +206,15 @@ fn solve_dense(mut a: Vec<Vec<f64>>, mut r: Vec<f64>) -> Vec<f64> {
         a.swap(col, p);
         r.swap(col, p);
         let pivot = a[col][col];
-        for row in col + 1..n {
-            let f = a[row][col] / pivot;
+        let (top, rest) = a.split_at_mut(col + 1);
+        let pivot_row = &top[col];
+        for (offset, row) in rest.iter_mut().enumerate() {
+            let f = row[col] / pivot;
             if f != 0.0 {
-                for k in col..n {
-                    a[row][k] -= f * a[col][k];
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x -= f * p;
                 }
-                r[row] -= f * r[col];
+                r[col + 1 + offset] -= f * r[col];
             }
         }
     }

@@ -271,9 +271,12 @@ fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
 /// built semi-definite (e.g. c·[[1, 1], [1, 1]]) must not be refused for that.
 const DAMPING_ROUND_OFF: f64 = 1e-12;
 
+/// A support's table speeds (rad/s) and its eight coefficients ([`COEFFICIENT_NAMES`]).
+type Coefficients = (Vec<f64>, [Vec<f64>; 8]);
+
 /// The speeds and the eight coefficients of a bearing or seal at `key`, or every failure
 /// of its coefficient checks.
-fn coefficients(key: &str, b: &BearingFile) -> Result<(Vec<f64>, [Vec<f64>; 8]), Vec<Failure>> {
+fn coefficients(key: &str, b: &BearingFile) -> Result<Coefficients, Vec<Failure>> {
     let k = |name: &str| format!("{key}.{name}");
     let one = |x: f64| CoefficientFile::Constant(x);
     let mut failures = Vec::new();
@@ -350,13 +353,10 @@ fn coefficients(key: &str, b: &BearingFile) -> Result<(Vec<f64>, [Vec<f64>; 8]),
     let at = |i: usize, j: usize| if values[i].len() == 1 { values[i][0] } else { values[i][j] };
     let speed_of = |j: usize| (points > 1).then(|| speeds[j]);
     for i in [0, 3] {
-        for j in 0..values[i].len() {
-            if values[i][j] < 0.0 {
-                let entry = (source(i), K::NegativeStiffness { value: values[i][j], speed: speed_of(j) });
-                if !failures.contains(&entry) {
-                    failures.push(entry);
-                }
-                break;
+        if let Some((j, &value)) = values[i].iter().enumerate().find(|(_, v)| **v < 0.0) {
+            let entry = (source(i), K::NegativeStiffness { value, speed: speed_of(j) });
+            if !failures.contains(&entry) {
+                failures.push(entry);
             }
         }
     }
