@@ -62,6 +62,11 @@ fn problem_kind(k: &ProblemErrorKind) -> &'static str {
         K::PositionOffShaft { .. } => "PositionOffShaft",
         K::SupportsShareNode { .. } => "SupportsShareNode",
         K::RigidBody { .. } => "RigidBody",
+        K::NegativeStiffness { .. } => "NegativeStiffness",
+        K::DampingNotSemiDefinite { .. } => "DampingNotSemiDefinite",
+        K::TableSpeedsNotIncreasing { .. } => "TableSpeedsNotIncreasing",
+        K::TableLength { .. } => "TableLength",
+        K::Several { .. } => "Several",
         K::InnerNotBelowOuter { .. } => "InnerNotBelowOuter",
         K::ShaftLength { .. } => "ShaftLength",
         K::UnknownName { .. } => "UnknownName",
@@ -179,6 +184,11 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::PositionOffShaft { position: 0.0, length: 0.0 },
         ProblemErrorKind::SupportsShareNode { node: 0, first: s() },
         ProblemErrorKind::RigidBody { supports: 0 },
+        ProblemErrorKind::NegativeStiffness { value: -1.0, speed: None },
+        ProblemErrorKind::DampingNotSemiDefinite { c: [[0.0; 2]; 2], eigenvalue: -1.0, speed: None },
+        ProblemErrorKind::TableSpeedsNotIncreasing { index: 1, speed: 0.0, previous: 0.0 },
+        ProblemErrorKind::TableLength { values: 1, speeds: 2 },
+        ProblemErrorKind::Several { first: Box::new(ProblemErrorKind::NoBranches), more: Box::new([]) },
         ProblemErrorKind::InnerNotBelowOuter { inner: 0.0, outer: 0.0 },
         ProblemErrorKind::ShaftLength { total: 0.0 },
         ProblemErrorKind::UnknownName { what: rotorshunt::problem::NameOf::Ring, name: s(), known: Box::new([]) },
@@ -282,6 +292,7 @@ fn warning_kinds() -> Vec<&'static str> {
         W::PeripheralSpeedRpm { rpm: x, radius: x, peripheral: x, limit: x },
         W::RangeAboveWhirls { lo: x, hi: x, largest_sum: x, speed: x },
         W::RangeBelowWhirls { lo: x, hi: x, smallest_sum: x, order: 1, speed: x },
+        W::OutsideTable { speed: x, lo: x, hi: x },
     ];
     all.iter()
         .map(|w| match w {
@@ -292,7 +303,8 @@ fn warning_kinds() -> Vec<&'static str> {
             | W::PeripheralSpeed { .. }
             | W::PeripheralSpeedRpm { .. }
             | W::RangeAboveWhirls { .. }
-            | W::RangeBelowWhirls { .. } => w.name(),
+            | W::RangeBelowWhirls { .. }
+            | W::OutsideTable { .. } => w.name(),
         })
         .collect()
 }

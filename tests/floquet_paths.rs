@@ -144,7 +144,7 @@ fn mathieu_unstable(delta: f64, eps: f64) -> bool {
     });
     let b1 = Mat::from_fn(2, 2, |i, j| if (i, j) == (0, 1) { c64::new(-1.0, 0.0) } else { z });
     let sys = PeriodicSystem { b0, b1 };
-    let table = PhiTable::new(&sys, 1.0, eps, 32);
+    let table = PhiTable::new(&sys, 1.0, eps, 32, false);
     let mono = table.monodromy(&Symmetry::new(&sys), eps);
     // Undamped: stable multipliers lie on the unit circle to round-off (~1e-13).
     let p = FloquetPoint::from_monodromy(1.0, eps, &mono, 1.0 + 1e-9, PointStatus::Ok);

@@ -282,9 +282,9 @@ fn rigid_body_check_agrees_with_a_cholesky_of_k() {
     let mut one_bearing = base.clone();
     one_bearing.rings.clear();
     let mut two_bearings = one_bearing.clone();
-    two_bearings.bearings.push(Bearing { node: base.shaft.last_node(), stiffness: 1e7, damping: 0.0, mass: 0.0 });
+    two_bearings.bearings.push(Bearing::isotropic(base.shaft.last_node(), 1e7, 0.0, 0.0));
     let mut soft = two_bearings.clone();
-    soft.bearings[1].stiffness = 0.0;
+    soft.bearings[1] = Bearing::isotropic(soft.bearings[1].node, 0.0, 0.0, 0.0);
     for (name, m, supported) in [
         ("free-free", &free, false),
         ("one ring", &one_ring, false),
@@ -315,9 +315,10 @@ fn to_file(m: &Model, data: &rotorshunt::problem::ProblemFile) -> rotorshunt::pr
         .map(|b| BearingFile {
             node: Some(b.node as i64),
             position: None,
-            stiffness: b.stiffness,
-            damping: b.damping,
+            stiffness: Some(b.stiffness()),
+            damping: Some(b.damping()),
             mass: b.mass,
+            ..Default::default()
         })
         .collect();
     d.rings.truncate(m.rings.len());

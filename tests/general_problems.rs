@@ -200,7 +200,7 @@ fn general_form_errors_are_typed_with_line_and_key() {
     let cases: [(&str, KindTest, &str); 9] = [
         ("general_free_free", |k| matches!(k, K::RigidBody { supports: 0 }), "sections"),
         ("general_one_support", |k| matches!(k, K::RigidBody { supports: 1 }), "bearings[0]"),
-        ("general_two_supports_one_node", |k| matches!(k, K::SupportsShareNode { node: 4, .. }), "rings[0].position"),
+        ("general_two_supports_one_node", |k| matches!(k, K::SupportsShareNode { node: 4, .. }), "rings[1].position"),
         ("general_inner_not_below_outer", |k| matches!(k, K::InnerNotBelowOuter { .. }), "sections[1].inner_diameter"),
         ("general_sections_zero_length", |k| matches!(k, K::ShaftLength { .. }), "sections"),
         ("general_section_length_zero", |k| matches!(k, K::NotPositive(_)), "sections[0].length"),
@@ -255,7 +255,7 @@ fn general_form_errors_are_typed_with_line_and_key() {
     let p =
         common::load("stepped-bearing-ring.toml", &["sections[1].inner_diameter=0.03", "bearings[0].stiffness=2e7"]);
     assert_eq!(p.model.shaft.sections[1].inner_diameter, 0.03);
-    assert_eq!(p.model.bearings[0].stiffness, 2e7);
+    assert_eq!(p.model.bearings[0].stiffness(), 2e7);
 }
 
 /// Every bundled problem through `check`, `modes --json`, `floquet --json` and a small

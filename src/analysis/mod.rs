@@ -11,6 +11,7 @@ pub mod interval;
 pub mod limits;
 pub mod modes;
 mod operating;
+pub mod orbit;
 pub mod reduction;
 pub mod regions;
 pub mod response;

@@ -10,7 +10,7 @@ use super::{AnalysisError, Rotor, Settings};
 use crate::assembly::DofKind;
 use crate::linalg::{qep_residual_with, solve_qep, solve_qep_definite, QepNorms};
 use crate::model::Model;
-use faer::{c64, Mat, MatRef};
+use faer::{c64, Mat, MatRef, Par};
 use serde::Serialize;
 
 /// Shift σ of Eq. (18) in 1/s. A passive system has no eigenvalue with Re λ > 0, so a
@@ -69,19 +69,30 @@ impl Serialize for ModeFlag {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Whirl {
-    /// Im λ > 0: whirls with the spin.
+    /// Im λ > 0 (complex coordinates), or every node's orbit forward (real coordinates):
+    /// whirls with the spin.
     Forward,
-    /// Im λ < 0: whirls against the spin.
+    /// Im λ < 0, or every node's orbit backward: whirls against the spin.
     Backward,
+    /// Real coordinates only: some nodes whirl forward and others backward, or every
+    /// orbit is a line ([`super::orbit::classify`]).
+    Mixed,
 }
 
 impl Whirl {
-    /// `f` or `b`, as in the paper's ω_f, ω_b.
+    /// `f`, `b` or `m`, as in the paper's ω_f, ω_b.
     pub fn letter(self) -> char {
         match self {
             Whirl::Forward => 'f',
             Whirl::Backward => 'b',
+            Whirl::Mixed => 'm',
         }
+    }
+
+    /// The directions a model's whirls may take: forward and backward in complex
+    /// coordinates, and mixed too in real ones.
+    pub fn all() -> [Whirl; 3] {
+        [Whirl::Forward, Whirl::Backward, Whirl::Mixed]
     }
 }
 
@@ -115,6 +126,11 @@ pub struct WhirlMode {
     pub eigenvalue: [f64; 2],
     /// Relative QEP residual (see [`crate::linalg::qep_residual`]).
     pub residual: f64,
+    /// Real coordinates only: κ = ±minor/major of the largest node orbit (positive
+    /// forward, [`super::orbit::Orbit`]); absent in complex coordinates, where every
+    /// orbit is a circle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ellipticity: Option<f64>,
     /// Why the numbers are not to be trusted (absent, and not serialised, when they are).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub flag: Option<ModeFlag>,
@@ -152,9 +168,20 @@ impl ModesResult {
     pub fn backward(&self) -> impl Iterator<Item = &WhirlMode> {
         self.modes.iter().filter(|m| m.whirl == Whirl::Backward)
     }
-    /// The lowest `count` forward and `count` backward whirls, sorted by frequency.
+    /// Mixed whirls (real coordinates only), lowest first.
+    pub fn mixed(&self) -> impl Iterator<Item = &WhirlMode> {
+        self.modes.iter().filter(|m| m.whirl == Whirl::Mixed)
+    }
+    /// The lowest `count` forward, `count` backward and `count` mixed whirls, sorted by
+    /// frequency.
     pub fn lowest(&self, count: usize) -> Vec<WhirlMode> {
-        let mut v: Vec<WhirlMode> = self.forward().take(count).chain(self.backward().take(count)).cloned().collect();
+        let mut v: Vec<WhirlMode> = self
+            .forward()
+            .take(count)
+            .chain(self.backward().take(count))
+            .chain(self.mixed().take(count))
+            .cloned()
+            .collect();
         v.sort_by(|a, b| a.frequency.total_cmp(&b.frequency));
         v
     }
@@ -167,6 +194,9 @@ pub fn whirl_modes(model: &Model, settings: &Settings, speed: f64) -> Result<Mod
 
 /// Whirl modes of a prepared rotor at speed Ω (rad/s).
 pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesResult, AnalysisError> {
+    if rotor.real {
+        return real_modes(rotor, settings, speed);
+    }
     let sys = &rotor.system;
     let d = sys.damping_at(speed);
     let k = sys.stiffness_at(rotor.static_load());
@@ -254,6 +284,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
                 electrical_fraction: fraction,
                 eigenvalue: [lambda.re, lambda.im],
                 residual,
+                ellipticity: None,
                 flag,
             },
         });
@@ -378,4 +409,213 @@ fn undamped_rayleigh(
 pub fn branch_letter(branch: usize) -> String {
     const LETTERS: [&str; 8] = ["r", "s", "t", "u", "v", "w", "x", "y"];
     LETTERS.get(branch).map(|s| s.to_string()).unwrap_or_else(|| format!("e{}-", branch + 1))
+}
+
+/// Relative distance below which two eigenvalues of the real coordinates are one
+/// degenerate whirl frequency: an isotropic rotor at rest has each whirl twice (its
+/// forward and backward circles), found to ~1e-14 apart, and any combination of the two
+/// vectors is a mode. Such a cluster is turned into the combinations of extreme forward
+/// and backward content (the circles, when the rotor is isotropic), as the complex
+/// coordinates give them; whirls 1e-10 apart are a double whirl for every output.
+pub const DEGENERATE_WHIRLS: f64 = 1e-10;
+
+/// Whirl modes in real coordinates (the general path): the real QEP of
+/// [`crate::assembly::GeneralSystem`] at Ω, each whirl once (the eigenvalue with
+/// Im λ > 0 of each conjugate pair), its direction and ellipticity from its shaft nodes'
+/// orbits ([`super::orbit::classify`]). A backward whirl reports λ̄ (Im λ < 0), as the
+/// complex coordinates do.
+fn real_modes(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesResult, AnalysisError> {
+    use crate::linalg::solve_qep_real;
+    let sys = rotor.general_at(speed);
+    let d = sys.damping();
+    let k = sys.stiffness_at(rotor.static_load());
+    let n2 = sys.size();
+    let n = n2 / 2;
+    let dc = Mat::from_fn(n2, n2, |i, j| c64::new(d[(i, j)], 0.0));
+    let circulatory = (0..n2).any(|i| (0..i).any(|j| k[(i, j)] != k[(j, i)]));
+    let sol = match solve_qep_real(sys.m.as_ref(), d.as_ref(), k.as_ref()) {
+        Some(sol) => sol,
+        None => solve_qep(sys.m.as_ref(), dc.as_ref(), k.as_ref(), QEP_SHIFT)?,
+    };
+    let total = sol.values.len();
+    // One of each conjugate pair: Im λ > 0, oscillatory, finite; by frequency.
+    let mut kept: Vec<(c64, Vec<c64>)> = sol
+        .values
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.re.is_finite() && l.im.is_finite())
+        .filter(|(_, l)| l.im > settings.oscillation_tolerance * l.norm())
+        .map(|(c, l)| (*l, (0..n2).map(|i| sol.vectors[(i, c)]).collect()))
+        .collect();
+    kept.sort_by(|a, b| a.0.im.total_cmp(&b.0.im));
+    circularise(&mut kept, n);
+    let kinds = sys.dofs.kinds();
+    let slots = electrical_slots(rotor);
+    let norms = QepNorms::of(sys.m.as_ref(), dc.as_ref(), k.as_ref());
+    let nodes = sys.dofs.nodes;
+    struct Raw {
+        col: usize,
+        mode: WhirlMode,
+        branch: Option<usize>,
+    }
+    let mut raw = Vec::new();
+    for (col, (lambda, x)) in kept.iter().enumerate() {
+        let xc = faer::Col::from_fn(n2, |i| x[i]);
+        let residual = qep_residual_with(&norms, sys.m.as_ref(), dc.as_ref(), k.as_ref(), *lambda, xc.as_ref());
+        if !residual.is_finite() {
+            continue;
+        }
+        // Kinetic energy xᴴMx by DOF (M is block diagonal, the same in both planes).
+        let mut energy = vec![0.0; n];
+        for plane in 0..2 {
+            for i in 0..n {
+                let mut acc = c64::new(0.0, 0.0);
+                for j in 0..n {
+                    let mij = sys.m[(plane * n + i, plane * n + j)];
+                    if mij != 0.0 {
+                        acc += x[plane * n + j] * mij;
+                    }
+                }
+                energy[i] += (x[plane * n + i].conj() * acc).re;
+            }
+        }
+        let all: f64 = energy.iter().sum();
+        let charge: f64 = (0..n).filter(|&i| kinds[i] == DofKind::Charge).map(|i| energy[i]).sum();
+        let per_branch: Vec<f64> = slots
+            .iter()
+            .map(|slot| {
+                slot.charges
+                    .iter()
+                    .map(|&(ring, b)| {
+                        let i = sys.dofs.charge(ring, b);
+                        sys.m[(i, i)] * (x[i].norm_sqr() + x[n + i].norm_sqr())
+                    })
+                    .sum()
+            })
+            .collect();
+        let fraction = if all > 0.0 { charge / all } else { 0.0 };
+        let kind = if fraction > settings.electrical_fraction { ModeKind::Electrical } else { ModeKind::Mechanical };
+        let branch = (kind == ModeKind::Electrical)
+            .then(|| (0..per_branch.len()).max_by(|&a, &b| per_branch[a].total_cmp(&per_branch[b])).unwrap_or(0));
+        let orbits: Vec<super::orbit::Orbit> = (0..nodes)
+            .map(|node| {
+                let dof = sys.dofs.deflection(node);
+                super::orbit::Orbit::of(x[dof], x[n + dof])
+            })
+            .collect();
+        let (whirl, kappa) = super::orbit::classify(&orbits);
+        let damping_ratio = if lambda.re == 0.0 { 0.0 } else { -lambda.re / lambda.norm() };
+        let flag = if residual > MODE_RESIDUAL_LIMIT {
+            Some(ModeFlag::Residual { residual })
+        } else if damping_ratio < -NEGATIVE_DAMPING_LIMIT {
+            Some(ModeFlag::NegativeDamping { damping_ratio })
+        } else {
+            None
+        };
+        // A cross-coupled stiffness is circulatory: it may feed a mode, and a negative ζ
+        // is then physics (e.g. oil whirl), not round-off.
+        let flag = match flag {
+            Some(ModeFlag::NegativeDamping { .. }) if circulatory => None,
+            other => other,
+        };
+        let reported = if whirl == Whirl::Backward { lambda.conj() } else { *lambda };
+        raw.push(Raw {
+            col,
+            branch,
+            mode: WhirlMode {
+                frequency: lambda.im,
+                whirl,
+                damping_ratio,
+                label: String::new(),
+                kind,
+                electrical_fraction: fraction,
+                eigenvalue: [reported.re, reported.im],
+                residual,
+                ellipticity: Some(kappa),
+                flag,
+            },
+        });
+    }
+    if raw.is_empty() {
+        return Err(AnalysisError::NoWhirlModes {
+            speed,
+            eigenvalues: total,
+            tolerance: settings.oscillation_tolerance,
+        });
+    }
+    raw.sort_by(|a, b| a.mode.frequency.total_cmp(&b.mode.frequency));
+    for whirl in Whirl::all() {
+        let mut mech = 0;
+        let mut elec = vec![0; slots.len()];
+        for r in raw.iter_mut().filter(|r| r.mode.whirl == whirl) {
+            r.mode.label = match r.branch {
+                None => {
+                    mech += 1;
+                    mech.to_string()
+                }
+                Some(s) => {
+                    elec[s] += 1;
+                    format!("{}{}{}", branch_letter(slots[s].branch), elec[s], slots[s].suffix)
+                }
+            };
+        }
+    }
+    let shapes = Mat::from_fn(n2, raw.len(), |i, c| kept[raw[c].col].1[i]);
+    Ok(ModesResult {
+        speed,
+        critical_load: rotor.critical_load,
+        static_load: rotor.static_load(),
+        modes: raw.into_iter().map(|r| r.mode).collect(),
+        shapes,
+    })
+}
+
+/// Within each cluster of degenerate whirls ([`DEGENERATE_WHIRLS`]) of `modes` (sorted by
+/// Im λ; vectors of 2n real-coordinate entries), replace the vectors by the combinations
+/// that diagonalise the forward-minus-backward content Σ(|F_i|² − |B_i|²) over the
+/// complex DOFs i against Σ|x|²: in an isotropic rotor, the forward and the backward
+/// circle.
+fn circularise(modes: &mut [(c64, Vec<c64>)], n: usize) {
+    use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+    let j = c64::new(0.0, 1.0);
+    let mut start = 0;
+    while start < modes.len() {
+        let mut end = start + 1;
+        while end < modes.len() && (modes[end].0 - modes[start].0).norm() <= DEGENERATE_WHIRLS * modes[start].0.norm() {
+            end += 1;
+        }
+        let k = end - start;
+        if k >= 2 {
+            let x = Mat::from_fn(2 * n, k, |i, c| modes[start + c].1[i]);
+            let yf = Mat::from_fn(n, k, |i, c| (x[(i, c)] + j * x[(n + i, c)]) * 0.5);
+            let yb = Mat::from_fn(n, k, |i, c| (x[(i, c)] - j * x[(n + i, c)]) * 0.5);
+            // Aᴴ·B of two column sets.
+            let inner = |p: &Mat<c64>, q: &Mat<c64>| {
+                Mat::from_fn(k, k, |a, b| (0..p.nrows()).map(|i| p[(i, a)].conj() * q[(i, b)]).sum::<c64>())
+            };
+            let (pf, pb, gram) = (inner(&yf, &yf), inner(&yb, &yb), inner(&x, &x));
+            let w = Mat::from_fn(k, k, |a, b| pf[(a, b)] - pb[(a, b)]);
+            if let Ok(l) = crate::linalg::seq::cholesky(gram.as_ref()) {
+                // L⁻¹·W·L⁻ᴴ, Hermitian.
+                let mut t = w.clone();
+                solve_lower_triangular_in_place(l.as_ref(), t.as_mut(), Par::Seq);
+                let mut h = Mat::from_fn(k, k, |a, b| t[(b, a)].conj());
+                solve_lower_triangular_in_place(l.as_ref(), h.as_mut(), Par::Seq);
+                let h = Mat::from_fn(k, k, |a, b| (h[(a, b)] + h[(b, a)].conj()) * 0.5);
+                if let Ok(e) = crate::linalg::seq::self_adjoint_eigen(h.as_ref()) {
+                    let mut c = e.vectors;
+                    let lh = Mat::from_fn(k, k, |a, b| l[(b, a)].conj());
+                    solve_upper_triangular_in_place(lh.as_ref(), c.as_mut(), Par::Seq);
+                    let rotated = crate::linalg::seq::product(x.as_ref(), c.as_ref());
+                    for col in 0..k {
+                        let norm = (0..2 * n).map(|i| rotated[(i, col)].norm_sqr()).sum::<f64>().sqrt();
+                        if norm > 0.0 && norm.is_finite() {
+                            modes[start + col].1 = (0..2 * n).map(|i| rotated[(i, col)] / norm).collect();
+                        }
+                    }
+                }
+            }
+        }
+        start = end;
+    }
 }

@@ -46,6 +46,10 @@ pub struct ReducedModel {
     pub critical_load: f64,
     /// Static load coefficient α (−).
     pub alpha: f64,
+    /// Real coordinates (the general path): the basis spans both planes (2M real modes),
+    /// `k` and `c` carry the supports at the speed and are not symmetric in general, and
+    /// `g` is the skew G_r entering B0 as −Ω·G̃ (real) instead of jΩ·G̃.
+    pub real: bool,
 }
 
 /// B(t) = B0 + β·cos(φt)·B1 of Eq. (25) for the state y = [q̇; q] (Eq. 24).
@@ -103,9 +107,21 @@ fn project(phi: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
     Mat::from_fn(m, m, |i, j| 0.5 * (out[(i, j)] + out[(j, i)]))
 }
 
+/// Φᵀ·A·Φ of a matrix that need not be symmetric (no symmetrisation).
+fn project_general(phi: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
+    let ap = crate::linalg::seq::product(a.as_ref(), phi.as_ref());
+    crate::linalg::seq::product(phi.transpose(), ap.as_ref())
+}
+
 impl ReducedModel {
-    /// Reduce a prepared rotor to its first `count` modes.
-    pub fn new(rotor: &Rotor, count: usize) -> Result<ReducedModel, AnalysisError> {
+    /// Reduce a prepared rotor to its first `count` modes; on the general path
+    /// ([`Rotor::real`]) to the first 2·`count` undamped modes of the symmetric part of the
+    /// real-coordinate (K, M) at speed Ω (rad/s), the supports' coefficients taken there:
+    /// both planes of the complex basis, the electrical modes included.
+    pub fn new(rotor: &Rotor, count: usize, speed: f64) -> Result<ReducedModel, AnalysisError> {
+        if rotor.real {
+            return ReducedModel::real(rotor, count, speed);
+        }
         let sys = &rotor.system;
         // M x = θ K x: θ = 1/ω², massless DOFs give θ = 0 (ω = ∞) and are never selected.
         let eig = definite_eigen(sys.k.as_ref(), sys.m.as_ref())?;
@@ -149,6 +165,53 @@ impl ReducedModel {
             unbalance,
             critical_load: rotor.critical_load,
             alpha: rotor.model.load.alpha,
+            real: false,
+        })
+    }
+
+    /// The general path of [`ReducedModel::new`].
+    fn real(rotor: &Rotor, count: usize, speed: f64) -> Result<ReducedModel, AnalysisError> {
+        let sys = rotor.general_at(speed);
+        let k_s = sys.symmetric_stiffness();
+        let eig = definite_eigen(k_s.as_ref(), sys.m.as_ref())?;
+        let available = eig.values.iter().filter(|t| **t > 0.0).count();
+        let count_real = 2 * count;
+        if count == 0 || count_real > available {
+            return Err(AnalysisError::ReducedModes { requested: count, available: available / 2 });
+        }
+        let n = sys.size();
+        let theta = &eig.values[..count_real];
+        let mut basis = Mat::from_fn(n, count_real, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
+        let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
+        let mass = project(&basis, &sys.m);
+        let drift = (0..count_real)
+            .flat_map(|j| (0..count_real).map(move |i| (i, j)))
+            .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
+            .fold(0.0, f64::max);
+        if drift.is_nan() || drift > UNRESOLVED_BASIS {
+            return Err(AnalysisError::ReducedBasis { modes: count_real, drift });
+        }
+        if drift > MASS_ORTHONORMALITY_TOLERANCE {
+            let l = crate::linalg::seq::cholesky(mass.as_ref())
+                .map_err(|_| AnalysisError::ReducedBasis { modes: count_real, drift })?;
+            let mut rt = basis.transpose().to_owned();
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
+            basis = rt.transpose().to_owned();
+            let k = project(&basis, &k_s);
+            frequencies = (0..count_real).map(|j| k[(j, j)].sqrt()).collect();
+        }
+        let unbalance = (0..count_real).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
+        Ok(ReducedModel {
+            frequencies,
+            c: project_general(&basis, &sys.c),
+            g: project_general(&basis, &sys.g),
+            k: project_general(&basis, &sys.k),
+            s: project(&basis, &sys.s),
+            basis,
+            unbalance,
+            critical_load: rotor.critical_load,
+            alpha: rotor.model.load.alpha,
+            real: true,
         })
     }
 
@@ -162,8 +225,16 @@ impl ReducedModel {
         let m = self.size();
         let p = self.critical_load;
         let z = c64::new(0.0, 0.0);
+        // −D̃ = −(C̃ − jΩG̃) in complex coordinates, −(C̃ + ΩG̃_r) in real ones.
+        let minus_d = |i: usize, j: usize| {
+            if self.real {
+                c64::new(-self.c[(i, j)] - speed * self.g[(i, j)], 0.0)
+            } else {
+                c64::new(-self.c[(i, j)], speed * self.g[(i, j)])
+            }
+        };
         let b0 = Mat::from_fn(2 * m, 2 * m, |i, j| match (i < m, j < m) {
-            (true, true) => c64::new(-self.c[(i, j)], speed * self.g[(i, j)]),
+            (true, true) => minus_d(i, j),
             (true, false) => c64::new(-(self.k[(i, j - m)] - self.alpha * p * self.s[(i, j - m)]), 0.0),
             (false, true) => c64::new(if i - m == j { 1.0 } else { 0.0 }, 0.0),
             (false, false) => z,

@@ -163,7 +163,9 @@ pub fn response_reporting(
                 acc += (sys.b0[(i, j)] + sys.b1[(i, j)] * load) * yj;
             }
             if i < m {
-                acc += force[i] * spin;
+                // Real coordinates: the force is the real part of Ω²·q·e^{jΩt} in each
+                // plane, and the state stays real.
+                acc += if fs.reduced.real { c64::new((force[i] * spin).re, 0.0) } else { force[i] * spin };
             }
             *o = acc;
         }

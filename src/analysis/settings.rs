@@ -39,6 +39,15 @@ pub struct Settings {
     /// Largest phase of the lowest basis mode over one CFM4 step (rad): long periods
     /// (low φ) get more steps, h ≤ max_step_phase/ω_min.
     pub max_step_phase: f64,
+    /// `auto` (the complex coordinates u = v + jw where the supports are isotropic, the
+    /// real coordinates (v, w) otherwise) or `real` (the real coordinates always: the
+    /// general path, e.g. to check it against the complex one).
+    #[serde(skip_serializing_if = "is_auto")]
+    pub coordinates: crate::model::Coordinates,
+}
+
+fn is_auto(c: &crate::model::Coordinates) -> bool {
+    *c == crate::model::Coordinates::Auto
 }
 
 /// Which monodromy path to use.
@@ -81,6 +90,7 @@ impl Default for Settings {
             // CFM4 error whatever φ: 0.125 rad keeps the Fig. 11 grid within 1e-5 of 4× finer
             // (measured worst 2.5e-5 at 0.2 rad, 3e-4 at 0.3).
             max_step_phase: 0.125,
+            coordinates: crate::model::Coordinates::Auto,
         }
     }
 }

@@ -77,6 +77,17 @@ pub enum WarningKind {
         /// The limit (m/s).
         limit: f64,
     },
+    /// A speed outside a bearing's or seal's coefficient table: its coefficients are
+    /// held at the nearest end of the table (not extrapolated).
+    #[error("{speed} rad/s is outside the table's speeds ({lo} to {hi} rad/s): the coefficients are held at their value at {} rad/s, not extrapolated", if speed < lo { lo } else { hi }, speed = crate::analysis::limits::number(*speed), lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi))]
+    OutsideTable {
+        /// The speed (rad/s).
+        speed: f64,
+        /// The table's first speed (rad/s).
+        lo: f64,
+        /// Its last speed (rad/s).
+        hi: f64,
+    },
     /// A φ range above every whirl sum of the reduced model: no region starts in it.
     #[error("the phi range [{lo}, {hi}] rad/s lies above every whirl sum of the reduced model (largest omega_f + omega_b = {largest_sum:.4e} rad/s at {speed} rad/s): no instability region starts in it; raise analysis.reduced_modes or check the units", lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi), speed = crate::analysis::limits::number(*speed))]
     RangeAboveWhirls {
@@ -118,6 +129,7 @@ impl WarningKind {
             WarningKind::PeripheralSpeedRpm { .. } => "PeripheralSpeedRpm",
             WarningKind::RangeAboveWhirls { .. } => "RangeAboveWhirls",
             WarningKind::RangeBelowWhirls { .. } => "RangeBelowWhirls",
+            WarningKind::OutsideTable { .. } => "OutsideTable",
         }
     }
 }

@@ -141,6 +141,13 @@ impl SystemMatrices {
     /// Assemble the model (Eq. 12 in complex form, Eq. 14): the element matrices of each
     /// section, the disks, the plain bearings, then the rings in model order.
     pub fn assemble(model: &Model) -> SystemMatrices {
+        SystemMatrices::assemble_with(model, true)
+    }
+
+    /// [`SystemMatrices::assemble`] with the bearings' and seals' stiffness and damping
+    /// (`supports`) or without (their masses always): the isotropic part of a model whose
+    /// supports the real coordinates carry ([`GeneralSystem`]).
+    pub fn assemble_with(model: &Model, supports: bool) -> SystemMatrices {
         let dofs = DofMap::of(model);
         let n = dofs.len();
         let mut m = Mat::<f64>::zeros(n, n);
@@ -189,8 +196,10 @@ impl SystemMatrices {
         for b in &model.bearings {
             let u = dofs.deflection(b.node);
             m[(u, u)] += b.mass;
-            c[(u, u)] += b.damping;
-            k[(u, u)] += b.stiffness;
+            if supports {
+                c[(u, u)] += b.damping();
+                k[(u, u)] += b.stiffness();
+            }
         }
 
         for (index, support) in model.rings.iter().enumerate() {
@@ -256,5 +265,102 @@ fn add_ring(m: &mut Mat<f64>, c: &mut Mat<f64>, k: &mut Mat<f64>, dofs: &DofMap,
         for j in 0..nb {
             k[(qi, dofs.charge(index, j))] += k_eq2;
         }
+    }
+}
+
+/// The system in real coordinates (the general path): every complex DOF of [`DofMap`]
+/// becomes two real ones, its v and w parts, the v parts first: real DOF `i` is the v of
+/// complex DOF `i`, real DOF `n + i` its w (`n` the complex size). With u = v + jw the
+/// complex system splits into
+///
+/// `M v̈ + C v̇ + ΩG ẇ + K v = Re Q`, `M ẅ + C ẇ − ΩG v̇ + K w = Im Q`,
+///
+/// so M → diag(M, M), C → diag(C, C), K → diag(K, K), S → diag(S, S) and −jΩG → Ω·G_r
+/// with G_r = [[0, G], [−G, 0]] (skew) on the velocities; then each bearing's and seal's
+/// 2×2 matrices at the speed are added at its node's deflection (x = v, y = w). The
+/// unbalance force Ω²·q·e^{jΩt} of the complex form is, in each plane, the real part of
+/// Ω²·[q; −jq]·e^{jΩt}.
+#[derive(Debug, Clone)]
+pub struct GeneralSystem {
+    /// The complex DOF layout (real DOF `i` and `n + i` are complex DOF `i`'s v and w).
+    pub dofs: DofMap,
+    /// Speed Ω the supports' coefficients were taken at (rad/s).
+    pub speed: f64,
+    /// diag(M, M) (kg, and γL for charges).
+    pub m: Mat<f64>,
+    /// diag(C, C) plus the supports' damping matrices at Ω (real, not symmetric in general).
+    pub c: Mat<f64>,
+    /// diag(K, K) plus the supports' stiffness matrices at Ω (not symmetric in general).
+    pub k: Mat<f64>,
+    /// diag(S, S) per unit axial load (1/m).
+    pub s: Mat<f64>,
+    /// G_r = [[0, G], [−G, 0]] per unit speed (kg·m²); enters as +Ω·G_r on the velocities.
+    pub g: Mat<f64>,
+    /// Unbalance per unit Ω², [q; −jq] (kg·m): the force in each plane is
+    /// Re(Ω²·unbalance·e^{jΩt}).
+    pub unbalance: Vec<c64>,
+}
+
+impl GeneralSystem {
+    /// The real-coordinate system of `iso` (the model's assembly without the bearings'
+    /// and seals' stiffness and damping: [`SystemMatrices::assemble_with`]) with
+    /// `bearings` at speed `speed` (rad/s).
+    pub fn new(iso: &SystemMatrices, bearings: &[crate::model::Bearing], speed: f64) -> GeneralSystem {
+        let n = iso.size();
+        let diag = |a: &Mat<f64>| {
+            Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
+                (true, true) => a[(i, j)],
+                (false, false) => a[(i - n, j - n)],
+                _ => 0.0,
+            })
+        };
+        let (mut c, mut k) = (diag(&iso.c), diag(&iso.k));
+        let g = Mat::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
+            (true, false) => iso.g[(i, j - n)],
+            (false, true) => -iso.g[(i - n, j)],
+            _ => 0.0,
+        });
+        for b in bearings {
+            let d = iso.dofs.deflection(b.node);
+            let at = b.matrices_at(speed);
+            for (r, row) in [d, n + d].into_iter().enumerate() {
+                for (s, col) in [d, n + d].into_iter().enumerate() {
+                    k[(row, col)] += at.k[r][s];
+                    c[(row, col)] += at.c[r][s];
+                }
+            }
+        }
+        let mut unbalance = iso.unbalance.clone();
+        unbalance.extend(iso.unbalance.iter().map(|q| c64::new(q.im, -q.re)));
+        GeneralSystem { dofs: iso.dofs.clone(), speed, m: diag(&iso.m), c, k, s: diag(&iso.s), g, unbalance }
+    }
+
+    /// Number of real DOFs (twice the complex ones).
+    pub fn size(&self) -> usize {
+        self.m.nrows()
+    }
+
+    /// The real DOF of complex DOF `dof` in plane `plane` (0: v, x; 1: w, y).
+    pub fn real_dof(&self, dof: usize, plane: usize) -> usize {
+        plane * self.dofs.len() + dof
+    }
+
+    /// Velocity matrix D = C + Ω·G_r at the system's speed.
+    pub fn damping(&self) -> Mat<f64> {
+        let n = self.size();
+        Mat::from_fn(n, n, |i, j| self.c[(i, j)] + self.speed * self.g[(i, j)])
+    }
+
+    /// Effective stiffness K − P·S for a static axial load P (N).
+    pub fn stiffness_at(&self, load: f64) -> Mat<f64> {
+        let n = self.size();
+        Mat::from_fn(n, n, |i, j| self.k[(i, j)] - load * self.s[(i, j)])
+    }
+
+    /// The symmetric part (K + Kᵀ)/2 of the stiffness: the conservative part of the
+    /// supports' forces (the skew part is circulatory).
+    pub fn symmetric_stiffness(&self) -> Mat<f64> {
+        let n = self.size();
+        Mat::from_fn(n, n, |i, j| 0.5 * (self.k[(i, j)] + self.k[(j, i)]))
     }
 }

@@ -16,7 +16,7 @@ use serde::Serialize;
 use std::path::Path;
 
 /// The files `unbalance` writes (checked against its inputs before it computes).
-const UNBALANCE_FILES: [&str; 8] = [
+const UNBALANCE_FILES: [&str; 12] = [
     "unbalance.json",
     "unbalance.csv",
     "peaks.csv",
@@ -25,6 +25,10 @@ const UNBALANCE_FILES: [&str; 8] = [
     "compare-peaks.csv",
     "bode.svg",
     "bode.png",
+    "bode-x.svg",
+    "bode-x.png",
+    "bode-y.svg",
+    "bode-y.png",
 ];
 
 /// What `unbalance` is asked.
@@ -98,6 +102,8 @@ struct UnbalanceJson<'a> {
 #[derive(Serialize)]
 struct Conventions {
     amplitude: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    orbit: Option<&'static str>,
     phase: &'static str,
     peaks: &'static str,
     amplification_factor: &'static str,
@@ -105,13 +111,24 @@ struct Conventions {
 
 const CONVENTIONS: Conventions = Conventions {
     amplitude: "|U| (m): radius of the synchronous circular whirl u(t) = U e^{j Omega t}, u = v + jw",
+    orbit: None,
     phase: "arg U (rad, in (-pi, pi]): angle of the deflection from the v axis towards w at t = 0, the reference of the disks' phase",
     peaks: "interior local maxima of the amplitude on the speed grid, refined by golden-section search on the analytic response",
     amplification_factor: "API 684 half-power: Omega_peak/(Omega_2 - Omega_1), amplitude A_peak/sqrt(2) at Omega_1 and Omega_2",
 };
 
+/// The conventions of the real coordinates (an anisotropic model): elliptical orbits.
+const REAL_CONVENTIONS: Conventions = Conventions {
+    amplitude: "semi-major axis |F| + |B| (m) of the synchronous elliptical orbit",
+    orbit: Some("x(t) = |X| cos(Omega t + arg X) (v), y(t) = |Y| cos(Omega t + arg Y) (w); F = (X + jY)/2 and B = conj(X - jY)/2 the forward and backward circular components (u = x + jy = F e^{j Omega t} + B e^{-j Omega t}); major = |F| + |B|, minor = ||F| - |B||; the orbit whirls forward when |F| > |B|"),
+    phase: "arg X (rad, in (-pi, pi]): phase of the x (v) motion, the reference of the disks' phase",
+    peaks: CONVENTIONS.peaks,
+    amplification_factor: CONVENTIONS.amplification_factor,
+};
+
 fn write_layer(dir: &OutDir, stem: &str, problem: &Problem, r: &UnbalanceResult) -> Result<String, Error> {
-    let json = UnbalanceJson { provenance: Provenance::of(problem), conventions: CONVENTIONS, unbalance: r };
+    let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
+    let json = UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: r };
     let text = json_pretty(&json, "the JSON output")?;
     dir.write(&format!("{stem}.json"), text.as_bytes())?;
     let csv = unbalance_csv(r).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
@@ -184,13 +201,24 @@ pub fn unbalance_cmd(
         let shown = if by_file { super::plot_title(other) } else { name.to_string() };
         layers.push(BodeLayer { name: shown, dashed: true, result: r });
     }
+    // Real coordinates: a Bode plot per direction too (the main one draws semi-major axes).
+    let directions: Vec<(&str, UnbalanceResult)> =
+        ["x", "y"].iter().enumerate().filter_map(|(plane, name)| Some((*name, main.direction(plane)?))).collect();
     let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers };
     dir.figure("bode", &plot)?;
+    for (name, r) in &directions {
+        let layers = vec![BodeLayer { name: format!("{name} direction"), dashed: false, result: r }];
+        let title = format!("Unbalance response, {name} direction: {}", super::plot_title(problem));
+        dir.figure(&format!("bode-{name}"), &BodePlot { title, layers })?;
+    }
     dir.commit("unbalance", progress)?;
-    let files = if compared.is_some() {
-        "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode.{svg,png}"
-    } else {
-        "unbalance.{json,csv}, peaks.csv and bode.{svg,png}"
+    let files = match (compared.is_some(), directions.is_empty()) {
+        (true, true) => "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode.{svg,png}",
+        (true, false) => {
+            "unbalance.{json,csv}, peaks.csv, compare.{json,csv}, compare-peaks.csv and bode{,-x,-y}.{svg,png}"
+        }
+        (false, true) => "unbalance.{json,csv}, peaks.csv and bode.{svg,png}",
+        (false, false) => "unbalance.{json,csv}, peaks.csv and bode{,-x,-y}.{svg,png}",
     };
     let head = format!(
         "unbalance: {} speeds ({} to {} rad/s), {} probes; wrote {files} to {}\n",

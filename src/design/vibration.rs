@@ -107,7 +107,7 @@ pub fn peak_recheck(rotor: &Rotor, r: &Response, factor: usize) -> Result<(PeakV
     }
     let dof = node_probe(&rotor.system.dofs, r.node)?.dof;
     let a = DynamicStiffness::of(rotor)?;
-    let amp = |w: f64, work: &mut Workspace| -> Result<f64, DesignError> { Ok(a.solve(w, work)?[dof].norm()) };
+    let amp = |w: f64, work: &mut Workspace| -> Result<f64, DesignError> { Ok(a.amplitude(&a.solve(w, work)?, dof).0) };
     let samples: Vec<f64> = speeds
         .par_iter()
         .map_init(Workspace::default, |work, &w| amp(w, work))

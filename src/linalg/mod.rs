@@ -8,6 +8,7 @@
 mod balance;
 mod expm;
 mod qep;
+mod qep_real;
 pub mod seq;
 mod split;
 mod symmetric;
@@ -17,6 +18,7 @@ pub use expm::{expm, norm1, with_modulus};
 pub use qep::{
     qep_residual, qep_residual_with, solve_qep, solve_qep_definite, QepNorms, QepSolution, DEFINITE_FORM_SPREAD,
 };
+pub use qep_real::solve_qep_real;
 pub use split::{ExpWorkspace, SplitMatrix};
 pub use symmetric::{definite_eigen, DefiniteEigen};
 

@@ -141,3 +141,54 @@ pub fn eigenvalues(a: MatRef<'_, c64>) -> Result<Vec<c64>, EvdError> {
     evd::evd_cplx(a, s.as_mut(), None, None, PAR, MemStack::new(&mut mem), Default::default())?;
     Ok(s.column_vector().iter().copied().collect())
 }
+
+/// Eigenpairs of a general real A (right eigenvectors), as complex values and vectors:
+/// a real eigenvalue with its real vector, a conjugate pair as two columns (λ, x) and
+/// (λ̄, x̄). A real Schur decomposition: half the work of [`eigen`] on the same matrix
+/// held as complex.
+pub fn eigen_real(a: MatRef<'_, f64>) -> Result<Eigenpairs<c64, c64>, EvdError> {
+    let n = a.nrows();
+    let mut u = Mat::<f64>::zeros(n, n);
+    let mut s_re = Diag::<f64>::zeros(n);
+    let mut s_im = Diag::<f64>::zeros(n);
+    let mut mem = MemBuffer::new(evd::evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::No,
+        ComputeEigenvectors::Yes,
+        PAR,
+        Default::default(),
+    ));
+    evd::evd_real(
+        a,
+        s_re.as_mut(),
+        s_im.as_mut(),
+        None,
+        Some(u.as_mut()),
+        PAR,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )?;
+    let (re, im) = (s_re.column_vector(), s_im.column_vector());
+    let mut values = Vec::with_capacity(n);
+    let mut vectors = Mat::<c64>::zeros(n, n);
+    let mut i = 0;
+    while i < n {
+        if im[i] == 0.0 || i + 1 == n {
+            values.push(c64::new(re[i], 0.0));
+            for r in 0..n {
+                vectors[(r, i)] = c64::new(u[(r, i)], 0.0);
+            }
+            i += 1;
+        } else {
+            values.push(c64::new(re[i], im[i]));
+            values.push(c64::new(re[i + 1], im[i + 1]));
+            for r in 0..n {
+                let z = c64::new(u[(r, i)], u[(r, i + 1)]);
+                vectors[(r, i)] = z;
+                vectors[(r, i + 1)] = z.conj();
+            }
+            i += 2;
+        }
+    }
+    Ok(Eigenpairs { values, vectors })
+}

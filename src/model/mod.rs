@@ -10,7 +10,7 @@ mod support;
 pub use ring::{Branch, BranchError, Circuit, CircuitState, Given, Parameter, Ring};
 use serde::Serialize;
 pub use shaft::{Beam, Section, Shaft};
-pub use support::{Bearing, RingSupport};
+pub use support::{interpolate, Bearing, Matrix2, RingSupport, SupportKind, SupportMatrices, COEFFICIENT_NAMES};
 
 /// A rigid disk lumped at a shaft node (Eq. 6).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -46,7 +46,8 @@ pub struct Model {
     /// Rigid disks (`[[disks]]`, in file order): mass m, inertias J_p and J_d, and
     /// unbalance (e, γ) at a shaft node.
     pub disks: Vec<Disk>,
-    /// Plain bearings (no DOF of their own).
+    /// Bearings and seals (no DOF of their own), `[[bearings]]` then `[[seals]]` in file
+    /// order.
     pub bearings: Vec<Bearing>,
     /// Vibration rings in file order (the shorthand: `left` at node 0, `right` at node n),
     /// each with its own circuit. Their DOFs follow the shaft's in this order.
@@ -56,9 +57,35 @@ pub struct Model {
     pub load: Load,
     /// Rotating speed Ω (rad/s).
     pub speed: f64,
+    /// Which coordinates the analyses run in (`[analysis] coordinates`).
+    pub coordinates: Coordinates,
+}
+
+/// The coordinates the analyses run in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Coordinates {
+    /// The complex coordinates u = v + jw where the model is isotropic (every bearing and
+    /// seal constant, kxx = kyy, cxx = cyy, no cross-coupling), the real ones otherwise.
+    #[default]
+    Auto,
+    /// The real coordinates (v, w) whatever the model (the general path).
+    Real,
 }
 
 impl Model {
+    /// Whether the complex coordinates carry the model: every bearing and seal isotropic
+    /// ([`Bearing::is_isotropic`]) and [`Coordinates::Auto`].
+    pub fn is_isotropic(&self) -> bool {
+        self.bearings.iter().all(Bearing::is_isotropic)
+    }
+
+    /// Whether the analyses run in real coordinates: an anisotropic, cross-coupled or
+    /// speed-dependent support, or `coordinates = "real"`.
+    pub fn real_coordinates(&self) -> bool {
+        self.coordinates == Coordinates::Real || !self.is_isotropic()
+    }
+
     /// Total mechanical mass: shaft plus disks (kg); ring and bearing masses not included.
     pub fn rotor_mass(&self) -> f64 {
         self.shaft.mass() + self.disks.iter().map(|d| d.mass).sum::<f64>()

@@ -149,8 +149,8 @@ pub enum ProblemErrorKind {
         /// The shaft's length (m).
         length: f64,
     },
-    /// Two supports (plain bearings or rings) at one node.
-    #[error("node {node} already carries a support (`{first}`): two supports at one node")]
+    /// Two vibration rings at one node (bearings and seals may share a node with anything).
+    #[error("node {node} already carries a vibration ring (`{first}`): two rings at one node (bearings and seals may share a node with a ring or with each other)")]
     SupportsShareNode {
         /// The node.
         node: usize,
@@ -165,6 +165,53 @@ pub enum ProblemErrorKind {
     RigidBody {
         /// Supports with positive stiffness.
         supports: usize,
+    },
+    /// A direct stiffness (kxx, kyy) of a bearing or seal below zero.
+    #[error("a direct stiffness must not be negative, found {} N/m{}", number(*value), at_speed(*speed))]
+    NegativeStiffness {
+        /// The value (N/m).
+        value: f64,
+        /// The table speed of the value (rad/s); `None` for a constant.
+        speed: Option<f64>,
+    },
+    /// A bearing's or seal's damping matrix whose symmetric part is not positive
+    /// semi-definite: some motion would draw energy from the support.
+    #[error("the damping matrix [[cxx, cxy], [cyx, cyy]] = [[{}, {}], [{}, {}]] N s/m{} is not positive semi-definite: its symmetric part has the eigenvalue {} N s/m, so the support would feed energy into some motion", number(c[0][0]), number(c[0][1]), number(c[1][0]), number(c[1][1]), at_speed(*speed), number(*eigenvalue))]
+    DampingNotSemiDefinite {
+        /// The matrix (N·s/m).
+        c: [[f64; 2]; 2],
+        /// The smallest eigenvalue of its symmetric part (N·s/m).
+        eigenvalue: f64,
+        /// The table speed (rad/s); `None` for constants.
+        speed: Option<f64>,
+    },
+    /// The speeds of a coefficient table that do not increase strictly.
+    #[error("the table speeds must increase strictly: speeds[{index}] = {} rad/s is not above speeds[{}] = {} rad/s", number(*speed), index - 1, number(*previous))]
+    TableSpeedsNotIncreasing {
+        /// Index of the offending speed.
+        index: usize,
+        /// Its value (rad/s).
+        speed: f64,
+        /// The speed before it (rad/s).
+        previous: f64,
+    },
+    /// A coefficient array whose length differs from the support's `speeds`.
+    #[error("{}", table_length(*values, *speeds))]
+    TableLength {
+        /// Values of the coefficient's array.
+        values: usize,
+        /// Speeds of the support's table (0: no `speeds` given).
+        speeds: usize,
+    },
+    /// Several errors found at once (a bearing's and seal's coefficient checks report
+    /// every one in the file): the first's text, then each of the others on a line of its
+    /// own, as the command line prints errors.
+    #[error("{first}{}", more.iter().map(|e| format!("\nerror: {e}")).collect::<String>())]
+    Several {
+        /// The first error's kind (the outer error carries its key and location).
+        first: Box<ProblemErrorKind>,
+        /// The others, each with its key and location.
+        more: Box<[ProblemError]>,
     },
     /// An inner diameter not below the outer one.
     #[error("inner diameter {inner} m must be below the outer diameter {outer} m", inner = crate::analysis::limits::number(*inner), outer = crate::analysis::limits::number(*outer))]
@@ -283,6 +330,35 @@ pub struct ProblemError {
     pub key: String,
     /// What is wrong, with the value given.
     pub kind: ProblemErrorKind,
+}
+
+/// ` at speed S rad/s` of a table entry, or nothing.
+fn at_speed(speed: Option<f64>) -> String {
+    speed.map_or(String::new(), |w| format!(" at speed {} rad/s", number(w)))
+}
+
+/// The message of [`ProblemErrorKind::TableLength`].
+fn table_length(values: usize, speeds: usize) -> String {
+    if speeds == 0 {
+        format!("an array of {values} values needs `speeds`, the table's speeds (rad/s), one per value")
+    } else {
+        format!("the array has {values} values but `speeds` has {speeds}: give one value per speed")
+    }
+}
+
+impl ProblemError {
+    /// The errors this one stands for: itself, or, for [`ProblemErrorKind::Several`], the
+    /// first (with the outer key and location) and the others.
+    pub fn all(&self) -> Vec<ProblemError> {
+        match &self.kind {
+            ProblemErrorKind::Several { first, more } => {
+                let mut v = vec![ProblemError { kind: (**first).clone(), ..self.clone() }];
+                v.extend(more.iter().cloned());
+                v
+            }
+            _ => vec![self.clone()],
+        }
+    }
 }
 
 /// How C_p^S was found, and the hint for an angle that looks like radians.

@@ -44,9 +44,12 @@ pub struct ProblemFile {
     /// The shorthand's shunt circuit, shared by both rings.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub circuit: Option<CircuitFile>,
-    /// `[[bearings]]` (general form): plain bearings.
+    /// `[[bearings]]` (general form): bearings with stiffness and damping matrices.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bearings: Vec<BearingFile>,
+    /// `[[seals]]` (general form): seals, with the keys of `[[bearings]]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub seals: Vec<BearingFile>,
     /// `[[rings]]` (general form): vibration rings, each with its own circuit.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rings: Vec<RingSupportFile>,
@@ -375,8 +378,11 @@ impl LayerFile {
     }
 }
 
-/// `[[bearings]]`: a plain isotropic bearing, placed by `node` or `position`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// `[[bearings]]` and `[[seals]]`: a support with stiffness and damping matrices, placed
+/// by `node` or `position`. Either the isotropic `stiffness` and `damping` (kxx = kyy,
+/// cxx = cyy, no cross-coupling) or the eight coefficients, each a number or an array of
+/// one value per speed of `speeds`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BearingFile {
     /// Node index, 0 = left end.
@@ -385,14 +391,92 @@ pub struct BearingFile {
     /// Position along the shaft (m); snapped to the nearest node.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub position: Option<f64>,
-    /// Stiffness k (N/m).
-    pub stiffness: f64,
-    /// Damping c (N·s/m); default 0.
-    #[serde(default)]
-    pub damping: f64,
-    /// Bearing mass (kg), lumped at the node; default 0.
+    /// Isotropic stiffness k = kxx = kyy (N/m); or give `kxx` (and `kyy`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
+    /// Isotropic damping c = cxx = cyy (N·s/m); or give `cxx` (and `cyy`); default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+    /// Direct stiffness kxx (N/m): F_x = −(kxx·x + kxy·y) − …
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kxx: Option<CoefficientFile>,
+    /// Cross-coupled stiffness kxy (N/m); default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kxy: Option<CoefficientFile>,
+    /// Cross-coupled stiffness kyx (N/m): F_y = −(kyx·x + kyy·y) − …; default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kyx: Option<CoefficientFile>,
+    /// Direct stiffness kyy (N/m); default kxx.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kyy: Option<CoefficientFile>,
+    /// Direct damping cxx (N·s/m); default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cxx: Option<CoefficientFile>,
+    /// Cross-coupled damping cxy (N·s/m); default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cxy: Option<CoefficientFile>,
+    /// Cross-coupled damping cyx (N·s/m); default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cyx: Option<CoefficientFile>,
+    /// Direct damping cyy (N·s/m); default cxx.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cyy: Option<CoefficientFile>,
+    /// Speeds of the coefficient tables (rad/s), strictly increasing; needed when a
+    /// coefficient is an array.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speeds: Option<Vec<f64>>,
+    /// Support mass (kg), lumped at the node; default 0.
     #[serde(default)]
     pub mass: f64,
+}
+
+/// A support coefficient: one number (constant) or one number per table speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum CoefficientFile {
+    /// A constant.
+    Constant(f64),
+    /// One value per speed of the support's `speeds`.
+    Table(Vec<f64>),
+}
+
+impl CoefficientFile {
+    /// The values: one for a constant.
+    pub fn values(&self) -> Vec<f64> {
+        match self {
+            CoefficientFile::Constant(x) => vec![*x],
+            CoefficientFile::Table(v) => v.clone(),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for CoefficientFile {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = CoefficientFile;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number or an array of numbers (one per speed of `speeds`)")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<CoefficientFile, E> {
+                Ok(CoefficientFile::Constant(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<CoefficientFile, E> {
+                Ok(CoefficientFile::Constant(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<CoefficientFile, E> {
+                Ok(CoefficientFile::Constant(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<CoefficientFile, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = seq.next_element::<f64>()? {
+                    v.push(x);
+                }
+                Ok(CoefficientFile::Table(v))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 /// `[[rings]]`: a vibration ring (today's `[ring]` keys) at a node or position, with its

@@ -8,8 +8,9 @@ use super::validate::{
     circuit, derived, non_negative, place, positive, ring, section_quantities, within, Failure, Placed, SectionKeys,
     MAX_ELEMENTS,
 };
+use super::{Location, ProblemError};
 use super::{NameOf, ProblemErrorKind as K};
-use crate::model::{Beam, Bearing, RingSupport, Section, Shaft};
+use crate::model::{Beam, Bearing, RingSupport, Section, Shaft, SupportKind, COEFFICIENT_NAMES};
 
 /// The key of the shaft topic's and of the supports topic's forms: mixing them in one
 /// topic, or leaving a topic out, is refused here (before any value is read).
@@ -22,8 +23,10 @@ pub(super) fn forms(f: &ProblemFile) -> Result<ShaftForm<'_>, Failure> {
     };
     let general = if !f.rings.is_empty() {
         Some(("rings", "[[rings]]"))
+    } else if !f.bearings.is_empty() {
+        Some(("bearings", "[[bearings]]"))
     } else {
-        (!f.bearings.is_empty()).then_some(("bearings", "[[bearings]]"))
+        (!f.seals.is_empty()).then_some(("seals", "[[seals]]"))
     };
     let shorthand = if f.ring.is_some() { Some("[ring]") } else { f.circuit.is_some().then_some("[circuit]") };
     match (shorthand, general) {
@@ -317,23 +320,28 @@ fn name_ok(name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// `[[bearings]]` and `[[rings]]`.
+/// `[[bearings]]`, `[[seals]]` and `[[rings]]`. The coefficient checks of the bearings
+/// and seals (a negative direct stiffness, a damping matrix that is not positive
+/// semi-definite, table speeds that do not increase, an array of another length than
+/// `speeds`) are all reported at once ([`K::Several`]).
 pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, Vec<RingSupport>), Failure> {
-    let bearings = f
-        .bearings
-        .iter()
-        .enumerate()
-        .map(|(i, b)| {
-            let key = format!("bearings[{i}]");
-            let k = |name: &str| format!("{key}.{name}");
-            Ok(Bearing {
-                node: place(&key, b.node, b.position, shaft, Placed::Support)?,
-                stiffness: non_negative(&k("stiffness"), b.stiffness)?,
-                damping: non_negative(&k("damping"), b.damping)?,
-                mass: non_negative(&k("mass"), b.mass)?,
-            })
-        })
-        .collect::<Result<Vec<_>, Failure>>()?;
+    let mut bearings = Vec::with_capacity(f.bearings.len() + f.seals.len());
+    let mut failures: Vec<Failure> = Vec::new();
+    let tables = [("bearings", &f.bearings, SupportKind::Bearing), ("seals", &f.seals, SupportKind::Seal)];
+    for (table, list, kind) in tables {
+        for (i, b) in list.iter().enumerate() {
+            let key = format!("{table}[{i}]");
+            let node = place(&key, b.node, b.position, shaft, Placed::Support)?;
+            let mass = non_negative(&format!("{key}.mass"), b.mass)?;
+            match coefficients(&key, b) {
+                Ok((speeds, coefficients)) => bearings.push(Bearing { kind, node, speeds, coefficients, mass }),
+                Err(mut found) => failures.append(&mut found),
+            }
+        }
+    }
+    if let Some(first) = several(failures) {
+        return Err(first);
+    }
     let mut rings: Vec<RingSupport> = Vec::with_capacity(f.rings.len());
     for (i, r) in f.rings.iter().enumerate() {
         let key = format!("rings[{i}]");
@@ -351,6 +359,144 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
     Ok((bearings, rings))
 }
 
+/// The failures found, as one: the first with the others attached ([`K::Several`]).
+pub(super) fn several(mut failures: Vec<Failure>) -> Option<Failure> {
+    if failures.is_empty() {
+        return None;
+    }
+    let (key, first) = failures.remove(0);
+    if failures.is_empty() {
+        return Some((key, first));
+    }
+    let more = failures
+        .into_iter()
+        .map(|(key, kind)| ProblemError { file: String::new(), location: Location::Unknown, key, kind })
+        .collect();
+    Some((key, K::Several { first: Box::new(first), more }))
+}
+
+/// Smallest eigenvalue of the symmetric part of a 2×2 matrix.
+fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
+    let (a, d, b) = (c[0][0], c[1][1], 0.5 * (c[0][1] + c[1][0]));
+    let mean = 0.5 * (a + d);
+    mean - (0.25 * (a - d) * (a - d) + b * b).sqrt()
+}
+
+/// Relative round-off allowed in the damping check: the smallest eigenvalue of the
+/// symmetric part of a 2×2 matrix is computed to ~1e-15 of its largest entry; a matrix
+/// built semi-definite (e.g. c·[[1, 1], [1, 1]]) must not be refused for that.
+const DAMPING_ROUND_OFF: f64 = 1e-12;
+
+/// A support's table speeds (rad/s) and its eight coefficients ([`COEFFICIENT_NAMES`]).
+type Coefficients = (Vec<f64>, [Vec<f64>; 8]);
+
+/// The speeds and the eight coefficients of a bearing or seal at `key`, or every failure
+/// of its coefficient checks.
+fn coefficients(key: &str, b: &BearingFile) -> Result<Coefficients, Vec<Failure>> {
+    let k = |name: &str| format!("{key}.{name}");
+    let one = |x: f64| CoefficientFile::Constant(x);
+    let mut failures = Vec::new();
+    // The isotropic keys, or the direct coefficients; never both.
+    let direct = |iso: Option<f64>, iso_name: &str, xx: &Option<CoefficientFile>, yy: &Option<CoefficientFile>| {
+        let (xx_name, yy_name) = if iso_name == "stiffness" { ("kxx", "kyy") } else { ("cxx", "cyy") };
+        match (iso, xx, yy) {
+            (Some(_), Some(_), _) => Err((k(xx_name), K::BothGiven(iso_name.into(), xx_name.into()))),
+            (Some(_), None, Some(_)) => Err((k(yy_name), K::BothGiven(iso_name.into(), yy_name.into()))),
+            (Some(v), None, None) => Ok(Some((one(v), one(v)))),
+            (None, Some(x), y) => Ok(Some((x.clone(), y.clone().unwrap_or_else(|| x.clone())))),
+            (None, None, Some(_)) => Err((k(yy_name), K::NeitherGiven(xx_name.into(), iso_name.into()))),
+            (None, None, None) => Ok(None),
+        }
+    };
+    let stiffness = direct(b.stiffness, "stiffness", &b.kxx, &b.kyy).map_err(|f| vec![f])?;
+    let Some((kxx, kyy)) = stiffness else {
+        return Err(vec![(key.into(), K::NeitherGiven("stiffness".into(), "kxx".into()))]);
+    };
+    let (cxx, cyy) = direct(b.damping, "damping", &b.cxx, &b.cyy).map_err(|f| vec![f])?.unwrap_or((one(0.0), one(0.0)));
+    let zero = || one(0.0);
+    let given = [
+        kxx,
+        b.kxy.clone().unwrap_or_else(zero),
+        b.kyx.clone().unwrap_or_else(zero),
+        kyy,
+        cxx,
+        b.cxy.clone().unwrap_or_else(zero),
+        b.cyx.clone().unwrap_or_else(zero),
+        cyy,
+    ];
+    // The key each coefficient came from: an isotropic key stands for both directions.
+    let source = |i: usize| -> String {
+        match i {
+            0 | 3 if b.stiffness.is_some() => k("stiffness"),
+            4 | 7 if b.damping.is_some() => k("damping"),
+            3 if b.kyy.is_none() => k("kxx"),
+            7 if b.cyy.is_none() && b.cxx.is_some() => k("cxx"),
+            _ => k(COEFFICIENT_NAMES[i]),
+        }
+    };
+    let speeds = b.speeds.clone().unwrap_or_default();
+    for (j, &w) in speeds.iter().enumerate() {
+        if let Err(e) = crate::analysis::limits::speed(w) {
+            failures.push((k("speeds"), K::from(&e)));
+        } else if j > 0 && w <= speeds[j - 1] {
+            failures.push((k("speeds"), K::TableSpeedsNotIncreasing { index: j, speed: w, previous: speeds[j - 1] }));
+        }
+    }
+    let mut values: Vec<Vec<f64>> = Vec::with_capacity(8);
+    for (i, c) in given.iter().enumerate() {
+        let v = c.values();
+        let table = matches!(c, CoefficientFile::Table(_));
+        if table && v.len() != speeds.len() {
+            // Reported once per key (kyy defaulting to kxx shares kxx's array).
+            let entry = (source(i), K::TableLength { values: v.len(), speeds: speeds.len() });
+            if !failures.contains(&entry) {
+                failures.push(entry);
+            }
+        }
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            let entry = (source(i), K::NotFinite(*x));
+            if !failures.contains(&entry) {
+                failures.push(entry);
+            }
+        }
+        values.push(v);
+    }
+    if !failures.is_empty() {
+        return Err(failures);
+    }
+    // Per table point (or once for constants): direct stiffnesses ≥ 0, damping ⪰ 0.
+    let points = values.iter().map(Vec::len).max().unwrap_or(1);
+    let at = |i: usize, j: usize| if values[i].len() == 1 { values[i][0] } else { values[i][j] };
+    let speed_of = |j: usize| (points > 1).then(|| speeds[j]);
+    for i in [0, 3] {
+        if let Some((j, &value)) = values[i].iter().enumerate().find(|(_, v)| **v < 0.0) {
+            let entry = (source(i), K::NegativeStiffness { value, speed: speed_of(j) });
+            if !failures.contains(&entry) {
+                failures.push(entry);
+            }
+        }
+    }
+    for j in 0..points {
+        let c = [[at(4, j), at(5, j)], [at(6, j), at(7, j)]];
+        let eigenvalue = smallest_symmetric_eigenvalue(c);
+        let scale = c.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        if eigenvalue < -DAMPING_ROUND_OFF * scale {
+            let culprit =
+                if b.damping.is_some() || (b.cxy.is_none() && b.cyx.is_none()) { source(4) } else { k("cxy") };
+            failures.push((culprit, K::DampingNotSemiDefinite { c, eigenvalue, speed: speed_of(j) }));
+            break;
+        }
+    }
+    if !failures.is_empty() {
+        return Err(failures);
+    }
+    let mut out: [Vec<f64>; 8] = Default::default();
+    for (o, v) in out.iter_mut().zip(values) {
+        *o = v;
+    }
+    Ok((speeds, out))
+}
+
 /// One support per node, and at least two supports with stiffness: the open-circuit
 /// stiffness K at zero load is positive definite exactly when the supports hold both
 /// rigid-body motions u = a + b·x of the free shaft (whose bending energy vanishes on
@@ -359,33 +505,58 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
 /// (k_eq in series with k_eq1 + k_eq2); a bearing when k > 0.
 pub(super) fn supports_check(f: &ProblemFile, bearings: &[Bearing], rings: &[RingSupport]) -> Result<(), Failure> {
     let shorthand = f.ring.is_some();
-    let key_of = |i: usize| -> String {
+    let ring_key = |i: usize| -> String {
         if shorthand {
             "ring".into()
-        } else if i < bearings.len() {
-            format!("bearings[{i}]")
         } else {
-            format!("rings[{}]", i - bearings.len())
+            format!("rings[{i}]")
         }
     };
-    let nodes: Vec<usize> = bearings.iter().map(|b| b.node).chain(rings.iter().map(|r| r.node)).collect();
-    let mut seen = std::collections::HashMap::with_capacity(nodes.len());
-    for (i, &node) in nodes.iter().enumerate() {
-        if let Some(&first) = seen.get(&node) {
-            let given = if i < bearings.len() { &f.bearings[i].node } else { &f.rings[i - bearings.len()].node };
-            let key = format!("{}.{}", key_of(i), if given.is_some() { "node" } else { "position" });
-            return Err((key, K::SupportsShareNode { node, first: key_of(first) }));
+    // At most one ring per node; bearings and seals add to whatever is there.
+    let mut seen = std::collections::HashMap::with_capacity(rings.len());
+    for (i, r) in rings.iter().enumerate() {
+        if let Some(&first) = seen.get(&r.node) {
+            let given = &f.rings[i].node;
+            let key = format!("{}.{}", ring_key(i), if given.is_some() { "node" } else { "position" });
+            return Err((key, K::SupportsShareNode { node: r.node, first: ring_key(first) }));
         }
-        seen.insert(node, i);
+        seen.insert(r.node, i);
     }
-    let stiff = bearings.iter().filter(|b| b.stiffness > 0.0).count() + rings.len();
+    // A bearing or seal holds the shaft when both direct stiffnesses are positive at every
+    // table speed.
+    let holds = |b: &Bearing| b.coefficients[0].iter().chain(&b.coefficients[3]).all(|&k| k > 0.0);
+    let mut held: Vec<usize> =
+        bearings.iter().filter(|b| holds(b)).map(|b| b.node).chain(rings.iter().map(|r| r.node)).collect();
+    held.sort_unstable();
+    held.dedup();
+    let stiff = held.len();
     if stiff < 2 {
         // Blame the first bearing without stiffness (giving it stiffness is the fix);
         // with none, the one support there is, or the shaft when there is none.
-        let key = match bearings.iter().position(|b| b.stiffness <= 0.0) {
-            Some(i) if !shorthand => format!("bearings[{i}].stiffness"),
-            _ if nodes.is_empty() => "sections".to_string(),
-            _ => key_of(0),
+        let key_of = |i: usize| {
+            let b = &bearings[i];
+            let (table, j) = if i < f.bearings.len() { ("bearings", i) } else { ("seals", i - f.bearings.len()) };
+            let file = if table == "bearings" { &f.bearings[j] } else { &f.seals[j] };
+            let name = if file.stiffness.is_some() {
+                "stiffness"
+            } else if b.coefficients[0].iter().any(|&k| k <= 0.0) {
+                "kxx"
+            } else {
+                "kyy"
+            };
+            format!("{table}[{j}].{name}")
+        };
+        let key = match bearings.iter().position(|b| !holds(b)) {
+            Some(i) if !shorthand => key_of(i),
+            _ if bearings.is_empty() && rings.is_empty() => "sections".to_string(),
+            _ if !bearings.is_empty() => {
+                if f.bearings.is_empty() {
+                    "seals[0]".into()
+                } else {
+                    "bearings[0]".into()
+                }
+            }
+            _ => ring_key(0),
         };
         return Err((key, K::RigidBody { supports: stiff }));
     }

@@ -205,6 +205,10 @@ impl Problem {
                 }
                 _ => index.locate(&key),
             };
+            let kind = located(kind, name, |k| {
+                let k = units::file_key(k, &rpm);
+                index.locate(&k)
+            });
             err(location, &key, kind)
         })?;
         let design = design_keys::design(&data, &model).map_err(|(key, kind)| {
@@ -244,7 +248,7 @@ impl Problem {
             file: file.to_string(),
             location: Location::Unknown,
             key: key.clone(),
-            kind,
+            kind: located(kind, file, |_| Location::Unknown),
         };
         let (model, settings) = validate::translate(&data).map_err(err)?;
         let design = design_keys::design(&data, &model).map_err(err)?;
@@ -288,6 +292,22 @@ pub fn syntax_error(text: &str, e: &toml::de::Error) -> (Location, ProblemErrorK
         None => deep_key_line(text).map(Location::Line).unwrap_or(Location::Unknown),
     };
     (location, ProblemErrorKind::Syntax(message))
+}
+
+/// The errors a [`ProblemErrorKind::Several`] carries, given their file and located by
+/// `locate` (their key to its line); any other kind as it is.
+fn located(kind: ProblemErrorKind, file: &str, mut locate: impl FnMut(&str) -> Location) -> ProblemErrorKind {
+    match kind {
+        ProblemErrorKind::Several { first, more } => {
+            let more = more
+                .into_vec()
+                .into_iter()
+                .map(|e| ProblemError { file: file.to_string(), location: locate(&e.key), ..e })
+                .collect();
+            ProblemErrorKind::Several { first, more }
+        }
+        other => other,
+    }
 }
 
 fn quoted_field(message: &str, prefix: &str) -> Option<String> {

@@ -103,6 +103,20 @@ impl Serialize for Warning {
 /// rad/s keys that were given in rpm (`speed`, `design.speeds`, `design.response.speeds`).
 pub(super) fn check(f: &ProblemFile, model: &Model, rpm: &[String]) -> Vec<(String, WarningKind)> {
     let mut out = Vec::new();
+    // The file's speed (and the design's) outside a support's table.
+    let mut speeds = vec![model.speed];
+    if let Some(d) = &f.design {
+        speeds.extend(d.speeds.iter().flatten().copied());
+        speeds.extend(d.speed_range.iter().flatten().copied());
+    }
+    let tables = [("bearings", f.bearings.len()), ("seals", f.seals.len())];
+    let keys = tables.iter().flat_map(|(t, n)| (0..*n).map(move |i| format!("{t}[{i}].speeds")));
+    for (b, key) in model.bearings.iter().zip(keys) {
+        if let Some(&speed) = speeds.iter().find(|&&w| b.outside_table(w)) {
+            let (lo, hi) = (b.speeds[0], b.speeds[b.speeds.len() - 1]);
+            out.push((key, WarningKind::OutsideTable { speed, lo, hi }));
+        }
+    }
     let mut modulus = |key: String, value: f64| {
         if !(MIN_YOUNGS_MODULUS..=MAX_YOUNGS_MODULUS).contains(&value) {
             out.push((key, WarningKind::YoungsModulus { value, lo: MIN_YOUNGS_MODULUS, hi: MAX_YOUNGS_MODULUS }));

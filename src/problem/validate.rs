@@ -315,7 +315,8 @@ pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
         critical_load: f.load.critical_load.map(|p| positive("load.critical_load", p)).transpose()?,
     };
     let settings = settings(&f.analysis)?;
-    Ok((Model { shaft, disks, bearings, rings, load, speed }, settings))
+    let coordinates = settings.coordinates;
+    Ok((Model { shaft, disks, bearings, rings, load, speed, coordinates }, settings))
 }
 
 /// The shorthand's supports: the ring `left` at node 0 and `right` (with `[ring.right]`'s

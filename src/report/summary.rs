@@ -192,17 +192,37 @@ pub fn check_text(rotor: &Rotor, title: &str) -> String {
         d.len(),
         2 * d.len()
     );
-    for (i, b) in m.bearings.iter().enumerate() {
-        let _ = writeln!(
-            out,
-            "  bearing {}: node {} (x = {:.4} m), k = {:.3e} N/m, c = {} N s/m, mass = {} kg",
-            i + 1,
-            b.node,
-            m.shaft.node_position(b.node),
-            b.stiffness,
-            b.damping,
-            b.mass
-        );
+    let mut counts = [0usize; 2];
+    for b in &m.bearings {
+        let n = &mut counts[usize::from(b.kind == crate::model::SupportKind::Seal)];
+        *n += 1;
+        let place = format!("{} {}: node {} (x = {:.4} m)", b.kind, n, b.node, m.shaft.node_position(b.node));
+        if b.is_isotropic() {
+            let _ = writeln!(
+                out,
+                "  {place}, k = {:.3e} N/m, c = {} N s/m, mass = {} kg",
+                b.stiffness(),
+                b.damping(),
+                b.mass
+            );
+        } else {
+            let at = b.matrices_at(m.speed);
+            let table = match (b.speeds.first(), b.speeds.last()) {
+                (Some(lo), Some(hi)) => format!(", tables over {lo}…{hi} rad/s ({} speeds)", b.speeds.len()),
+                _ => String::new(),
+            };
+            let _ = writeln!(
+                out,
+                "  {place}, at {} rad/s: K = [[{:.3e}, {:.3e}], [{:.3e}, {:.3e}]] N/m, C = [[{:.3e}, {:.3e}], [{:.3e}, {:.3e}]] N s/m, mass = {} kg{table}",
+                m.speed,
+                at.k[0][0], at.k[0][1], at.k[1][0], at.k[1][1],
+                at.c[0][0], at.c[0][1], at.c[1][0], at.c[1][1],
+                b.mass
+            );
+        }
+    }
+    if m.real_coordinates() {
+        let _ = writeln!(out, "  coordinates: real (v, w), {} real DOFs", 2 * d.len());
     }
     match paper_layout(m) {
         Some((left, right)) => {

@@ -228,20 +228,51 @@ pub fn plot_pareto(points: &[(f64, f64)], labels: &[String], title: &str) -> Cur
 /// Long-format CSV: one row per probe and speed.
 pub fn unbalance_csv(r: &UnbalanceResult) -> Result<String, csv::Error> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["probe", "kind", "node", "speed_rad_s", "amplitude_m", "phase_rad"])?;
+    // Real coordinates: the orbit's columns after the complex path's (amplitude is then
+    // the semi-major axis, phase that of x).
+    let orbits = r.probes.iter().any(|p| p.orbit.is_some());
+    let mut header = vec!["probe", "kind", "node", "speed_rad_s", "amplitude_m", "phase_rad"];
+    if orbits {
+        header.extend([
+            "x_amplitude_m",
+            "x_phase_rad",
+            "y_amplitude_m",
+            "y_phase_rad",
+            "major_m",
+            "minor_m",
+            "forward_m",
+            "backward_m",
+        ]);
+    }
+    w.write_record(&header)?;
     for p in &r.probes {
         let kind =
             serde_json::to_value(p.probe.kind).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
         let node = p.probe.node.map(|n| n.to_string()).unwrap_or_default();
         for (i, w_) in r.speeds.iter().enumerate() {
-            w.write_record([
+            let mut row = vec![
                 p.probe.name.clone(),
                 kind.clone(),
                 node.clone(),
                 w_.to_string(),
                 p.amplitude[i].to_string(),
                 p.phase[i].to_string(),
-            ])?;
+            ];
+            if let Some(o) = &p.orbit {
+                for v in [
+                    &o.x_amplitude,
+                    &o.x_phase,
+                    &o.y_amplitude,
+                    &o.y_phase,
+                    &o.major,
+                    &o.minor,
+                    &o.forward,
+                    &o.backward,
+                ] {
+                    row.push(v[i].to_string());
+                }
+            }
+            w.write_record(&row)?;
         }
     }
     let bytes = w.into_inner().map_err(|e| e.into_error())?;

@@ -78,6 +78,9 @@ pub struct PhiTable {
     /// a = x_max·‖τB1‖ in frequency-scaled coordinates: the parametric coupling over
     /// one exponential, which drives both the interpolant's degree and the CFM4 error.
     coupling: f64,
+    /// Whether `xi` covers the whole period (the real coordinates, where no transpose
+    /// symmetry closes it from its first half) or its first half.
+    full_period: bool,
 }
 
 /// Columns of exponentials evaluated per real matrix product in [`PhiTable::monodromy`]:
@@ -105,10 +108,13 @@ impl PhiTable {
     /// even) and loads up to `beta_max`. Where E(x) varies too much over one step for the
     /// interpolant to converge (long periods, large β), the step count is doubled: both
     /// the interpolant and the CFM4 error are governed by τ·‖B1‖·β.
-    pub fn new(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize) -> PhiTable {
+    ///
+    /// `full_period`: step the whole period (the real coordinates: with D̃ not symmetric,
+    /// the symmetry X of [`Symmetry`] does not hold) instead of half of it.
+    pub fn new(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize, full_period: bool) -> PhiTable {
         let mut steps = steps;
         loop {
-            let t = PhiTable::build(sys, phi, beta_max, steps);
+            let t = PhiTable::build(sys, phi, beta_max, steps, full_period);
             if (t.converged && t.coupling <= MAX_COUPLING) || steps >= MAX_STEPS {
                 return t;
             }
@@ -116,14 +122,15 @@ impl PhiTable {
         }
     }
 
-    fn build(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize) -> PhiTable {
+    fn build(sys: &PeriodicSystem, phi: f64, beta_max: f64, steps: usize, full_period: bool) -> PhiTable {
         let steps = steps.max(2).next_multiple_of(2);
         let n = sys.b0.nrows();
         let h = 2.0 * std::f64::consts::PI / phi / steps as f64;
         let tau = h / 2.0;
         let ((c1, c2), (w1, w2)) = cfm4();
         let mut xi = Vec::with_capacity(steps);
-        for k in 0..steps / 2 {
+        let stepped = if full_period { steps } else { steps / 2 };
+        for k in 0..stepped {
             let t = k as f64 * h;
             let (f1, f2) = ((phi * (t + c1 * h)).cos(), (phi * (t + c2 * h)).cos());
             xi.push(2.0 * (w1 * f1 + w2 * f2));
@@ -148,7 +155,7 @@ impl PhiTable {
         if x_max == 0.0 {
             let mut cheb = Mat::<f64>::zeros(2 * n * n, 1);
             e(0.0, cheb.col_as_slice_mut(0));
-            return PhiTable { phi, steps, xi, x_max, cheb, n, converged: true, coupling: 0.0 };
+            return PhiTable { phi, steps, xi, x_max, cheb, n, converged: true, coupling: 0.0, full_period };
         }
         // Chebyshev coefficients of E(x) decay like those of e^{a·u}, u ∈ [−1, 1], with
         // a = x_max·‖τB1‖ (balanced coordinates): c_k ≈ 2(a/2)^k/k!. Start from the
@@ -197,7 +204,7 @@ impl PhiTable {
             let finite = (0..points).all(|k| size(k).is_finite());
             let converged = finite && tail <= CHEBYSHEV_TOLERANCE * scale;
             if converged || points >= MAX_CHEBYSHEV_POINTS {
-                return PhiTable { phi, steps, xi, x_max, cheb, n, converged, coupling: a };
+                return PhiTable { phi, steps, xi, x_max, cheb, n, converged, coupling: a, full_period };
             }
             points = CHEBYSHEV_DEGREES.iter().copied().find(|&p| p > points).unwrap_or(MAX_CHEBYSHEV_POINTS);
         }
@@ -260,6 +267,7 @@ impl PhiTable {
             }
         }
         match half {
+            Some(h) if self.full_period => ScaledProduct::from_matrix(h.matrix.to_complex(), h.log_scale),
             Some(h) => sym.close_period(&h),
             None => ScaledProduct::identity(n),
         }

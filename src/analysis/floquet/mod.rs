@@ -104,7 +104,7 @@ pub struct FloquetSystem {
 impl FloquetSystem {
     /// Reduce the rotor to `settings.reduced_modes` modes at `speed` (rad/s).
     pub fn new(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<FloquetSystem, AnalysisError> {
-        let reduced = ReducedModel::new(rotor, settings.reduced_modes)?;
+        let reduced = ReducedModel::new(rotor, settings.reduced_modes, speed)?;
         let system = reduced.periodic_system(speed);
         let symmetry = Symmetry::new(&system);
         let rates = eigenvalues_of(&system).ok().map(|ev| {
@@ -131,6 +131,14 @@ impl FloquetSystem {
         Ok((f, b))
     }
 
+    /// Whether the forward and the backward whirls of B0 are the same frequencies, so
+    /// that a pair (i, j) and (j, i) are one combination: at rest, and always in real
+    /// coordinates, where every whirl is a conjugate pair ±jω of the real B0 (a
+    /// combination resonance ω_i + ω_j pairs +jω_i with −jω_j, a simple one 2ω_i).
+    pub fn paired(&self) -> bool {
+        self.speed == 0.0 || self.reduced.real
+    }
+
     /// Reduction summary.
     pub fn info(&self) -> ReductionInfo {
         self.reduced.info()
@@ -138,7 +146,7 @@ impl FloquetSystem {
 
     /// The per-φ table of the fast path for loads up to `beta_max`.
     pub fn table(&self, phi: f64, beta_max: f64) -> PhiTable {
-        PhiTable::new(&self.system, phi, beta_max, self.steps_for(phi))
+        PhiTable::new(&self.system, phi, beta_max, self.steps_for(phi), self.reduced.real)
     }
 
     /// CFM4 steps per period at φ: the configured minimum, or more so that each step

@@ -59,6 +59,21 @@ fn name(full: Option<&ModesResult>, w: f64, whirl: Whirl) -> String {
     .unwrap_or_else(|| format!("{}{w:.0}", whirl.letter()))
 }
 
+/// Name of a reduced whirl of the real coordinates: the tag of the nearest full-model
+/// whirl of any direction (electrical ones by their label, as [`name`]), or `w399`.
+fn any_name(full: Option<&ModesResult>, w: f64) -> String {
+    full.and_then(|full| {
+        full.modes.iter().min_by(|a, b| (a.frequency - w).abs().total_cmp(&(b.frequency - w).abs())).map(|m| {
+            if m.label.chars().next().is_some_and(|c| c.is_ascii_digit()) {
+                m.tag()
+            } else {
+                m.label.clone()
+            }
+        })
+    })
+    .unwrap_or_else(|| format!("w{w:.0}"))
+}
+
 /// All predicted starts in `range` (rad/s) up to order `max_order`, sorted by φ; labelled
 /// after the full model's whirls when `full` is given.
 pub fn seeds(
@@ -68,7 +83,23 @@ pub fn seeds(
     max_order: usize,
 ) -> Result<Vec<Seed>, AnalysisError> {
     let (f, b) = fs.whirls()?;
-    let rest = fs.speed == 0.0;
+    let rest = fs.paired();
+    // Real coordinates: a whirl is named after the nearest full-model whirl of any
+    // direction (its tag, f1, b2, m1, or its electrical label); at rest with `n`.
+    let real_name = |w: f64| {
+        let tag = any_name(full, w);
+        if fs.speed == 0.0 {
+            let mut c = tag.chars();
+            match c.next() {
+                Some('f' | 'b' | 'm') if tag.chars().nth(1).is_some_and(|d| d.is_ascii_digit()) => {
+                    format!("n{}", c.as_str())
+                }
+                _ => tag,
+            }
+        } else {
+            tag
+        }
+    };
     let mut out = Vec::new();
     for (i, wf) in f.iter().enumerate() {
         for (j, wb) in b.iter().enumerate() {
@@ -76,10 +107,14 @@ pub fn seeds(
                 continue; // at rest f_i + b_j = f_j + b_i: keep one
             }
             let (label, kind) = if rest {
-                let (ni, nj) = (
-                    name(full, *wf, Whirl::Forward).replacen('f', "n", 1),
-                    name(full, *wb, Whirl::Forward).replacen('f', "n", 1),
-                );
+                let (ni, nj) = if fs.reduced.real {
+                    (real_name(*wf), real_name(*wb))
+                } else {
+                    (
+                        name(full, *wf, Whirl::Forward).replacen('f', "n", 1),
+                        name(full, *wb, Whirl::Forward).replacen('f', "n", 1),
+                    )
+                };
                 if i == j {
                     (format!("2 {ni}"), RegionKind::Simple)
                 } else {

@@ -115,7 +115,7 @@ impl Level<'_> {
             map.entry(key).or_default().clone()
         };
         let found = cell.get_or_init(|| self.group_search(key));
-        let rest = self.probe.system().speed == 0.0;
+        let rest = self.probe.system().paired();
         // Points beyond the window stay: their tongue may reach into it.
         found
             .iter()

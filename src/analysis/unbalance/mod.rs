@@ -76,9 +76,12 @@ pub struct Probe {
 fn support_probes(rotor: &Rotor) -> Vec<Probe> {
     let dofs = &rotor.system.dofs;
     let mut out = Vec::new();
-    for (i, b) in rotor.model.bearings.iter().enumerate() {
+    let mut counts = [0usize; 2];
+    for b in &rotor.model.bearings {
+        let i = &mut counts[usize::from(b.kind == crate::model::SupportKind::Seal)];
+        *i += 1;
         out.push(Probe {
-            name: format!("journal at bearing {} (node {})", i + 1, b.node),
+            name: format!("journal at {} {} (node {})", b.kind, i, b.node),
             kind: ProbeKind::Journal,
             node: Some(b.node),
             dof: dofs.deflection(b.node),
@@ -149,13 +152,106 @@ pub struct DynamicStiffness {
     damping: Vec<f64>,
     /// q_u (kg·m): the force is Ω²·q_u.
     unbalance: Vec<c64>,
+    /// Real coordinates only: the skew gyroscopic G_r per stored entry, which enters as
+    /// jΩ²·G_r (empty in complex coordinates, where G is in `inertia`).
+    gyroscopic: Vec<f64>,
+    /// Real coordinates only: the bearings and seals whose coefficients are added at each
+    /// speed, and where (stored entry, bearing, coefficient index).
+    supports: Vec<(usize, usize, usize)>,
+    bearings: Vec<crate::model::Bearing>,
+    /// Real coordinates only: the complex size n (real DOF i + n is DOF i's w).
+    half: Option<usize>,
 }
 
 impl DynamicStiffness {
     /// The dynamic stiffness of `rotor` under its static load αP_cr.
     pub fn of(rotor: &Rotor) -> Result<DynamicStiffness, AnalysisError> {
+        if rotor.real {
+            return DynamicStiffness::real(rotor);
+        }
         let s = &rotor.system;
         DynamicStiffness::new(Matrices::of(s), rotor.static_load())
+    }
+
+    /// The dynamic stiffness of the real coordinates,
+    /// A(Ω) = K(Ω) − P·S − Ω²M + jΩ(C(Ω) + Ω·G_r): the realified isotropic part once,
+    /// the bearings' and seals' coefficients added at each speed.
+    fn real(rotor: &Rotor) -> Result<DynamicStiffness, AnalysisError> {
+        let sys = crate::assembly::GeneralSystem::new(&rotor.system, &[], 0.0);
+        let n2 = sys.size();
+        let n = n2 / 2;
+        let load = rotor.static_load();
+        let bearings = rotor.model.bearings.clone();
+        // Where each support's four entries sit (row, column) → (bearing, coefficient).
+        let mut at: std::collections::HashMap<(usize, usize), Vec<(usize, usize)>> = Default::default();
+        for (b, bearing) in bearings.iter().enumerate() {
+            let d = sys.dofs.deflection(bearing.node);
+            for (r, row) in [d, n + d].into_iter().enumerate() {
+                for (c, col) in [d, n + d].into_iter().enumerate() {
+                    let e = at.entry((row, col)).or_default();
+                    e.push((b, 2 * r + c));
+                    e.push((b, 4 + 2 * r + c));
+                }
+            }
+        }
+        let mut col_ptr = Vec::with_capacity(n2 + 1);
+        let mut row_idx = Vec::new();
+        let (mut stiffness, mut inertia, mut damping, mut gyroscopic) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut supports = Vec::new();
+        col_ptr.push(0usize);
+        for j in 0..n2 {
+            for i in 0..n2 {
+                let (m, c, k, s, g) = (sys.m[(i, j)], sys.c[(i, j)], sys.k[(i, j)], sys.s[(i, j)], sys.g[(i, j)]);
+                let support = at.get(&(i, j));
+                if i == j || m != 0.0 || c != 0.0 || k != 0.0 || s != 0.0 || g != 0.0 || support.is_some() {
+                    if let Some(list) = support {
+                        supports.extend(list.iter().map(|&(b, coefficient)| (row_idx.len(), b, coefficient)));
+                    }
+                    row_idx.push(i);
+                    stiffness.push(k - load * s);
+                    inertia.push(m);
+                    damping.push(c);
+                    gyroscopic.push(g);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let values = stiffness.iter().chain(&inertia).chain(&damping).chain(&gyroscopic);
+        if values.chain(sys.unbalance.iter().flat_map(|z| [&z.re, &z.im])).any(|v| !v.is_finite()) {
+            return Err(LinalgError::NonFinite { what: "dynamic stiffness" }.into());
+        }
+        let pattern = SymbolicSparseColMat::new_checked(n2, n2, col_ptr, None, row_idx);
+        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
+            .map_err(|_| LinalgError::NonFinite { what: "dynamic stiffness" })?;
+        Ok(DynamicStiffness {
+            pattern,
+            symbolic,
+            stiffness,
+            inertia,
+            damping,
+            unbalance: sys.unbalance,
+            gyroscopic,
+            supports,
+            bearings,
+            half: Some(n),
+        })
+    }
+
+    /// The amplitude (m) of the response `u` at complex DOF `dof` and its phase (rad): |U|
+    /// and arg U of the circular whirl in complex coordinates; in real ones the
+    /// semi-major axis of the ellipse ([`crate::analysis::orbit::Orbit`]) and the phase of
+    /// its x (v) motion.
+    pub fn amplitude(&self, u: &[c64], dof: usize) -> (f64, f64) {
+        match self.half {
+            None => (u[dof].norm(), u[dof].arg()),
+            Some(n) => (crate::analysis::orbit::Orbit::of(u[dof], u[n + dof]).major, u[dof].arg()),
+        }
+    }
+
+    /// Real coordinates only: the complex size n (real DOF i + n is DOF i's w).
+    pub fn half(&self) -> Option<usize> {
+        self.half
     }
 
     /// The dynamic stiffness of any real symmetric system (M, C, K, S, G, q_u) under the
@@ -187,7 +283,18 @@ impl DynamicStiffness {
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
         let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
             .map_err(|_| LinalgError::NonFinite { what: "dynamic stiffness" })?;
-        Ok(DynamicStiffness { pattern, symbolic, stiffness, inertia, damping, unbalance: sys.unbalance.to_vec() })
+        Ok(DynamicStiffness {
+            pattern,
+            symbolic,
+            stiffness,
+            inertia,
+            damping,
+            unbalance: sys.unbalance.to_vec(),
+            gyroscopic: Vec::new(),
+            supports: Vec::new(),
+            bearings: Vec::new(),
+            half: None,
+        })
     }
 
     /// Number of DOFs.
@@ -206,6 +313,17 @@ impl DynamicStiffness {
                 .zip(&self.damping)
                 .map(|((k, m), c)| c64::new(k - w2 * m, speed * c)),
         );
+        for (v, g) in work.values.iter_mut().zip(&self.gyroscopic) {
+            v.im += w2 * g;
+        }
+        for &(entry, b, coefficient) in &self.supports {
+            let x = self.bearings[b].coefficient_at(coefficient, speed);
+            if coefficient < 4 {
+                work.values[entry].re += x;
+            } else {
+                work.values[entry].im += speed * x;
+            }
+        }
         let mut rhs: Vec<c64> = self.unbalance.iter().map(|q| q * w2).collect();
         if work.values.iter().chain(&rhs).any(|z| !(z.re.is_finite() && z.im.is_finite())) {
             return Err(LinalgError::NonFinite { what: "dynamic stiffness" }.into());
@@ -290,6 +408,50 @@ pub struct ProbeResponse {
     pub phase: Vec<f64>,
     /// The refined peaks, by speed.
     pub peaks: Vec<Peak>,
+    /// Real coordinates only: the elliptical orbit at each speed (`amplitude` is then its
+    /// semi-major axis and `phase` that of its x motion); absent in complex coordinates,
+    /// where the orbit is the circle of radius `amplitude`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orbit: Option<OrbitResponse>,
+}
+
+/// The synchronous orbit of a probe over the speeds, in real coordinates: x = v and y = w
+/// as x(t) = |X|·cos(Ωt + arg X), and the ellipse they trace ([`crate::analysis::orbit`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrbitResponse {
+    /// |X| (m).
+    pub x_amplitude: Vec<f64>,
+    /// arg X (rad, in (−π, π]).
+    pub x_phase: Vec<f64>,
+    /// |Y| (m).
+    pub y_amplitude: Vec<f64>,
+    /// arg Y (rad).
+    pub y_phase: Vec<f64>,
+    /// Semi-major axis |F| + |B| (m).
+    pub major: Vec<f64>,
+    /// Semi-minor axis ||F| − |B|| (m).
+    pub minor: Vec<f64>,
+    /// Radius |F| of the forward circular component (m).
+    pub forward: Vec<f64>,
+    /// Radius |B| of the backward circular component (m).
+    pub backward: Vec<f64>,
+}
+
+impl OrbitResponse {
+    fn of(x: &[c64], y: &[c64]) -> OrbitResponse {
+        let orbits: Vec<crate::analysis::orbit::Orbit> =
+            x.iter().zip(y).map(|(a, b)| crate::analysis::orbit::Orbit::of(*a, *b)).collect();
+        OrbitResponse {
+            x_amplitude: x.iter().map(|z| z.norm()).collect(),
+            x_phase: x.iter().map(|z| z.arg()).collect(),
+            y_amplitude: y.iter().map(|z| z.norm()).collect(),
+            y_phase: y.iter().map(|z| z.arg()).collect(),
+            major: orbits.iter().map(|o| o.major).collect(),
+            minor: orbits.iter().map(|o| o.minor).collect(),
+            forward: orbits.iter().map(|o| o.forward).collect(),
+            backward: orbits.iter().map(|o| o.backward).collect(),
+        }
+    }
 }
 
 impl ProbeResponse {
@@ -320,6 +482,31 @@ pub struct UnbalanceResult {
     pub static_load: f64,
     /// One response per probe.
     pub probes: Vec<ProbeResponse>,
+}
+
+impl UnbalanceResult {
+    /// Real coordinates only: the response in one direction (`plane` 0: x, 1: y) as
+    /// amplitude and phase per probe, without peaks (they are refined on the semi-major
+    /// axis); `None` in complex coordinates.
+    pub fn direction(&self, plane: usize) -> Option<UnbalanceResult> {
+        let probes = self
+            .probes
+            .iter()
+            .map(|p| {
+                let o = p.orbit.as_ref()?;
+                let (amplitude, phase) =
+                    if plane == 0 { (&o.x_amplitude, &o.x_phase) } else { (&o.y_amplitude, &o.y_phase) };
+                Some(ProbeResponse {
+                    probe: p.probe.clone(),
+                    amplitude: amplitude.clone(),
+                    phase: phase.clone(),
+                    peaks: Vec::new(),
+                    orbit: None,
+                })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(UnbalanceResult { speeds: self.speeds.clone(), static_load: self.static_load, probes })
+    }
 }
 
 /// Check a speed grid: at least one speed, each finite and ≥ 0, strictly ascending.
@@ -366,17 +553,28 @@ pub fn response_with(
     if let Some(p) = probes.iter().find(|p| p.dof >= a.size()) {
         return Err(AnalysisError::ProbeOffSystem { dof: p.dof, dofs: a.size() });
     }
-    let dofs: Vec<usize> = probes.iter().map(|p| p.dof).collect();
+    // Each probe's v DOF, and in real coordinates its w DOF after all of them.
+    let mut dofs: Vec<usize> = probes.iter().map(|p| p.dof).collect();
+    if let Some(n) = a.half() {
+        dofs.extend(probes.iter().map(|p| n + p.dof));
+    }
     let grid = at_speeds(a, speeds, &dofs, tick)?;
+    let count = probes.len();
     probes
         .par_iter()
         .enumerate()
         .map_init(Workspace::default, |work, (k, probe)| {
             let values: Vec<c64> = grid.iter().map(|row| row[k]).collect();
-            let amplitude: Vec<f64> = values.iter().map(|z| z.norm()).collect();
-            let phase = values.iter().map(|z| z.arg()).collect();
+            let (amplitude, phase, orbit) = match a.half() {
+                None => (values.iter().map(|z| z.norm()).collect(), values.iter().map(|z| z.arg()).collect(), None),
+                Some(_) => {
+                    let y: Vec<c64> = grid.iter().map(|row| row[count + k]).collect();
+                    let orbit = OrbitResponse::of(&values, &y);
+                    (orbit.major.clone(), orbit.x_phase.clone(), Some(orbit))
+                }
+            };
             let peaks = refine_peaks(a, probe.dof, speeds, &amplitude, work)?;
-            Ok(ProbeResponse { probe: probe.clone(), amplitude, phase, peaks })
+            Ok(ProbeResponse { probe: probe.clone(), amplitude, phase, peaks, orbit })
         })
         .collect()
 }

@@ -4,7 +4,6 @@
 
 use super::{DynamicStiffness, Workspace};
 use crate::analysis::AnalysisError;
-use faer::c64;
 use serde::Serialize;
 
 /// Relative width (of Ω_peak) of the bracket at which the golden-section search of a peak
@@ -67,9 +66,9 @@ struct Curve<'a> {
 }
 
 impl Curve<'_> {
-    /// U_dof (m, complex) at speed Ω.
-    fn at(&self, speed: f64, work: &mut Workspace) -> Result<c64, AnalysisError> {
-        Ok(self.a.solve(speed, work)?[self.dof])
+    /// The amplitude and phase at DOF `dof` at speed Ω ([`DynamicStiffness::amplitude`]).
+    fn at(&self, speed: f64, work: &mut Workspace) -> Result<(f64, f64), AnalysisError> {
+        Ok(self.a.amplitude(&self.a.solve(speed, work)?, self.dof))
     }
 }
 
@@ -89,7 +88,7 @@ pub(super) fn refine_peaks(
             continue;
         }
         let (speed, value) = golden_max(&curve, speeds[i - 1], speeds[i + 1], (speeds[i], amp[i]), work)?;
-        let amplitude = value.norm();
+        let amplitude = value.0;
         let half = amplitude / std::f64::consts::SQRT_2;
         let left = half_power(&curve, speed, half, Side::Below, work)?;
         let right = half_power(&curve, speed, half, Side::Above, work)?;
@@ -99,7 +98,7 @@ pub(super) fn refine_peaks(
         peaks.push(Peak {
             speed,
             amplitude,
-            phase: value.arg(),
+            phase: value.1,
             half_power,
             amplification_factor: width.filter(|w| *w > 0.0).map(|w| speed / w),
             unbounded,
@@ -117,7 +116,7 @@ fn golden_max(
     hi: f64,
     best: (f64, f64),
     work: &mut Workspace,
-) -> Result<(f64, c64), AnalysisError> {
+) -> Result<(f64, (f64, f64)), AnalysisError> {
     const INV_PHI: f64 = 0.618_033_988_749_894_9;
     let (mut lo, mut hi) = (lo, hi);
     let mut x1 = hi - INV_PHI * (hi - lo);
@@ -128,7 +127,7 @@ fn golden_max(
         if hi - lo <= PEAK_SPEED_TOLERANCE * best.0.max(f64::MIN_POSITIVE) {
             break;
         }
-        if f1.norm() >= f2.norm() {
+        if f1.0 >= f2.0 {
             hi = x2;
             (x2, f2) = (x1, f1);
             x1 = hi - INV_PHI * (hi - lo);
@@ -140,8 +139,8 @@ fn golden_max(
             f2 = curve.at(x2, work)?;
         }
     }
-    let (x, f) = if f1.norm() >= f2.norm() { (x1, f1) } else { (x2, f2) };
-    if f.norm() >= best.1 {
+    let (x, f) = if f1.0 >= f2.0 { (x1, f1) } else { (x2, f2) };
+    if f.0 >= best.1 {
         Ok((x, f))
     } else {
         Ok((best.0, curve.at(best.0, work)?))
@@ -183,7 +182,7 @@ fn half_power(
                 if mid == inside || mid == outside {
                     break;
                 }
-                if curve.at(mid, work)?.norm() >= half {
+                if curve.at(mid, work)?.0 >= half {
                     inside = mid;
                 } else {
                     outside = mid;
