@@ -471,7 +471,7 @@ fn dependent(changed: &str, blamed: &str) -> bool {
     // In [design], an upper bound is checked against its lower bound (and φ_op, β_max
     // against the range and level), so a huge lower value is reported at the upper key.
     // The general form: nodes and positions depend on the sections; a support's node on
-    // the others' (two at one node); the supports' count on each one's stiffness (a rotor
+    // the others' (two rings at one node); the supports' count on each one's stiffness (a rotor
     // left with rigid-body modes is blamed at a bearing without stiffness, else at its
     // first support); a geometry disk's mass on its width and material (its overflow is
     // blamed at its outer diameter); the ring a design variable names on the rings'
@@ -480,6 +480,10 @@ fn dependent(changed: &str, blamed: &str) -> bool {
     dep("shaft.elements", ".node")
         || dep("shaft.length", ".position")
         || (changed.starts_with("sections") && node_key(blamed))
+        // Supports may share a node (a ring beside a bearing): sections that move them
+        // onto one node leave a rigid-body mode, blamed at a support.
+        || (changed.starts_with("sections")
+            && ["bearings", "seals", "rings"].iter().any(|t| blamed.starts_with(t)))
         || (node_key(changed) && node_key(blamed))
         || ((blamed.starts_with("bearings") || blamed.starts_with("rings"))
             && changed.starts_with(&format!("{blamed}.")))

@@ -359,8 +359,17 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
     Ok((bearings, rings))
 }
 
-/// The failures found, as one: the first with the others attached ([`K::Several`]).
-pub(super) fn several(mut failures: Vec<Failure>) -> Option<Failure> {
+/// The failures found, as one: the first with the others attached ([`K::Several`]). A
+/// failure found twice (one key feeding two coefficients, as `stiffness` feeds kxx and
+/// kyy) is reported once.
+pub(super) fn several(failures: Vec<Failure>) -> Option<Failure> {
+    let mut failures = failures.into_iter().fold(Vec::new(), |mut seen: Vec<Failure>, f| {
+        // By key and message: a NaN value makes the kinds themselves unequal.
+        if !seen.iter().any(|(k, e)| *k == f.0 && e.to_string() == f.1.to_string()) {
+            seen.push(f);
+        }
+        seen
+    });
     if failures.is_empty() {
         return None;
     }
