@@ -417,6 +417,43 @@ def refuse_linked_bearing():
     return rs.Rotor(example_shaft(), example_disks(), bearings, point_mass_elements=pedestal)
 
 
+def refuse_magnetic():
+    """A magnetic bearing at node 6 (PID controller), saved by ROSS under BearingElement
+    with its controller's parameters: refused, naming it."""
+    bearings = [
+        rs.BearingElement(n=0, kxx=1e6, cxx=0.0),
+        rs.MagneticBearingElement(
+            n=6, g0=1e-3, i0=1.0, ag=1e-4, nw=200, kp_pid=1.0, kd_pid=1e-3, tag="Refused magnetic"
+        ),
+    ]
+    return rs.Rotor(example_shaft(), example_disks(), bearings)
+
+
+def refuse_several():
+    """Five refusals in one file, listed by one import: proportional damping on element
+    2, rotary inertia off on element 4, a bearing at node 6 linked to a pedestal (a point
+    mass at node 7 beyond the shaft) and the pedestal's bearing to the ground."""
+    shaft = example_shaft()
+    shaft[2] = rayleigh(0.25, 0.0, 0.05, STEEL, alpha=2.0, tag="Refused damped")
+    shaft[4] = rs.ShaftElement(
+        L=0.25,
+        idl=0.0,
+        odl=0.05,
+        material=STEEL,
+        shear_effects=False,
+        rotary_inertia=False,
+        gyroscopic=True,
+        tag="Refused no rotary inertia",
+    )
+    bearings = [
+        rs.BearingElement(n=0, kxx=1e6, cxx=0.0),
+        rs.BearingElement(n=6, kxx=1e6, cxx=0.0, n_link=7, tag="Refused linked"),
+        rs.BearingElement(n=7, kxx=1e7, cxx=0.0, tag="Refused pedestal support"),
+    ]
+    pedestal = [rs.PointMass(n=7, m=10.0, tag="Refused pedestal")]
+    return rs.Rotor(shaft, example_disks(), bearings, point_mass_elements=pedestal)
+
+
 # name -> (builder, speeds for the modal file or None)
 ROTORS = {
     "rotor_example_rayleigh": (rotor_example_rayleigh, [0.0, 500.0, 1500.0]),
@@ -432,6 +469,8 @@ ROTORS = {
     "refuse_anisotropic_damping": (refuse_anisotropic_damping, None),
     "refuse_cross_coupled": (refuse_cross_coupled, None),
     "refuse_linked_bearing": (refuse_linked_bearing, None),
+    "refuse_magnetic": (refuse_magnetic, None),
+    "refuse_several": (refuse_several, None),
 }
 # ROSS's own examples, saved as they are: name -> (builder, speeds of the whirl file).
 # The compressor's speeds lie inside every one of its bearing and seal tables (419 to
