@@ -190,3 +190,55 @@ fn held_out_rotor_with_tabulated_supports_matches_ross() {
     compare_whirls("held_out_supports");
     compare_unbalance("held_out_supports");
 }
+
+#[test]
+fn the_catalogue_compressor_is_rosss_compressor_imported_unchanged() {
+    // problems/ross/compressor_example.toml is `import-ross --speed 1000` of ROSS's saved
+    // file, unedited (problems/README.md); the design file is that text with a ring, an
+    // unbalance on the last impeller, a load block and a design added, and nothing
+    // removed (its own header comment aside).
+    let name = "tests/fixtures/ross/compressor_example.toml";
+    let text = std::fs::read_to_string(common::root().join(name)).unwrap();
+    let import = rotorshunt::import::ross::import_text(&text, name, Options { speed: Some(1000.0) }).unwrap();
+    let read = |file: &str| std::fs::read_to_string(common::root().join("problems/ross").join(file)).unwrap();
+    let catalogue = read("compressor_example.toml");
+    assert_eq!(catalogue, import.text);
+    let design = read("design-compressor-example.toml");
+    let added = |line: &str| line.starts_with("eccentricity = ");
+    let kept: Vec<&str> =
+        design.lines().skip_while(|l| !l.starts_with("# Imported by")).filter(|l| !added(l)).collect();
+    let body: Vec<&str> =
+        catalogue.lines().filter(|l| !l.starts_with("[load]") && !l.starts_with("alpha = ")).collect();
+    assert_eq!(&kept[..body.len()], &body[..], "the design file starts with the imported rotor");
+    for file in ["compressor_example.toml", "design-compressor-example.toml"] {
+        let p = Problem::from_text(&read(file), file, &[]).unwrap();
+        assert!(p.model.real_coordinates(), "{file}");
+        assert_eq!((p.model.bearings.len(), p.model.speed), (14, 1000.0), "{file}");
+    }
+}
+
+#[test]
+fn the_compressor_with_a_ring_ends_its_design_verified() {
+    // The design of problems/ross/design-compressor-example.toml on a shorter search (one
+    // start, 4 iterations; the catalogue's run is in problems/README.md): it must end
+    // improved and verified, exit 0, with its report.
+    let out = common::root().join("out/tests/ross_examples/design");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = common::bin()
+        .args(["design", "problems/ross/design-compressor-example.toml", "--out"])
+        .arg(&out)
+        .args(["--set", "design.starts=1", "--set", "design.max_iterations=4", "--quiet"])
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("design: improved"), "{stdout}");
+    assert!(stdout.contains("verification: passed"), "{stdout}");
+    let report = common::json(&out.join("report.json"));
+    assert_eq!(report["outcome"]["status"], "improved");
+    assert_eq!(report["outcome"]["verified"], true);
+    for file in ["report.md", "report.html", "tuned.toml"] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+}

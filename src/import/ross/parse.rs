@@ -44,7 +44,7 @@ pub struct Other {
 /// The ROSS class of a bearing or seal table. Each saves the coefficients ROSS's
 /// `run_modal` uses (`BearingElement.save`); the classes that compute them from a
 /// geometry (ball and roller bearings, the short cylindrical bearing) also save that
-/// geometry, which the importer reads past ([`Bearing::parameters`]).
+/// geometry, which the importer reads past (`SupportClass::parameters`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SupportClass {
     /// `BearingElement`.
