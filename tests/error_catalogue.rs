@@ -253,10 +253,10 @@ fn every_kind() -> Vec<&'static str> {
             file: s(),
             kind: RossErrorKind::Syntax { format: Format::Toml, line: None, message: s() },
         }),
-        Error::from(RossError { file: s(), kind: RossErrorKind::Schema { key: s(), message: s() } }),
+        Error::from(RossError { file: s(), kind: RossErrorKind::Schema { key: s(), line: None, message: s() } }),
         Error::from(RossError {
             file: s(),
-            kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing) },
+            kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing), more: Box::new([]) },
         }),
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),

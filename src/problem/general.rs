@@ -385,7 +385,7 @@ pub(super) fn several(failures: Vec<Failure>) -> Option<Failure> {
 }
 
 /// Smallest eigenvalue of the symmetric part of a 2×2 matrix.
-fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
+pub(crate) fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
     let (a, d, b) = (c[0][0], c[1][1], 0.5 * (c[0][1] + c[1][0]));
     let mean = 0.5 * (a + d);
     mean - (0.25 * (a - d) * (a - d) + b * b).sqrt()
@@ -394,7 +394,7 @@ fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
 /// Relative round-off allowed in the damping check: the smallest eigenvalue of the
 /// symmetric part of a 2×2 matrix is computed to ~1e-15 of its largest entry; a matrix
 /// built semi-definite (e.g. c·[[1, 1], [1, 1]]) must not be refused for that.
-const DAMPING_ROUND_OFF: f64 = 1e-12;
+pub(crate) const DAMPING_ROUND_OFF: f64 = 1e-12;
 
 /// A support's table speeds (rad/s) and its eight coefficients ([`COEFFICIENT_NAMES`]).
 type Coefficients = (Vec<f64>, [Vec<f64>; 8]);
