@@ -13,9 +13,9 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Most seconds Chromium may take to load and print a local page (it starts in about a
-/// second; a page without network has nothing to wait for).
-const BROWSER_SECONDS: u64 = 60;
+/// Against hangs only: Chromium is killed after this (it starts in about a second; a page
+/// without network has nothing to wait for).
+const BROWSER_HANG_TIMEOUT_SECONDS: u64 = 60;
 
 fn chromium() -> Option<PathBuf> {
     ["/usr/bin/chromium", "/usr/bin/chromium-browser"].iter().map(PathBuf::from).find(|p| p.exists())
@@ -23,7 +23,7 @@ fn chromium() -> Option<PathBuf> {
 
 fn browser(bin: &Path, args: &[&str]) -> std::process::Output {
     let mut c = Command::new("timeout");
-    c.arg(BROWSER_SECONDS.to_string()).arg(bin);
+    c.arg(BROWSER_HANG_TIMEOUT_SECONDS.to_string()).arg(bin);
     // No sandbox: CI runs as root, where Chromium's sandbox refuses to start. Every host
     // name resolves to nothing, so no request could leave the machine anyway.
     c.args(["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--no-first-run"]);
