@@ -340,8 +340,7 @@ fn non_finite_output(stdout: &str, dir: &Path) -> Vec<String> {
 }
 
 fn run_corpus(values: &[&str]) {
-    let root = common::root().join("out").join(format!("adversarial-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
+    let root = common::tmp("adversarial");
     let inputs_dir = root.join("inputs");
     std::fs::create_dir_all(&inputs_dir).expect("create corpus folder");
     std::fs::copy(common::problem_path("fig11-closed-2000.toml"), inputs_dir.join(FIG11)).expect("copy fig11");

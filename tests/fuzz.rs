@@ -870,7 +870,7 @@ fn run_flag_case(
 #[test]
 fn hostile_flags_and_study_fields_are_refused_cleanly() {
     let cases = std::env::var("ROTORSHUNT_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(FLAG_CASES_DEFAULT);
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("out").join(format!("fuzz-flags-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("rotorshunt-fuzz-flags-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("create fuzz folder");
     let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/fig9-open-2000.toml");
     std::fs::copy(&base, dir.join("base.toml")).expect("copy base");

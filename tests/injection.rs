@@ -130,9 +130,7 @@ fn clear(records: &Path) {
 }
 
 fn setup(name: &str) -> Setup {
-    let root = common::root().join("out/tests/injection").join(name);
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = common::scratch(&format!("injection-{name}"));
     let root = std::fs::canonicalize(&root).unwrap();
     let bin_dir = root.join(format!("bin $(touch {MARK}-bin) 'q' \"d\" `x` ;"));
     std::fs::create_dir_all(&bin_dir).unwrap();

@@ -88,8 +88,7 @@ fn the_binary_takes_the_alternative_keys() {
 
 #[test]
 fn a_study_sweeps_the_inductance_over_a_base_tuned_by_frequency() {
-    let out_dir = root().join("out").join("test-overrides-study");
-    let _ = std::fs::remove_dir_all(&out_dir);
+    let out_dir = common::tmp("overrides-study");
     let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
         .args(["--quiet", "study", "tests/fixtures/study/sweep-inductance.toml", "--out"])
         .arg(&out_dir)
