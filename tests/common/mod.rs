@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests: the problem catalogue lives in problems/.
 #![allow(dead_code)]
 
+pub mod pins;
+
 use rotorshunt::problem::Problem;
 
 /// Path of a catalogue problem.
