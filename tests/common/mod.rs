@@ -26,8 +26,7 @@ pub fn root() -> &'static std::path::Path {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// Every `.rs` file below `dir`, sorted (the source scans of tests/layers.rs and
-/// tests/panic_sites.rs).
+/// Every `.rs` file below `dir`, sorted (the source scan of tests/layers.rs).
 pub fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     fn visit(dir: &std::path::Path, files: &mut Vec<std::path::PathBuf>) {
         for e in std::fs::read_dir(dir).unwrap().flatten() {
