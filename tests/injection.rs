@@ -158,13 +158,24 @@ fn study_file(path: &Path) {
 }
 
 fn run(s: &Setup, cwd: &Path, args: &[&OsStr]) -> Output {
-    Command::new(&s.binary)
-        .args(args)
-        .current_dir(cwd)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env("RAYON_NUM_THREADS", "1")
-        .output()
-        .unwrap()
+    // The binary copy may be "busy" for a moment: a child spawned by another test thread
+    // while the copy was open for writing holds that descriptor until it execs.
+    let mut attempts = 0;
+    loop {
+        let out = Command::new(&s.binary)
+            .args(args)
+            .current_dir(cwd)
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env("RAYON_NUM_THREADS", "1")
+            .output();
+        match out {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && attempts < 100 => {
+                attempts += 1;
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            other => return other.unwrap(),
+        }
+    }
 }
 
 /// A refused run: exit 2, an `error: ` line naming `what` and the value as shown (the
