@@ -71,14 +71,14 @@ impl Cluster {
     }
 
     /// Wait until job `job` (array or not) has left the queue.
-    fn wait_gone(&self, job: &str, limit: Duration) {
-        let hang_deadline = Instant::now() + limit;
+    fn wait_gone(&self, job: &str, hang_timeout: Duration) {
+        let hang_deadline = Instant::now() + hang_timeout;
         loop {
             let q = self.tool("squeue", &["-h", "-j", job, "-o", "%i %T"]);
             if q.trim().is_empty() {
                 return;
             }
-            assert!(Instant::now() < hang_deadline, "job {job} still queued after {limit:?}:\n{q}");
+            assert!(Instant::now() < hang_deadline, "job {job} still queued after {hang_timeout:?}:\n{q}");
             std::thread::sleep(Duration::from_millis(200));
         }
     }
