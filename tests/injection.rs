@@ -668,9 +668,7 @@ const TITLE_TOML: &str = r#"title="</title><script>alert(1)</script><img src=x o
 
 #[test]
 fn a_title_full_of_markup_is_text_in_the_report_and_on_the_terminal() {
-    let dir = common::root().join("out/tests/injection/report");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("injection-report");
     let out = dir.join("design");
     let problem = common::problem_path("design-widest-band.toml");
     // A small model, so the design takes seconds.
