@@ -11,13 +11,13 @@
 //! ```
 //!
 //! So a quick run's standard error is unchanged, and a long one's log shows it is alive.
-//! (Test-only: with `every` set, see [`Reporter::new`], a line is also printed each time
-//! the phase's done count passes a multiple of it, so a test can see the count rise
-//! whatever the machine's speed.)
 //! The ETA assumes the phase's remaining steps go at the rate of its steps so far; a
 //! phase whose searches learn their work as they go (the region search) can only
 //! announce the steps known so far, so its ETA is a lower bound, and it says so (`ETA
 //! ≥`). `--quiet` reports nothing. Standard output is never touched.
+//! (Test-only: with `every` set, see [`Reporter::new`], a line is also printed each time
+//! the phase's done count passes a multiple of it, so a test can see the count rise
+//! whatever the machine's speed.)
 //!
 //! [`printable`] is the binary's one filter for what it prints: text from the input (a
 //! title, a path, a value in a message) reaches the terminal with its control characters
