@@ -371,7 +371,7 @@ fn bin() -> Command {
 
 #[test]
 fn an_existing_out_file_is_kept_unless_force() {
-    let dir = common::root().join("out/tests/ross_import");
+    let dir = std::env::temp_dir().join(format!("rotorshunt-ross-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("existing.toml");
     std::fs::write(&out, "keep me\n").unwrap();
@@ -449,7 +449,7 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
     let start = text.find("[\"BearingElement_Bearing 1\"]").unwrap();
     let end = start + text[start..].find("\n\n").unwrap();
-    let dir = common::root().join("out/tests/ross_import");
+    let dir = std::env::temp_dir().join(format!("rotorshunt-ross-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let source = dir.join("one_bearing.toml");
     std::fs::write(&source, format!("{}{}", &text[..start], &text[end..])).unwrap();
