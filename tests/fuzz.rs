@@ -477,6 +477,7 @@ fn dependent(changed: &str, blamed: &str) -> bool {
     // blamed at its outer diameter); the ring a design variable names on the rings'
     // names; a section's material on the materials.
     let node_key = |k: &str| k.ends_with(".node") || k.ends_with(".position");
+    let is_support = |k: &str| ["bearings", "seals", "rings"].iter().any(|t| k.starts_with(t));
     dep("shaft.elements", ".node")
         || dep("shaft.length", ".position")
         || (changed.starts_with("sections") && node_key(blamed))
@@ -485,6 +486,9 @@ fn dependent(changed: &str, blamed: &str) -> bool {
         || (changed.starts_with("sections")
             && ["bearings", "seals", "rings"].iter().any(|t| blamed.starts_with(t)))
         || (node_key(changed) && node_key(blamed))
+        // A support moved onto another's node leaves one node holding the rotor: the
+        // rigid-body mode is blamed at the first support, not the one that moved.
+        || (node_key(changed) && is_support(changed) && is_support(blamed))
         || ((blamed.starts_with("bearings") || blamed.starts_with("rings"))
             && changed.starts_with(&format!("{blamed}.")))
         || (blamed == "sections" && (changed.starts_with("bearings") || changed.starts_with("rings")))
