@@ -211,13 +211,13 @@ fn build(
     s: &RegionSettings,
     count: &Counter,
 ) -> Result<Build, DesignError> {
-    let bands = operating_bands(&built, spec, phi_op, s, count)?;
+    let bands = operating_bands(built, spec, phi_op, s, count)?;
     let mut failure = None;
     if let Some(b) = bands.iter().find(|b| b.band.band.is_none()) {
         failure = Some(format!("phi_op = {phi_op} rad/s is unstable at Omega = {} rad/s", b.speed));
     }
     if let (None, Some(m)) = (&failure, spec.constraints.margins) {
-        let at = operating_bands_at(&built, spec, phi_op, m.level(spec.level), s, count)?;
+        let at = operating_bands_at(built, spec, phi_op, m.level(spec.level), s, count)?;
         let short = margin_shortfall(&at, &m);
         if short > 0.0 {
             failure = Some(format!(
