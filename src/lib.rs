@@ -44,6 +44,23 @@
 //! ```
 
 #![warn(missing_docs)]
+// No panics on data (docs/invariants.md): clippy refuses `unwrap`, `expect`, `panic!`,
+// `unreachable!`, `todo!`, `unimplemented!`, the `assert` family and `unwrap_unchecked`
+// (the last two listed in clippy.toml) outside tests; the few calls that hold by
+// construction carry `#[expect(…, reason = "…")]` at the call.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented,
+        clippy::disallowed_macros,
+        clippy::disallowed_methods
+    )
+)]
 
 pub mod analysis;
 pub mod assembly;

@@ -1,5 +1,23 @@
 //! `rotorshunt` command line: parse arguments, load the problem, run, print, exit code.
 
+// No panics on data (docs/invariants.md): clippy refuses `unwrap`, `expect`, `panic!`,
+// `unreachable!`, `todo!`, `unimplemented!`, the `assert` family and `unwrap_unchecked`
+// (the last two listed in clippy.toml) outside tests; the few calls that hold by
+// construction carry `#[expect(…, reason = "…")]` at the call.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented,
+        clippy::disallowed_macros,
+        clippy::disallowed_methods
+    )
+)]
+
 mod cli;
 mod reporter;
 
@@ -133,7 +151,15 @@ fn reporter(cli: &Cli) -> Reporter {
         Command::Response { .. } => ("response", &["response", "files"]),
         _ => return Reporter::Quiet,
     };
-    Reporter::new(cli.quiet, name, plan)
+    Reporter::new(cli.quiet, name, plan, progress_every())
+}
+
+/// Test-only: `ROTORSHUNT_TEST_PROGRESS_EVERY=N` makes the progress lines of a run whose
+/// standard error is not a terminal also print each time a phase's done count passes a
+/// multiple of N (tests/progress.rs: the count is seen to rise on any machine, however
+/// fast, where the lines every 5 s would need a run longer than 5 s).
+fn progress_every() -> Option<u64> {
+    std::env::var("ROTORSHUNT_TEST_PROGRESS_EVERY").ok().and_then(|v| v.trim().parse::<u64>().ok()).filter(|&n| n > 0)
 }
 
 /// On SIGINT or SIGTERM, remove the unfinished output folders of this run, then end as

@@ -15,6 +15,9 @@
 //! phase whose searches learn their work as they go (the region search) can only
 //! announce the steps known so far, so its ETA is a lower bound, and it says so (`ETA
 //! ≥`). `--quiet` reports nothing. Standard output is never touched.
+//! (Test-only: with `every` set, see [`Reporter::new`], a line is also printed each time
+//! the phase's done count passes a multiple of it, so a test can see the count rise
+//! whatever the machine's speed.)
 //!
 //! [`printable`] is the binary's one filter for what it prints: text from the input (a
 //! title, a path, a value in a message) reaches the terminal with its control characters
@@ -66,14 +69,16 @@ pub enum Reporter {
 
 impl Reporter {
     /// The reporter of `command`, whose phases are `plan` in order (for "phase k of n";
-    /// a phase not in the plan is shown by name only).
-    pub fn new(quiet: bool, command: &'static str, plan: &[&'static str]) -> Reporter {
+    /// a phase not in the plan is shown by name only). `every` (test-only, from
+    /// `ROTORSHUNT_TEST_PROGRESS_EVERY`): the lines also print each time the done count
+    /// passes a multiple of it.
+    pub fn new(quiet: bool, command: &'static str, plan: &[&'static str], every: Option<u64>) -> Reporter {
         if quiet {
             Reporter::Quiet
         } else if std::io::stderr().is_terminal() {
             Reporter::Bar(Box::new(Bar::new(command, plan)))
         } else {
-            Reporter::Lines(Lines::new(command, plan))
+            Reporter::Lines(Lines::new(command, plan, every))
         }
     }
 
@@ -106,9 +111,7 @@ impl Progress for Reporter {
         match self {
             Reporter::Quiet => {}
             Reporter::Bar(b) => b.bar.inc(steps),
-            Reporter::Lines(l) => {
-                l.state.done.fetch_add(steps, Ordering::Relaxed);
-            }
+            Reporter::Lines(l) => l.state.advance(steps),
         }
     }
     /// Warnings are not progress: printed even with `--quiet`, above the bar if one is drawn.
@@ -177,6 +180,8 @@ struct State {
     growing: AtomicBool,
     /// Whether a line has been printed (the run is a long one: phase changes are printed).
     printed: AtomicBool,
+    /// Test-only: print a line whenever `done` passes a multiple of this (never 0).
+    every: Option<u64>,
     /// Set when the run is over (wakes the printer).
     over: Mutex<bool>,
     wake: Condvar,
@@ -193,6 +198,15 @@ impl State {
         }
         if self.printed.load(Ordering::Relaxed) {
             self.line();
+        }
+    }
+
+    fn advance(&self, steps: u64) {
+        let before = self.done.fetch_add(steps, Ordering::Relaxed);
+        if let Some(n) = self.every {
+            if (before + steps) / n > before / n {
+                self.line();
+            }
         }
     }
 
@@ -241,7 +255,7 @@ pub struct Lines {
 }
 
 impl Lines {
-    fn new(command: &'static str, plan: &[&'static str]) -> Lines {
+    fn new(command: &'static str, plan: &[&'static str], every: Option<u64>) -> Lines {
         let now = Instant::now();
         let state = Arc::new(State {
             command,
@@ -252,6 +266,7 @@ impl Lines {
             total: AtomicU64::new(0),
             growing: AtomicBool::new(false),
             printed: AtomicBool::new(false),
+            every: every.filter(|&n| n > 0),
             over: Mutex::new(false),
             wake: Condvar::new(),
         });

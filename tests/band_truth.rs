@@ -13,6 +13,9 @@
 //! search. A bounding tongue thinner than the grid spacing can fall between grid points;
 //! then the tongue's own counted point (reported by the band) must lie within 0.5 rad/s
 //! beyond the edge and be unstable by the reference DSTM path, and such cases are printed.
+//!
+//! Problems whose model and `[analysis]` settings are equal (the design problems on the
+//! Fig. 11 rotor) are one input to these checks, checked once for the group.
 
 mod common;
 
@@ -21,6 +24,8 @@ use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
+use rotorshunt::problem::Problem;
+use std::collections::HashMap;
 
 const PHI_OPS: [f64; 5] = [300.0, 700.0, 1230.0, 1800.0, 2500.0];
 const LEVELS: [f64; 3] = [0.1, 0.3, 0.6];
@@ -38,117 +43,178 @@ fn problems() -> Vec<String> {
     common::toml_names(&common::root().join("problems"))
 }
 
-/// Grid points k·GRID (k integer) strictly inside (lo, hi).
-fn grid(lo: f64, hi: f64) -> Vec<f64> {
+/// Grid indices k (points k·GRID) strictly inside (lo, hi).
+fn grid(lo: f64, hi: f64) -> Vec<i64> {
     let first = (lo / GRID).floor() as i64 + 1;
     let last = (hi / GRID).ceil() as i64 - 1;
-    (first..=last).map(|k| k as f64 * GRID).filter(|&p| p > lo && p < hi).collect()
+    (first..=last).filter(|&k| k as f64 * GRID > lo && k as f64 * GRID < hi).collect()
 }
 
-#[test]
-fn band_is_true_on_every_problem() {
+/// What one problem's checks found.
+#[derive(Default)]
+struct Report {
+    checked: usize,
+    thin: Vec<String>,
+    failures: Vec<String>,
+    /// Grid points checked, counted once per band as before, and Floquet points evaluated
+    /// (a grid point shared by the bands of several φ_op at one level is evaluated once).
+    total_points: usize,
+    evaluated: usize,
+    named: usize,
+    unlabelled: usize,
+}
+
+/// The checks of the module's doc on one problem, every φ_op and level (`name` names it
+/// in the messages: the problems of the group that share its model and settings).
+fn check_problem(name: &str, p: &Problem) -> Report {
     let s = RegionSettings::default();
-    let mut checked = 0;
-    let mut thin = Vec::new();
-    let mut failures = Vec::new();
-    let mut total_points = 0;
-    let (mut named, mut unlabelled) = (0, 0);
-    for name in problems() {
-        let p = common::load(&name, &[]);
-        let rotor = Rotor::new(&p.model).unwrap();
-        let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
-        let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
-        let criterion = Criterion::of(&p.settings);
-        let counts = |phi: f64, beta: f64| criterion.counts(&fs.point_fast(&fs.table(phi, beta), beta).summary);
-        for &level in &LEVELS {
-            // The catalogue of the whole window at the level, made once when a band needs it.
-            let whole = std::cell::OnceCell::new();
-            for &phi_op in &PHI_OPS {
-                let b = band(&fs, &full, &s, WINDOW, phi_op, level).unwrap();
-                let Some(found) = b.band else {
-                    // φ_op unstable: it must count, and lie in the reported tongue.
-                    let t = b.containing.unwrap();
-                    if !counts(phi_op, level) || !t.contains(phi_op) {
-                        failures.push(format!("{name} β {level} φ_op {phi_op}: unstable claim {t:?} wrong"));
-                    }
+    let mut r = Report::default();
+    let rotor = Rotor::new(&p.model).unwrap();
+    let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
+    let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
+    let criterion = Criterion::of(&p.settings);
+    let counts = |phi: f64, beta: f64| criterion.counts(&fs.point_fast(&fs.table(phi, beta), beta).summary);
+    for &level in &LEVELS {
+        // The catalogue of the whole window at the level, made once when a band needs it.
+        let whole = std::cell::OnceCell::new();
+        // The verdict of each grid point at this level, evaluated once: the bands of
+        // different φ_op often share points (the same band, or overlapping neighbourhoods).
+        let mut verdicts: HashMap<i64, bool> = HashMap::new();
+        let mut counted = |ks: &[i64], evaluated: &mut usize| -> Vec<i64> {
+            let new: Vec<i64> = ks.iter().copied().filter(|k| !verdicts.contains_key(k)).collect();
+            *evaluated += new.len();
+            let found: Vec<(i64, bool)> = new.par_iter().map(|&k| (k, counts(k as f64 * GRID, level))).collect();
+            verdicts.extend(found);
+            ks.iter().copied().filter(|k| verdicts[k]).collect()
+        };
+        for &phi_op in &PHI_OPS {
+            let b = band(&fs, &full, &s, WINDOW, phi_op, level).unwrap();
+            let Some(found) = b.band else {
+                // φ_op unstable: it must count, and lie in the reported tongue.
+                let t = b.containing.unwrap();
+                if !counts(phi_op, level) || !t.contains(phi_op) {
+                    r.failures.push(format!("{name} β {level} φ_op {phi_op}: unstable claim {t:?} wrong"));
+                }
+                continue;
+            };
+            r.checked += 1;
+            // 1. Centres of catalogued tongues inside the band.
+            let cat = whole.get_or_init(|| {
+                let req = CatalogueRequest { range: WINDOW, beta_max: level, level, track: false };
+                catalogue(&fs, &full, &s, &req).unwrap()
+            });
+            let mut tongues: Vec<Interval> =
+                cat.regions.iter().filter_map(|r| Some(Interval::new(r.left?, r.right?))).collect();
+            tongues.extend(cat.unexplained.iter().copied());
+            for t in tongues.iter().filter(|t| found.lo < t.centre() && t.centre() < found.hi) {
+                if counts(t.centre(), level) {
+                    r.failures
+                        .push(format!("{name} β {level} φ_op {phi_op}: catalogued tongue {t:?} inside {found:?}"));
+                }
+            }
+            // 3. Each finite edge named by the lowest-order counted region of this
+            //    catalogue whose facing edge is the band's edge (issue 27, point 7).
+            for (bound, below) in [(&b.left, true), (&b.right, false)] {
+                let Some(Bound::Tongue { edge, label, unexplained, .. }) = bound else { continue };
+                r.named += 1;
+                let want = cat
+                    .regions
+                    .iter()
+                    .filter(|r| r.counted)
+                    .filter(|r| {
+                        let facing = if below { r.right } else { r.left };
+                        facing.is_some_and(|f| (f - edge).abs() <= SAME_EDGE)
+                    })
+                    .min_by(|a, b| a.order.cmp(&b.order).then_with(|| a.label.cmp(&b.label)))
+                    .map(|r| format!("{} (k = {})", r.label, r.order));
+                let case = format!("{name} β {level} φ_op {phi_op} edge {edge}");
+                match want {
+                    Some(w) if &w == label => {}
+                    Some(w) => r.failures.push(format!("{case}: named {label}, the catalogue's lowest order is {w}")),
+                    None if label == "unlabelled" && unexplained.is_some() => r.unlabelled += 1,
+                    None => r.failures.push(format!("{case}: named {label}, no catalogued tongue has the edge")),
+                }
+            }
+            // 2. The grid over the band and BEYOND on each side.
+            let inside = grid(found.lo, found.hi);
+            r.total_points += inside.len();
+            let bad: Vec<f64> = counted(&inside, &mut r.evaluated).into_iter().map(|k| k as f64 * GRID).collect();
+            if !bad.is_empty() {
+                r.failures.push(format!(
+                    "{name} β {level} φ_op {phi_op}: band {found:?} has {} unstable grid points, first {:?}",
+                    bad.len(),
+                    &bad[..bad.len().min(5)]
+                ));
+            }
+            for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
+                let Some(Bound::Tongue { inside: point, label, .. }) = bound else { continue };
+                let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
+                let beyond = grid(lo, hi);
+                r.total_points += beyond.len();
+                if !counted(&beyond, &mut r.evaluated).is_empty() {
                     continue;
-                };
-                checked += 1;
-                // 1. Centres of catalogued tongues inside the band.
-                let cat = whole.get_or_init(|| {
-                    let req = CatalogueRequest { range: WINDOW, beta_max: level, level, track: false };
-                    catalogue(&fs, &full, &s, &req).unwrap()
-                });
-                let mut tongues: Vec<Interval> =
-                    cat.regions.iter().filter_map(|r| Some(Interval::new(r.left?, r.right?))).collect();
-                tongues.extend(cat.unexplained.iter().copied());
-                for t in tongues.iter().filter(|t| found.lo < t.centre() && t.centre() < found.hi) {
-                    if counts(t.centre(), level) {
-                        failures
-                            .push(format!("{name} β {level} φ_op {phi_op}: catalogued tongue {t:?} inside {found:?}"));
-                    }
                 }
-                // 3. Each finite edge named by the lowest-order counted region of this
-                //    catalogue whose facing edge is the band's edge (issue 27, point 7).
-                for (bound, below) in [(&b.left, true), (&b.right, false)] {
-                    let Some(Bound::Tongue { edge, label, unexplained, .. }) = bound else { continue };
-                    named += 1;
-                    let want = cat
-                        .regions
-                        .iter()
-                        .filter(|r| r.counted)
-                        .filter(|r| {
-                            let facing = if below { r.right } else { r.left };
-                            facing.is_some_and(|f| (f - edge).abs() <= SAME_EDGE)
-                        })
-                        .min_by(|a, b| a.order.cmp(&b.order).then_with(|| a.label.cmp(&b.label)))
-                        .map(|r| format!("{} (k = {})", r.label, r.order));
-                    let case = format!("{name} β {level} φ_op {phi_op} edge {edge}");
-                    match want {
-                        Some(w) if &w == label => {}
-                        Some(w) => failures.push(format!("{case}: named {label}, the catalogue's lowest order is {w}")),
-                        None if label == "unlabelled" && unexplained.is_some() => unlabelled += 1,
-                        None => failures.push(format!("{case}: named {label}, no catalogued tongue has the edge")),
-                    }
-                }
-                // 2. The grid over the band and BEYOND on each side.
-                let inside = grid(found.lo, found.hi);
-                total_points += inside.len();
-                let bad: Vec<f64> = inside.par_iter().copied().filter(|&phi| counts(phi, level)).collect();
-                if !bad.is_empty() {
-                    failures.push(format!(
-                        "{name} β {level} φ_op {phi_op}: band {found:?} has {} unstable grid points, first {:?}",
-                        bad.len(),
-                        &bad[..bad.len().min(5)]
+                // A tongue thinner than the grid: its own point, by the reference path.
+                let dstm = fs.point_dstm(*point, level, p.settings.reference_steps).summary;
+                let close = (point - edge) * dir >= 0.0 && (point - edge).abs() <= BEYOND;
+                if close && criterion.counts(&dstm) {
+                    r.thin.push(format!("{name} β {level} φ_op {phi_op}: {label} at {point:.4} (edge {edge:.4})"));
+                } else {
+                    r.failures.push(format!(
+                        "{name} β {level} φ_op {phi_op}: no unstable point within {BEYOND} rad/s beyond edge {edge} ({label}, point {point}, DSTM max|mu| {})",
+                        dstm.max_multiplier
                     ));
-                }
-                for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
-                    let Some(Bound::Tongue { inside: point, label, .. }) = bound else { continue };
-                    let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
-                    let beyond = grid(lo, hi);
-                    total_points += beyond.len();
-                    if beyond.par_iter().any(|&phi| counts(phi, level)) {
-                        continue;
-                    }
-                    // A tongue thinner than the grid: its own point, by the reference path.
-                    let dstm = fs.point_dstm(*point, level, p.settings.reference_steps).summary;
-                    let close = (point - edge) * dir >= 0.0 && (point - edge).abs() <= BEYOND;
-                    if close && criterion.counts(&dstm) {
-                        thin.push(format!("{name} β {level} φ_op {phi_op}: {label} at {point:.4} (edge {edge:.4})"));
-                    } else {
-                        failures.push(format!(
-                            "{name} β {level} φ_op {phi_op}: no unstable point within {BEYOND} rad/s beyond edge {edge} ({label}, point {point}, DSTM max|mu| {})",
-                            dstm.max_multiplier
-                        ));
-                    }
                 }
             }
         }
     }
+    r
+}
+
+#[test]
+fn band_is_true_on_every_problem() {
+    // What the checks read of a problem is its model and its `[analysis]` settings (the
+    // band and the catalogue run with the default region settings): problems equal in
+    // both (the design problems built on the Fig. 11 rotor, for instance, which differ
+    // only in their `[design]` tables) are checked once, as one group, since the same
+    // computation on the same input gives the same result bit for bit
+    // (tests/reproducibility.rs).
+    let mut groups: Vec<(Vec<String>, Problem)> = Vec::new();
+    for name in problems() {
+        let p = common::load(&name, &[]);
+        match groups.iter_mut().find(|(_, q)| q.model == p.model && q.settings == p.settings) {
+            Some((names, _)) => names.push(name),
+            None => groups.push((vec![name], p)),
+        }
+    }
+    let files: usize = groups.iter().map(|(names, _)| names.len()).sum();
+    eprintln!("{files} problems, {} distinct models and settings:", groups.len());
+    // The groups in parallel (each band and catalogue search is sequential), the grid
+    // points of each band too.
+    let reports: Vec<Report> = groups
+        .par_iter()
+        .map(|(names, p)| {
+            let r = check_problem(&names.join(" = "), p);
+            eprintln!("  {}: {} bands, {} grid points evaluated", names.join(", "), r.checked, r.evaluated);
+            r
+        })
+        .collect();
+    let mut all = Report::default();
+    for r in reports {
+        all.checked += r.checked;
+        all.thin.extend(r.thin);
+        all.failures.extend(r.failures);
+        all.total_points += r.total_points;
+        all.evaluated += r.evaluated;
+        all.named += r.named;
+        all.unlabelled += r.unlabelled;
+    }
+    let Report { checked, thin, failures, total_points, evaluated, named, unlabelled } = all;
     eprintln!(
-        "{checked} bands checked, {total_points} grid points; bounded by tongues thinner than the grid: {thin:#?}"
+        "{checked} bands checked, {total_points} grid points ({evaluated} evaluated); bounded by tongues thinner than the grid: {thin:#?}"
     );
     eprintln!("{named} finite edges named, {unlabelled} of them unlabelled (no catalogued tongue with the edge)");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
     assert!(checked >= 60, "only {checked} stable bands checked");
+    assert!(groups.len() >= 10, "only {} distinct problems", groups.len());
 }

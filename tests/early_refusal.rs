@@ -11,9 +11,9 @@ use std::process::{Command, Output};
 
 const BIN: &str = env!("CARGO_BIN_EXE_rotorshunt");
 
-/// The folder of this test's files (git-ignored `out/`).
+/// The folder of this test's files, in the system's temporary folder.
 fn dir() -> PathBuf {
-    let d = root().join("out/tests/early_refusal");
+    let d = std::env::temp_dir().join(format!("rotorshunt-early-refusal-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
     d
 }
@@ -23,7 +23,7 @@ fn run(args: &[&str]) -> Output {
 }
 
 /// A copy of `problems/<base>` with the line starting `from` (the first one) replaced by
-/// `to`, written as `out/tests/early_refusal/<name>`: its path and the 1-based line of
+/// `to`, written as `<name>` in [`dir`]: its path and the 1-based line of
 /// the replacement.
 fn edited(base: &str, name: &str, from: &str, to: &str) -> (String, usize) {
     let text = std::fs::read_to_string(root().join("problems").join(base)).expect("read problem");

@@ -253,10 +253,10 @@ fn every_kind() -> Vec<&'static str> {
             file: s(),
             kind: RossErrorKind::Syntax { format: Format::Toml, line: None, message: s() },
         }),
-        Error::from(RossError { file: s(), kind: RossErrorKind::Schema { key: s(), message: s() } }),
+        Error::from(RossError { file: s(), kind: RossErrorKind::Schema { key: s(), line: None, message: s() } }),
         Error::from(RossError {
             file: s(),
-            kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing) },
+            kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing), more: Box::new([]) },
         }),
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),
@@ -386,9 +386,20 @@ fn every_error_kind_has_a_section_with_a_fix() {
 #[test]
 fn documented_messages_are_what_the_binary_prints() {
     let sections = sections(&doc());
-    // The examples' inputs that cannot live in the repository (out/generated/).
+    // The examples run in a scratch folder that shows the repository's `problems/` and
+    // `tests/` (symbolic links) and the inputs that cannot live in the repository as
+    // `out/generated/`: what they write goes to its `out/`, never into the repository.
+    let work = common::scratch("error-catalogue");
     common::too_large_file();
     common::too_complex_file();
+    std::fs::create_dir_all(work.join("out")).expect("create out/");
+    for (link, target) in [
+        ("problems", root().join("problems")),
+        ("tests", root().join("tests")),
+        ("out/generated", common::generated_dir()),
+    ] {
+        std::os::unix::fs::symlink(&target, work.join(link)).unwrap_or_else(|e| panic!("{link}: {e}"));
+    }
     let mut failures = Vec::new();
     let mut count = 0;
     for (kind, text) in &sections {
@@ -396,7 +407,7 @@ fn documented_messages_are_what_the_binary_prints() {
             count += 1;
             let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
                 .args(&args)
-                .current_dir(root())
+                .current_dir(&work)
                 .env_remove("RUST_BACKTRACE")
                 .output()
                 .expect("run rotorshunt");
@@ -423,6 +434,7 @@ fn documented_messages_are_what_the_binary_prints() {
         }
     }
     assert!(count >= 20, "only {count} examples");
+    let _ = std::fs::remove_dir_all(&work);
     // The one library-only example.
     let mut model = common::load("paper-open.toml", &[]).model;
     model.load.alpha = 1.0;

@@ -1,8 +1,8 @@
 //! The general model (issue 16) against references that do not use the code under test:
 //! a hollow pinned-pinned tube's Rayleigh-beam closed form, a transfer-matrix solution of
 //! a stepped shaft's free vibration and buckling written here, and a dense Cholesky of
-//! the assembled stiffness for the rigid-body check. Also the speed of `modes` on a
-//! 200-element stepped rotor with two rings.
+//! the assembled stiffness for the rigid-body check. Also `modes` on a 200-element stepped
+//! rotor with two rings: its electrical whirls.
 
 mod common;
 use common::rel;
@@ -13,7 +13,6 @@ use rotorshunt::linalg::seq::cholesky;
 use rotorshunt::model::{Bearing, CircuitState, Model};
 use rotorshunt::problem::Problem;
 use std::f64::consts::PI;
-use std::time::Instant;
 
 /// Steel of the test rotors: E (Pa), ρ (kg/m³).
 const E: f64 = 2.1e11;
@@ -326,7 +325,7 @@ fn to_file(m: &Model, data: &rotorshunt::problem::ProblemFile) -> rotorshunt::pr
 }
 
 #[test]
-fn modes_of_a_200_element_stepped_rotor_with_two_rings_are_fast() {
+fn modes_of_a_200_element_stepped_rotor_with_two_rings() {
     let base = std::fs::read_to_string(common::problem_path("two-rings-1-3.toml")).expect("two-rings-1-3.toml");
     // The paper's shaft in four sections of 50 elements: 0.7 m, stepped 30/36/30/26 mm.
     let (head, rest) = base.split_once("[[sections]]").expect("sections");
@@ -339,22 +338,8 @@ fn modes_of_a_200_element_stepped_rotor_with_two_rings_are_fast() {
     let p = Problem::from_text(&text, "two-rings-200.toml", &[]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(p.model.shaft.elements(), 200);
     assert_eq!(p.model.shaft.sections.len(), 4);
-    let (started, cpu_started) = (Instant::now(), thread_cpu_seconds());
+    // What it finds is asserted, never how long it takes.
     let m = whirl_modes(&p.model, &p.settings, p.model.speed).expect("modes");
-    let (seconds, cpu) = (started.elapsed().as_secs_f64(), thread_cpu_seconds() - cpu_started);
     let electrical = m.modes.iter().filter(|w| w.label.contains('@')).count();
-    println!(
-        "200-element stepped rotor, two rings (1 and 3 branches), {} DOFs: modes in {cpu:.3} s of CPU ({seconds:.3} s wall)",
-        p.model.shaft.nodes() * 2 + 6
-    );
     assert_eq!(electrical, 8, "4 charges, each a forward and a backward electrical whirl");
-}
-
-/// CPU time of the calling thread (s).
-fn thread_cpu_seconds() -> f64 {
-    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: t is a valid timespec to write.
-    let r = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
-    assert_eq!(r, 0, "clock_gettime");
-    t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
 }

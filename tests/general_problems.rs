@@ -24,9 +24,7 @@ fn json(args: &[&str]) -> serde_json::Value {
 }
 
 fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = common::root().join("out").join("tests").join(format!("general-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+    common::tmp(&format!("general-{name}"))
 }
 
 /// (label, order, start) of a `regions --json` catalogue.

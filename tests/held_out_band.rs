@@ -40,11 +40,10 @@ mod common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::{FloquetSystem, PointSummary};
-use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::modes::{whirl_modes_of, ModesResult};
 use rotorshunt::analysis::regions::{band, Bound, RegionSettings};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
-use std::time::Instant;
 
 /// The window of every band (rad/s): the φ range of the paper's charts.
 const WINDOW: Interval = Interval::new(100.0, 8000.0);
@@ -192,126 +191,140 @@ fn clusters(bad: &[PointSummary]) -> String {
     out.join("; ")
 }
 
-#[test]
-fn band_is_true_on_held_out_cases() {
-    let start = Instant::now();
+/// What the checks of one case found: its summary line, failures, sub-grid bounds, grid
+/// points, and whether φ_op was stable.
+struct CaseReport {
+    line: String,
+    failures: Vec<String>,
+    thin: Vec<String>,
+    points: usize,
+    stable: bool,
+}
+
+/// The checks of the module's doc on one case (`index` into [`CASES`]).
+fn check_case(index: usize, p: &Problem, fs: &FloquetSystem, full: &ModesResult) -> CaseReport {
+    let (name, phi_op, level) = CASES[index];
     let s = RegionSettings::default();
     let mut failures = Vec::new();
     let mut thin = Vec::new();
-    let mut lines = Vec::new();
-    let (mut stable_cases, mut points) = (0, 0usize);
-    let mut last_name = "";
-    let mut system = None;
-    for (index, &(name, phi_op, level)) in CASES.iter().enumerate() {
-        if name != last_name {
+    let mut points = 0usize;
+    let criterion = Criterion::of(&p.settings);
+    let at = |phi: f64| fs.point_fast(&fs.table(phi, level), level).summary;
+    let case = format!("{name} phi_op {phi_op} beta_op {level}");
+    let b = band(fs, full, &s, WINDOW, phi_op, level).unwrap();
+    let Some(found) = b.band else {
+        let verdict = match b.containing {
+            Some(t) => {
+                let here = at(phi_op);
+                if !criterion.counts(&here) {
+                    failures.push(format!(
+                        "{case}: reported unstable in {t:?}, but the point is stable (max|mu| {})",
+                        here.max_multiplier
+                    ));
+                }
+                if !t.contains(phi_op) {
+                    failures.push(format!("{case}: containing interval {t:?} does not contain phi_op"));
+                }
+                format!("unstable, containing [{:.3}, {:.3}]", t.lo, t.hi)
+            }
+            None => {
+                failures.push(format!("{case}: neither a band nor a containing tongue"));
+                "no band, no containing tongue".into()
+            }
+        };
+        let line = format!("{:>2} {case}: {verdict}, {} evaluations", index + 1, b.evaluations);
+        return CaseReport { line, failures, thin, points, stable: false };
+    };
+    // (a) The interior grid.
+    if !found.contains(phi_op) {
+        failures.push(format!("{case}: band [{:.4}, {:.4}] does not contain phi_op", found.lo, found.hi));
+    }
+    let inside: Vec<f64> = grid_indices(found.lo, found.hi).iter().map(|&k| k as f64 * GRID).collect();
+    points += inside.len();
+    let bad: Vec<PointSummary> = inside.par_iter().map(|&phi| at(phi)).filter(|x| criterion.counts(x)).collect();
+    if !bad.is_empty() {
+        failures.push(format!(
+            "{case}: band [{:.4}, {:.4}] has {} counted grid points inside: {}",
+            found.lo,
+            found.hi,
+            bad.len(),
+            clusters(&bad)
+        ));
+    }
+    // (b) An unstable point within BEYOND of each finite edge.
+    let mut edges = Vec::new();
+    for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
+        let Some(Bound::Tongue { inside: point, label, .. }) = bound else {
+            edges.push("window".to_string());
+            continue;
+        };
+        let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
+        let beyond: Vec<f64> = grid_indices(lo, hi).iter().map(|&k| k as f64 * GRID).collect();
+        points += beyond.len();
+        if beyond.par_iter().any(|&phi| criterion.counts(&at(phi))) {
+            edges.push(label.clone());
+            continue;
+        }
+        let dstm = fs.point_dstm(*point, level, p.settings.reference_steps).summary;
+        let close = (point - edge) * dir >= 0.0 && (point - edge).abs() <= BEYOND;
+        if close && criterion.counts(&dstm) {
+            thin.push(format!(
+                "{case}: {label} at {point:.4} (edge {edge:.4}, DSTM max|mu| {:.6})",
+                dstm.max_multiplier
+            ));
+            edges.push(format!("{label} (sub-grid)"));
+        } else {
+            failures.push(format!(
+                "{case}: band [{:.4}, {:.4}]: no counted grid point within {BEYOND} rad/s beyond edge {edge:.4} ({label}, reported point {point:.4}, DSTM max|mu| there {:.6})",
+                found.lo, found.hi, dstm.max_multiplier
+            ));
+            edges.push(format!("{label} (NO UNSTABLE POINT)"));
+        }
+    }
+    let line = format!(
+        "{:>2} {case}: band [{:.3}, {:.3}], width {:.3}, {} evaluations; bounds {} / {}; {} interior grid points{}",
+        index + 1,
+        found.lo,
+        found.hi,
+        found.width(),
+        b.evaluations,
+        edges[0],
+        edges[1],
+        inside.len(),
+        if bad.is_empty() { "" } else { "; FAILED" }
+    );
+    CaseReport { line, failures, thin, points, stable: true }
+}
+
+#[test]
+fn band_is_true_on_held_out_cases() {
+    // The files in parallel (each band search is sequential), each file's system built
+    // once for its cases; the grid points of each band in parallel too.
+    let mut names: Vec<&str> = CASES.iter().map(|c| c.0).collect();
+    names.dedup();
+    let per_file: Vec<Vec<CaseReport>> = names
+        .par_iter()
+        .map(|&name| {
             let p = Problem::from_path(format!("{}/{name}", fixture_dir()), &[]).unwrap_or_else(|e| panic!("{e}"));
             let rotor = Rotor::new(&p.model).unwrap();
             let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
             let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
-            system = Some((p, fs, full));
-            last_name = name;
-        }
-        let (p, fs, full) = system.as_ref().unwrap();
-        let criterion = Criterion::of(&p.settings);
-        let at = |phi: f64| fs.point_fast(&fs.table(phi, level), level).summary;
-        let case = format!("{name} phi_op {phi_op} beta_op {level}");
-        let t0 = Instant::now();
-        let b = band(fs, full, &s, WINDOW, phi_op, level).unwrap();
-        let band_seconds = t0.elapsed().as_secs_f64();
-        let Some(found) = b.band else {
-            let verdict = match b.containing {
-                Some(t) => {
-                    let here = at(phi_op);
-                    if !criterion.counts(&here) {
-                        failures.push(format!(
-                            "{case}: reported unstable in {t:?}, but the point is stable (max|mu| {})",
-                            here.max_multiplier
-                        ));
-                    }
-                    if !t.contains(phi_op) {
-                        failures.push(format!("{case}: containing interval {t:?} does not contain phi_op"));
-                    }
-                    format!("unstable, containing [{:.3}, {:.3}]", t.lo, t.hi)
-                }
-                None => {
-                    failures.push(format!("{case}: neither a band nor a containing tongue"));
-                    "no band, no containing tongue".into()
-                }
-            };
-            lines.push(format!(
-                "{:>2} {case}: {verdict}, {} evaluations, {band_seconds:.3} s",
-                index + 1,
-                b.evaluations
-            ));
-            continue;
-        };
-        stable_cases += 1;
-        // (a) The interior grid.
-        if !found.contains(phi_op) {
-            failures.push(format!("{case}: band [{:.4}, {:.4}] does not contain phi_op", found.lo, found.hi));
-        }
-        let inside: Vec<f64> = grid_indices(found.lo, found.hi).iter().map(|&k| k as f64 * GRID).collect();
-        points += inside.len();
-        let bad: Vec<PointSummary> = inside.par_iter().map(|&phi| at(phi)).filter(|x| criterion.counts(x)).collect();
-        if !bad.is_empty() {
-            failures.push(format!(
-                "{case}: band [{:.4}, {:.4}] has {} counted grid points inside: {}",
-                found.lo,
-                found.hi,
-                bad.len(),
-                clusters(&bad)
-            ));
-        }
-        // (b) An unstable point within BEYOND of each finite edge.
-        let mut edges = Vec::new();
-        for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
-            let Some(Bound::Tongue { inside: point, label, .. }) = bound else {
-                edges.push("window".to_string());
-                continue;
-            };
-            let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
-            let beyond: Vec<f64> = grid_indices(lo, hi).iter().map(|&k| k as f64 * GRID).collect();
-            points += beyond.len();
-            if beyond.par_iter().any(|&phi| criterion.counts(&at(phi))) {
-                edges.push(label.clone());
-                continue;
-            }
-            let dstm = fs.point_dstm(*point, level, p.settings.reference_steps).summary;
-            let close = (point - edge) * dir >= 0.0 && (point - edge).abs() <= BEYOND;
-            if close && criterion.counts(&dstm) {
-                thin.push(format!(
-                    "{case}: {label} at {point:.4} (edge {edge:.4}, DSTM max|mu| {:.6})",
-                    dstm.max_multiplier
-                ));
-                edges.push(format!("{label} (sub-grid)"));
-            } else {
-                failures.push(format!(
-                    "{case}: band [{:.4}, {:.4}]: no counted grid point within {BEYOND} rad/s beyond edge {edge:.4} ({label}, reported point {point:.4}, DSTM max|mu| there {:.6})",
-                    found.lo, found.hi, dstm.max_multiplier
-                ));
-                edges.push(format!("{label} (NO UNSTABLE POINT)"));
-            }
-        }
-        lines.push(format!(
-            "{:>2} {case}: band [{:.3}, {:.3}], width {:.3}, {} evaluations, {band_seconds:.3} s; bounds {} / {}; {} interior grid points{}",
-            index + 1,
-            found.lo,
-            found.hi,
-            found.width(),
-            b.evaluations,
-            edges[0],
-            edges[1],
-            inside.len(),
-            if bad.is_empty() { "" } else { "; FAILED" }
-        ));
+            (0..CASES.len()).filter(|&i| CASES[i].0 == name).map(|i| check_case(i, &p, &fs, &full)).collect()
+        })
+        .collect();
+    let reports: Vec<CaseReport> = per_file.into_iter().flatten().collect();
+    let (mut failures, mut thin) = (Vec::new(), Vec::new());
+    for r in &reports {
+        eprintln!("{}", r.line);
+        failures.extend(r.failures.iter().cloned());
+        thin.extend(r.thin.iter().cloned());
     }
-    for l in &lines {
-        eprintln!("{l}");
-    }
+    let stable_cases = reports.iter().filter(|r| r.stable).count();
+    let points: usize = reports.iter().map(|r| r.points).sum();
     eprintln!(
-        "{} cases ({stable_cases} stable), {points} grid points, {:.1} s; bounded by tongues thinner than the grid: {thin:#?}",
-        CASES.len(),
-        start.elapsed().as_secs_f64()
+        "{} cases ({stable_cases} stable), {points} grid points; bounded by tongues thinner than the grid: {thin:#?}",
+        reports.len()
     );
+    assert_eq!(reports.len(), CASES.len(), "every case checked");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }

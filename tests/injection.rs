@@ -130,9 +130,7 @@ fn clear(records: &Path) {
 }
 
 fn setup(name: &str) -> Setup {
-    let root = common::root().join("out/tests/injection").join(name);
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
+    let root = common::scratch(&format!("injection-{name}"));
     let root = std::fs::canonicalize(&root).unwrap();
     let bin_dir = root.join(format!("bin $(touch {MARK}-bin) 'q' \"d\" `x` ;"));
     std::fs::create_dir_all(&bin_dir).unwrap();
@@ -160,13 +158,24 @@ fn study_file(path: &Path) {
 }
 
 fn run(s: &Setup, cwd: &Path, args: &[&OsStr]) -> Output {
-    Command::new(&s.binary)
-        .args(args)
-        .current_dir(cwd)
-        .env_remove("SLURM_ARRAY_TASK_ID")
-        .env("RAYON_NUM_THREADS", "1")
-        .output()
-        .unwrap()
+    // The binary copy may be "busy" for a moment: a child spawned by another test thread
+    // while the copy was open for writing holds that descriptor until it execs.
+    let mut attempts = 0;
+    loop {
+        let out = Command::new(&s.binary)
+            .args(args)
+            .current_dir(cwd)
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env("RAYON_NUM_THREADS", "1")
+            .output();
+        match out {
+            Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && attempts < 100 => {
+                attempts += 1;
+                std::thread::sleep(std::time::Duration::from_millis(20));
+            }
+            other => return other.unwrap(),
+        }
+    }
 }
 
 /// A refused run: exit 2, an `error: ` line naming `what` and the value as shown (the
@@ -659,9 +668,7 @@ const TITLE_TOML: &str = r#"title="</title><script>alert(1)</script><img src=x o
 
 #[test]
 fn a_title_full_of_markup_is_text_in_the_report_and_on_the_terminal() {
-    let dir = common::root().join("out/tests/injection/report");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("injection-report");
     let out = dir.join("design");
     let problem = common::problem_path("design-widest-band.toml");
     // A small model, so the design takes seconds.

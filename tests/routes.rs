@@ -34,8 +34,7 @@ struct Dir(PathBuf);
 
 impl Dir {
     fn new(name: &str) -> Dir {
-        let d = common::root().join("out").join(format!("routes-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
+        let d = common::tmp(&format!("routes-{name}"));
         std::fs::create_dir_all(&d).expect("create test folder");
         std::fs::copy(common::problem_path(BASE), d.join("base.toml")).expect("copy base");
         Dir(d)

@@ -71,14 +71,14 @@ impl Cluster {
     }
 
     /// Wait until job `job` (array or not) has left the queue.
-    fn wait_gone(&self, job: &str, limit: Duration) {
-        let deadline = Instant::now() + limit;
+    fn wait_gone(&self, job: &str, hang_timeout: Duration) {
+        let hang_deadline = Instant::now() + hang_timeout;
         loop {
             let q = self.tool("squeue", &["-h", "-j", job, "-o", "%i %T"]);
             if q.trim().is_empty() {
                 return;
             }
-            assert!(Instant::now() < deadline, "job {job} still queued after {limit:?}:\n{q}");
+            assert!(Instant::now() < hang_deadline, "job {job} still queued after {hang_timeout:?}:\n{q}");
             std::thread::sleep(Duration::from_millis(200));
         }
     }
@@ -198,9 +198,9 @@ fn a_study_runs_as_a_slurm_array_and_recovers_from_a_cancelled_and_a_killed_task
     // Task 1: scancel as soon as it runs a case. Task 2: SIGKILL its process as soon as it
     // runs a case (its node "disappears": the folder is left as it is).
     let (mut cancelled, mut killed) = (false, false);
-    let deadline = Instant::now() + Duration::from_secs(120);
+    let hang_deadline = Instant::now() + Duration::from_secs(120);
     while !(cancelled && killed) {
-        assert!(Instant::now() < deadline, "tasks 1 and 2 never ran: {:?}", cluster.tasks(&job));
+        assert!(Instant::now() < hang_deadline, "tasks 1 and 2 never ran: {:?}", cluster.tasks(&job));
         if !cancelled && running_pid(&out, &slugs_of(1)).is_some() {
             cluster.tool("scancel", &[&format!("{job}_1")]);
             eprintln!("scancel {job}_1 at {:.1} s", t.elapsed().as_secs_f64());

@@ -158,7 +158,7 @@ fn kill_after_first_case(study: &Path, out: &Path) -> bool {
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
-    let deadline = Instant::now() + Duration::from_secs(120);
+    let hang_deadline = Instant::now() + Duration::from_secs(120);
     loop {
         if child.try_wait().unwrap().is_some() {
             return false;
@@ -166,7 +166,7 @@ fn kill_after_first_case(study: &Path, out: &Path) -> bool {
         let done = std::fs::read_dir(out.join("cases"))
             .map(|d| d.filter_map(|e| e.ok()).any(|e| e.path().join("result.json").exists()))
             .unwrap_or(false);
-        if done || Instant::now() > deadline {
+        if done || Instant::now() > hang_deadline {
             break;
         }
         std::thread::sleep(Duration::from_millis(2));

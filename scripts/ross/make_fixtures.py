@@ -106,6 +106,12 @@ CIRCULAR_WHIRL_MIN = 0.99
 # fixtures serve a 0.05 % comparison, far above this.
 SOLVER_AGREEMENT = 1e-6
 
+# A node whose orbit's major axis is below this fraction of the mode's largest is at rest:
+# its orbit is round-off (1e-11 to 1e-13 of the largest at rotor_example's mid-span node
+# in its antisymmetric modes), and its sense does not count in whirl_of_moving_nodes.
+# The same threshold as rotorshunt's whirl classification (docs/model.md).
+MOVING_NODE = 1e-9
+
 # Equality of the matrices of a saved-and-loaded rotor with the built one: floats are
 # written in Python's round-trip form, so only the summation order may differ.
 ROUND_TRIP = 1e-12
@@ -279,6 +285,66 @@ def held_out():
     return rs.Rotor(shaft, disks, bearings)
 
 
+def held_out_supports():
+    """Held out (issue 28, points 4-5): written into this script, and its fixture made,
+    before it was first imported or compared with rotorshunt; compared once, at the end.
+    11 Timoshenko elements of two materials (a hollow span, a taper), a disk from
+    geometry, a disk by mass; a fluid-film-like bearing with
+    all eight coefficients tabulated over 5 frequencies and a constant added mass, an
+    anisotropic constant bearing, and a seal with cross-coupled stiffness and damping
+    tabulated over 4 frequencies that start above 0."""
+    shaft = (
+        [timoshenko(0.1, 0.0, 0.06, STEEL) for _ in range(2)]
+        + [timoshenko(0.15, 0.02, 0.08, AISI4140) for _ in range(5)]
+        + [timoshenko(0.1, 0.02, 0.08, AISI4140, idr=0.0, odr=0.06)]
+        + [timoshenko(0.12, 0.0, 0.06, STEEL, shear_method_calc="hutchinson") for _ in range(3)]
+    )
+    disks = [
+        rs.DiskElement.from_geometry(n=4, material=STEEL, width=0.06, i_d=0.08, o_d=0.35),
+        rs.DiskElement(n=10, m=12.0, Id=0.08, Ip=0.15),
+    ]
+    frequency = [0.0, 400.0, 800.0, 1200.0, 1600.0]
+
+    def tab(f):
+        return [float(f(w / 1600.0)) for w in frequency]
+
+    bearing = rs.BearingElement(
+        n=1,
+        kxx=tab(lambda r: 4.0e7 * (1.0 + 0.3 * r**1.5)),
+        kyy=tab(lambda r: 2.5e7 * (1.0 + 0.5 * r**1.5)),
+        kxy=tab(lambda r: 6.0e6 * r),
+        kyx=tab(lambda r: -9.0e6 * r),
+        cxx=tab(lambda r: 3.0e4 * (1.0 - 0.2 * r)),
+        cyy=tab(lambda r: 4.0e4 * (1.0 - 0.25 * r)),
+        cxy=tab(lambda r: 1.5e3 * r),
+        cyx=tab(lambda r: 1.5e3 * r),
+        mxx=[2.0] * len(frequency),
+        frequency=frequency,
+        tag="Journal",
+    )
+    seal_frequency = [200.0, 700.0, 1200.0, 1700.0]
+
+    def seal_tab(f):
+        return [float(f(w / 1700.0)) for w in seal_frequency]
+
+    seal = rs.SealElement(
+        n=6,
+        kxx=seal_tab(lambda r: 2.0e6 * (1.0 + 0.1 * r)),
+        kxy=seal_tab(lambda r: 8.0e5 * r),
+        kyx=seal_tab(lambda r: -8.0e5 * r),
+        cxx=seal_tab(lambda r: 800.0 * (1.0 - 0.1 * r)),
+        cxy=seal_tab(lambda r: 120.0 * r),
+        cyx=seal_tab(lambda r: -120.0 * r),
+        frequency=seal_frequency,
+        tag="Balance piston",
+    )
+    bearings = [bearing, rs.BearingElement(n=9, kxx=3.0e7, kyy=5.0e7, cxx=1.0e3, cyy=1.5e3, tag="Outboard"), seal]
+    # No point mass: ROSS 2.3.0 gives every point mass 3 DOFs of its own beyond the shaft
+    # (Rotor.ndof), so one on a shaft node leaves them massless and run_modal fails on a
+    # singular M; a point mass is a pedestal, refused by the importer.
+    return rs.Rotor(shaft, disks, bearings)
+
+
 # A sleeve material as ROSS's compressor example has one (`shaft_mat_2`): mass, and a
 # stiffness of 1 psi, i.e. none.
 SLEEVE = rs.Material(name="Sleeve", rho=7833.412, E=6894.75, G_s=6894.75)
@@ -351,6 +417,43 @@ def refuse_linked_bearing():
     return rs.Rotor(example_shaft(), example_disks(), bearings, point_mass_elements=pedestal)
 
 
+def refuse_magnetic():
+    """A magnetic bearing at node 6 (PID controller), saved by ROSS under BearingElement
+    with its controller's parameters: refused, naming it."""
+    bearings = [
+        rs.BearingElement(n=0, kxx=1e6, cxx=0.0),
+        rs.MagneticBearingElement(
+            n=6, g0=1e-3, i0=1.0, ag=1e-4, nw=200, kp_pid=1.0, kd_pid=1e-3, tag="Refused magnetic"
+        ),
+    ]
+    return rs.Rotor(example_shaft(), example_disks(), bearings)
+
+
+def refuse_several():
+    """Five refusals in one file, listed by one import: proportional damping on element
+    2, rotary inertia off on element 4, a bearing at node 6 linked to a pedestal (a point
+    mass at node 7 beyond the shaft) and the pedestal's bearing to the ground."""
+    shaft = example_shaft()
+    shaft[2] = rayleigh(0.25, 0.0, 0.05, STEEL, alpha=2.0, tag="Refused damped")
+    shaft[4] = rs.ShaftElement(
+        L=0.25,
+        idl=0.0,
+        odl=0.05,
+        material=STEEL,
+        shear_effects=False,
+        rotary_inertia=False,
+        gyroscopic=True,
+        tag="Refused no rotary inertia",
+    )
+    bearings = [
+        rs.BearingElement(n=0, kxx=1e6, cxx=0.0),
+        rs.BearingElement(n=6, kxx=1e6, cxx=0.0, n_link=7, tag="Refused linked"),
+        rs.BearingElement(n=7, kxx=1e7, cxx=0.0, tag="Refused pedestal support"),
+    ]
+    pedestal = [rs.PointMass(n=7, m=10.0, tag="Refused pedestal")]
+    return rs.Rotor(shaft, example_disks(), bearings, point_mass_elements=pedestal)
+
+
 # name -> (builder, speeds for the modal file or None)
 ROTORS = {
     "rotor_example_rayleigh": (rotor_example_rayleigh, [0.0, 500.0, 1500.0]),
@@ -366,6 +469,8 @@ ROTORS = {
     "refuse_anisotropic_damping": (refuse_anisotropic_damping, None),
     "refuse_cross_coupled": (refuse_cross_coupled, None),
     "refuse_linked_bearing": (refuse_linked_bearing, None),
+    "refuse_magnetic": (refuse_magnetic, None),
+    "refuse_several": (refuse_several, None),
 }
 # ROSS's own examples, saved as they are: name -> (builder, speeds of the whirl file).
 # The compressor's speeds lie inside every one of its bearing and seal tables (419 to
@@ -373,6 +478,8 @@ ROTORS = {
 EXAMPLES = {
     "rotor_example": (rotor_example, [0.0, 500.0, 1500.0]),
     "compressor_example": (compressor_example, [500.0, 800.0, 1100.0]),
+    # Speeds inside its seal's table (200 to 1700 rad/s) and its bearing's (0 to 1600).
+    "held_out_supports": (held_out_supports, [500.0, 900.0, 1400.0]),
 }
 # The lowest lateral whirls recorded per speed for ROSS's examples.
 EXAMPLE_WHIRLS = 8
@@ -386,6 +493,11 @@ UNBALANCE = {"node": 3, "magnitude": 10.0, "phase": 0.0}
 UNBALANCE_ISOTROPIC = {"node": 2, "magnitude": 1.0e-3, "phase": 0.0}
 UNBALANCE_SPEEDS = [10.0 * (k + 1) for k in range(100)]
 UNBALANCE_NODES = [2, 3, 4]
+# held_out_supports's unbalance: 2e-4 kg m at phase 0.5 rad on its disk at node 4, over
+# 100 speeds inside its tables (250 to 1537 rad/s), at its two bearings and the disk.
+UNBALANCE_HELD_OUT = {"node": 4, "magnitude": 2.0e-4, "phase": 0.5}
+UNBALANCE_HELD_OUT_SPEEDS = [250.0 + 13.0 * k for k in range(100)]
+UNBALANCE_HELD_OUT_NODES = [1, 4, 9]
 
 # Rotors also saved as JSON (Rotor.save picks the format from the extension).
 ALSO_JSON = {"rotor_example_rayleigh", "stepped_hollow"}
@@ -643,6 +755,13 @@ def example_whirls(rotor, name, speed):
         major = forward + backward
         big = major > 1e-3 * np.max(major)
         ratio = float(np.max(np.abs(forward - backward)[big] / major[big]))
+        # ROSS's own rule (every node's orbit sense, Shape._calculate_orbits) over the
+        # nodes that move: a node whose orbit is below MOVING_NODE of the largest is at
+        # rest, and the sense of its round-off orbit decides nothing.
+        orbits = modal.shapes[i].orbits
+        largest = max(o.major_axis for o in orbits)
+        senses = {o.whirl for o in orbits if o.major_axis >= MOVING_NODE * largest}
+        moving = senses.pop() if len(senses) == 1 else "Mixed"
         modes.append(
             {
                 "wd": finite(modal.wd[i], "wd"),
@@ -654,6 +773,7 @@ def example_whirls(rotor, name, speed):
                 "whirl": ross_whirl,
                 "whirl_index": whirl_index(modal, i, rotor.number_dof),
                 "max_minor_to_major": ratio,
+                "whirl_of_moving_nodes": moving,
             }
         )
     modes.sort(key=lambda m: m["wd"])
@@ -677,25 +797,38 @@ def example_file(rotor, name, speeds):
             "whirl_index is the amplitude-weighted orbit sense (+1 forward circular, -1 "
             "backward circular); max_minor_to_major the largest minor/major semi-axis "
             "ratio over the nodes that move (1 circular, 0 a straight line)",
+            "whirl_of_moving_nodes is ROSS's rule (Forward if every node's orbit turns "
+            "forward, Backward if every one turns backward, else Mixed) over the nodes "
+            f"whose orbit's major axis is at least {MOVING_NODE:g} of the largest: a node "
+            "at rest (the mid-span node of an antisymmetric mode) has a round-off orbit "
+            "whose sense is noise",
         ],
         "speeds": [float(w) for w in speeds],
         "results": [example_whirls(rotor, name, w) for w in speeds],
     }
 
 
-def unbalance_file(rotor, name, unbalance=UNBALANCE):
-    """run_unbalance_response of the rotor: x and y amplitude and phase at
-    UNBALANCE_NODES over UNBALANCE_SPEEDS. ROSS applies F_x = m e^{jp} w^2,
+UNDAMPED_NOTE = (
+    "the rotor is undamped: amplitudes grow without bound at its critical speeds, "
+    "which the speeds (10 to 1000 rad/s in steps of 10) do not hit"
+)
+
+
+def unbalance_file(rotor, name, unbalance=UNBALANCE, speeds=None, at=None, note=UNDAMPED_NOTE):
+    """run_unbalance_response of the rotor: x and y amplitude and phase at the nodes `at`
+    (default UNBALANCE_NODES) over `speeds` (default UNBALANCE_SPEEDS). ROSS applies F_x = m e^{jp} w^2,
     F_y = -j m e^{jp} w^2 at the node (a forward rotating force) and returns the complex
     amplitudes X, Y with x(t) = Re(X e^{jwt})."""
+    speeds = UNBALANCE_SPEEDS if speeds is None else speeds
+    at = UNBALANCE_NODES if at is None else at
     response = rotor.run_unbalance_response(
         node=unbalance["node"],
         unbalance_magnitude=unbalance["magnitude"],
         unbalance_phase=unbalance["phase"],
-        frequency=np.array(UNBALANCE_SPEEDS),
+        frequency=np.array(speeds),
     )
     nodes = []
-    for node in UNBALANCE_NODES:
+    for node in at:
         x = response.forced_resp[rotor.number_dof * node]
         y = response.forced_resp[rotor.number_dof * node + 1]
         nodes.append(
@@ -723,10 +856,9 @@ def unbalance_file(rotor, name, unbalance=UNBALANCE):
             "ROSS's force at the node: F_x = m e^(j phase) w^2, F_y = -j m e^(j phase) w^2 "
             "(forward); x(t) = Re(X e^(j w t)), amplitude |X|, phase arg X (rad, numpy's "
             "angle, in (-pi, pi])",
-            "the rotor is undamped: amplitudes grow without bound at its critical speeds, "
-            "which the speeds (10 to 1000 rad/s in steps of 10) do not hit",
+            note,
         ],
-        "speeds": [float(w) for w in UNBALANCE_SPEEDS],
+        "speeds": [float(w) for w in speeds],
         "nodes": nodes,
     }
 
@@ -791,6 +923,17 @@ def main():
         (args.out / f"{name}.modal.json").write_text(text)
         if name == "rotor_example":
             text = json.dumps(unbalance_file(loaded, name), indent=1, allow_nan=False) + "\n"
+            (args.out / f"{name}.unbalance.json").write_text(text)
+        if name == "held_out_supports":
+            data = unbalance_file(
+                loaded,
+                name,
+                UNBALANCE_HELD_OUT,
+                UNBALANCE_HELD_OUT_SPEEDS,
+                UNBALANCE_HELD_OUT_NODES,
+                "the rotor's bearings and seal are damped; the speeds lie inside every table",
+            )
+            text = json.dumps(data, indent=1, allow_nan=False) + "\n"
             (args.out / f"{name}.unbalance.json").write_text(text)
         print(f"wrote {name}")
 

@@ -12,7 +12,7 @@ use std::path::Path;
 /// refused ([`Error::OutputExists`]) unless `force`, and is never the input
 /// ([`Error::OutputIsInput`], even with `force`); nothing is written when the import is
 /// refused, or when the problem it gives does not load (a [`crate::problem::ProblemError`]
-/// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed and evaluates tabulated bearings.
+/// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed.
 pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool) -> Result<String, Error> {
     let speed = speed.map(|w| bounds::flag("--speed", limits::speed(w))).transpose()?;
     if let (Ok(a), Ok(b)) = (std::fs::canonicalize(file), std::fs::canonicalize(out)) {
@@ -48,11 +48,12 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
     let r = &import.rotor;
     let elements: usize = r.sections.iter().map(|s| s.elements).sum();
     Ok(format!(
-        "import-ross: {} shaft elements in {} section(s), {} disk(s), {} bearing(s); wrote {} (add [[rings]] by editing)\n",
+        "import-ross: {} shaft elements in {} section(s), {} disk(s), {} bearing(s), {} seal(s); wrote {} (add [[rings]] by editing)\n",
         elements,
         r.sections.len(),
         r.disks.len(),
-        r.bearings.len(),
+        r.bearings.iter().filter(|b| b.kind == crate::model::SupportKind::Bearing).count(),
+        r.bearings.iter().filter(|b| b.kind == crate::model::SupportKind::Seal).count(),
         out.display()
     ))
 }

@@ -219,6 +219,12 @@ impl pulp::WithSimd for Combination<'_> {
     type Output = ();
 
     #[inline(always)]
+    #[expect(
+        clippy::disallowed_macros,
+        reason = "a debug-build guard for a future caller, compiled out of release builds: the two callers in \
+                  this file pass identity 0 (add_scaled, all rows) or rows = n (add_combination_top), so the \
+                  condition holds by construction"
+    )]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let (n, rows) = (self.acc.nrows() / 2, self.rows);
         // The identity goes on the top-left block only: callers complete the bottom rows.
@@ -247,6 +253,13 @@ impl pulp::WithSimd for Complete<'_> {
     type Output = ();
 
     #[inline(always)]
+    #[expect(
+        clippy::expect_used,
+        reason = "an owned faer::Mat is column-major with unit row stride, so every column view of it is \
+                  contiguous and the Option is always Some (faer's own col_as_slice_mut unwraps it alike); the \
+                  matrix is SplitMatrix's own, never data. Copying through a buffer or a strided fallback cost \
+                  4-15 % on the chart and the catalogue (docs/decisions.md)"
+    )]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let n = self.n;
         let (mut left, mut right) = self.block.split_at_col_mut(n);
@@ -282,6 +295,10 @@ impl ExpWorkspace {
 
 /// The highest degree of [`TAYLOR_DEGREES`].
 const TAYLOR_MAX_DEGREE: usize = 25;
+#[expect(
+    clippy::disallowed_macros,
+    reason = "a compile-time check: evaluated by the compiler, a build that broke it would not compile"
+)]
 const _: () = assert!(TAYLOR_DEGREES[TAYLOR_DEGREES.len() - 1].0 == TAYLOR_MAX_DEGREE);
 
 /// Taylor degrees m and their Paterson–Stockmeyer block sizes s (m a multiple of s; the

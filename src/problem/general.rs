@@ -434,8 +434,17 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
     Ok((bearings, rings))
 }
 
-/// The failures found, as one: the first with the others attached ([`K::Several`]).
-pub(super) fn several(mut failures: Vec<Failure>) -> Option<Failure> {
+/// The failures found, as one: the first with the others attached ([`K::Several`]). A
+/// failure found twice (one key feeding two coefficients, as `stiffness` feeds kxx and
+/// kyy) is reported once.
+pub(super) fn several(failures: Vec<Failure>) -> Option<Failure> {
+    let mut failures = failures.into_iter().fold(Vec::new(), |mut seen: Vec<Failure>, f| {
+        // By key and message: a NaN value makes the kinds themselves unequal.
+        if !seen.iter().any(|(k, e)| *k == f.0 && e.to_string() == f.1.to_string()) {
+            seen.push(f);
+        }
+        seen
+    });
     if failures.is_empty() {
         return None;
     }
@@ -451,7 +460,7 @@ pub(super) fn several(mut failures: Vec<Failure>) -> Option<Failure> {
 }
 
 /// Smallest eigenvalue of the symmetric part of a 2×2 matrix.
-fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
+pub(crate) fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
     let (a, d, b) = (c[0][0], c[1][1], 0.5 * (c[0][1] + c[1][0]));
     let mean = 0.5 * (a + d);
     mean - (0.25 * (a - d) * (a - d) + b * b).sqrt()
@@ -460,7 +469,7 @@ fn smallest_symmetric_eigenvalue(c: [[f64; 2]; 2]) -> f64 {
 /// Relative round-off allowed in the damping check: the smallest eigenvalue of the
 /// symmetric part of a 2×2 matrix is computed to ~1e-15 of its largest entry; a matrix
 /// built semi-definite (e.g. c·[[1, 1], [1, 1]]) must not be refused for that.
-const DAMPING_ROUND_OFF: f64 = 1e-12;
+pub(crate) const DAMPING_ROUND_OFF: f64 = 1e-12;
 
 /// A support's table speeds (rad/s) and its eight coefficients ([`COEFFICIENT_NAMES`]).
 type Coefficients = (Vec<f64>, [Vec<f64>; 8]);

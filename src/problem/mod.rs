@@ -5,7 +5,7 @@
 mod design_keys;
 mod error;
 pub mod file;
-mod general;
+pub(crate) mod general;
 pub mod input;
 pub mod plausibility;
 pub mod provenance;

@@ -1,6 +1,8 @@
 //! Shared helpers for the integration tests: the problem catalogue lives in problems/.
 #![allow(dead_code)]
 
+pub mod pins;
+
 use rotorshunt::problem::Problem;
 
 /// Path of a catalogue problem.
@@ -24,8 +26,7 @@ pub fn root() -> &'static std::path::Path {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// Every `.rs` file below `dir`, sorted (the source scans of tests/layers.rs and
-/// tests/panic_sites.rs).
+/// Every `.rs` file below `dir`, sorted (the source scan of tests/layers.rs).
 pub fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     fn visit(dir: &std::path::Path, files: &mut Vec<std::path::PathBuf>) {
         for e in std::fs::read_dir(dir).unwrap().flatten() {
@@ -43,22 +44,28 @@ pub fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
     files
 }
 
-/// A generated input file `out/generated/NAME` (git-ignored; too large or too odd to keep
-/// in the repository), written by `write` unless already there, atomically (test binaries
-/// may run at once).
+/// The folder of generated input files: `rotorshunt-generated` in the system's temporary
+/// folder (tests write nowhere in the repository).
+pub fn generated_dir() -> std::path::PathBuf {
+    std::env::temp_dir().join("rotorshunt-generated")
+}
+
+/// A generated input file `NAME` in [`generated_dir`] (too large or too odd to keep in the
+/// repository), written by `write` unless already there, atomically (test binaries and
+/// the tests inside one may run at once).
 pub fn generated(name: &str, write: impl FnOnce(&std::path::Path)) -> std::path::PathBuf {
-    let dir = root().join("out").join("generated");
+    let dir = generated_dir();
     std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
     let path = dir.join(name);
     if !path.exists() {
-        let tmp = dir.join(format!(".{name}.{}", std::process::id()));
+        let tmp = dir.join(format!(".{name}.{}.{:?}", std::process::id(), std::thread::current().id()));
         write(&tmp);
         std::fs::rename(&tmp, &path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     }
     path
 }
 
-/// `out/generated/too_large.toml`: one byte over 17 MiB (sparse: cheap to make).
+/// `too_large.toml` in [`generated_dir`]: one byte over 17 MiB (sparse: cheap to make).
 pub fn too_large_file() -> std::path::PathBuf {
     generated("too_large.toml", |p| {
         let f = std::fs::File::create(p).expect("create too_large.toml");
@@ -79,7 +86,7 @@ pub fn dotted_keys_text(bytes: usize) -> String {
     text
 }
 
-/// `out/generated/too_complex.toml`: 1 MiB of dotted keys (a 577 MB parse).
+/// `too_complex.toml` in [`generated_dir`]: 1 MiB of dotted keys (a 577 MB parse).
 pub fn too_complex_file() -> std::path::PathBuf {
     generated("too_complex.toml", |p| std::fs::write(p, dotted_keys_text(1 << 20)).expect("write too_complex.toml"))
 }
@@ -228,6 +235,13 @@ pub fn bin() -> std::process::Command {
 pub fn tmp(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("rotorshunt-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// [`tmp`], created.
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    let d = tmp(name);
+    std::fs::create_dir_all(&d).unwrap_or_else(|e| panic!("{}: {e}", d.display()));
     d
 }
 

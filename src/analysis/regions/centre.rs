@@ -16,7 +16,13 @@
 //! backward whirl of the same bending mode share their shape q, so an eigenvector
 //! w = [q̇; q] of the monodromy is matched to a mode by its shape overlap with the mode's q,
 //! by its local frequency Im(qᴴq̇)/‖q‖², which separates forward from backward, and by the
-//! multiplier's position against exp(λT).
+//! multiplier's position against exp(λT). The eigenvectors are matched to every whirl of
+//! B0 at once, one to one, the best-scoring match first: an eigenvector is one whirl's.
+//! Beside and inside a pair's collision its two eigenvectors mix the two whirls, whose
+//! shape and local frequency then match either one poorly (a mixture's local frequency can
+//! lie anywhere); matched member by member, the pair's backward member was once taken
+//! from a foreign whirl whose multiplier sat 0.15 rad away (docs/decisions.md, "A seed's
+//! pair"). That eigenvector matches its own whirl far better, which claims it first.
 //!
 //! **Twins.** Whirls of one direction within [`TWIN`] of each other (the r₁/r₂ and
 //! s₁/s₂ modes of two rings on one circuit, 0.2 % apart) mix under the load: their
@@ -79,12 +85,12 @@ impl ModeBasis {
         Some(ModeBasis { modes, half })
     }
 
-    /// The mode whose eigenvalue's imaginary part is nearest `im`.
-    fn nearest(&self, im: f64) -> &(f64, Vec<c64>) {
-        let mut best = &self.modes[0];
-        for m in &self.modes[1..] {
-            if (m.0 - im).abs() < (best.0 - im).abs() {
-                best = m;
+    /// The index of the mode whose eigenvalue's imaginary part is nearest `im`.
+    fn nearest(&self, im: f64) -> usize {
+        let mut best = 0;
+        for (k, m) in self.modes.iter().enumerate() {
+            if (m.0 - im).abs() < (self.modes[best].0 - im).abs() {
+                best = k;
             }
         }
         best
@@ -166,46 +172,62 @@ fn detuning(fs: &FloquetSystem, basis: &ModeBasis, group: &PairGroup, phi: f64, 
     let (mu, w) = (&e.values, &e.vectors);
     let (n, h) = (mu.len(), basis.half);
     let period = 2.0 * PI / phi;
-    let scores = |im: f64| -> Vec<f64> {
-        let (lam, q) = basis.nearest(im);
-        (0..n)
-            .map(|c| {
-                let (mut overlap, mut cross, mut norm) = (c64::new(0.0, 0.0), c64::new(0.0, 0.0), 0.0);
-                for r in 0..h {
-                    let (qd, qq) = (w[(r, c)], w[(h + r, c)]);
-                    overlap += q[r].conj() * qq;
-                    cross += qq.conj() * qd;
-                    norm += qq.norm_sqr();
-                }
-                if norm <= 0.0 {
-                    return 0.0;
-                }
-                let shape = overlap.norm() / norm.sqrt();
-                let mismatch = (cross.im / norm - lam) / (FREQUENCY_MATCH * lam.abs().max(1.0));
-                // Where the multiplier sits against where β = 0 puts it, exp(jλT).
-                let turn = (mu[c] * c64::cis(-lam * period)).arg() / ANGLE_MATCH;
-                shape / ((1.0 + mismatch * mismatch) * (1.0 + turn * turn))
-            })
-            .collect()
-    };
-    // The group's eigenvectors: each member's best match not yet taken; then ranked by
-    // angle against the group's mean frequency, in the direction of its whirl.
-    let mut taken: Vec<usize> = Vec::new();
-    let choose = |freqs: &[f64], sign: f64, taken: &mut Vec<usize>| -> Option<Vec<usize>> {
+    // The score of every eigenvector (columns) for every mode of B0 (rows).
+    let scores: Vec<Vec<f64>> = basis
+        .modes
+        .iter()
+        .map(|(lam, q)| {
+            let lam = *lam;
+            (0..n)
+                .map(|c| {
+                    let (mut overlap, mut cross, mut norm) = (c64::new(0.0, 0.0), c64::new(0.0, 0.0), 0.0);
+                    for r in 0..h {
+                        let (qd, qq) = (w[(r, c)], w[(h + r, c)]);
+                        overlap += q[r].conj() * qq;
+                        cross += qq.conj() * qd;
+                        norm += qq.norm_sqr();
+                    }
+                    if norm <= 0.0 {
+                        return 0.0;
+                    }
+                    let shape = overlap.norm() / norm.sqrt();
+                    let mismatch = (cross.im / norm - lam) / (FREQUENCY_MATCH * lam.abs().max(1.0));
+                    // Where the multiplier sits against where β = 0 puts it, exp(jλT).
+                    let turn = (mu[c] * c64::cis(-lam * period)).arg() / ANGLE_MATCH;
+                    shape / ((1.0 + mismatch * mismatch) * (1.0 + turn * turn))
+                })
+                .collect()
+        })
+        .collect();
+    // Modes and eigenvectors matched one to one, the best-scoring match first (module
+    // docs): the eigenvector of each mode.
+    let mut matches: Vec<(f64, usize, usize)> = (0..scores.len())
+        .flat_map(|m| (0..n).map(move |c| (m, c)))
+        .map(|(m, c)| (if scores[m][c].is_nan() { 0.0 } else { scores[m][c] }, m, c))
+        .collect();
+    matches.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut owned: Vec<Option<usize>> = vec![None; scores.len()];
+    let mut taken = vec![false; n];
+    for (_, m, c) in matches {
+        if owned[m].is_none() && !taken[c] {
+            owned[m] = Some(c);
+            taken[c] = true;
+        }
+    }
+    // The group's eigenvectors: its members' own; then ranked by angle against the group's
+    // mean frequency, in the direction of its whirl.
+    let choose = |freqs: &[f64], sign: f64| -> Option<Vec<usize>> {
         let mut chosen = Vec::new();
         for &wm in freqs {
-            let s = scores(sign * wm);
-            let best = (0..n).filter(|c| !taken.contains(c)).max_by(|&a, &b| s[a].total_cmp(&s[b]))?;
-            taken.push(best);
-            chosen.push(best);
+            chosen.push(owned[basis.nearest(sign * wm)]?);
         }
         let mean = freqs.iter().sum::<f64>() / freqs.len() as f64;
         let angle = |c: usize| sign * (mu[c] * c64::cis(-sign * mean * period)).arg();
         chosen.sort_by(|&a, &b| angle(a).total_cmp(&angle(b)));
         Some(chosen)
     };
-    let fwd = choose(&group.forward, 1.0, &mut taken)?;
-    let bwd = choose(&group.backward, -1.0, &mut taken)?;
+    let fwd = choose(&group.forward, 1.0)?;
+    let bwd = choose(&group.backward, -1.0)?;
     let mut deltas = Vec::with_capacity(group.assignments());
     let mut splits = Vec::with_capacity(group.assignments());
     let mut growths = Vec::with_capacity(group.assignments());

@@ -1,12 +1,12 @@
 //! From ROSS's elements to rotorshunt's general form: materials, sections (Rayleigh or
-//! Timoshenko, uniform or tapered), disks and plain bearings, or a refusal naming the
-//! element. The rules are in
-//! `docs/ross-format.md` (section "Mapping to rotorshunt").
+//! Timoshenko, uniform or tapered), disks (and point masses on the shaft), bearings and
+//! seals with their full coefficient matrices and speed tables; or the refusals, every
+//! one of the file, each naming its element. The rules are in `docs/ross-format.md`
+//! (section "`rotorshunt import-ross`: the mapping, and what it refuses").
 
-use super::error::{ElementRef, Refusal, RossErrorKind};
-use super::parse::{Bearing, Coefficient, RossFile, Shaft};
-use super::table;
-use crate::model::element;
+use super::error::{ElementRef, Refusal, Refused, RossErrorKind};
+use super::parse::{Bearing, Coefficient, RossFile, Shaft, SupportClass};
+use crate::model::{element, SupportKind};
 
 /// Relative tolerance within which consecutive shaft elements have "the same" length and
 /// may share a section. ROSS writes lengths in Python's shortest round-trip form, and a
@@ -22,15 +22,15 @@ pub const SAME_LENGTH_RTOL: f64 = 1e-12;
 pub struct Imported {
     /// `ross_version` of the file.
     pub ross_version: Option<String>,
-    /// The speed Ω (rad/s) the bearings were evaluated at, if one was chosen.
+    /// The speed Ω (rad/s) chosen for the problem, if one was.
     pub speed: Option<f64>,
     /// Materials, in order of first use.
     pub materials: Vec<MaterialOut>,
     /// Shaft sections, left to right.
     pub sections: Vec<SectionOut>,
-    /// Disks, by node (then tag).
+    /// Disks and point masses on the shaft, by node (then tag).
     pub disks: Vec<DiskOut>,
-    /// Plain bearings, by node.
+    /// Bearings and seals, by node (then tag).
     pub bearings: Vec<BearingOut>,
 }
 
@@ -115,29 +115,47 @@ pub struct DiskOut {
     /// ROSS's `tag` of the disk element, quoted in the comment of the written `[[disks]]`
     /// entry.
     pub tag: String,
+    /// `DiskElement`, or `PointMass` for a point mass on the shaft (mass only).
+    pub class: &'static str,
 }
 
-/// A `[[bearings]]` entry: one or more isotropic ROSS bearings at one node (ROSS adds the
-/// matrices of bearings at one node; rotorshunt has one support per node, so they are
-/// summed here).
+/// A `[[bearings]]` or `[[seals]]` entry: one ROSS bearing or seal, grounded at a shaft
+/// node (several may share a node, as in ROSS, whose matrices add).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BearingOut {
+    /// Bearing (`[[bearings]]`) or seal (`[[seals]]`).
+    pub kind: SupportKind,
+    /// The ROSS class (`BearingElement`, `SealElement`, …).
+    pub class: &'static str,
     /// Shaft node of the support, ROSS's `n` (0-based, 0 = left end).
     pub node: i64,
-    /// k = kxx = kyy (N/m).
-    pub stiffness: f64,
-    /// c = cxx = cyy (N·s/m).
-    pub damping: f64,
+    /// ROSS's `frequency` (rad/s) when a coefficient varies over it; empty otherwise.
+    pub speeds: Vec<f64>,
+    /// kxx, kxy, kyx, kyy (N/m), cxx, cxy, cyx, cyy (N·s/m), in the order of
+    /// [`crate::model::COEFFICIENT_NAMES`]: one value when constant over the table, else
+    /// one per entry of `speeds`.
+    pub coefficients: [Vec<f64>; 8],
     /// Added mass mxx = myy (kg), on the node.
     pub mass: f64,
-    /// ROSS tags, with the number of tabulated frequencies if the coefficients were
-    /// evaluated at the chosen speed.
-    pub from: Vec<(String, Option<usize>)>,
+    /// The ROSS tag.
+    pub tag: String,
 }
 
-fn refused(class: &str, tag: &str, n: Option<i64>, reason: Refusal) -> RossErrorKind {
-    RossErrorKind::Refused {
-        element: Some(Box::new(ElementRef { class: class.into(), tag: tag.into(), n })),
+impl BearingOut {
+    /// Whether the support is written with the isotropic keys `stiffness` and `damping`:
+    /// constant, kxx = kyy, cxx = cyy and no cross terms.
+    pub fn isotropic(&self) -> bool {
+        let c = &self.coefficients;
+        c.iter().all(|v| v.len() == 1)
+            && c[0][0] == c[3][0]
+            && c[4][0] == c[7][0]
+            && [1, 2, 5, 6].iter().all(|&i| c[i][0] == 0.0)
+    }
+}
+
+fn refused(class: &str, tag: &str, n: Option<i64>, line: Option<usize>, reason: Refusal) -> Refused {
+    Refused {
+        element: Some(Box::new(ElementRef { class: class.into(), tag: tag.into(), n, line })),
         reason: Box::new(reason),
     }
 }
@@ -152,93 +170,152 @@ fn check(key: &str, value: f64, positive: bool) -> Result<(), Refusal> {
     Err(Refusal::Value { key: key.into(), value, rule: rule.into() })
 }
 
-/// Map a parsed file; `speed` (rad/s) evaluates tabulated bearing coefficients.
+/// Map a parsed file; `speed` (rad/s) is the problem's speed Ω. Every element is
+/// checked; when any is refused, the error lists them all (shaft elements by `n`, disks,
+/// point masses, bearings and seals by `n`, other classes, the rotor).
 pub fn map(file: &RossFile, speed: Option<f64>) -> Result<Imported, RossErrorKind> {
-    let groups = shafts(file)?;
-    let last_node = groups.len() as i64;
-    let flat: Vec<&Shaft> = groups.iter().flatten().copied().collect();
-    let (materials, element_material) = materials(&flat);
-    let sections = sections(&groups, &materials, &element_material);
+    let mut refusals: Vec<Refused> = Vec::new();
+    let groups = shafts(file, &mut refusals)?;
+    // The shaft's last node as ROSS numbers it, even when the numbering is refused.
+    let last_node = file.shafts.iter().map(|s| s.n.saturating_add(1)).max().unwrap_or(0);
     let mut disks = Vec::new();
     for d in &file.disks {
-        let fail = |r| refused("DiskElement", &d.tag, Some(d.n), r);
-        for (key, value) in [("m", d.m), ("Ip", d.Ip), ("Id", d.Id)] {
-            check(key, value, false).map_err(fail)?;
+        let fail = |r| refused("DiskElement", &d.tag, Some(d.n), d.line, r);
+        let values = [("m", d.m), ("Ip", d.Ip), ("Id", d.Id)];
+        if let Some(r) = values.iter().find_map(|(key, value)| check(key, *value, false).err()) {
+            refusals.push(fail(r));
+        } else if !(0..=last_node).contains(&d.n) {
+            refusals.push(fail(Refusal::NodeOffShaft { node: d.n, last: last_node }));
+        } else {
+            disks.push(DiskOut {
+                node: d.n,
+                mass: d.m,
+                polar_inertia: d.Ip,
+                diametral_inertia: d.Id,
+                tag: d.tag.clone(),
+                class: "DiskElement",
+            });
         }
-        if !(0..=last_node).contains(&d.n) {
-            return Err(fail(Refusal::NodeOffShaft { node: d.n, last: last_node }));
+    }
+    for p in &file.point_masses {
+        let fail = |r| refused("PointMass", &p.tag, Some(p.n), p.line, r);
+        match point_mass(p, last_node) {
+            Ok(mass) => disks.push(DiskOut {
+                node: p.n,
+                mass,
+                polar_inertia: 0.0,
+                diametral_inertia: 0.0,
+                tag: p.tag.clone(),
+                class: "PointMass",
+            }),
+            Err(r) => refusals.push(fail(r)),
         }
-        disks.push(DiskOut { node: d.n, mass: d.m, polar_inertia: d.Ip, diametral_inertia: d.Id, tag: d.tag.clone() });
     }
     disks.sort_by(|a, b| (a.node, &a.tag).cmp(&(b.node, &b.tag)));
-    let mut plain: Vec<(i64, [f64; 3], String, Option<usize>)> = Vec::new();
+    let mut bearings: Vec<BearingOut> = Vec::new();
     let mut sorted: Vec<&Bearing> = file.bearings.iter().collect();
     sorted.sort_by(|a, b| (a.n, &a.tag).cmp(&(b.n, &b.tag)));
     for b in sorted {
-        let (kcm, table) = bearing(b, speed).map_err(|r| refused("BearingElement", &b.tag, Some(b.n), r))?;
-        if !(0..=last_node).contains(&b.n) {
-            let r = Refusal::NodeOffShaft { node: b.n, last: last_node };
-            return Err(refused("BearingElement", &b.tag, Some(b.n), r));
-        }
-        plain.push((b.n, kcm, b.tag.clone(), table));
-    }
-    if let Some((class, tag, n)) = file.others.iter().min_by(|a, b| (&a.0, &a.1).cmp(&(&b.0, &b.1))) {
-        return Err(refused(class, tag, *n, Refusal::UnknownClass(class.clone())));
-    }
-    if plain.is_empty() {
-        return Err(RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing) });
-    }
-    let mut bearings: Vec<BearingOut> = Vec::new();
-    for (node, [k, c, m], tag, table) in plain {
-        match bearings.last_mut().filter(|b| b.node == node) {
-            Some(b) => {
-                b.stiffness += k;
-                b.damping += c;
-                b.mass += m;
-                b.from.push((tag, table));
-            }
-            None => bearings.push(BearingOut { node, stiffness: k, damping: c, mass: m, from: vec![(tag, table)] }),
+        match bearing(b, last_node) {
+            Ok(out) => bearings.push(out),
+            Err(r) => refusals.push(refused(b.class.name(), &b.tag, Some(b.n), b.line, r)),
         }
     }
+    let mut others: Vec<_> = file.others.iter().collect();
+    others.sort_by(|a, b| (&a.class, &a.tag).cmp(&(&b.class, &b.tag)));
+    for o in others {
+        let reason = if o.magnetic { Refusal::Magnetic } else { Refusal::UnknownClass(o.class.clone()) };
+        refusals.push(refused(&o.class, &o.tag, o.n, o.line, reason));
+    }
+    if file.bearings.is_empty() {
+        refusals.push(Refused { element: None, reason: Box::new(Refusal::NoBearing) });
+    }
+    if !refusals.is_empty() {
+        let first = refusals.remove(0);
+        return Err(RossErrorKind::Refused { element: first.element, reason: first.reason, more: refusals.into() });
+    }
+    let flat: Vec<&Shaft> = groups.iter().flatten().copied().collect();
+    let (materials, element_material) = materials(&flat);
+    let sections = sections(&groups, &materials, &element_material);
     Ok(Imported { ross_version: file.ross_version.clone(), speed, materials, sections, disks, bearings })
+}
+
+/// The mass (kg) of a point mass on the shaft, which rotorshunt holds as a disk without
+/// inertia; a point mass off the shaft is a pedestal.
+fn point_mass(p: &super::parse::PointMass, last_node: i64) -> Result<f64, Refusal> {
+    check("mx", p.mx, false)?;
+    check("my", p.my, false)?;
+    if p.n > last_node {
+        return Err(Refusal::Pedestal { node: p.n, last: last_node });
+    }
+    if p.n < 0 {
+        return Err(Refusal::NodeOffShaft { node: p.n, last: last_node });
+    }
+    if p.mx != p.my {
+        return Err(Refusal::PointMassAnisotropic { mx: p.mx, my: p.my });
+    }
+    Ok(p.mx)
 }
 
 /// The shaft elements grouped by `n`, each checked, numbered 0…N−1: per `n` the
 /// element or, for ROSS's concentric layers (several elements of one `n`), all of them,
-/// innermost first (by inner diameter, then tag).
-fn shafts(file: &RossFile) -> Result<Vec<Vec<&Shaft>>, RossErrorKind> {
+/// innermost first (by inner diameter, then tag). Refused elements are added to
+/// `refusals` and left out.
+fn shafts<'a>(file: &'a RossFile, refusals: &mut Vec<Refused>) -> Result<Vec<Vec<&'a Shaft>>, RossErrorKind> {
     let mut shafts: Vec<&Shaft> = file.shafts.iter().collect();
     // A total order even on a NaN diameter (refused below, after sorting).
     shafts.sort_by(|a, b| a.n.cmp(&b.n).then(a.idl.total_cmp(&b.idl)).then_with(|| a.tag.cmp(&b.tag)));
     if shafts.is_empty() {
         return Err(RossErrorKind::Schema {
             key: String::new(),
+            line: None,
             message: "the file has no ShaftElement: a rotor needs a shaft".into(),
         });
     }
     let mut groups: Vec<Vec<&Shaft>> = Vec::new();
+    // The next element number expected, the n of the element before, and whether that n
+    // has a group (its first element was accepted).
+    let (mut next, mut last_n, mut grouped) = (0i64, None, false);
     for s in shafts {
-        let fail = |r| refused("ShaftElement", &s.tag, Some(s.n), r);
-        shaft(s).map_err(fail)?;
-        if let Some(group) = groups.last_mut().filter(|g| g[0].n == s.n) {
-            // A concentric layer: ROSS places nodes by the elements' L, so one n has one L.
-            if s.L != group[0].L {
-                let message = format!(
-                    "n = {} is also the n of ShaftElement \"{}\" (a concentric layer), but L = {} m there and {} m here: the layers of one element span the same nodes",
-                    s.n, group[0].tag, group[0].L, s.L
-                );
-                return Err(fail(Refusal::Numbering(message)));
+        let fail = |r| refused("ShaftElement", &s.tag, Some(s.n), s.line, r);
+        let first_of_n = last_n != Some(s.n);
+        last_n = Some(s.n);
+        if first_of_n {
+            grouped = false;
+            if s.n != next {
+                let message = if s.n > next {
+                    format!("n = {} but no shaft element has n = {next}: ROSS numbers a shaft's elements 0 to N−1", s.n)
+                } else {
+                    format!("n = {}: ROSS numbers a shaft's elements 0 to N−1", s.n)
+                };
+                refusals.push(fail(Refusal::Numbering(message)));
+                next = s.n.saturating_add(1);
+                continue;
             }
-            group.push(s);
+            next = s.n + 1;
+        }
+        if let Err(r) = shaft(s) {
+            refusals.push(fail(r));
             continue;
         }
-        let i = groups.len() as i64;
-        if s.n != i {
-            let message =
-                format!("n = {} but no shaft element has n = {i}: ROSS numbers a shaft's elements 0 to N−1", s.n);
-            return Err(fail(Refusal::Numbering(message)));
+        if first_of_n {
+            groups.push(vec![s]);
+            grouped = true;
+            continue;
         }
-        groups.push(vec![s]);
+        // A concentric layer (another element of the same n); left out when the n has no
+        // group, its first element refused.
+        let Some(group) = groups.last_mut().filter(|_| grouped) else { continue };
+        // ROSS places nodes by the elements' L, so one n has one L.
+        if s.L != group[0].L {
+            let message = format!(
+                "n = {} is also the n of ShaftElement \"{}\" (a concentric layer), but L = {} m there and {} m here: the layers of one element span the same nodes",
+                s.n, group[0].tag, group[0].L, s.L
+            );
+            refusals.push(fail(Refusal::Numbering(message)));
+            continue;
+        }
+        group.push(s);
     }
     Ok(groups)
 }
@@ -414,27 +491,30 @@ fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize
     out
 }
 
-/// Stiffness, damping and mass of an isotropic grounded bearing at the chosen speed, and
-/// the length of its table when it has one.
-fn bearing(b: &Bearing, speed: Option<f64>) -> Result<([f64; 3], Option<usize>), Refusal> {
+/// A grounded bearing or seal with its full coefficients and table, or why not.
+fn bearing(b: &Bearing, last_node: i64) -> Result<BearingOut, Refusal> {
     if let Some(link) = b.n_link {
         return Err(Refusal::Linked(link));
     }
-    let freq: Option<&[f64]> = b.frequency.as_ref().map(Coefficient::values);
-    let points = freq.map_or(1, <[f64]>::len).max(1);
+    if !(0..=last_node).contains(&b.n) {
+        return Err(Refusal::NodeOffShaft { node: b.n, last: last_node });
+    }
+    let freq: &[f64] = b.frequency.as_ref().map_or(&[], Coefficient::values);
+    let points = freq.len().max(1);
+    // In rotorshunt's order (COEFFICIENT_NAMES), then the masses.
     let lateral: [(&'static str, &Coefficient); 12] = [
         ("kxx", &b.kxx),
-        ("kyy", &b.kyy),
         ("kxy", &b.kxy),
         ("kyx", &b.kyx),
+        ("kyy", &b.kyy),
         ("cxx", &b.cxx),
-        ("cyy", &b.cyy),
         ("cxy", &b.cxy),
         ("cyx", &b.cyx),
+        ("cyy", &b.cyy),
         ("mxx", &b.mxx),
-        ("myy", &b.myy),
         ("mxy", &b.mxy),
         ("myx", &b.myx),
+        ("myy", &b.myy),
     ];
     let axial = [("kzz", &b.kzz), ("czz", &b.czz), ("mzz", &b.mzz)];
     let lengths = lateral.iter().map(|(k, c)| (*k, c.values().len()));
@@ -446,62 +526,74 @@ fn bearing(b: &Bearing, speed: Option<f64>) -> Result<([f64; 3], Option<usize>),
         }
     }
     for (key, c) in &lateral {
-        for &v in c.values() {
-            if !v.is_finite() {
-                return Err(Refusal::Value { key: (*key).into(), value: v, rule: "must be finite".into() });
-            }
+        if let Some(&v) = c.values().iter().find(|v| !v.is_finite()) {
+            return Err(Refusal::Value { key: (*key).into(), value: v, rule: "must be finite".into() });
         }
     }
-    for (i, unit) in [(0, "N/m"), (4, "N·s/m"), (8, "kg")] {
-        let (x_key, x) = lateral[i];
-        let (y_key, y) = lateral[i + 1];
-        if let Some((a, b)) = x.values().iter().zip(y.values()).find(|(a, b)| a != b) {
-            return Err(Refusal::Anisotropic { x_key, x: *a, y_key, y: *b, unit });
-        }
-        for (key, c) in [lateral[i + 2], lateral[i + 3]] {
-            if let Some(&value) = c.values().iter().find(|v| **v != 0.0) {
-                return Err(Refusal::CrossCoupled { key, value, unit });
-            }
-        }
-    }
-    let at = |c: &Coefficient| -> Result<f64, Refusal> {
-        match (freq, points) {
-            (_, 1) => Ok(c.values()[0]),
-            (Some(f), _) => {
-                let lo = f[0];
-                let hi = f[f.len() - 1];
-                let Some(w) = speed else { return Err(Refusal::SpeedDependent { points, lo, hi }) };
-                if !(lo..=hi).contains(&w) {
-                    return Err(Refusal::OutsideTable { speed: w, lo, hi });
-                }
-                table::evaluate(f, c.values(), w).ok_or(Refusal::Value {
-                    key: "frequency".into(),
-                    value: lo,
-                    rule: "the table cannot be interpolated".into(),
-                })
-            }
-            (None, _) => Ok(c.values()[0]),
-        }
-    };
-    if let Some(f) = freq.filter(|f| f.len() > 1) {
-        for (i, w) in f.windows(2).enumerate() {
-            if !(w[0].is_finite() && w[1].is_finite() && w[1] > w[0]) {
-                let rule = "the frequencies of the table must be finite and strictly increasing".to_string();
-                return Err(Refusal::Value { key: format!("frequency[{}]", i + 1), value: w[1], rule });
-            }
+    for (i, &w) in freq.iter().enumerate() {
+        let bad = if !w.is_finite() || w < 0.0 {
+            Some("the frequencies of the table must be finite and ≥ 0 (rad/s)")
+        } else if i > 0 && w <= freq[i - 1] {
+            Some("the frequencies of the table must increase strictly")
+        } else {
+            None
+        };
+        if let Some(rule) = bad {
+            return Err(Refusal::Value { key: format!("frequency[{i}]"), value: w, rule: rule.into() });
         }
     }
-    let k = at(&b.kxx)?;
-    let c = at(&b.cxx)?;
-    let m = at(&b.mxx)?;
-    for (key, v) in [("kxx", k), ("cxx", c), ("mxx", m)] {
-        if v < 0.0 {
-            let rule = match speed.filter(|_| points > 1) {
-                Some(w) => format!("at the chosen speed {w} rad/s: must be ≥ 0"),
-                None => "must be ≥ 0".into(),
-            };
-            return Err(Refusal::Value { key: key.into(), value: v, rule });
+    let at = |i: usize, j: usize| lateral[i].1.values()[j];
+    let frequency = |j: usize| (points > 1).then(|| freq[j]);
+    for (i, key) in [(0, "kxx"), (3, "kyy")] {
+        if let Some((j, &value)) = lateral[i].1.values().iter().enumerate().find(|(_, v)| **v < 0.0) {
+            return Err(Refusal::NegativeStiffness { key, value, frequency: frequency(j) });
         }
     }
-    Ok(([k, c, m], (points > 1).then_some(points)))
+    for j in 0..points {
+        let c = [[at(4, j), at(5, j)], [at(6, j), at(7, j)]];
+        let eigenvalue = crate::problem::general::smallest_symmetric_eigenvalue(c);
+        let scale = c.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        if eigenvalue < -crate::problem::general::DAMPING_ROUND_OFF * scale {
+            return Err(Refusal::DampingNotSemiDefinite { c, eigenvalue, frequency: frequency(j) });
+        }
+    }
+    let mass = support_mass(&lateral[8..])?;
+    let mut coefficients: [Vec<f64>; 8] = Default::default();
+    for (out, (_, c)) in coefficients.iter_mut().zip(&lateral[..8]) {
+        let v = c.values();
+        // A coefficient constant over the table is written as a constant.
+        *out = if v.iter().all(|x| *x == v[0]) { vec![v[0]] } else { v.to_vec() };
+    }
+    let speeds = if coefficients.iter().any(|v| v.len() > 1) { freq.to_vec() } else { Vec::new() };
+    let kind = if b.class == SupportClass::Seal { SupportKind::Seal } else { SupportKind::Bearing };
+    Ok(BearingOut { kind, class: b.class.name(), node: b.n, speeds, coefficients, mass, tag: b.tag.clone() })
+}
+
+/// The mass of a support (kg) from ROSS's mxx, mxy, myx, myy: rotorshunt lumps one
+/// constant mass at the node in both directions.
+fn support_mass(m: &[(&'static str, &Coefficient)]) -> Result<f64, Refusal> {
+    let (mxx, myy) = (m[0].1.values(), m[3].1.values());
+    for (key, c) in [m[1], m[2]] {
+        if let Some(v) = c.values().iter().find(|v| **v != 0.0) {
+            return Err(Refusal::SupportMass(format!("{key} = {} kg, a cross-coupled mass", limits_number(*v))));
+        }
+    }
+    if let Some((a, b)) = mxx.iter().zip(myy).find(|(a, b)| a != b) {
+        let detail = format!("mxx = {} kg but myy = {} kg", limits_number(*a), limits_number(*b));
+        return Err(Refusal::SupportMass(detail));
+    }
+    if let Some(v) = mxx.iter().find(|v| **v != mxx[0]) {
+        let detail = format!(
+            "mxx = {} kg and {} kg in the table, a mass that varies with the speed",
+            limits_number(mxx[0]),
+            limits_number(*v)
+        );
+        return Err(Refusal::SupportMass(detail));
+    }
+    check("mxx", mxx[0], false)?;
+    Ok(mxx[0])
+}
+
+fn limits_number(v: f64) -> String {
+    crate::analysis::limits::number(v)
 }

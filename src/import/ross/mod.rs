@@ -2,27 +2,28 @@
 //! `ross-rotordynamics`) with `Rotor.save`, as TOML or JSON.
 //!
 //! [`parse`] reads the file's element tables, [`map`] maps them to rotorshunt's general
-//! form (materials, sections, disks, plain bearings) or refuses an element it cannot
-//! represent, and [`write`](mod@write) renders the problem file. The format and the mapping are in
+//! form (materials, sections, disks, bearings and seals with their coefficient tables) or
+//! refuses every element it cannot represent, and [`write`](mod@write) renders the
+//! problem file. The format and the mapping are in
 //! `docs/ross-format.md`. SI units and rad/s throughout.
 
 mod error;
 pub mod map;
 pub mod parse;
-mod table;
 pub mod write;
 
-pub use error::{ElementRef, Format, Refusal, RossError, RossErrorKind};
+pub use error::{ElementRef, Format, Refusal, Refused, RossError, RossErrorKind};
 pub use map::{Imported, SAME_LENGTH_RTOL};
+pub use parse::SupportClass;
 
 use std::path::Path;
 
 /// What the import may choose.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Options {
-    /// Speed Ω (rad/s): written as the problem's `speed`, and the frequency at which
-    /// tabulated (speed-dependent) bearing coefficients are evaluated, as ROSS's
-    /// `run_modal(speed)` does. Without it a tabulated bearing is refused.
+    /// Speed Ω (rad/s), written as the problem's `speed` (default 0). Tabulated bearing
+    /// and seal coefficients are written as tables; every analysis evaluates them at its
+    /// speed, as ROSS's `run_modal(speed)` does.
     pub speed: Option<f64>,
 }
 

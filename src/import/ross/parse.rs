@@ -14,10 +14,130 @@ pub struct RossFile {
     pub shafts: Vec<Shaft>,
     /// The rotor's `DiskElement_<tag>` tables, in table-name order.
     pub disks: Vec<Disk>,
-    /// The rotor's `BearingElement_<tag>` tables, in table-name order.
+    /// The rotor's bearings and seals (`BearingElement_<tag>`, `SealElement_<tag>` and
+    /// the bearing classes whose saved coefficients are ROSS's model, [`SupportClass`]),
+    /// in table-name order.
     pub bearings: Vec<Bearing>,
-    /// Tables of other classes: (class, tag, n if the table has one).
-    pub others: Vec<(String, String, Option<i64>)>,
+    /// The rotor's `PointMass_<tag>` tables, in table-name order.
+    pub point_masses: Vec<PointMass>,
+    /// Tables of other classes, or of a class whose saved form carries what rotorshunt
+    /// cannot represent (a magnetic bearing's controller).
+    pub others: Vec<Other>,
+}
+
+/// A table the importer does not map to an element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Other {
+    /// The class as the table name gives it (`<Class>_<tag>`).
+    pub class: String,
+    /// The tag.
+    pub tag: String,
+    /// `n`, if the table has one.
+    pub n: Option<i64>,
+    /// Line of the table in the file, when found.
+    pub line: Option<usize>,
+    /// A magnetic bearing: ROSS saves a `MagneticBearingElement` under `BearingElement`
+    /// with its controller's parameters (`kp_pid`, `g0`, …).
+    pub magnetic: bool,
+}
+
+/// The ROSS class of a bearing or seal table. Each saves the coefficients ROSS's
+/// `run_modal` uses (`BearingElement.save`); the classes that compute them from a
+/// geometry (ball and roller bearings, the short cylindrical bearing) also save that
+/// geometry, which the importer reads past (`SupportClass::parameters`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SupportClass {
+    /// `BearingElement`.
+    #[default]
+    Bearing,
+    /// `SealElement`: imported as `[[seals]]`.
+    Seal,
+    /// `BallBearingElement`: constant coefficients from the balls' geometry.
+    BallBearing,
+    /// `RollerBearingElement`: constant coefficients from the rollers' geometry.
+    RollerBearing,
+    /// `CylindricalBearing`: coefficients tabulated over its `speed` (ROSS's frequency).
+    Cylindrical,
+}
+
+impl SupportClass {
+    /// The class name ROSS writes.
+    pub fn name(self) -> &'static str {
+        match self {
+            SupportClass::Bearing => "BearingElement",
+            SupportClass::Seal => "SealElement",
+            SupportClass::BallBearing => "BallBearingElement",
+            SupportClass::RollerBearing => "RollerBearingElement",
+            SupportClass::Cylindrical => "CylindricalBearing",
+        }
+    }
+
+    fn of(class: &str) -> Option<SupportClass> {
+        [
+            SupportClass::Bearing,
+            SupportClass::Seal,
+            SupportClass::BallBearing,
+            SupportClass::RollerBearing,
+            SupportClass::Cylindrical,
+        ]
+        .into_iter()
+        .find(|c| c.name() == class)
+    }
+
+    /// The keys of the class's own geometry, saved beside the coefficients it gave
+    /// (`bearing_seal_element.py`, each class's `__init__` and `_save_attrs`): read past,
+    /// as the coefficients are what ROSS's model uses.
+    fn parameters(self) -> &'static [&'static str] {
+        match self {
+            SupportClass::Bearing | SupportClass::Seal => &[],
+            SupportClass::BallBearing => &["n_balls", "d_balls", "fs", "alpha"],
+            SupportClass::RollerBearing => &["n_rollers", "l_rollers", "fs", "alpha"],
+            SupportClass::Cylindrical => &[
+                "weight",
+                "bearing_length",
+                "journal_diameter",
+                "radial_clearance",
+                "oil_viscosity",
+                "eccentricity",
+                "attitude_angle",
+                "sommerfeld",
+                "modified_sommerfeld",
+            ],
+        }
+    }
+}
+
+/// The parameters of ROSS's `MagneticBearingElement` (its controller and actuator), by
+/// which a magnetic bearing saved under `BearingElement` is recognised.
+const MAGNETIC_KEYS: [&str; 7] = ["g0", "i0", "ag", "nw", "kp_pid", "kd_pid", "ki_pid"];
+
+/// A `PointMass` (`point_mass.py`): translational mass at node `n`, no inertia.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointMass {
+    /// Node (a shaft node, or an extra node beyond the shaft: a pedestal).
+    pub n: i64,
+    /// The mass given to ROSS (kg) when mx, my and mz were not; absent otherwise.
+    #[serde(default)]
+    pub m: Option<f64>,
+    /// Mass in x (kg).
+    pub mx: f64,
+    /// Mass in y (kg).
+    pub my: f64,
+    /// Axial mass (kg); axial motion is not modelled.
+    #[serde(default)]
+    pub mz: Option<f64>,
+    /// The element's name.
+    pub tag: String,
+    /// ROSS's drawing scale; plotting only, not used.
+    #[serde(default)]
+    pub scale_factor: Option<f64>,
+    /// ROSS's plot colour; plotting only, not used.
+    #[serde(default)]
+    pub color: Option<String>,
+    /// Line of the table in the file, when found.
+    #[serde(skip)]
+    pub line: Option<usize>,
 }
 
 /// A `ShaftElement` (`shaft_element.py`, `ShaftElement.save`). Lengths in m.
@@ -43,7 +163,7 @@ pub struct Shaft {
     pub axial_force: f64,
     /// Static torque (N·m).
     pub torque: f64,
-    /// Timoshenko shear in the element (ROSS's default `true`); the importer refuses it.
+    /// Timoshenko shear in the element (ROSS's default `true`).
     pub shear_effects: bool,
     /// Rotary inertia in M.
     pub rotary_inertia: bool,
@@ -58,6 +178,9 @@ pub struct Shaft {
     pub alpha: f64,
     /// Proportional damping coefficient on K (s).
     pub beta: f64,
+    /// Line of the table in the file, when found.
+    #[serde(skip)]
+    pub line: Option<usize>,
 }
 
 /// A shaft element's `material` sub-table (`materials.py`).
@@ -99,6 +222,9 @@ pub struct Disk {
     /// ROSS's plot colour of the disk; plotting only, not used.
     #[serde(default)]
     pub color: Option<String>,
+    /// Line of the table in the file, when found.
+    #[serde(skip)]
+    pub line: Option<usize>,
 }
 
 /// One coefficient of a bearing: ROSS writes an array (one value per tabulated
@@ -122,8 +248,9 @@ impl Coefficient {
     }
 }
 
-/// A `BearingElement` (`bearing_seal_element.py`, `BearingElement.save`). Stiffness in
-/// N/m, damping in N·s/m, mass in kg, frequencies in rad/s.
+/// A `BearingElement` or `SealElement` (`bearing_seal_element.py`, `BearingElement.save`),
+/// or another bearing class of [`SupportClass`]. Stiffness in N/m, damping in N·s/m, mass
+/// in kg, frequencies in rad/s.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Bearing {
@@ -134,11 +261,11 @@ pub struct Bearing {
     pub n_link: Option<i64>,
     /// Direct stiffness k_xx (N/m): one value, or one per `frequency` entry (spin speed).
     pub kxx: Coefficient,
-    /// Cross-coupled stiffness k_xy (N/m), like `kxx`; the importer refuses it non-zero.
+    /// Cross-coupled stiffness k_xy (N/m), like `kxx`.
     pub kxy: Coefficient,
-    /// Cross-coupled stiffness k_yx (N/m), like `kxx`; the importer refuses it non-zero.
+    /// Cross-coupled stiffness k_yx (N/m), like `kxx`.
     pub kyx: Coefficient,
-    /// Direct stiffness k_yy (N/m), like `kxx`; the importer needs it equal to `kxx`.
+    /// Direct stiffness k_yy (N/m), like `kxx`.
     pub kyy: Coefficient,
     /// Axial stiffness k_zz (N/m), like `kxx`; `None` when absent. Dropped by the importer
     /// (axial motion is not modelled).
@@ -146,11 +273,11 @@ pub struct Bearing {
     pub kzz: Option<Coefficient>,
     /// Direct damping c_xx (N·s/m): one value, or one per `frequency` entry (spin speed).
     pub cxx: Coefficient,
-    /// Cross-coupled damping c_xy (N·s/m), like `cxx`; the importer refuses it non-zero.
+    /// Cross-coupled damping c_xy (N·s/m), like `cxx`.
     pub cxy: Coefficient,
-    /// Cross-coupled damping c_yx (N·s/m), like `cxx`; the importer refuses it non-zero.
+    /// Cross-coupled damping c_yx (N·s/m), like `cxx`.
     pub cyx: Coefficient,
-    /// Direct damping c_yy (N·s/m), like `cxx`; the importer needs it equal to `cxx`.
+    /// Direct damping c_yy (N·s/m), like `cxx`.
     pub cyy: Coefficient,
     /// Axial damping c_zz (N·s/m), like `cxx`; `None` when absent. Dropped by the importer
     /// (axial motion is not modelled).
@@ -158,9 +285,9 @@ pub struct Bearing {
     pub czz: Option<Coefficient>,
     /// Direct added mass m_xx (kg) on the node: one value, or one per `frequency` entry.
     pub mxx: Coefficient,
-    /// Cross-coupled added mass m_xy (kg), like `mxx`; the importer refuses it non-zero.
+    /// Cross-coupled added mass m_xy (kg), like `mxx`; the importer needs it 0.
     pub mxy: Coefficient,
-    /// Cross-coupled added mass m_yx (kg), like `mxx`; the importer refuses it non-zero.
+    /// Cross-coupled added mass m_yx (kg), like `mxx`; the importer needs it 0.
     pub myx: Coefficient,
     /// Direct added mass m_yy (kg), like `mxx`; the importer needs it equal to `mxx`.
     pub myy: Coefficient,
@@ -179,6 +306,15 @@ pub struct Bearing {
     /// ROSS's plot colour of the bearing; plotting only, not used.
     #[serde(default)]
     pub color: Option<String>,
+    /// A seal's leakage (kg/s), saved by `SealElement`; not used.
+    #[serde(default)]
+    pub seal_leakage: Option<f64>,
+    /// The ROSS class of the table.
+    #[serde(skip)]
+    pub class: SupportClass,
+    /// Line of the table in the file, when found.
+    #[serde(skip)]
+    pub line: Option<usize>,
 }
 
 /// Top-level keys that are not elements.
@@ -193,6 +329,24 @@ pub fn format_of(path: &std::path::Path, text: &str) -> Format {
         _ if text.trim_start().starts_with('{') => Format::Json,
         _ => Format::Toml,
     }
+}
+
+/// The 1-based line of the table `name` (`["<Class>_<tag>"]` in TOML, the top-level key
+/// `"<Class>_<tag>"` in JSON), for messages; `None` when it is not found as ROSS writes it.
+pub fn table_line(text: &str, name: &str, format: Format) -> Option<usize> {
+    let quoted = serde_json::Value::String(name.to_string()).to_string();
+    text.lines()
+        .position(|l| {
+            let l = l.trim();
+            match format {
+                Format::Toml => {
+                    let inner = l.strip_prefix('[').and_then(|l| l.strip_suffix(']')).map(str::trim);
+                    inner.is_some_and(|i| i == name || i == quoted)
+                }
+                Format::Json => l.strip_prefix(&quoted).is_some_and(|rest| rest.trim_start().starts_with(':')),
+            }
+        })
+        .map(|i| i + 1)
 }
 
 /// Parse a saved rotor's text.
@@ -214,6 +368,7 @@ pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
     let serde_json::Value::Object(map) = doc else {
         return Err(RossErrorKind::Schema {
             key: String::new(),
+            line: None,
             message: "the file is not a table of elements".into(),
         });
     };
@@ -228,20 +383,43 @@ pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
         let key = format!("[\"{name}\"]");
         let Some((class, tag)) = name.split_once('_') else {
             return Err(RossErrorKind::Schema {
+                line: table_line(text, &name, format),
                 key,
                 message: "not an element table: ROSS names each element's table `<Class>_<tag>`".into(),
             });
         };
         if !value.is_object() {
-            return Err(RossErrorKind::Schema { key, message: "an element must be a table".into() });
+            let line = table_line(text, &name, format);
+            return Err(RossErrorKind::Schema { key, line, message: "an element must be a table".into() });
         }
+        let line = table_line(text, &name, format);
+        let mut value = value;
         match class {
-            "ShaftElement" => file.shafts.push(element(&key, value)?),
-            "DiskElement" => file.disks.push(element(&key, value)?),
-            "BearingElement" => file.bearings.push(element(&key, value)?),
+            "ShaftElement" => file.shafts.push(Shaft { line, ..element(&key, line, value)? }),
+            "DiskElement" => file.disks.push(Disk { line, ..element(&key, line, value)? }),
+            "PointMass" => file.point_masses.push(PointMass { line, ..element(&key, line, value)? }),
             _ => {
                 let n = value.get("n").and_then(serde_json::Value::as_i64);
-                file.others.push((class.to_string(), tag.to_string(), n));
+                let magnetic = class == "MagneticBearingElement"
+                    || (class == "BearingElement" && MAGNETIC_KEYS.iter().any(|k| value.get(k).is_some()));
+                match SupportClass::of(class).filter(|_| !magnetic) {
+                    Some(support) => {
+                        if let Some(map) = value.as_object_mut() {
+                            for k in support.parameters() {
+                                map.remove(*k);
+                            }
+                            if support == SupportClass::Cylindrical {
+                                // Its table is over `speed`, which it passes to
+                                // BearingElement as `frequency`.
+                                if let Some(speed) = map.remove("speed") {
+                                    map.insert("frequency".into(), speed);
+                                }
+                            }
+                        }
+                        file.bearings.push(Bearing { class: support, line, ..element(&key, line, value)? });
+                    }
+                    None => file.others.push(Other { class: class.into(), tag: tag.into(), n, line, magnetic }),
+                }
             }
         }
     }
@@ -249,7 +427,11 @@ pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
 }
 
 /// One element table, its errors located by key path below `key`.
-fn element<T: serde::de::DeserializeOwned>(key: &str, value: serde_json::Value) -> Result<T, RossErrorKind> {
+fn element<T: serde::de::DeserializeOwned>(
+    key: &str,
+    line: Option<usize>,
+    value: serde_json::Value,
+) -> Result<T, RossErrorKind> {
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let message = e.inner().to_string();
@@ -266,7 +448,7 @@ fn element<T: serde::de::DeserializeOwned>(key: &str, value: serde_json::Value) 
         } else {
             message
         };
-        RossErrorKind::Schema { key: full, message }
+        RossErrorKind::Schema { key: full, line, message }
     })
 }
 

@@ -1,7 +1,8 @@
 //! The imported rotor as problem-file text (general form, `problems/README.md`), each
 //! line commented with its unit and the ROSS element it came from.
 
-use super::map::Imported;
+use super::map::{BearingOut, Imported};
+use crate::model::{SupportKind, COEFFICIENT_NAMES};
 
 /// Column at which a line's comment starts (as in `problems/*.toml`).
 const COMMENT_COLUMN: usize = 30;
@@ -82,7 +83,9 @@ pub fn render(r: &Imported, source: &str) -> String {
     out.push_str(
         "# The mapping is in docs/ross-format.md. Units: SI, rad/s. ROSS's axial and torsional\n\
          # coefficients (kzz, czz, mzz; G_s of Rayleigh elements) act on motion rotorshunt's\n\
-         # lateral model does not have, and are left out. There is no vibration ring: add\n\
+         # lateral model does not have, and are left out. Tabulated bearing and seal\n\
+         # coefficients are kept as tables over `speeds` (ROSS's frequency), evaluated at\n\
+         # each analysis's speed as ROSS's run_modal does. There is no vibration ring: add\n\
          # [[rings]] by editing.\n",
     );
     out.push_str("version = 1\n");
@@ -92,7 +95,7 @@ pub fn render(r: &Imported, source: &str) -> String {
         string(&format!("ROSS {version} file {source}, by rotorshunt import-ross"))
     ));
     let speed_note = match r.speed {
-        Some(_) => "Ω (rad/s): --speed of import-ross, where the bearings were evaluated",
+        Some(_) => "Ω (rad/s): --speed of import-ross",
         None => "Ω (rad/s): not in ROSS's file; 0 unless import-ross --speed",
     };
     line(&mut out, &format!("speed = {}", num(r.speed.unwrap_or(0.0))), speed_note);
@@ -151,39 +154,70 @@ pub fn render(r: &Imported, source: &str) -> String {
     }
     for d in &r.disks {
         out.push('\n');
+        if d.class == "PointMass" {
+            line(&mut out, "[[disks]]", &format!("ROSS PointMass \"{}\": a mass on the shaft, no inertia", d.tag));
+            line(&mut out, &format!("node = {}", d.node), "ROSS n");
+            line(&mut out, &format!("mass = {}", num(d.mass)), "m (kg), ROSS mx = my");
+            line(&mut out, "polar_inertia = 0.0", "J_p (kg·m²): a point mass has none");
+            line(&mut out, "diametral_inertia = 0.0", "J_d (kg·m²): a point mass has none");
+            continue;
+        }
         line(&mut out, "[[disks]]", &format!("ROSS DiskElement \"{}\"", d.tag));
         line(&mut out, &format!("node = {}", d.node), "ROSS n");
         line(&mut out, &format!("mass = {}", num(d.mass)), "m (kg), ROSS m");
         line(&mut out, &format!("polar_inertia = {}", num(d.polar_inertia)), "J_p (kg·m²), ROSS Ip");
         line(&mut out, &format!("diametral_inertia = {}", num(d.diametral_inertia)), "J_d (kg·m²), ROSS Id");
     }
-    for b in &r.bearings {
-        out.push('\n');
-        let tags: Vec<String> = b.from.iter().map(|(t, _)| format!("\"{t}\"")).collect();
-        let from = if tags.len() == 1 {
-            format!("ROSS BearingElement {}", tags[0])
-        } else {
-            format!("ROSS BearingElements {} at one node, summed as ROSS adds them", tags.join(", "))
-        };
-        line(&mut out, "[[bearings]]", &from);
-        if let (Some(w), Some(points)) = (r.speed, b.from.iter().find_map(|(_, p)| *p)) {
-            out.push_str(&format!(
-                "# coefficients tabulated at {points} frequencies, evaluated at frequency = speed = {} rad/s as ROSS's run_modal does\n",
-                num(w)
-            ));
+    for kind in [SupportKind::Bearing, SupportKind::Seal] {
+        for b in r.bearings.iter().filter(|b| b.kind == kind) {
+            out.push('\n');
+            support_lines(&mut out, b);
         }
-        let sum = if tags.len() > 1 { "sum of " } else { "" };
-        line(&mut out, &format!("node = {}", b.node), "ROSS n");
-        line(&mut out, &format!("stiffness = {}", num(b.stiffness)), &format!("k (N/m), {sum}ROSS kxx = kyy"));
-        line(&mut out, &format!("damping = {}", num(b.damping)), &format!("c (N·s/m), {sum}ROSS cxx = cyy"));
-        line(
-            &mut out,
-            &format!("mass = {}", num(b.mass)),
-            &format!("kg, {sum}ROSS mxx = myy, added to the node's mass as in ROSS"),
-        );
     }
     out.push('\n');
     line(&mut out, "[load]", "ROSS has no periodic axial load: set α and the load here");
     line(&mut out, "alpha = 0.0", "static load coefficient α of P(t) = P_cr(α + β cos φt)");
     out
+}
+
+/// A coefficient's value(s): a number, or an array over the table's speeds.
+fn values(v: &[f64]) -> String {
+    if v.len() == 1 {
+        num(v[0])
+    } else {
+        format!("[{}]", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))
+    }
+}
+
+/// One `[[bearings]]` or `[[seals]]` entry.
+fn support_lines(out: &mut String, b: &BearingOut) {
+    let table = match b.kind {
+        SupportKind::Bearing => "[[bearings]]",
+        SupportKind::Seal => "[[seals]]",
+    };
+    line(out, table, &format!("ROSS {} \"{}\"", b.class, b.tag));
+    line(out, &format!("node = {}", b.node), "ROSS n");
+    if b.isotropic() {
+        let c = &b.coefficients;
+        line(out, &format!("stiffness = {}", num(c[0][0])), "k (N/m), ROSS kxx = kyy");
+        line(out, &format!("damping = {}", num(c[4][0])), "c (N·s/m), ROSS cxx = cyy");
+    } else {
+        if !b.speeds.is_empty() {
+            line(
+                out,
+                &format!("speeds = {}", values(&b.speeds)),
+                &format!("rad/s, ROSS frequency: {} points, interpolated at the speed as ROSS does", b.speeds.len()),
+            );
+        }
+        for (name, v) in COEFFICIENT_NAMES.iter().zip(&b.coefficients) {
+            let unit = if name.starts_with('k') { "N/m" } else { "N·s/m" };
+            let note = if v.len() == 1 && !b.speeds.is_empty() {
+                format!("{unit}, ROSS {name}, the same at every frequency")
+            } else {
+                format!("{unit}, ROSS {name}")
+            };
+            line(out, &format!("{name} = {}", values(v)), &note);
+        }
+    }
+    line(out, &format!("mass = {}", num(b.mass)), "kg, ROSS mxx = myy, added to the node's mass as in ROSS");
 }
