@@ -298,3 +298,47 @@ fn a_layer_adds_its_tube_to_its_section() {
         assert!(rel(*a, *b) < ROUND_OFF, "{a} vs {b}");
     }
 }
+
+#[test]
+fn every_section_error_of_a_file_is_reported_at_once() {
+    use rotorshunt::problem::ProblemErrorKind as K;
+    // A Poisson's ratio of 0.5 on a material and of −1 on a section, a taper to a zero
+    // outer diameter and a zero shear coefficient on one section; the section made of the
+    // failed material adds nothing of its own.
+    let path = common::root().join("tests/fixtures/bad/section_all_at_once.toml");
+    let e = Problem::from_path(&path, &[]).expect_err("four defects");
+    let found: Vec<(String, Option<usize>, &'static str)> = e
+        .all()
+        .iter()
+        .map(|e| {
+            let kind = match &e.kind {
+                K::OutOfRange { value, .. } if *value == 0.5 || *value == -1.0 => "poisson",
+                K::NotPositive(v) if *v == 0.0 => "not positive",
+                _ => "other",
+            };
+            (e.key.clone(), e.line(), kind)
+        })
+        .collect();
+    let expected = [
+        ("materials[0].poisson_ratio", 11, "poisson"),
+        ("sections[1].poisson_ratio", 28, "poisson"),
+        ("sections[2].outer_diameter_right", 34, "not positive"),
+        ("sections[2].shear_coefficient", 39, "not positive"),
+    ];
+    assert_eq!(found.len(), expected.len(), "{found:?}");
+    for ((key, line, kind), (k, l, d)) in found.iter().zip(expected) {
+        assert_eq!((key.as_str(), *line, *kind), (k, Some(l), d));
+    }
+    // The command line prints each on its own `error:` line, and exits 2.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+        .args(["check", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+    assert_eq!(lines.len(), expected.len(), "{stderr}");
+    for ((k, l, _), line) in expected.iter().zip(&lines) {
+        assert!(line.contains(&format!("line {l}: key `{k}`")), "{line}");
+    }
+}

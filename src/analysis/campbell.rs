@@ -1,7 +1,7 @@
 //! Campbell diagram: whirl frequencies over a speed range, modes tracked from speed to
 //! speed by the modal assurance criterion (Figs. 6 and 7).
 
-use super::modes::{whirl_modes_of, ModeKind, ModesResult, Whirl, WhirlMode};
+use super::modes::{whirls_at_least, ModeKind, ModesResult, Whirl, WhirlMode, WHIRL_WINDOW};
 use super::{AnalysisError, Rotor, Settings};
 use crate::progress::Progress;
 use faer::{c64, ColRef};
@@ -21,6 +21,10 @@ pub struct TrackPoint {
     pub mac: f64,
     /// True when `mac` is below the threshold: a possible crossing or swap.
     pub flagged: bool,
+    /// Real coordinates only: the whirl direction at this speed, which may change along a
+    /// track (a planar mode at rest becoming a backward ellipse with speed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub whirl: Option<Whirl>,
 }
 
 /// One mode followed over the speed range.
@@ -29,7 +33,8 @@ pub struct Track {
     /// Tag at the track's first point (e.g. `f1`, `br2`): the mode's identity, which the
     /// track keeps over the whole range whatever its rank among the whirls.
     pub tag: String,
-    /// Forward or backward whirl.
+    /// Forward or backward whirl (real coordinates: also mixed) at the track's first
+    /// point.
     pub whirl: Whirl,
     /// Mechanical or electrical at the first point.
     pub kind: ModeKind,
@@ -53,7 +58,9 @@ pub struct CampbellResult {
     pub speeds: Vec<f64>,
     /// Tracked modes: the lowest `count` forward and backward at the first speed, then
     /// every mode that enters the lowest `count` of its direction at a later speed
-    /// ([`Track::enters`]), sorted by their first frequency.
+    /// ([`Track::enters`]), sorted by their first frequency. In real coordinates the
+    /// whirls of [`ModesResult::lowest`] (forward, backward and mixed, from a window),
+    /// followed whatever their direction.
     pub tracks: Vec<Track>,
     /// MAC threshold used (−).
     pub mac_threshold: f64,
@@ -80,6 +87,13 @@ const TRACKING_MARGIN: usize = 3;
 /// Campbell diagram of the lowest `count` forward and backward whirls over `speeds`
 /// (rad/s). Eigen-solutions run in parallel over speeds (`progress` advances one step per
 /// speed); tracking is sequential and deterministic.
+///
+/// In real coordinates (an anisotropic model) a whirl's direction comes from its orbits
+/// and may change with speed (planar at rest, then backward or forward), so the whirls
+/// [`ModesResult::lowest`] lists are tracked in one pool whatever their direction, each
+/// point keeping its own ([`TrackPoint::whirl`]); the modes at each speed are those of
+/// the window of `count` + [`TRACKING_MARGIN`] (the shift-invert solve on a large model,
+/// [`super::modes::lowest_whirls_of`]).
 pub fn campbell(
     rotor: &Rotor,
     settings: &Settings,
@@ -87,20 +101,42 @@ pub fn campbell(
     count: usize,
     progress: &dyn Progress,
 ) -> Result<CampbellResult, AnalysisError> {
+    let wanted = WHIRL_WINDOW * (count + TRACKING_MARGIN);
     let solved: Vec<ModesResult> = speeds
         .par_iter()
         .map(|&w| {
-            let r = whirl_modes_of(rotor, settings, w);
+            let r = whirls_at_least(rotor, settings, w, wanted);
             progress.advance(1);
             r
         })
         .collect::<Result<_, _>>()?;
     let mut tracks = Vec::new();
     let mut flagged = 0;
-    for whirl in [Whirl::Forward, Whirl::Backward] {
-        let (found, steps) = track_direction(&solved, whirl, count, settings.mac_threshold);
+    if rotor.real {
+        let listed: Vec<Vec<usize>> = solved.iter().map(|r| r.lowest_indices(count)).collect();
+        let candidates: Vec<Vec<usize>> = solved
+            .iter()
+            .zip(&listed)
+            .map(|(r, l)| {
+                let mut c = l.clone();
+                c.extend(r.window(count + TRACKING_MARGIN).into_iter().filter(|i| !l.contains(i)));
+                c
+            })
+            .collect();
+        let (found, steps) = track(&solved, &listed, &candidates, settings.mac_threshold, true);
         tracks.extend(found);
         flagged += steps;
+    } else {
+        for whirl in [Whirl::Forward, Whirl::Backward] {
+            let of_whirl: Vec<Vec<usize>> =
+                solved.iter().map(|r| (0..r.modes.len()).filter(|&i| r.modes[i].whirl == whirl).collect()).collect();
+            let listed: Vec<Vec<usize>> = of_whirl.iter().map(|o| o.iter().copied().take(count).collect()).collect();
+            let candidates: Vec<Vec<usize>> =
+                of_whirl.iter().map(|o| o.iter().copied().take(count + TRACKING_MARGIN).collect()).collect();
+            let (found, steps) = track(&solved, &listed, &candidates, settings.mac_threshold, false);
+            tracks.extend(found);
+            flagged += steps;
+        }
     }
     tracks.sort_by(|a, b| {
         let first = |t: &Track| t.points.first().map_or((f64::INFINITY, f64::INFINITY), |p| (p.speed, p.frequency));
@@ -146,24 +182,29 @@ fn assign(
     out
 }
 
-/// The tracks of one whirl direction and their number of flagged steps. First the lowest
-/// `count` at the first speed, followed speed by speed among the lowest
-/// `count + TRACKING_MARGIN`; then, while a mode among the lowest `count` at some speed
-/// belongs to no track, a new track from it, followed back towards the first speed (as
-/// long as the MAC stays above `threshold`) and on to the last among the modes no track
-/// holds within the lowest `count + TRACKING_MARGIN`, so that a mode entering the window gets its
-/// own track and label instead of continuing another's.
-fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold: f64) -> (Vec<Track>, usize) {
+/// The tracks of one pool of whirls and their number of flagged steps: `listed[s]` the
+/// modes (indices into `solved[s].modes`, by frequency) to be tracked at speed `s`,
+/// `candidates[s]` those a track may continue to (the listed first, then a few more).
+/// First the listed modes at the first speed, followed speed by speed among the
+/// candidates; then, while a listed mode at some speed belongs to no track, a new track
+/// from it, followed back towards the first speed (as long as the MAC stays above
+/// `threshold`) and on to the last among the candidates no track holds, so that a mode
+/// entering the window gets its own track and label instead of continuing another's.
+/// `per_point`: record each point's direction (real coordinates).
+fn track(
+    solved: &[ModesResult],
+    listed: &[Vec<usize>],
+    candidates: &[Vec<usize>],
+    threshold: f64,
+    per_point: bool,
+) -> (Vec<Track>, usize) {
     if solved.is_empty() {
         return (Vec::new(), 0);
     }
     let n = solved.len();
-    let of_whirl: Vec<Vec<usize>> =
-        solved.iter().map(|r| (0..r.modes.len()).filter(|&i| r.modes[i].whirl == whirl).collect()).collect();
     let mut owner: Vec<Vec<bool>> = solved.iter().map(|r| vec![false; r.modes.len()]).collect();
-    let mut chains: Vec<Chain> = of_whirl[0]
+    let mut chains: Vec<Chain> = listed[0]
         .iter()
-        .take(count)
         .map(|&c| {
             owner[0][c] = true;
             let mut cols = vec![None; n];
@@ -174,7 +215,7 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
     for s in 0..n.saturating_sub(1) {
         let sources: Vec<(usize, usize)> =
             chains.iter().enumerate().filter_map(|(t, ch)| ch.cols[s].map(|c| (t, c))).collect();
-        let free: Vec<usize> = of_whirl[s + 1].iter().copied().take(count + TRACKING_MARGIN).collect();
+        let free: Vec<usize> = candidates[s + 1].clone();
         for (t, c, score) in assign(&solved[s], &solved[s + 1], &sources, &free) {
             chains[t].cols[s + 1] = Some(c);
             chains[t].macs[s + 1] = score;
@@ -183,14 +224,14 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
     }
     // Modes entering the window that no track holds: a track of their own each.
     loop {
-        let unowned = (0..n).find_map(|s| of_whirl[s].iter().take(count).find(|&&c| !owner[s][c]).map(|&c| (s, c)));
+        let unowned = (0..n).find_map(|s| listed[s].iter().find(|&&c| !owner[s][c]).map(|&c| (s, c)));
         let Some((s0, c0)) = unowned else { break };
         owner[s0][c0] = true;
         let mut cols = vec![None; n];
         cols[s0] = Some(c0);
         let mut macs = vec![1.0; n];
         let free_at = |s: usize, owner: &Vec<Vec<bool>>| -> Vec<usize> {
-            of_whirl[s].iter().copied().take(count + TRACKING_MARGIN).filter(|&c| !owner[s][c]).collect()
+            candidates[s].iter().copied().filter(|&c| !owner[s][c]).collect()
         };
         for s in (0..s0).rev() {
             let Some(from) = cols[s + 1] else { break };
@@ -241,6 +282,7 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
                     damping_ratio: m.damping_ratio,
                     mac: if first_point { 1.0 } else { ch.macs[s] },
                     flagged: bad,
+                    whirl: per_point.then_some(m.whirl),
                 });
                 let first_mode = ends.map_or(m, |(f, _): (&WhirlMode, &WhirlMode)| f);
                 ends = Some((first_mode, m));
@@ -248,7 +290,7 @@ fn track_direction(solved: &[ModesResult], whirl: Whirl, count: usize, threshold
             let (head, tail) = ends?;
             Some(Track {
                 tag: head.tag(),
-                whirl,
+                whirl: head.whirl,
                 kind: head.kind,
                 last_tag: tail.tag(),
                 enters: ch.enters.map(|s| solved[s].speed),

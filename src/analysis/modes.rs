@@ -157,6 +157,10 @@ pub struct ModesResult {
     /// Mode shapes (unit 2-norm columns, same order as `modes`); not serialised.
     #[serde(skip)]
     pub shapes: Mat<c64>,
+    /// Whether the modes are those of the real coordinates (the general path), where
+    /// [`ModesResult::lowest`] takes its whirls from a window ([`WHIRL_WINDOW`]).
+    #[serde(skip)]
+    pub real: bool,
 }
 
 impl ModesResult {
@@ -173,17 +177,46 @@ impl ModesResult {
         self.modes.iter().filter(|m| m.whirl == Whirl::Mixed)
     }
     /// The lowest `count` forward, `count` backward and `count` mixed whirls, sorted by
-    /// frequency.
+    /// frequency. In real coordinates, among the whirls of [`ModesResult::window`] only.
     pub fn lowest(&self, count: usize) -> Vec<WhirlMode> {
-        let mut v: Vec<WhirlMode> = self
-            .forward()
-            .take(count)
-            .chain(self.backward().take(count))
-            .chain(self.mixed().take(count))
-            .cloned()
-            .collect();
-        v.sort_by(|a, b| a.frequency.total_cmp(&b.frequency));
+        self.lowest_indices(count).into_iter().map(|i| self.modes[i].clone()).collect()
+    }
+
+    /// The indices into `modes` of [`ModesResult::lowest`]'s whirls, in its order: by
+    /// frequency, forward before backward before mixed at equal frequencies.
+    pub fn lowest_indices(&self, count: usize) -> Vec<usize> {
+        let window = self.window(count);
+        let mut v: Vec<usize> = Vec::new();
+        for whirl in Whirl::all() {
+            v.extend(window.iter().copied().filter(|&i| self.modes[i].whirl == whirl).take(count));
+        }
+        v.sort_by(|&a, &b| self.modes[a].frequency.total_cmp(&self.modes[b].frequency));
         v
+    }
+
+    /// The indices (into `modes`, ascending, i.e. by frequency) of the whirls
+    /// [`ModesResult::lowest`] chooses from: every whirl in complex coordinates; in real
+    /// coordinates the lowest [`WHIRL_WINDOW`]·`count` by |λ| (ROSS's natural
+    /// frequency ω_n), and any whirl degenerate with the last of them
+    /// ([`DEGENERATE_WHIRLS`]). The window is what the shift-invert solver
+    /// ([`lowest_whirls_of`]) must resolve, so both solvers list the same whirls.
+    pub fn window(&self, count: usize) -> Vec<usize> {
+        if !self.real {
+            return (0..self.modes.len()).collect();
+        }
+        let modulus = |i: usize| c64::new(self.modes[i].eigenvalue[0], self.modes[i].eigenvalue[1]).norm();
+        let mut order: Vec<usize> = (0..self.modes.len()).collect();
+        order.sort_by(|&a, &b| modulus(a).total_cmp(&modulus(b)).then(a.cmp(&b)));
+        let mut end = (WHIRL_WINDOW * count).min(order.len());
+        while end > 0
+            && end < order.len()
+            && modulus(order[end]) - modulus(order[end - 1]) <= DEGENERATE_WHIRLS * modulus(order[end - 1])
+        {
+            end += 1;
+        }
+        let mut chosen = order[..end].to_vec();
+        chosen.sort_unstable();
+        chosen
     }
 }
 
@@ -321,6 +354,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         static_load: rotor.static_load(),
         modes: raw.into_iter().map(|r| r.mode).collect(),
         shapes,
+        real: false,
     })
 }
 
@@ -419,6 +453,114 @@ pub fn branch_letter(branch: usize) -> String {
 /// coordinates give them; whirls 1e-10 apart are a double whirl for every output.
 pub const DEGENERATE_WHIRLS: f64 = 1e-10;
 
+/// Whirls searched per whirl asked of each direction on the real path
+/// ([`ModesResult::window`]): `modes --count N` lists the lowest N forward, N backward and
+/// N mixed whirls among the lowest 4N whirls by |λ|. A window because the direction is
+/// known only from a mode's orbits: an anisotropic rotor at rest has planar (mixed) modes
+/// only, and its forward orbits may be FE modes a hundred times higher; three directions
+/// and a quarter to spare (ROSS lists its lowest whirls whatever their direction).
+pub const WHIRL_WINDOW: usize = 4;
+
+/// First-order state (2 × the real DOFs) from which [`lowest_whirls_of`] uses the
+/// shift-invert Krylov solver rather than the dense one: below it the dense solve takes a
+/// few milliseconds (measured 3 ms at 200 states), and the Krylov space would be a good
+/// part of the state.
+pub const KRYLOV_MIN_STATE: usize = 200;
+
+/// The largest Krylov space [`lowest_whirls_of`] grows, as a fraction 1/this of the
+/// first-order state: its Rayleigh–Ritz solves cost ~(1/3)³ of the dense solve each, and
+/// a window needing more is cheaper dense.
+pub const KRYLOV_STATE_FRACTION: usize = 3;
+
+/// Relative QEP residual ([`crate::linalg::qep_residual`]) every whirl of the window must
+/// have on the shift-invert path, or the dense solver is used: the dense solver leaves
+/// ~1e-13 on the lowest whirls, and a converged Krylov pair (relative Ritz residual
+/// [`crate::linalg::KRYLOV_TOLERANCE`]) as little; 1e-10 is a thousand times that and ten
+/// thousand below [`MODE_RESIDUAL_LIMIT`].
+pub const KRYLOV_RESIDUAL_LIMIT: f64 = 1e-10;
+
+/// The whirl modes [`ModesResult::lowest`]`(count)` lists, and on the real path the
+/// window it chooses from: all the modes of [`whirl_modes_of`] in complex coordinates or
+/// on a small model; on a large model in real coordinates, the whirls nearest λ = 0 by
+/// block shift-invert Krylov ([`whirl_modes_nearest`]), falling back to the dense solve
+/// when that does not resolve them.
+pub fn lowest_whirls_of(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+    count: usize,
+) -> Result<ModesResult, AnalysisError> {
+    whirls_at_least(rotor, settings, speed, WHIRL_WINDOW * count)
+}
+
+/// [`whirl_modes_of`], or on the real path of a large model at least the lowest `whirls`
+/// whirls by |λ| (all those below the radius resolved).
+pub(crate) fn whirls_at_least(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+    whirls: usize,
+) -> Result<ModesResult, AnalysisError> {
+    if rotor.real && 2 * rotor.general_size() >= KRYLOV_MIN_STATE {
+        let limit = 2 * rotor.general_size() / KRYLOV_STATE_FRACTION;
+        if let Some(r) = whirl_modes_nearest(rotor, settings, speed, whirls, limit)? {
+            return Ok(r);
+        }
+    }
+    whirl_modes_of(rotor, settings, speed)
+}
+
+/// The lowest `whirls` whirls by |λ| of a rotor on the real path (every whirl with |λ|
+/// below the radius the solve resolves: at least `whirls`, fewer only when the model has
+/// fewer), by block shift-invert Krylov at σ = 0 ([`crate::linalg::ShiftInvert`]) with a
+/// space of at most `limit` vectors. `Ok(None)` where that solve does not apply or does
+/// not resolve them: the complex path, a singular K, a space beyond `limit`, a cluster
+/// of as many eigenvalues as the block, a whirl of the window with a relative QEP
+/// residual above [`KRYLOV_RESIDUAL_LIMIT`].
+pub fn whirl_modes_nearest(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+    whirls: usize,
+    limit: usize,
+) -> Result<Option<ModesResult>, AnalysisError> {
+    if !rotor.real {
+        return Ok(None);
+    }
+    let sys = rotor.general_at(speed);
+    let d = sys.damping();
+    let k = sys.stiffness_at(rotor.static_load());
+    let Some(mut op) = crate::linalg::ShiftInvert::new(sys.m.as_ref(), d.as_ref(), k.as_ref(), 0.0, limit) else {
+        return Ok(None);
+    };
+    // Each whirl is a conjugate pair; real eigenvalues (overdamped charges) are found too
+    // and make the count grow below.
+    let mut wanted = 2 * whirls.max(1);
+    loop {
+        let Some(found) = op.nearest(wanted) else { return Ok(None) };
+        let n2 = sys.size();
+        let kept: Vec<(c64, Vec<c64>)> = found
+            .values
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.im > settings.oscillation_tolerance * l.norm())
+            .map(|(c, l)| (*l, (0..n2).map(|i| found.vectors[(i, c)]).collect()))
+            .collect();
+        if kept.len() >= whirls || found.radius == f64::INFINITY {
+            let (total, count) = (found.values.len(), kept.len());
+            let r = real_result(rotor, settings, speed, &sys, &d, &k, kept, total)?;
+            // Every pair found is reported (none dropped as not finite) and resolved.
+            if r.modes.len() < count
+                || r.modes.iter().any(|m| m.residual.is_nan() || m.residual > KRYLOV_RESIDUAL_LIMIT)
+            {
+                return Ok(None);
+            }
+            return Ok(Some(r));
+        }
+        wanted *= 2;
+    }
+}
+
 /// Whirl modes in real coordinates (the general path): the real QEP of
 /// [`crate::assembly::GeneralSystem`] at Ω, each whirl once (the eigenvalue with
 /// Im λ > 0 of each conjugate pair), its direction and ellipticity from its shaft nodes'
@@ -430,16 +572,16 @@ fn real_modes(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesRes
     let d = sys.damping();
     let k = sys.stiffness_at(rotor.static_load());
     let n2 = sys.size();
-    let n = n2 / 2;
-    let dc = Mat::from_fn(n2, n2, |i, j| c64::new(d[(i, j)], 0.0));
-    let circulatory = (0..n2).any(|i| (0..i).any(|j| k[(i, j)] != k[(j, i)]));
     let sol = match solve_qep_real(sys.m.as_ref(), d.as_ref(), k.as_ref()) {
         Some(sol) => sol,
-        None => solve_qep(sys.m.as_ref(), dc.as_ref(), k.as_ref(), QEP_SHIFT)?,
+        None => {
+            let dc = Mat::from_fn(n2, n2, |i, j| c64::new(d[(i, j)], 0.0));
+            solve_qep(sys.m.as_ref(), dc.as_ref(), k.as_ref(), QEP_SHIFT)?
+        }
     };
     let total = sol.values.len();
-    // One of each conjugate pair: Im λ > 0, oscillatory, finite; by frequency.
-    let mut kept: Vec<(c64, Vec<c64>)> = sol
+    // One of each conjugate pair: Im λ > 0, oscillatory, finite.
+    let kept: Vec<(c64, Vec<c64>)> = sol
         .values
         .iter()
         .enumerate()
@@ -447,7 +589,29 @@ fn real_modes(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesRes
         .filter(|(_, l)| l.im > settings.oscillation_tolerance * l.norm())
         .map(|(c, l)| (*l, (0..n2).map(|i| sol.vectors[(i, c)]).collect()))
         .collect();
+    real_result(rotor, settings, speed, &sys, &d, &k, kept, total)
+}
+
+/// The whirl modes of eigenpairs `kept` (Im λ > 0, x of 2n real-coordinate entries) of
+/// the real QEP of `sys` with velocity matrix `d` and stiffness `k`; `total` eigenvalues
+/// were computed.
+#[allow(clippy::too_many_arguments)]
+fn real_result(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+    sys: &crate::assembly::GeneralSystem,
+    d: &Mat<f64>,
+    k: &Mat<f64>,
+    mut kept: Vec<(c64, Vec<c64>)>,
+    total: usize,
+) -> Result<ModesResult, AnalysisError> {
+    let n2 = sys.size();
+    let n = n2 / 2;
+    let dc = Mat::from_fn(n2, n2, |i, j| c64::new(d[(i, j)], 0.0));
+    let circulatory = (0..n2).any(|i| (0..i).any(|j| k[(i, j)] != k[(j, i)]));
     kept.sort_by(|a, b| a.0.im.total_cmp(&b.0.im));
+    separate_planes(&mut kept, d, k);
     circularise(&mut kept, n);
     let kinds = sys.dofs.kinds();
     let slots = electrical_slots(rotor);
@@ -567,7 +731,50 @@ fn real_modes(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesRes
         static_load: rotor.static_load(),
         modes: raw.into_iter().map(|r| r.mode).collect(),
         shapes,
+        real: true,
     })
+}
+
+/// Share of a mode's 2-norm in its weaker plane below which [`separate_planes`] sets that
+/// plane to zero: round-off of a solve mixes the planes by ~ε over the relative gap
+/// between an x-plane and a y-plane whirl (measured 3e-12 on the Jeffcott rotor of
+/// tests/fast_modes.rs from the Krylov solve); 1e-6 separates whirls down to gaps of
+/// ~1e-10, where [`circularise`] takes over.
+pub const PLANE_NOISE: f64 = 1e-6;
+
+/// Where the planes do not couple (no gyroscopic term at the speed, no cross-coupled
+/// stiffness or damping, M block diagonal as always), every whirl that is not degenerate
+/// lies in one plane: its orbits are lines. The dense solver keeps the other plane
+/// exactly zero (its reductions keep zero blocks), a Krylov solve from a random start
+/// leaves round-off there, which would give a line orbit a direction
+/// ([`super::orbit::LINE_TOLERANCE`]); so a plane holding less than [`PLANE_NOISE`] of
+/// a mode is set to zero, on both solvers' modes alike.
+fn separate_planes(modes: &mut [(c64, Vec<c64>)], d: &Mat<f64>, k: &Mat<f64>) {
+    let n = d.nrows() / 2;
+    let coupled = |a: &Mat<f64>| (0..n).any(|j| (0..n).any(|i| a[(i, n + j)] != 0.0 || a[(n + i, j)] != 0.0));
+    if coupled(d) || coupled(k) {
+        return;
+    }
+    for (_, x) in modes.iter_mut() {
+        let norm = |part: &[c64]| part.iter().map(|v| v.norm_sqr()).sum::<f64>().sqrt();
+        let (a, b) = (norm(&x[..n]), norm(&x[n..]));
+        let weak = if b <= PLANE_NOISE * a {
+            n..2 * n
+        } else if a <= PLANE_NOISE * b {
+            0..n
+        } else {
+            continue;
+        };
+        for v in &mut x[weak] {
+            *v = c64::new(0.0, 0.0);
+        }
+        let total = norm(x);
+        if total > 0.0 && total.is_finite() {
+            for v in x.iter_mut() {
+                *v /= total;
+            }
+        }
+    }
 }
 
 /// Within each cluster of degenerate whirls ([`DEGENERATE_WHIRLS`]) of `modes` (sorted by

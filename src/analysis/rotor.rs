@@ -39,6 +39,11 @@ impl Rotor {
         GeneralSystem::new(&self.system, &self.model.bearings, speed)
     }
 
+    /// Number of real DOFs of the general path (twice the complex ones).
+    pub fn general_size(&self) -> usize {
+        2 * self.system.size()
+    }
+
     /// The static part of the axial load αP_cr (N).
     pub fn static_load(&self) -> f64 {
         self.model.load.alpha * self.critical_load

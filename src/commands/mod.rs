@@ -31,7 +31,7 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 use crate::analysis::campbell::campbell;
 use crate::analysis::cost::{Budget, Dense};
 use crate::analysis::limits::{self, MAX_COUNT};
-use crate::analysis::modes::{whirl_modes_of, WhirlMode};
+use crate::analysis::modes::{lowest_whirls_of, WhirlMode};
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::problem::Problem;
@@ -123,7 +123,7 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, bu
     };
     bounds::admit_dense(&budget, "`modes`", problem, Dense::Whirls(1))?;
     let rotor = Rotor::new(&problem.model)?;
-    let r = whirl_modes_of(&rotor, &problem.settings, speed)?;
+    let r = lowest_whirls_of(&rotor, &problem.settings, speed, count)?;
     let out = ModesOutput {
         provenance: Provenance::of(problem),
         speed,

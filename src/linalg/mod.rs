@@ -7,6 +7,7 @@
 
 mod balance;
 mod expm;
+mod krylov;
 mod qep;
 mod qep_real;
 pub mod seq;
@@ -15,6 +16,7 @@ mod symmetric;
 
 pub use balance::balance;
 pub use expm::{expm, norm1, with_modulus};
+pub use krylov::{NearestEigen, ShiftInvert, KRYLOV_BLOCK, KRYLOV_TOLERANCE};
 pub use qep::{
     qep_residual, qep_residual_with, solve_qep, solve_qep_definite, QepNorms, QepSolution, DEFINITE_FORM_SPREAD,
 };

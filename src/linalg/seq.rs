@@ -192,3 +192,60 @@ pub fn eigen_real(a: MatRef<'_, f64>) -> Result<Eigenpairs<c64, c64>, EvdError> 
     }
     Ok(Eigenpairs { values, vectors })
 }
+
+/// A real LU factorisation with partial (row) pivoting, kept to solve many right-hand sides:
+/// the factor of [`lu_solve`], computed once.
+#[derive(Debug, Clone)]
+pub struct Lu {
+    /// The packed factors: L's strict lower triangle (unit diagonal) and U.
+    lu: Mat<f64>,
+    /// The row permutation and its inverse.
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+}
+
+impl Lu {
+    /// The factorisation of a square A.
+    pub fn new(a: MatRef<'_, f64>) -> Lu {
+        let n = a.nrows();
+        let mut lu = a.to_owned();
+        let mut perm = vec![0usize; n];
+        let mut perm_inv = vec![0usize; n];
+        let mut mem =
+            MemBuffer::new(partial_pivoting::factor::lu_in_place_scratch::<usize, f64>(n, n, PAR, Default::default()));
+        let _ = partial_pivoting::factor::lu_in_place(
+            lu.as_mut(),
+            &mut perm,
+            &mut perm_inv,
+            PAR,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+        Lu { lu, perm, perm_inv }
+    }
+
+    /// The smallest and the largest modulus of U's diagonal: a zero or non-finite pivot
+    /// means A is singular (or not finite) and the solves are not to be used.
+    pub fn pivot_range(&self) -> (f64, f64) {
+        let n = self.lu.nrows();
+        (0..n).map(|i| self.lu[(i, i)].abs()).fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), if v.is_finite() { hi.max(v) } else { f64::INFINITY })
+        })
+    }
+
+    /// X := A⁻¹·X.
+    pub fn solve_in_place(&self, x: faer::MatMut<'_, f64>) {
+        let n = self.lu.nrows();
+        let p = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, n);
+        let mut mem = MemBuffer::new(partial_pivoting::solve::solve_in_place_scratch::<usize, f64>(n, x.ncols(), PAR));
+        partial_pivoting::solve::solve_in_place_with_conj(
+            self.lu.as_ref(),
+            self.lu.as_ref(),
+            p,
+            Conj::No,
+            x,
+            PAR,
+            MemStack::new(&mut mem),
+        );
+    }
+}

@@ -88,19 +88,33 @@ fn shear_modulus(prefix: &str, e: f64, g: Option<f64>, nu: Option<f64>) -> Resul
 }
 
 /// `[[materials]]`: finite positive E and ρ, a valid shear modulus or Poisson's ratio if
-/// given, unique names. Returns each material's shear modulus.
-fn materials(f: &ProblemFile) -> Result<Vec<Option<f64>>, Failure> {
+/// given, unique names. Returns each material's shear modulus (`Err(())` for a material
+/// with a failure: its sections' checks that need it are skipped), and the failures.
+fn materials(f: &ProblemFile) -> (Vec<Result<Option<f64>, ()>>, Vec<Failure>) {
     let mut shear = Vec::with_capacity(f.materials.len());
+    let mut failures = Vec::new();
     for (i, m) in f.materials.iter().enumerate() {
         let key = format!("materials[{i}]");
-        if f.materials[..i].iter().any(|n| n.name == m.name) {
-            return Err((format!("{key}.name"), K::BadName { name: m.name.clone(), reason: "defined twice".into() }));
+        let checked = (|| {
+            if f.materials[..i].iter().any(|n| n.name == m.name) {
+                return Err((
+                    format!("{key}.name"),
+                    K::BadName { name: m.name.clone(), reason: "defined twice".into() },
+                ));
+            }
+            let e = positive(&format!("{key}.youngs_modulus"), m.youngs_modulus)?;
+            positive(&format!("{key}.density"), m.density)?;
+            shear_modulus(&key, e, m.shear_modulus, m.poisson_ratio)
+        })();
+        match checked {
+            Ok(g) => shear.push(Ok(g)),
+            Err(failure) => {
+                failures.push(failure);
+                shear.push(Err(()));
+            }
         }
-        let e = positive(&format!("{key}.youngs_modulus"), m.youngs_modulus)?;
-        positive(&format!("{key}.density"), m.density)?;
-        shear.push(shear_modulus(&key, e, m.shear_modulus, m.poisson_ratio)?);
     }
-    Ok(shear)
+    (shear, failures)
 }
 
 /// The left- and right-end diameters of the section (or layer) at `prefix` (m): D > 0
@@ -123,9 +137,12 @@ fn section_diameters(prefix: &str, s: &SectionFile) -> Result<[f64; 4], Failure>
     Ok([outer, inner, o, i_r])
 }
 
-/// `[[sections]]` as the shaft.
+/// `[[sections]]` as the shaft. The checks of the materials and of every section and
+/// layer (a shear coefficient ≤ 0, a Poisson's ratio outside (−1, 0.5), a taper to a zero
+/// diameter, …) are all reported at once ([`K::Several`]), one per material, section or
+/// layer and independent check.
 pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, Failure> {
-    let material_shear = materials(f)?;
+    let (material_shear, mut failures) = materials(f);
     let mut sections = Vec::with_capacity(list.len());
     let mut keys = Vec::with_capacity(list.len());
     let mut total_elements: i64 = 0;
@@ -133,19 +150,42 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
         let key = |name: &str| format!("sections[{i}].{name}");
         if s.elements < 1 || s.elements > MAX_ELEMENTS {
             let range = format!("a whole number from 1 to {MAX_ELEMENTS}");
-            return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+            failures.push((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+            continue;
         }
         total_elements += s.elements;
         if total_elements > MAX_ELEMENTS {
             let range = format!("such that all sections have at most {MAX_ELEMENTS} elements in total");
-            return Err((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+            failures.push((key("elements"), K::OutOfRange { value: s.elements as f64, range }));
+            continue;
         }
-        let length = positive(&key("length"), s.length)?;
+        let length = match positive(&key("length"), s.length) {
+            Ok(length) => length,
+            Err(failure) => {
+                failures.push(failure);
+                continue;
+            }
+        };
         let prefix = format!("sections[{i}]");
-        let (mut section, mut section_keys) = tube(f, &prefix, s, &material_shear, length)?;
-        for (j, layer) in s.layers.iter().enumerate() {
-            let layer_prefix = format!("{prefix}.layers[{j}]");
-            let (l, mut k) = tube(f, &layer_prefix, &layer.as_section(length, s.elements), &material_shear, length)?;
+        let tubes = std::iter::once((prefix.clone(), s.clone())).chain(
+            s.layers
+                .iter()
+                .enumerate()
+                .map(|(j, l)| (format!("{prefix}.layers[{j}]"), l.as_section(length, s.elements))),
+        );
+        let mut built = Vec::new();
+        for (tube_prefix, section) in tubes {
+            match tube(f, &tube_prefix, &section, &material_shear, length) {
+                Ok(t) => built.push(t),
+                Err(mut found) => failures.append(&mut found),
+            }
+        }
+        if built.len() != 1 + s.layers.len() {
+            continue;
+        }
+        let mut built = built.into_iter();
+        let Some((mut section, mut section_keys)) = built.next() else { continue };
+        for (l, mut k) in built {
             // A layer's length is its section's.
             k.length = key("length");
             section.layers.push(l);
@@ -153,6 +193,9 @@ pub(super) fn sections(f: &ProblemFile, list: &[SectionFile]) -> Result<Shaft, F
         }
         keys.push(section_keys);
         sections.push(section);
+    }
+    if let Some(first) = several(failures) {
+        return Err(first);
     }
     let shaft = Shaft { sections };
     let total = shaft.length();
@@ -170,86 +213,118 @@ fn tube(
     f: &ProblemFile,
     prefix: &str,
     s: &SectionFile,
-    material_shear: &[Option<f64>],
+    material_shear: &[Result<Option<f64>, ()>],
     length: f64,
-) -> Result<(Section, SectionKeys), Failure> {
+) -> Result<(Section, SectionKeys), Vec<Failure>> {
     let key = |name: &str| format!("{prefix}.{name}");
-    let [outer, inner, outer_right, inner_right] = section_diameters(prefix, s)?;
+    let mut failures = Vec::new();
+    // The diameters (a taper to zero among them), the material and the shear coefficient
+    // are checked independently: each failure is reported.
+    let diameters = section_diameters(prefix, s).map_err(|f| failures.push(f)).ok();
+    if let (Some(k), BeamKind::Timoshenko) = (s.shear_coefficient, s.beam.unwrap_or_default()) {
+        if let Err(failure) = positive(&key("shear_coefficient"), k) {
+            failures.push(failure);
+        }
+    }
+    let outer = diameters.map_or(f64::NAN, |d| d[0]);
     let outer_keys = |left: (String, f64)| {
         let right = s.outer_diameter_right.map(|d| (key("outer_diameter_right"), d));
         (left, right)
     };
     // E, ρ, the shear modulus (if any), the keys they come from, and how the section
     // names its material in a message.
-    let (youngs_modulus, density, shear, section_keys, named) = match (&s.material, s.youngs_modulus, s.density) {
-        (Some(_), Some(_), _) => {
-            return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
-        }
-        (Some(_), None, Some(_)) => return Err((key("density"), K::BothGiven("material".into(), "density".into()))),
-        (Some(name), None, None) => {
-            for (given, k) in
-                [(s.shear_modulus.is_some(), "shear_modulus"), (s.poisson_ratio.is_some(), "poisson_ratio")]
-            {
-                if given {
-                    return Err((key(k), K::BothGiven("material".into(), k.into())));
-                }
+    let material = (|| -> Result<_, Failure> {
+        Ok(match (&s.material, s.youngs_modulus, s.density) {
+            (Some(_), Some(_), _) => {
+                return Err((key("youngs_modulus"), K::BothGiven("material".into(), "youngs_modulus".into())))
             }
-            let (e, d, j) = material(&key("material"), name, &f.materials)?;
-            let m = &f.materials[j];
-            let shear_key = if m.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
-            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
-            let keys = SectionKeys {
-                outer,
-                outer_right,
-                length: key("length"),
-                youngs_modulus: format!("materials[{j}].youngs_modulus"),
-                density: format!("materials[{j}].density"),
-                shear_modulus: format!("materials[{j}].{shear_key}"),
-                layers: Vec::new(),
-            };
-            (e, d, material_shear[j], keys, format!("material `{name}` (materials[{j}])"))
+            (Some(_), None, Some(_)) => {
+                return Err((key("density"), K::BothGiven("material".into(), "density".into())))
+            }
+            (Some(name), None, None) => {
+                for (given, k) in
+                    [(s.shear_modulus.is_some(), "shear_modulus"), (s.poisson_ratio.is_some(), "poisson_ratio")]
+                {
+                    if given {
+                        return Err((key(k), K::BothGiven("material".into(), k.into())));
+                    }
+                }
+                let (e, d, j) = material(&key("material"), name, &f.materials)?;
+                let m = &f.materials[j];
+                let shear_key = if m.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+                let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+                let keys = SectionKeys {
+                    outer,
+                    outer_right,
+                    length: key("length"),
+                    youngs_modulus: format!("materials[{j}].youngs_modulus"),
+                    density: format!("materials[{j}].density"),
+                    shear_modulus: format!("materials[{j}].{shear_key}"),
+                    layers: Vec::new(),
+                };
+                // A material with a failure of its own: reported there, nothing more here.
+                let Ok(g) = material_shear.get(j).copied().unwrap_or(Err(())) else { return Ok(None) };
+                Some((e, d, g, keys, format!("material `{name}` (materials[{j}])")))
+            }
+            (None, None, _) => {
+                return Err((prefix.to_string(), K::NeitherGiven("material".into(), "youngs_modulus".into())))
+            }
+            (None, Some(e), d) => {
+                let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
+                let e = positive(&key("youngs_modulus"), e)?;
+                let g = shear_modulus(prefix, e, s.shear_modulus, s.poisson_ratio)?;
+                let shear_key = if s.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
+                let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
+                let keys = SectionKeys {
+                    outer,
+                    outer_right,
+                    length: key("length"),
+                    youngs_modulus: key("youngs_modulus"),
+                    density: key("density"),
+                    shear_modulus: key(shear_key),
+                    layers: Vec::new(),
+                };
+                Some((e, d, g, keys, format!("this section ({prefix})")))
+            }
+        })
+    })();
+    let material = match material {
+        Ok(m) => m,
+        Err(failure) => {
+            failures.push(failure);
+            None
         }
-        (None, None, _) => {
-            return Err((prefix.to_string(), K::NeitherGiven("material".into(), "youngs_modulus".into())))
-        }
-        (None, Some(e), d) => {
-            let d = d.ok_or_else(|| (key("density"), K::Schema("missing field `density`".into())))?;
-            let e = positive(&key("youngs_modulus"), e)?;
-            let g = shear_modulus(prefix, e, s.shear_modulus, s.poisson_ratio)?;
-            let shear_key = if s.shear_modulus.is_some() { "shear_modulus" } else { "poisson_ratio" };
-            let (outer, outer_right) = outer_keys((key("outer_diameter"), outer));
-            let keys = SectionKeys {
-                outer,
-                outer_right,
-                length: key("length"),
-                youngs_modulus: key("youngs_modulus"),
-                density: key("density"),
-                shear_modulus: key(shear_key),
-                layers: Vec::new(),
-            };
-            (e, d, g, keys, format!("this section ({prefix})"))
-        }
+    };
+    let (Some([outer, inner, outer_right, inner_right]), Some((youngs_modulus, density, shear, section_keys, named))) =
+        (diameters, material)
+    else {
+        return Err(failures);
     };
     let beam = match s.beam.unwrap_or_default() {
         BeamKind::Rayleigh => {
             if s.shear_coefficient.is_some() {
-                return Err((key("shear_coefficient"), K::TimoshenkoOnly("shear_coefficient".into())));
+                failures.push((key("shear_coefficient"), K::TimoshenkoOnly("shear_coefficient".into())));
             }
             Beam::Rayleigh
         }
         BeamKind::Timoshenko => {
-            let shear_modulus = shear.ok_or_else(|| (key("beam"), K::NoShearModulus { material: named }))?;
-            let shear_coefficient = s.shear_coefficient.map(|k| positive(&key("shear_coefficient"), k)).transpose()?;
-            Beam::Timoshenko { shear_modulus, shear_coefficient }
+            if shear.is_none() {
+                failures.push((key("beam"), K::NoShearModulus { material: named }));
+            }
+            // (its sign checked above)
+            Beam::Timoshenko { shear_modulus: shear.unwrap_or(f64::NAN), shear_coefficient: s.shear_coefficient }
         }
     };
+    if !failures.is_empty() {
+        return Err(failures);
+    }
     let section = Section {
         length,
         outer_diameter: outer,
         inner_diameter: inner,
         elements: s.elements as usize,
-        youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus)?,
-        density: positive(&key("density"), density)?,
+        youngs_modulus: positive(&key("youngs_modulus"), youngs_modulus).map_err(|f| vec![f])?,
+        density: positive(&key("density"), density).map_err(|f| vec![f])?,
         outer_diameter_right: outer_right,
         inner_diameter_right: inner_right,
         beam,

@@ -391,3 +391,60 @@ pub fn mkfifo(path: &std::path::Path) {
     // SAFETY: a valid NUL-terminated path.
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0, "mkfifo {}", path.display());
 }
+
+/// A Jeffcott rotor: a 10 kg disk of polar inertia `polar` and diametral inertia
+/// `diametral` (kg·m²) at the middle of a 0.4 m shaft of diameter 0.05 m whose density is
+/// 1e-3 kg/m³ (7.9e-7 kg: 8e-8 of the disk), on two identical bearings kxx = `kx`,
+/// kyy = `ky` (N/m) at its ends, undamped, at speed `speed` (rad/s).
+pub fn jeffcott(kx: f64, ky: f64, polar: f64, diametral: f64, speed: f64) -> String {
+    format!(
+        r#"version = 1
+title = "anisotropic Jeffcott rotor"
+speed = {speed:?}
+[[sections]]
+length = 0.4
+outer_diameter = 0.05
+youngs_modulus = 2.0e11
+density = 1.0e-3
+elements = 4
+[[disks]]
+node = 2
+mass = 10.0
+polar_inertia = {polar:?}
+diametral_inertia = {diametral:?}
+eccentricity = 1.0e-4
+[[bearings]]
+node = 0
+kxx = {kx:?}
+kyy = {ky:?}
+[[bearings]]
+node = 4
+kxx = {kx:?}
+kyy = {ky:?}
+[load]
+alpha = 0.0
+"#
+    )
+}
+
+/// The Jeffcott rotor's shaft: E·I of its 0.05 m section (N·m²) and its length (m).
+pub const JEFFCOTT_EI: f64 = 2.0e11 * std::f64::consts::PI * 0.05 * 0.05 * 0.05 * 0.05 / 64.0;
+/// The Jeffcott rotor's span (m).
+pub const JEFFCOTT_SPAN: f64 = 0.4;
+
+/// The Jeffcott rotor's translational stiffness in one plane with bearings of `k` (N/m):
+/// the shaft's mid-span 48EI/L³ (cubic beam elements reproduce a nodal load's static
+/// deflection exactly) in series with the two bearings.
+pub fn jeffcott_translation(k: f64) -> f64 {
+    let shaft = 48.0 * JEFFCOTT_EI / JEFFCOTT_SPAN.powi(3);
+    1.0 / (1.0 / shaft + 1.0 / (2.0 * k))
+}
+
+/// Its tilting stiffness (N·m/rad) in one plane: the shaft's 12EI/L under a moment at the
+/// middle (by antisymmetry each half is a simply supported beam of L/2 under half the
+/// moment at its end, θ = (M/2)(L/2)/(3EI); exact for cubic elements) in series with the
+/// bearings' k·L²/2 against a rigid rotation about the middle (reactions ±M/L).
+pub fn jeffcott_tilt(k: f64) -> f64 {
+    let shaft = 12.0 * JEFFCOTT_EI / JEFFCOTT_SPAN;
+    1.0 / (1.0 / shaft + 1.0 / (k * JEFFCOTT_SPAN * JEFFCOTT_SPAN / 2.0))
+}
