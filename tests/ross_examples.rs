@@ -222,8 +222,7 @@ fn the_compressor_with_a_ring_ends_its_design_verified() {
     // The design of problems/ross/design-compressor-example.toml on a shorter search (one
     // start, 4 iterations; the catalogue's run is in problems/README.md): it must end
     // improved and verified, exit 0, with its report.
-    let out = common::root().join("out/tests/ross_examples/design");
-    let _ = std::fs::remove_dir_all(&out);
+    let out = common::tmp("ross-examples-design");
     let o = common::bin()
         .args(["design", "problems/ross/design-compressor-example.toml", "--out"])
         .arg(&out)
@@ -241,4 +240,5 @@ fn the_compressor_with_a_ring_ends_its_design_verified() {
     for file in ["report.md", "report.html", "tuned.toml"] {
         assert!(out.join(file).is_file(), "{file}");
     }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -68,7 +68,7 @@ fn every_refusal_of_a_file_is_listed_with_its_element_and_line() {
         .arg("import-ross")
         .arg(fixture(name))
         .arg("--out")
-        .arg(common::root().join("out/tests/ross_import/several.toml"))
+        .arg(common::tmp("ross-import-several").join("several.toml"))
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
