@@ -7,7 +7,7 @@ use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
-use crate::analysis::response::{checked_response, ResponseResult};
+use crate::analysis::response::{checked_response, response_steps, ResponseResult};
 use crate::analysis::unbalance::Probe;
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
@@ -312,8 +312,8 @@ pub fn chart_cmd(
     Ok(head + &text)
 }
 
-/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`. Progress:
-/// `response` (a step per load period), then `files`.
+/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`. Progress: `floquet
+/// point` (time only), `response` (up to a hundred steps per load period), then `files`.
 pub fn response_cmd(
     problem: &Problem,
     phi: f64,
@@ -328,8 +328,10 @@ pub fn response_cmd(
     let (rotor, fs) = rotor_and_system(problem, &budget)?;
     bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
+    // The Floquet point first: a phase without counted steps (time only in the log).
+    progress.phase("floquet point", 0);
     let point = fs.point(phi, beta);
-    progress.phase("response", periods as u64);
+    progress.phase("response", response_steps(&fs, phi, periods));
     let r: ResponseResult = checked_response(&fs, phi, beta, periods, progress)?;
     let written = files_phase(progress, 4);
     let dir = OutDir::create(out, &problem.file)?;
