@@ -266,7 +266,11 @@ pub fn chart_cmd(
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main_warnings, &main)?;
     let label = super::plot_title(problem);
-    let name = if by_file { label.clone() } else { layer_name(problem) };
+    let files = compared.as_ref().map(|(_, other, _)| super::compare::file_layer_names(problem, other));
+    let name = match (&files, by_file) {
+        (Some((main_name, _)), true) => main_name.clone(),
+        _ => layer_name(problem),
+    };
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Some((name, other, c)) = compared {
@@ -274,7 +278,10 @@ pub fn chart_cmd(
         written();
         written();
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
-        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        let shown = match files {
+            Some((_, other_name)) if by_file => other_name,
+            _ => name.to_string(),
+        };
         layers.push(Layer { name: shown, color: (214, 39, 40), chart: c });
     }
     written();

@@ -192,7 +192,7 @@ pub fn unbalance_cmd(
     let mut layers = vec![BodeLayer {
         name: match (&compared, by_file) {
             (None, _) => String::new(),
-            (Some(_), true) => super::plot_title(problem),
+            (Some((_, other, _)), true) => super::compare::file_layer_names(problem, other).0,
             (Some(_), false) => super::layer_name(problem),
         },
         dashed: false,
@@ -202,7 +202,7 @@ pub fn unbalance_cmd(
     if let Some((name, other, r)) = &compared {
         write_layer(&dir, "compare", other, r)?;
         text += &peaks_text(r, &format!("compare ({name}):"), unit);
-        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        let shown = if by_file { super::compare::file_layer_names(problem, other).1 } else { name.to_string() };
         layers.push(BodeLayer { name: shown, dashed: true, result: r });
     }
     // Real coordinates: a Bode plot per direction too (the main one draws semi-major axes).
