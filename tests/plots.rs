@@ -71,9 +71,10 @@ fn campbell_legend_covers_no_curve_and_axes_carry_units() {
     assert!(svg.contains("1× (ω = Ω)"), "the synchronous line is labelled");
     assert!(!svg.contains("500.0"), "ticks without spurious decimals");
     // Every track has its own colour-and-marker style, and forward/backward differ in dash.
-    let styles: std::collections::HashSet<_> =
-        plot.curves.iter().map(|c| (c.color, format!("{:?}", c.marker))).collect();
-    assert_eq!(styles.len(), plot.curves.len());
+    // (The curves after the tracks are the 1× line and the critical speeds' markers.)
+    let tracks = &plot.curves[..r.tracks.len()];
+    let styles: std::collections::HashSet<_> = tracks.iter().map(|c| (c.color, format!("{:?}", c.marker))).collect();
+    assert_eq!(styles.len(), tracks.len());
     for (c, t) in plot.curves.iter().zip(&r.tracks) {
         assert_eq!(c.dash == rotorshunt::report::style::Dash::Dashed, t.whirl == Whirl::Backward, "{}", c.name);
     }
