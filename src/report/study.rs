@@ -3,7 +3,7 @@
 //! key.
 
 use super::plot::{Curve, CurvePlot};
-use super::style::{self, Marker};
+use super::style::{self, Dash, Marker};
 
 /// The summary of a study's cases: the header and one row of cells per case, already
 /// formatted as text.
@@ -63,7 +63,8 @@ fn short(c: &str) -> String {
 pub const PLOTTED_FIGURES: [&str; 4] = ["band_width", "band_width_after", "lowest_onset", "strict_band_width_after"];
 
 /// The plot of a study's figure `y_key` against its swept key `x_key`: one line (with a
-/// marker at every case) per combination of the other keys' values, named by them.
+/// marker at every case, every other line dashed) per combination of the other keys'
+/// values, named by them.
 /// `series` holds each line's name and points (x, y).
 pub fn sweep_plot(title: &str, x_key: &str, y_key: &str, series: Vec<(String, Vec<(f64, f64)>)>) -> CurvePlot {
     let all = || series.iter().flat_map(|s| s.1.iter().copied());
@@ -77,7 +78,12 @@ pub fn sweep_plot(title: &str, x_key: &str, y_key: &str, series: Vec<(String, Ve
     let curves = series
         .into_iter()
         .enumerate()
-        .map(|(k, (name, points))| Curve { marker: Marker::Circle, ..Curve::new(name, style::color(k), points) })
+        // Every other line dashed, so that one drawn over another stays visible.
+        .map(|(k, (name, points))| Curve {
+            marker: Marker::Circle,
+            dash: if k % 2 == 1 { Dash::Dashed } else { Dash::Solid },
+            ..Curve::new(name, style::color(k), points)
+        })
         .collect();
     CurvePlot {
         title: title.to_string(),
