@@ -24,7 +24,7 @@ pub const MAX_STUDY_CASES: u64 = 1_000_000;
 /// name stays far below the 255 bytes every filesystem allows, with room for
 /// `write_atomic`'s temporaries beside the files inside it. Long enough for a sweep
 /// case's short keys and values (`resistance=0.0,tuning_frequency=900.0`).
-const SLUG_TEXT_MAX: usize = 96;
+const SLUG_TEXT_MAX: usize = 80;
 
 /// Hex digits of the hash suffix of a folder name whose case name had to be changed: 64
 /// bits, so that even 10⁶ sweep names cut to the same first [`SLUG_TEXT_MAX`] bytes keep

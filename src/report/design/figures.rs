@@ -72,11 +72,7 @@ pub fn figures<'a>(o: &'a DesignOutcome, content: DesignContent, title: &str) ->
             BodeLayer { name: "reference circuit".into(), dashed: false, result: &v.before },
             BodeLayer { name: "tuned circuit".into(), dashed: true, result: &v.after },
         ];
-        let plot = BodePlot {
-            title: format!("Unbalance response before and after the design: {title}"),
-            layers,
-            unit: crate::numbers::SpeedUnit::RadPerS,
-        };
+        let plot = BodePlot { title: format!("Unbalance response before and after the design: {title}"), layers, unit };
         out.push(("bode".into(), Box::new(plot)));
     }
     let markers: Vec<(f64, String)> = spec.phi_op().map(|p| (p, format!("φ_op = {p}"))).into_iter().collect();
