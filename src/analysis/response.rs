@@ -24,7 +24,7 @@ const MAX_SAMPLES: usize = 4000;
 const PROGRESS_PER_PERIOD: usize = 100;
 
 /// The progress steps [`checked_response`] reports for `periods` periods at φ: each
-/// period's RK4 steps in up to [`PROGRESS_PER_PERIOD`] equal parts.
+/// period's RK4 steps in up to `PROGRESS_PER_PERIOD` (100) equal parts.
 pub fn response_steps(fs: &FloquetSystem, phi: f64, periods: usize) -> u64 {
     (rk4_steps_per_period(fs, phi).min(PROGRESS_PER_PERIOD) as u64).saturating_mul(periods as u64)
 }
@@ -147,7 +147,7 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
 }
 
 /// [`response`], advancing `progress` by [`response_steps`] steps over the integration
-/// (up to [`PROGRESS_PER_PERIOD`] per load period).
+/// (up to `PROGRESS_PER_PERIOD` (100) per load period).
 pub fn response_reporting(
     fs: &FloquetSystem,
     phi: f64,

@@ -77,7 +77,7 @@ impl BodePlot<'_> {
     }
 
     /// The amplitude axis (m) and the smallest amplitude drawn: the drawn curves and every
-    /// refined peak inside, at most [`AMPLITUDE_DECADES`] below the largest.
+    /// refined peak inside, at most `AMPLITUDE_DECADES` below the largest.
     pub fn amplitude_axis(&self) -> ((f64, f64), f64) {
         let curves = self.drawn();
         let peaks =
