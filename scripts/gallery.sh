@@ -38,4 +38,7 @@ cp "$work/design-widest/charts.png" "$out/design-widest-band.png"
 cp "$work/design-widest/history.png" "$out/design-history.png"
 "$bin" $q design problems/design-clear-bands.toml --out "$work/design-clear" >/dev/null
 cp "$work/design-clear/charts.png" "$out/design-clear-bands.png"
+# A study's figure: the band width against the swept speed, a line per resistance.
+"$bin" $q study problems/studies/resistance-speed.toml --out "$work/study" >/dev/null
+cp "$work/study/summary/figure.png" "$out/study.png"
 du -ch "$out"/*.png | tail -1

@@ -148,7 +148,7 @@ fn reporter(cli: &Cli) -> Reporter {
         Command::Design { pareto: Some(_), .. } => ("design", &["front", "report"]),
         Command::Design { .. } => ("design", &["optimise", "verification", "report"]),
         Command::Study(StudyArgs { action: None, .. }) => ("study", &["cases"]),
-        Command::Response { .. } => ("response", &["response", "files"]),
+        Command::Response { .. } => ("response", &["floquet point", "response", "files"]),
         _ => return Reporter::Quiet,
     };
     Reporter::new(cli.quiet, name, plan, progress_every())

@@ -10,6 +10,9 @@
 //! progress: design: verification (phase 2 of 3): 1204/3315 steps, 25 s elapsed, ETA 18 s
 //! ```
 //!
+//! A phase that knows none of its steps yet (a search before it has found its work)
+//! reports its time only, never a total of 0.
+//!
 //! So a quick run's standard error is unchanged, and a long one's log shows it is alive.
 //! The ETA assumes the phase's remaining steps go at the rate of its steps so far; a
 //! phase whose searches learn their work as they go (the region search) can only
@@ -103,7 +106,7 @@ impl Progress for Reporter {
     fn extend(&self, steps: u64) {
         match self {
             Reporter::Quiet => {}
-            Reporter::Bar(b) => b.bar.inc_length(steps),
+            Reporter::Bar(b) => b.extend(steps),
             Reporter::Lines(l) => l.state.extend(steps),
         }
     }
@@ -148,19 +151,34 @@ pub struct Bar {
 impl Bar {
     fn new(command: &'static str, plan: &[&'static str]) -> Bar {
         let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr());
-        if let Ok(style) =
-            ProgressStyle::with_template("{prefix} [{bar:30}] {human_pos}/{human_len} steps, {elapsed} (ETA {eta})")
-        {
-            bar.set_style(style.progress_chars("=> "));
-        }
+        bar.set_style(Bar::style(0));
         bar.set_prefix(command.to_string());
         // The elapsed time moves even while a long step runs.
         bar.enable_steady_tick(Duration::from_millis(500));
         Bar { bar, command, plan: plan.to_vec() }
     }
 
+    /// The bar's style for a phase of `steps` known steps: counts and ETA, or, while
+    /// none is known, the elapsed time only (never "0/0").
+    fn style(steps: u64) -> ProgressStyle {
+        let template = if steps == 0 {
+            "{prefix} {spinner} {elapsed}"
+        } else {
+            "{prefix} [{bar:30}] {human_pos}/{human_len} steps, {elapsed} (ETA {eta})"
+        };
+        ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()).progress_chars("=> ")
+    }
+
+    fn extend(&self, steps: u64) {
+        if steps > 0 && self.bar.length() == Some(0) {
+            self.bar.set_style(Bar::style(steps));
+        }
+        self.bar.inc_length(steps);
+    }
+
     fn phase(&self, name: &str, steps: u64) {
         self.bar.set_prefix(phase_label(self.command, &self.plan, name));
+        self.bar.set_style(Bar::style(steps));
         self.bar.set_length(steps);
         self.bar.set_position(0);
         self.bar.reset_eta();
@@ -222,8 +240,9 @@ impl State {
         let (name, since) = self.phase.lock().unwrap_or_else(|e| e.into_inner()).clone();
         let (done, total) = (self.done.load(Ordering::Relaxed), self.total.load(Ordering::Relaxed));
         let mut text = format!(
-            "progress: {}: {done}/{total} steps, {} elapsed",
+            "progress: {}: {}{} elapsed",
             phase_label(self.command, &self.plan, &name),
+            counts(done, total),
             seconds(self.started.elapsed())
         );
         let phase_time = since.elapsed().as_secs_f64();
@@ -235,6 +254,17 @@ impl State {
         self.printed.store(true, Ordering::Relaxed);
         let mut err = std::io::stderr().lock();
         let _ = writeln!(err, "{}", printable(&text));
+    }
+}
+
+/// The counts of a progress line: `done/total steps, `, or, while a phase knows none of
+/// its steps yet (a search that has not found its work), `done steps, ` or nothing (the
+/// line then reports time only): never a total of 0.
+fn counts(done: u64, total: u64) -> String {
+    match (done, total) {
+        (0, 0) => String::new(),
+        (d, 0) => format!("{d} steps, "),
+        (d, t) => format!("{d}/{t} steps, "),
     }
 }
 
@@ -315,6 +345,13 @@ impl Lines {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_phase_without_known_steps_reports_time_only() {
+        assert_eq!(counts(0, 0), "");
+        assert_eq!(counts(3, 0), "3 steps, ");
+        assert_eq!(counts(4, 10), "4/10 steps, ");
+    }
 
     #[test]
     fn printable_shows_control_characters_and_keeps_the_rest() {

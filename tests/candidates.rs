@@ -30,7 +30,7 @@ fn both(base: &Problem, u: f64) -> (Problem, Problem) {
         .zip(&values)
         .map(|(v, &value)| Setting { ring: v.ring, branch: v.branch, parameter: v.parameter, value })
         .collect();
-    let text = tuned_file(&base.data, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let text = tuned_file(&base.data, &settings, &base.rpm).unwrap_or_else(|e| panic!("{e}"));
     let reread = Problem::from_text(&text, "tuned.toml", &[]).unwrap_or_else(|e| panic!("{e}\n{text}"));
     (candidate, reread)
 }

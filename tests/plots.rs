@@ -8,6 +8,7 @@ use rotorshunt::analysis::campbell::{campbell, CampbellResult};
 use rotorshunt::analysis::modes::{whirl_modes_of, Whirl};
 use rotorshunt::analysis::Rotor;
 use rotorshunt::commands::{campbell_cmd, chart_cmd, parse_range, ChartArgs, Compare};
+use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::progress::Silent as Quiet;
 use rotorshunt::report::campbell::campbell_plot;
 use rotorshunt::report::plot::{CurvePlot, Drawing, Figure, Layout};
@@ -60,6 +61,8 @@ fn campbell_legend_covers_no_curve_and_axes_carry_units() {
     let plot = campbell_plot(
         &r,
         "Campbell diagram: a title long enough to need fitting into the width of the image, and then some more words",
+        SpeedUnit::RadPerS,
+        &[],
     );
     let layout = plot.layout().unwrap();
     legend_covers_no_data(&plot, &layout);
@@ -68,9 +71,10 @@ fn campbell_legend_covers_no_curve_and_axes_carry_units() {
     assert!(svg.contains("1× (ω = Ω)"), "the synchronous line is labelled");
     assert!(!svg.contains("500.0"), "ticks without spurious decimals");
     // Every track has its own colour-and-marker style, and forward/backward differ in dash.
-    let styles: std::collections::HashSet<_> =
-        plot.curves.iter().map(|c| (c.color, format!("{:?}", c.marker))).collect();
-    assert_eq!(styles.len(), plot.curves.len());
+    // (The curves after the tracks are the 1× line and the critical speeds' markers.)
+    let tracks = &plot.curves[..r.tracks.len()];
+    let styles: std::collections::HashSet<_> = tracks.iter().map(|c| (c.color, format!("{:?}", c.marker))).collect();
+    assert_eq!(styles.len(), tracks.len());
     for (c, t) in plot.curves.iter().zip(&r.tracks) {
         assert_eq!(c.dash == rotorshunt::report::style::Dash::Dashed, t.whirl == Whirl::Backward, "{}", c.name);
     }
@@ -176,8 +180,11 @@ fn stability_and_bode_legends_sit_beside_the_plot() {
 
     let speeds: Vec<f64> = (0..50).map(|i| 300.0 + 4.0 * i as f64).collect();
     let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &|| {}).unwrap();
-    let bode =
-        BodePlot { title: "bode".into(), layers: vec![BodeLayer { name: String::new(), dashed: false, result: &r }] };
+    let bode = BodePlot {
+        title: "bode".into(),
+        layers: vec![BodeLayer { name: String::new(), dashed: false, result: &r }],
+        unit: SpeedUnit::RadPerS,
+    };
     let layout = bode.layout().unwrap();
     assert!(layout.legend.is_some() && !layout.legend_overlaps_plot(), "{layout:?}");
     let svg = bode.svg().unwrap();

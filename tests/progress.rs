@@ -34,15 +34,21 @@ fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
     out
 }
 
-/// `progress: design: NAME (phase k of 3): DONE/TOTAL steps, …`: (name, done, total).
+/// `progress: design: NAME (phase k of 3): DONE/TOTAL steps, …`: (name, done, total); a
+/// phase that knows none of its steps yet reports its time only (`…: 2 s elapsed`, done
+/// and total 0) or its done count only (`…: DONE steps, …`, total 0), never a total of 0.
 fn counts(line: &str) -> Option<(&str, u64, u64)> {
     let rest = line.strip_prefix("progress: design: ")?;
     let (name, rest) = rest.split_once(" (phase ")?;
     let (_, rest) = rest.split_once("): ")?;
-    let (fraction, rest) = rest.split_once(" steps, ")?;
+    let Some((fraction, rest)) = rest.split_once(" steps, ") else {
+        return rest.contains(" elapsed").then_some((name, 0, 0));
+    };
     rest.contains(" elapsed").then_some(())?;
-    let (done, total) = fraction.split_once('/')?;
-    Some((name, done.parse().ok()?, total.parse().ok()?))
+    match fraction.split_once('/') {
+        Some((done, total)) => Some((name, done.parse().ok()?, total.parse().ok()?)),
+        None => Some((name, fraction.parse().ok()?, 0)),
+    }
 }
 
 #[test]
@@ -58,7 +64,9 @@ fn a_design_reports_its_phases_and_rising_counts_and_quiet_reports_nothing() {
     let lines: Vec<&str> = stderr.lines().collect();
     assert!(stdout.starts_with("design: "), "the summary alone on stdout: {stdout}");
     assert!(!stdout.contains("progress:"), "{stdout}");
-    // Every line but the closing one carries its phase and counts.
+    // Every line but the closing one carries its phase and counts (or its time only while
+    // the phase knows none of its steps): never a total of 0.
+    assert!(!stderr.contains("/0 steps"), "{stderr}");
     let (last, periodic) = lines.split_last().expect("progress lines");
     assert!(last.starts_with("progress: design: done in "), "{last}");
     let parsed: Vec<(&str, u64, u64)> =

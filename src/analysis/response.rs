@@ -19,6 +19,15 @@ const STEPS_PER_FASTEST_PERIOD: f64 = 64.0;
 const RK4_STABLE_STEP: f64 = 2.5;
 /// At most this many samples are stored, whatever the step count.
 const MAX_SAMPLES: usize = 4000;
+/// Progress steps per load period at most: a long period (a slow load, φ = 0.01 rad/s is
+/// a period of 628 s) still reports an advancing count, never "0/1" for minutes.
+const PROGRESS_PER_PERIOD: usize = 100;
+
+/// The progress steps [`checked_response`] reports for `periods` periods at φ: each
+/// period's RK4 steps in up to `PROGRESS_PER_PERIOD` (100) equal parts.
+pub fn response_steps(fs: &FloquetSystem, phi: f64, periods: usize) -> u64 {
+    (rk4_steps_per_period(fs, phi).min(PROGRESS_PER_PERIOD) as u64).saturating_mul(periods as u64)
+}
 
 /// A sampled response.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -115,7 +124,7 @@ fn step_rules(fs: &FloquetSystem, phi: f64) -> (f64, f64, f64) {
 
 /// [`response`] for callers that report it: refused before work when it is stiff
 /// (beyond [`STIFFNESS_LIMIT`]), and an error when its state stops being finite;
-/// `progress` advances one step per load period integrated.
+/// `progress` advances [`response_steps`] steps over the integration.
 pub fn checked_response(
     fs: &FloquetSystem,
     phi: f64,
@@ -137,7 +146,8 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
     response_reporting(fs, phi, beta, periods, &Silent)
 }
 
-/// [`response`], advancing `progress` one step per load period integrated.
+/// [`response`], advancing `progress` by [`response_steps`] steps over the integration
+/// (up to `PROGRESS_PER_PERIOD` (100) per load period).
 pub fn response_reporting(
     fs: &FloquetSystem,
     phi: f64,
@@ -153,6 +163,7 @@ pub fn response_reporting(
     let h = period / steps_per_period as f64;
     let total = steps_per_period.saturating_mul(periods);
     let stride = total.div_ceil(MAX_SAMPLES).max(1);
+    let parts = steps_per_period.min(PROGRESS_PER_PERIOD);
     let force: Vec<c64> = fs.reduced.unbalance.iter().map(|u| u * (fs.speed * fs.speed)).collect();
     let rhs = |t: f64, y: &[c64], out: &mut [c64]| {
         let load = beta * (phi * t).cos();
@@ -211,7 +222,9 @@ pub fn response_reporting(
             q1.push([y[m].re, y[m].im]);
             modal.push(y[m..].to_vec());
         }
-        if (s + 1) % steps_per_period.max(1) == 0 {
+        // The period's progress parts: part j ends at step ⌈j·steps/parts⌉ of the period.
+        let within = s % steps_per_period.max(1) + 1;
+        if within * parts / steps_per_period.max(1) > (within - 1) * parts / steps_per_period.max(1) {
             progress.advance(1);
         }
     }

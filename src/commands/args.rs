@@ -40,8 +40,15 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
 
 /// Parse a range of rotating speeds: `A:B:STEP` in rad/s, or in rpm with the suffix
 /// `rpm` (`0:30000:500rpm`, `3000 rpm`), each point then converted, Ω = n·π/30 rad/s
-/// ([`crate::problem::units::RAD_PER_S_PER_RPM`]); `rad/s` may be written out.
-pub fn parse_speed_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
+/// ([`crate::problem::units::RAD_PER_S_PER_RPM`]); `rad/s` may be written out. Returns
+/// the speeds (rad/s) and the unit the range was given in (rpm with the suffix), for
+/// echoing the speeds back in it.
+pub fn parse_speeds(text: &str, argument: &str) -> Result<(Vec<f64>, crate::numbers::SpeedUnit), Error> {
+    let unit = crate::numbers::SpeedUnit::of(text.trim().to_ascii_lowercase().ends_with("rpm"));
+    Ok((parse_speed_range_in(text, argument)?, unit))
+}
+
+fn parse_speed_range_in(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
     let t = text.trim();
     let lower = t.to_ascii_lowercase();
     if let Some(n) = lower.strip_suffix("rpm") {
@@ -89,8 +96,14 @@ mod tests {
         }
     }
 
+    fn parse_speed_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
+        parse_speeds(text, argument).map(|(speeds, _)| speeds)
+    }
+
     #[test]
     fn speed_ranges_in_rpm_are_converted_point_by_point() {
+        assert_eq!(parse_speeds("0:300:100rpm", "x").unwrap().1, crate::numbers::SpeedUnit::Rpm);
+        assert_eq!(parse_speeds("0:300:100", "x").unwrap().1, crate::numbers::SpeedUnit::RadPerS);
         let rad = parse_speed_range("0:3000:100", "x").unwrap();
         assert_eq!(parse_speed_range("0:3000:100 rad/s", "x").unwrap(), rad);
         let rpm = parse_speed_range("0:30000:1000rpm", "x").unwrap();

@@ -8,7 +8,7 @@ use std::path::Path;
 
 /// The compared configuration and its legend name.
 pub struct Compared {
-    /// The legend name: the compared file's title (or its name), or, for `--compare-set`,
+    /// The name in the text output: the compared file's name, or, for `--compare-set`,
     /// its circuit state and the `--compare-set` overrides.
     pub label: String,
     /// The compared problem.
@@ -35,7 +35,7 @@ pub fn compared(
     match (compare, compare_set.is_empty()) {
         (Some(path), _) => {
             let problem = Problem::from_path(path, set)?;
-            let label = problem.data.title.clone().unwrap_or_else(|| problem.file.clone());
+            let label = file_name(&problem.file);
             Ok(Some(Compared { label, problem }))
         }
         (None, false) => {
@@ -48,4 +48,24 @@ pub fn compared(
         }
         (None, true) => Ok(None),
     }
+}
+
+/// The last component of a path (`tuned.toml` of `out/tuned.toml`), or the path itself.
+fn file_name(path: &str) -> String {
+    Path::new(path).file_name().map_or_else(|| path.to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// The legend names of two files' layers: each file's name with its overrides
+/// (`rotor.toml`, `tuned.toml [speed=1200]`), the paths when the names are equal, so two
+/// files that share a title (a design's `tuned.toml` and its input) never get one name.
+pub fn file_layer_names(main: &Problem, other: &Problem) -> (String, String) {
+    let (mut a, mut b) = (file_name(&main.file), file_name(&other.file));
+    if a == b {
+        (a, b) = (main.file.clone(), other.file.clone());
+    }
+    let with = |name: String, p: &Problem| match p.overrides.as_slice() {
+        [] => name,
+        o => format!("{name} [{}]", o.join(", ")),
+    };
+    (with(a, main), with(b, other))
 }

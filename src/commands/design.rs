@@ -154,7 +154,17 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
     // The charts' rows and Campbell speeds, the three text files and report.html; a step
     // per figure once the figures are known.
     progress.phase("report", (content_steps(spec) + 4) as u64);
-    let content = content(spec, &before, &after, progress)?;
+    // Every band the charts draw: the stable bands found before and after, the operating
+    // bands with their clearances.
+    let bands: Vec<Interval> = outcome
+        .before_bands()
+        .iter()
+        .chain(outcome.after_bands())
+        .filter_map(|b| b.band.band)
+        .chain(spec.kept_clear().iter().map(|b| b.guarded()))
+        .collect();
+    let mut content = content(spec, &before, &after, &bands, progress)?;
+    let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
     let design_file = design_file_name(outcome.status);
@@ -167,6 +177,7 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         branches_before: branch_rows(&problem.model),
         branches_after: branch_rows(&after.problem.model),
         outcome: outcome.clone(),
+        whirls,
         files,
     };
     dir.write(design_file, super::tuned_toml(problem, &outcome)?.as_bytes())?;
@@ -190,18 +201,19 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         spec.variables
             .iter()
             .zip(v)
-            .map(|(var, x)| format!("{} = {x:.6e} {}", var.name(), var.parameter.unit()))
+            .map(|(var, x)| format!("{} = {} {}", var.name(), crate::numbers::sig(*x, 5), var.parameter.unit()))
             .collect::<Vec<_>>()
             .join(", ")
     };
+    let at = |w: f64| crate::report::design::speed_text(spec.speed_unit, w);
     let mut s = format!("design: {}", status_word(o.status));
     match spec.objective {
         Objective::WidestStableBand { .. } => {
             let w = |v: &[crate::design::evaluate::OperatingBand]| {
                 v.iter()
                     .map(|b| match b.band.band {
-                        Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at Ω = {}", x.lo, x.hi, x.width(), b.speed),
-                        None => format!("none (φ_op unstable) at Ω = {}", b.speed),
+                        Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at {}", x.lo, x.hi, x.width(), at(b.speed)),
+                        None => format!("none (φ_op unstable) at {}", at(b.speed)),
                     })
                     .collect::<Vec<_>>()
                     .join("; ")
@@ -236,8 +248,14 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
                 for it in o.after_intrusions() {
                     let b = &spec.objective.bands()[it.band];
                     s += &format!(
-                        "\nviolated: band [{}, {}] (clearance {}) at Ω = {}: {} at [{:.2}, {:.2}] rad/s",
-                        b.lo, b.hi, b.clearance, it.speed, it.label, it.left, it.right
+                        "\nviolated: band [{}, {}] (clearance {}) at {}: {} at [{:.2}, {:.2}] rad/s",
+                        b.lo,
+                        b.hi,
+                        b.clearance,
+                        at(it.speed),
+                        it.label,
+                        it.left,
+                        it.right
                     );
                 }
             }
@@ -291,7 +309,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     }
     for d in &o.after_speeds {
         for f in &d.failures {
-            s += &format!("\n  at Ω = {}: {f}", d.speed);
+            s += &format!("\n  at {}: {f}", at(d.speed));
         }
     }
     s += &format!(

@@ -7,7 +7,7 @@ use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::cost::{self, Budget, Dense, PointCost};
 use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
 use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
-use crate::analysis::response::{checked_response, ResponseResult};
+use crate::analysis::response::{checked_response, response_steps, ResponseResult};
 use crate::analysis::unbalance::Probe;
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
@@ -266,7 +266,11 @@ pub fn chart_cmd(
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main_warnings, &main)?;
     let label = super::plot_title(problem);
-    let name = if by_file { label.clone() } else { layer_name(problem) };
+    let files = compared.as_ref().map(|(_, other, _)| super::compare::file_layer_names(problem, other));
+    let name = match (&files, by_file) {
+        (Some((main_name, _)), true) => main_name.clone(),
+        _ => layer_name(problem),
+    };
     let mut layers = vec![Layer { name, color: (31, 119, 180), chart: main.clone() }];
     let mut text = String::new();
     if let Some((name, other, c)) = compared {
@@ -274,7 +278,10 @@ pub fn chart_cmd(
         written();
         written();
         text += &format!("compare ({name}): {} of {} points unstable\n", c.unstable(), c.points.len());
-        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        let shown = match files {
+            Some((_, other_name)) if by_file => other_name,
+            _ => name.to_string(),
+        };
         layers.push(Layer { name: shown, color: (214, 39, 40), chart: c });
     }
     written();
@@ -312,8 +319,8 @@ pub fn chart_cmd(
     Ok(head + &text)
 }
 
-/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`. Progress:
-/// `response` (a step per load period), then `files`.
+/// `rotorshunt response FILE --phi P --beta B --periods N --out DIR`. Progress: `floquet
+/// point` (time only), `response` (up to a hundred steps per load period), then `files`.
 pub fn response_cmd(
     problem: &Problem,
     phi: f64,
@@ -328,8 +335,10 @@ pub fn response_cmd(
     let (rotor, fs) = rotor_and_system(problem, &budget)?;
     bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
+    // The Floquet point first: a phase without counted steps (time only in the log).
+    progress.phase("floquet point", 0);
     let point = fs.point(phi, beta);
-    progress.phase("response", periods as u64);
+    progress.phase("response", response_steps(&fs, phi, periods));
     let r: ResponseResult = checked_response(&fs, phi, beta, periods, progress)?;
     let written = files_phase(progress, 4);
     let dir = OutDir::create(out, &problem.file)?;

@@ -34,6 +34,7 @@ use crate::analysis::limits::{self, MAX_COUNT};
 use crate::analysis::modes::{lowest_whirls_of, WhirlMode};
 use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
+use crate::numbers::SpeedUnit;
 use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::{campbell as campbell_report, summary};
@@ -138,6 +139,17 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, bu
     }
 }
 
+/// The operating speeds of a problem (rad/s): its `speed` and a design's speeds, each once.
+fn operating_speeds(problem: &Problem) -> Vec<f64> {
+    let mut out = vec![problem.model.speed];
+    for &w in problem.design.iter().flat_map(|d| d.speeds.iter()) {
+        if !out.contains(&w) {
+            out.push(w);
+        }
+    }
+    out
+}
+
 /// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
 /// Progress: `whirls` (a step per speed), then `files` (a step per file).
 pub fn campbell_cmd(
@@ -149,10 +161,12 @@ pub fn campbell_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speeds = args::parse_speed_range(speeds, "--speeds")?;
+    let (speeds, given) = args::parse_speeds(speeds, "--speeds")?;
     for &w in &speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }
+    // rpm on the axis when the user gave rpm, on the command line or in the file.
+    let unit = if given == SpeedUnit::Rpm { given } else { problem.speed_unit() };
     let threads = rayon::current_num_threads();
     let estimate = crate::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
     bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
@@ -161,28 +175,58 @@ pub fn campbell_cmd(
     progress.phase("whirls", speeds.len() as u64);
     let result = campbell(&rotor, &problem.settings, &speeds, count, progress)?;
     progress.phase("files", 4);
+    let operating = operating_speeds(problem);
+    let critical = campbell_report::critical_speeds(&result);
     #[derive(Serialize)]
     struct Json<'a> {
         #[serde(flatten)]
         provenance: Provenance,
         campbell: &'a crate::analysis::campbell::CampbellResult,
+        /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
+        operating_speeds: &'a [f64],
+        /// The crossings of the tracks with the 1× line, by speed.
+        critical_speeds: &'a [campbell_report::CriticalSpeed],
     }
-    let json = Json { provenance: Provenance::of(problem), campbell: &result };
+    let json = Json {
+        provenance: Provenance::of(problem),
+        campbell: &result,
+        operating_speeds: &operating,
+        critical_speeds: &critical,
+    };
     dir.write("campbell.json", json_pretty(&json, "the JSON output")?.as_bytes())?;
     progress.advance(1);
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
     progress.advance(1);
-    let plot = campbell_report::campbell_plot(&result, &format!("Campbell diagram: {}", plot_title(problem)));
+    let plot = campbell_report::campbell_plot(
+        &result,
+        &format!("Campbell diagram: {}", plot_title(problem)),
+        unit,
+        &operating,
+    );
     dir.figure("campbell", &plot)?;
     progress.advance(2);
     dir.commit("campbell", progress)?;
-    Ok(format!(
-        "campbell: {} speeds, {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
+    let mut text = format!(
+        "campbell: {} speeds ({}), {} tracks, {} low-MAC steps flagged (threshold {}); wrote campbell.{{csv,json,svg,png}} to {}\n",
         speeds.len(),
+        unit.range(speeds[0], speeds[speeds.len() - 1]),
         result.tracks.len(),
         result.flagged,
         result.mac_threshold,
         out.display()
-    ))
+    );
+    for w in &operating {
+        text += &format!("operating speed: {}\n", unit.text(*w));
+    }
+    text += "critical speeds (crossings with 1x):";
+    if critical.is_empty() {
+        text += " none in the range";
+    }
+    text += "\n";
+    for c in &critical {
+        let whirl = format!("{:?}", c.whirl).to_lowercase();
+        text += &format!("  {} ({whirl} whirl): {}\n", c.track, unit.text(c.speed));
+    }
+    Ok(text)
 }

@@ -215,7 +215,7 @@ pub fn regions_cmd(
             f(r.left),
             f(r.right),
             f(r.width),
-            if r.resolved { "" } else { "tip not located: start and onset are a point of the region and beta_c there" }
+            if r.resolved { "" } else { "onset is an upper bound (the tongue's tip merges with a neighbour's)" }
         );
     }
     for u in &cat.unexplained {

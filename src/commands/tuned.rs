@@ -18,7 +18,7 @@ pub fn tuned_toml(source: &Problem, outcome: &DesignOutcome) -> Result<String, E
         .zip(&outcome.after)
         .map(|(v, &value)| Setting { ring: v.ring, branch: v.branch, parameter: v.parameter, value })
         .collect();
-    let body = tuned_file(&source.data, &settings)
+    let body = tuned_file(&source.data, &settings, &source.rpm)
         .map_err(|e| Error::Output { path: design_file_name(outcome.status).into(), message: e.to_string() })?;
     let warning = if outcome.status.is_result() {
         String::new()

@@ -43,13 +43,17 @@ pub struct UnbalanceArgs<'a> {
     pub json: bool,
 }
 
-/// The speed grid of `--speeds`: parsed, each speed by its rule, at least one.
-fn speed_grid(text: &str, rule: fn(f64) -> Result<f64, limits::ParamError>) -> Result<Vec<f64>, Error> {
-    let speeds = super::args::parse_speed_range(text, "--speeds")?;
+/// The speed grid of `--speeds`: parsed, each speed by its rule, at least one; and the
+/// unit it was given in (rpm echoes in rpm).
+fn speed_grid(
+    text: &str,
+    rule: fn(f64) -> Result<f64, limits::ParamError>,
+) -> Result<(Vec<f64>, crate::numbers::SpeedUnit), Error> {
+    let (speeds, unit) = super::args::parse_speeds(text, "--speeds")?;
     for &w in &speeds {
         bounds::flag("--speeds", rule(w))?;
     }
-    Ok(speeds)
+    Ok((speeds, unit))
 }
 
 /// `--nodes 3,16` as node indices (empty text: none; an empty entry is refused).
@@ -151,7 +155,7 @@ pub fn unbalance_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     let UnbalanceArgs { speeds, nodes, compare, json } = args;
-    let speeds = speed_grid(speeds, limits::response_speed)?;
+    let (speeds, unit) = speed_grid(speeds, limits::response_speed)?;
     let nodes = node_list(nodes)?;
     // Every check and estimate before any file is touched, for each configuration.
     let other = match &compare {
@@ -188,28 +192,28 @@ pub fn unbalance_cmd(
     let mut layers = vec![BodeLayer {
         name: match (&compared, by_file) {
             (None, _) => String::new(),
-            (Some(_), true) => super::plot_title(problem),
+            (Some((_, other, _)), true) => super::compare::file_layer_names(problem, other).0,
             (Some(_), false) => super::layer_name(problem),
         },
         dashed: false,
         result: &main,
     }];
-    let mut text = peaks_text(&main, &format!("unbalance response: {}", title(problem)));
+    let mut text = peaks_text(&main, &format!("unbalance response: {}", title(problem)), unit);
     if let Some((name, other, r)) = &compared {
         write_layer(&dir, "compare", other, r)?;
-        text += &peaks_text(r, &format!("compare ({name}):"));
-        let shown = if by_file { super::plot_title(other) } else { name.to_string() };
+        text += &peaks_text(r, &format!("compare ({name}):"), unit);
+        let shown = if by_file { super::compare::file_layer_names(problem, other).1 } else { name.to_string() };
         layers.push(BodeLayer { name: shown, dashed: true, result: r });
     }
     // Real coordinates: a Bode plot per direction too (the main one draws semi-major axes).
     let directions: Vec<(&str, UnbalanceResult)> =
         ["x", "y"].iter().enumerate().filter_map(|(plane, name)| Some((*name, main.direction(plane)?))).collect();
-    let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers };
+    let plot = BodePlot { title: format!("Unbalance response: {}", super::plot_title(problem)), layers, unit };
     dir.figure("bode", &plot)?;
     for (name, r) in &directions {
         let layers = vec![BodeLayer { name: format!("{name} direction"), dashed: false, result: r }];
         let title = format!("Unbalance response, {name} direction: {}", super::plot_title(problem));
-        dir.figure(&format!("bode-{name}"), &BodePlot { title, layers })?;
+        dir.figure(&format!("bode-{name}"), &BodePlot { title, layers, unit })?;
     }
     dir.commit("unbalance", progress)?;
     let files = match (compared.is_some(), directions.is_empty()) {
@@ -221,10 +225,9 @@ pub fn unbalance_cmd(
         (false, false) => "unbalance.{json,csv}, peaks.csv and bode{,-x,-y}.{svg,png}",
     };
     let head = format!(
-        "unbalance: {} speeds ({} to {} rad/s), {} probes; wrote {files} to {}\n",
+        "unbalance: {} speeds ({}), {} probes; wrote {files} to {}\n",
         speeds.len(),
-        speeds[0],
-        speeds[speeds.len() - 1],
+        unit.range(speeds[0], speeds[speeds.len() - 1]),
         main.probes.len(),
         out.display()
     );
@@ -256,7 +259,7 @@ pub fn damping_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speeds = speed_grid(speeds, limits::speed)?;
+    let (speeds, unit) = speed_grid(speeds, limits::speed)?;
     let tags: Vec<String> = super::args::parse_list(modes, "--modes")?.into_iter().map(String::from).collect();
     let threads = rayon::current_num_threads();
     let estimate = cost::dense(&problem.model, Dense::Whirls(speeds.len() + 1), threads);
@@ -273,5 +276,5 @@ pub fn damping_cmd(
         let out = DampingJson { provenance: Provenance::of(problem), speeds: &speeds, modes: &result };
         return Ok(json_pretty(&out, "the JSON output")? + "\n");
     }
-    Ok(damping_text(&result, &speeds))
+    Ok(damping_text(&result, &speeds, unit))
 }

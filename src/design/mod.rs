@@ -24,7 +24,9 @@
 //!
 //! Constraints are judged afresh on the tuned design, whatever the objective.
 //!
-//! Every result is checked independently on a 1 rad/s grid at β_op.
+//! Every result is checked independently ([`verify`]): the full region catalogue, the
+//! reference (DSTM) Floquet point at the tongue centres near the band, and a grid at
+//! β_op over the band(s) [`verify::GRID_STEP`] (0.05 rad/s) apart.
 
 pub mod content;
 pub mod evaluate;

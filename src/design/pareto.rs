@@ -397,6 +397,7 @@ mod tests {
             constraints,
             speed_range: None,
             tolerances: None,
+            speed_unit: Default::default(),
         }
     }
 

@@ -18,7 +18,7 @@ use serde::Serialize;
 pub struct Linear {
     /// Gradient g of the constraint in scaled variables (its unit per scaled unit).
     pub g: Vec<f64>,
-    /// Right-hand side h: the constraint reads g·d ≥ h (rad/s, or β for onsets).
+    /// Right-hand side h: the constraint reads g·d ≤ h (rad/s, or β for onsets).
     pub h: f64,
 }
 
@@ -31,7 +31,7 @@ pub struct StepProblem<'a> {
     pub reference: &'a [f64],
     /// Weights w_j > 0.
     pub weights: &'a [f64],
-    /// Linearised constraints g·d ≥ h, one per intrusion.
+    /// Linearised constraints g·d ≤ h, one per intrusion.
     pub constraints: &'a [Linear],
     /// Trust-region half-width Δ (scaled units).
     pub trust: f64,

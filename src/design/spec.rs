@@ -270,6 +270,9 @@ pub struct DesignSpec {
     /// Component tolerances (`[design.tolerances]`): the objective and constraints judged
     /// at the worst corner of the tolerance box, the result checked by Monte Carlo.
     pub tolerances: Option<Tolerances>,
+    /// The unit the operating speeds are shown in (rpm when the file gave them in rpm,
+    /// [`crate::problem::Problem::speed_unit`]); display only, not in the JSON.
+    pub speed_unit: crate::numbers::SpeedUnit,
 }
 
 /// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys

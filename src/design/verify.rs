@@ -474,7 +474,11 @@ pub fn verify(
 
 /// `at Ω = w rad/s <text>` for every speed, joined.
 fn each(at: &[DesignAtSpeed], f: &dyn Fn(usize, &DesignAtSpeed) -> String) -> String {
-    at.iter().enumerate().map(|(k, d)| format!("at Ω = {} rad/s {}", d.speed, f(k, d))).collect::<Vec<_>>().join("; ")
+    at.iter()
+        .enumerate()
+        .map(|(k, d)| format!("at Ω = {} rad/s {}", crate::numbers::sig(d.speed, 5), f(k, d)))
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// Why a design has no window to check: its objective and constraints name none.

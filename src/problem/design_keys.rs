@@ -343,6 +343,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,
         response,
         constraints,
+        speed_unit: Default::default(),
     }))
 }
 

@@ -53,6 +53,11 @@ pub struct Problem {
     /// The file's text as read (before the overrides), so that a later refusal can name
     /// a key's line ([`Problem::locate`]); empty for data built in code.
     pub text: std::sync::Arc<str>,
+    /// The speeds given in rpm (by the file or `--set`): each rpm key's path
+    /// (`speed_rpm`, `design.speeds_rpm`) and its value as given; `data` holds them in
+    /// rad/s. Text and titles echo these speeds in rpm ([`Problem::speed_unit`]), and a
+    /// tuned file writes them back under the same keys.
+    pub rpm: Vec<(String, toml::Value)>,
 }
 
 /// SHA-256 (hex) of a problem text and its overrides.
@@ -83,6 +88,17 @@ impl Problem {
     /// A refusal of `key` with `kind`, located in the file ([`Problem::locate`]).
     pub fn refuse(&self, key: &str, kind: ProblemErrorKind) -> ProblemError {
         ProblemError { file: self.file.clone(), location: self.locate(key), key: key.to_string(), kind }
+    }
+
+    /// The unit the problem's operating speeds are shown in: rpm when the file (or
+    /// `--set`) gave `speed_rpm` or `design.speeds_rpm` (or `design.speed_range_rpm`),
+    /// else rad/s.
+    pub fn speed_unit(&self) -> crate::numbers::SpeedUnit {
+        let rpm = self
+            .rpm
+            .iter()
+            .any(|(k, _)| matches!(k.as_str(), "speed_rpm" | "design.speeds_rpm" | "design.speed_range_rpm"));
+        crate::numbers::SpeedUnit::of(rpm)
     }
 
     /// The assembled rotor of the problem's model, P_cr computed or given.
@@ -170,6 +186,7 @@ impl Problem {
             set_path(&mut table, key, value).map_err(override_error)?;
             index.mark_overridden(key);
         }
+        let rpm_given = units::rpm_given(&table);
         let rpm = units::convert_rpm(&mut table).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         let data: ProblemFile = serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
             let mut key = e.path().to_string();
@@ -211,7 +228,7 @@ impl Problem {
             });
             err(location, &key, kind)
         })?;
-        let design = design_keys::design(&data, &model).map_err(|(key, kind)| {
+        let mut design = design_keys::design(&data, &model).map_err(|(key, kind)| {
             let key = units::file_key(&key, &rpm);
             err(index.locate(&key), &key, kind)
         })?;
@@ -225,18 +242,24 @@ impl Problem {
             .into_iter()
             .map(|(key, kind)| Warning { file: name.to_string(), location: index.locate(&key), key, kind })
             .collect();
-        Ok(Problem {
+        let mut problem = Problem {
             file: name.to_string(),
             data,
             model,
             settings,
             regions,
-            design,
+            design: None,
             overrides: overrides.to_vec(),
             input_sha256: input_hash(text, overrides),
             warnings,
             text: text.into(),
-        })
+            rpm: rpm_given,
+        };
+        if let Some(spec) = &mut design {
+            spec.speed_unit = problem.speed_unit();
+        }
+        problem.design = design;
+        Ok(problem)
     }
 }
 
@@ -270,6 +293,7 @@ impl Problem {
             input_sha256,
             warnings,
             text: "".into(),
+            rpm: Vec::new(),
         })
     }
 }

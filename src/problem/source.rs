@@ -64,6 +64,14 @@ impl<'a> LineIndex<'a> {
         self.overridden.iter().any(|o| o == path)
     }
 
+    /// Byte offset in the text of the deepest part of `path` it holds (a key, or an
+    /// array element), whatever the overrides; `None` when the text does not parse or
+    /// holds not even the path's first key.
+    pub fn offset(&self, path: &str) -> Option<usize> {
+        let doc = DeTable::parse(self.text).ok()?;
+        offset_in_table(doc.get_ref(), path)
+    }
+
     /// Where a key path comes from: `Some(line)` in the file, or `None` when it (or a
     /// parent) was set on the command line or is absent (then the nearest present parent's
     /// line is used if there is one).

@@ -54,8 +54,13 @@ impl Problem {
 /// shorthand's `[circuit]`, one ring's, or every ring's): a complete problem file. A
 /// tuning frequency replaces the branch's inductance and the reverse, as a `--set` of
 /// one of two alternative keys does. A setting naming a branch the file does not have
-/// changes nothing.
-pub fn tuned_file(base: &ProblemFile, settings: &[Setting]) -> Result<String, toml::ser::Error> {
+/// changes nothing. The speeds the input gave in rpm (`rpm`, as [`Problem::rpm`]) are
+/// written back under their rpm keys with the values as given.
+pub fn tuned_file(
+    base: &ProblemFile,
+    settings: &[Setting],
+    rpm: &[(String, toml::Value)],
+) -> Result<String, toml::ser::Error> {
     let mut data = base.clone();
     for s in settings {
         let targets: Vec<&mut BranchFile> = match (&mut data.circuit, s.ring) {
@@ -69,7 +74,30 @@ pub fn tuned_file(base: &ProblemFile, settings: &[Setting]) -> Result<String, to
             set(b, s.parameter, s.value);
         }
     }
-    toml::to_string(&data)
+    Ok(with_rpm_keys(&toml::to_string(&data)?, rpm))
+}
+
+/// `text` (a serialised problem file, one key per line, arrays inline) with each rad/s
+/// speed key that `rpm` gives in rpm (`speed_rpm`, `design.speeds_rpm`, …) replaced by
+/// its rpm key and value as given.
+fn with_rpm_keys(text: &str, rpm: &[(String, toml::Value)]) -> String {
+    let mut table = String::new();
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with('[') {
+            table = t.trim_matches(|c| c == '[' || c == ']').trim().to_string();
+        }
+        let replaced = rpm.iter().find_map(|(path, value)| {
+            let (parent, key) = path.rsplit_once('.').unwrap_or(("", path));
+            let rad = super::units::alternative_of(key)?;
+            let prefix = format!("{rad} = ");
+            (parent == table && t.starts_with(&prefix)).then(|| format!("{key} = {value}"))
+        });
+        out += replaced.as_deref().unwrap_or(line);
+        out.push('\n');
+    }
+    out
 }
 
 fn set(b: &mut BranchFile, parameter: Parameter, x: f64) {

@@ -111,6 +111,23 @@ pub fn convert_rpm(table: &mut toml::Table) -> Result<Vec<String>, Failure> {
     Ok(converted_keys)
 }
 
+/// The speeds `table` gives in rpm, before [`convert_rpm`]: each rpm key's path
+/// (`speed_rpm`, `design.speeds_rpm`) and its value as given, in [`RPM_KEYS`] order. What a
+/// tuned file writes back under the user's own key.
+pub fn rpm_given(table: &toml::Table) -> Vec<(String, toml::Value)> {
+    let mut out = Vec::new();
+    for (parent, _, rpm) in RPM_KEYS {
+        let mut t = Some(table);
+        for part in parent.split('.').filter(|p| !p.is_empty()) {
+            t = t.and_then(|t| t.get(part)).and_then(toml::Value::as_table);
+        }
+        if let Some(v) = t.and_then(|t| t.get(rpm)) {
+            out.push((full_key(parent, rpm), v.clone()));
+        }
+    }
+    out
+}
+
 /// One speed in rpm as rad/s.
 fn to_rad_per_s(
     key: &str,

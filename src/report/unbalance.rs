@@ -6,6 +6,7 @@ use super::plot::{area_box, draw_pieces, with_legend_column, Curve, CurvePlot, D
 use super::style::{self, err, Dash, Entry, Key, Marker};
 use crate::analysis::damping::ModeDamping;
 use crate::analysis::unbalance::UnbalanceResult;
+use crate::numbers::SpeedUnit;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::cell::Cell;
@@ -26,13 +27,24 @@ pub struct BodeLayer<'a> {
 }
 
 /// A Bode plot of one or two configurations: every probe's amplitude (m, log scale) over
-/// its phase (rad, unwrapped along the speed), against the speed (rad/s).
+/// its phase (rad, unwrapped along the speed), against the speed (rad/s, or rpm when the
+/// speeds were given in rpm). Each curve is the grid with the samples of the peaks'
+/// refinement ([`crate::analysis::unbalance::ProbeResponse::curve`]), so it passes through
+/// every refined peak, and the amplitude axis spans every peak.
 pub struct BodePlot<'a> {
     /// Caption drawn above the plot (shrunk or wrapped to fit).
     pub title: String,
     /// The configurations (solid, then dashed).
     pub layers: Vec<BodeLayer<'a>>,
+    /// The unit of the speed axis.
+    pub unit: crate::numbers::SpeedUnit,
 }
+
+/// A probe's drawn curve in a [`BodePlot`]: its index (colour), layer, points (x in the
+/// axis unit, |U| m, arg U rad) and refined peaks.
+type DrawnProbe<'a> = (usize, &'a BodeLayer<'a>, Vec<[f64; 3]>, &'a [crate::analysis::unbalance::Peak]);
+/// A probe's phase curve: its index, layer and points (x, arg U in degrees).
+type PhaseCurve<'a> = (usize, &'a BodeLayer<'a>, Vec<(f64, f64)>);
 
 /// The phase unwrapped along the speeds (rad): jumps of more than π are taken as 2π
 /// wraps, so the curve is continuous through −π.
@@ -54,6 +66,30 @@ pub fn unwrapped(phase: &[f64]) -> Vec<f64> {
 }
 
 impl BodePlot<'_> {
+    /// The drawn amplitude curves, one per layer and probe: (x in the axis unit, |U| m),
+    /// the grid and the refinement's samples merged by speed.
+    pub fn drawn(&self) -> Vec<Vec<(f64, f64)>> {
+        self.layers
+            .iter()
+            .flat_map(|l| l.result.probes.iter().map(|p| p.curve(&l.result.speeds)))
+            .map(|c| c.into_iter().map(|[w, a, _]| (self.unit.value(w), a)).collect())
+            .collect()
+    }
+
+    /// The amplitude axis (m) and the smallest amplitude drawn: the drawn curves and every
+    /// refined peak inside, at most `AMPLITUDE_DECADES` below the largest.
+    pub fn amplitude_axis(&self) -> ((f64, f64), f64) {
+        let curves = self.drawn();
+        let peaks =
+            self.layers.iter().flat_map(|l| l.result.probes.iter().flat_map(|p| p.peaks.iter().map(|k| k.amplitude)));
+        let amax = curves.iter().flatten().map(|p| p.1).chain(peaks).filter(|a| a.is_finite()).fold(0.0, f64::max);
+        let amax = amax.max(f64::MIN_POSITIVE);
+        let floor = amax * AMPLITUDE_DECADES;
+        let amin = curves.iter().flatten().map(|p| p.1).filter(|a| *a >= floor).fold(amax, f64::min);
+        let range = if amin < amax { (amin / 1.5, amax * 1.5) } else { (amax / 10.0, amax * 10.0) };
+        (range, floor)
+    }
+
     /// Legend: a colour per probe (the first layer's names), a line style per
     /// configuration when there are two.
     fn legend(&self) -> Vec<Entry> {
@@ -89,15 +125,23 @@ impl Drawing for BodePlot<'_> {
         let entries = self.legend();
         let (area, legend_area) = with_legend_column(area, &entries)?;
         let (top, bottom) = area.split_vertically((area.dim_in_pixel().1 as f64 * 0.6) as u32);
-        let all = || self.layers.iter().flat_map(|l| l.result.probes.iter().map(move |p| (l, p)));
-        let speeds = || self.layers.iter().flat_map(|l| l.result.speeds.iter().copied());
-        let x0 = speeds().fold(f64::INFINITY, f64::min);
-        let x1 = speeds().fold(f64::NEG_INFINITY, f64::max);
+        let unit = self.unit;
+        // Each probe's drawn curve: (x in the axis unit, |U|, arg U).
+        let curves: Vec<DrawnProbe<'_>> = self
+            .layers
+            .iter()
+            .flat_map(|l| {
+                l.result.probes.iter().enumerate().map(move |(k, p)| {
+                    let c = p.curve(&l.result.speeds).into_iter().map(|[w, a, ph]| [unit.value(w), a, ph]).collect();
+                    (k, l, c, p.peaks.as_slice())
+                })
+            })
+            .collect();
+        let xs = || curves.iter().flat_map(|c| c.2.iter().map(|p| p[0]));
+        let x0 = xs().fold(f64::INFINITY, f64::min);
+        let x1 = xs().fold(f64::NEG_INFINITY, f64::max);
         let (x0, x1) = if x1 > x0 { (x0, x1) } else { (x0 - 1.0, x0 + 1.0) };
-        let amax = all().flat_map(|(_, p)| p.amplitude.iter().copied()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
-        let floor = amax * AMPLITUDE_DECADES;
-        let amin = all().flat_map(|(_, p)| p.amplitude.iter().copied()).filter(|a| *a >= floor).fold(amax, f64::min);
-        let (ylo, yhi) = if amin < amax { (amin / 1.5, amax * 1.5) } else { (amax / 10.0, amax * 10.0) };
+        let ((ylo, yhi), floor) = self.amplitude_axis();
         let curve = |k: usize, layer: &BodeLayer<'_>, points: Vec<(f64, f64)>| Curve {
             dash: if layer.dashed { Dash::Dashed } else { Dash::Solid },
             marker: style::marker(k),
@@ -117,43 +161,28 @@ impl Drawing for BodePlot<'_> {
             .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .draw()
             .map_err(err)?;
-        for layer in &self.layers {
-            for (k, p) in layer.result.probes.iter().enumerate() {
-                let points: Vec<(f64, f64)> = layer
-                    .result
-                    .speeds
-                    .iter()
-                    .zip(&p.amplitude)
-                    .filter(|(_, a)| **a >= floor)
-                    .map(|(w, a)| (*w, *a))
-                    .collect();
-                let pieces = clip::clip_polyline(&points, (x0, x1), (ylo, yhi));
-                draw_pieces(&mut amp, &curve(k, layer, Vec::new()), pieces)?;
-                let c = style::rgb(style::color(k));
-                amp.draw_series(
-                    p.peaks
-                        .iter()
-                        .filter(|k| k.amplitude >= ylo && k.amplitude <= yhi)
-                        .map(|k| Circle::new((k.speed, k.amplitude), 4, c.stroke_width(2))),
-                )
-                .map_err(err)?;
-            }
+        for (k, layer, points, peaks) in &curves {
+            let points: Vec<(f64, f64)> = points.iter().filter(|p| p[1] >= floor).map(|p| (p[0], p[1])).collect();
+            let pieces = clip::clip_polyline(&points, (x0, x1), (ylo, yhi));
+            draw_pieces(&mut amp, &curve(*k, layer, Vec::new()), pieces)?;
+            let c = style::rgb(style::color(*k));
+            amp.draw_series(
+                peaks.iter().map(|p| Circle::new((unit.value(p.speed), p.amplitude), 4, c.stroke_width(2))),
+            )
+            .map_err(err)?;
         }
         let amp_box = area_box(amp.plotting_area());
 
-        let phases: Vec<(usize, &BodeLayer<'_>, Vec<f64>)> = self
-            .layers
+        let phases: Vec<PhaseCurve<'_>> = curves
             .iter()
-            .flat_map(|l| {
-                l.result
-                    .probes
-                    .iter()
-                    .enumerate()
-                    .map(move |(k, p)| (k, l, unwrapped(&p.phase).iter().map(|v| v.to_degrees()).collect()))
+            .map(|(k, l, c, _)| {
+                let phase: Vec<f64> = c.iter().map(|p| p[2]).collect();
+                let deg = unwrapped(&phase).into_iter().map(f64::to_degrees);
+                (*k, *l, c.iter().map(|p| p[0]).zip(deg).collect())
             })
             .collect();
-        let plo = phases.iter().flat_map(|x| x.2.iter().copied()).fold(f64::INFINITY, f64::min);
-        let phi = phases.iter().flat_map(|x| x.2.iter().copied()).fold(f64::NEG_INFINITY, f64::max);
+        let plo = phases.iter().flat_map(|x| x.2.iter().map(|p| p.1)).fold(f64::INFINITY, f64::min);
+        let phi = phases.iter().flat_map(|x| x.2.iter().map(|p| p.1)).fold(f64::NEG_INFINITY, f64::max);
         let (plo, phi) = if phi > plo { (plo - 10.0, phi + 10.0) } else { (-180.0, 30.0) };
         let mut ph = ChartBuilder::on(&bottom)
             .margin(style::MARGIN)
@@ -162,7 +191,7 @@ impl Drawing for BodePlot<'_> {
             .build_cartesian_2d(x0..x1, plo..phi)
             .map_err(err)?;
         ph.configure_mesh()
-            .x_desc(style::axis_label("speed", "Ω", "rad/s"))
+            .x_desc(style::axis_label("speed", unit.symbol(), unit.unit()))
             .y_desc(style::axis_label("phase", "arg U", "deg"))
             .x_label_formatter(&style::tick)
             .y_label_formatter(&style::tick)
@@ -170,9 +199,8 @@ impl Drawing for BodePlot<'_> {
             .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE))
             .draw()
             .map_err(err)?;
-        for (k, layer, values) in &phases {
-            let points: Vec<(f64, f64)> = layer.result.speeds.iter().copied().zip(values.iter().copied()).collect();
-            let pieces = clip::clip_polyline(&points, (x0, x1), (plo, phi));
+        for (k, layer, points) in &phases {
+            let pieces = clip::clip_polyline(points, (x0, x1), (plo, phi));
             draw_pieces(&mut ph, &curve(*k, layer, Vec::new()), pieces)?;
         }
         let ph_box = area_box(ph.plotting_area());
@@ -312,15 +340,15 @@ pub fn peaks_csv(r: &UnbalanceResult) -> Result<String, csv::Error> {
 }
 
 /// The peaks as a text table, with each probe's largest amplitude over the range.
-pub fn peaks_text(r: &UnbalanceResult, heading: &str) -> String {
+pub fn peaks_text(r: &UnbalanceResult, heading: &str, unit: SpeedUnit) -> String {
     let mut s = format!("{heading}\n");
     for p in &r.probes {
         let (w, a, unbounded) = p.largest(&r.speeds);
         s += &format!(
-            "  {}: largest {:.4e} m at {:.2} rad/s{}\n",
+            "  {}: largest {:.4e} m at {}{}\n",
             p.probe.name,
             a,
-            w,
+            unit.text(w),
             if unbounded { " (unbounded: undamped critical speed)" } else { "" }
         );
         for k in &p.peaks {
@@ -329,7 +357,12 @@ pub fn peaks_text(r: &UnbalanceResult, heading: &str) -> String {
                 (Some(af), false) => format!("AF = {af:.2}"),
                 (None, false) => "AF not defined (half-power point beyond the range)".to_string(),
             };
-            s += &format!("    peak at {:.3} rad/s: {:.4e} m, phase {:+.3} rad, {af}\n", k.speed, k.amplitude, k.phase);
+            s += &format!(
+                "    peak at {}: {:.4e} m, phase {:+.3} rad, {af}\n",
+                unit.text(k.speed),
+                k.amplitude,
+                k.phase
+            );
         }
     }
     s
@@ -337,11 +370,12 @@ pub fn peaks_text(r: &UnbalanceResult, heading: &str) -> String {
 
 /// The damping ratios as a text table: per mode its ζ at the first and last speed and its
 /// smallest ζ with the speed of it.
-pub fn damping_text(modes: &[ModeDamping], speeds: &[f64]) -> String {
+pub fn damping_text(modes: &[ModeDamping], speeds: &[f64], unit: SpeedUnit) -> String {
     let (first, last) = (speeds.first().copied().unwrap_or(0.0), speeds.last().copied().unwrap_or(0.0));
     let mut s = format!(
-        "damping ratios zeta = -Re(lambda)/|lambda| over {} speeds, {first} to {last} rad/s\n{:<14} {:>14} {:>14} {:>14} {:>14} {:>8}\n",
+        "damping ratios zeta = -Re(lambda)/|lambda| over {} speeds, {}\n{:<14} {:>14} {:>14} {:>14} {:>14} {:>8}\n",
         speeds.len(),
+        unit.range(first, last),
         "mode",
         "zeta first",
         "zeta last",

@@ -86,7 +86,7 @@ impl Margins {
                 l.order,
                 l.start,
                 l.onset,
-                if l.resolved { "" } else { ", an upper bound: tip not located" }
+                if l.resolved { "" } else { ", an upper bound: the tongue's lowest point was not found" }
             ),
             None => format!(
                 "more than {:.1} % (no counted tongue born inside the band up to beta = {})",

@@ -408,6 +408,12 @@ pub struct ProbeResponse {
     pub phase: Vec<f64>,
     /// The refined peaks, by speed.
     pub peaks: Vec<Peak>,
+    /// Samples (Ω rad/s, |U| m, arg U rad) of the analytic response between grid speeds
+    /// that the peaks' refinement solved, by speed: a plot draws the grid and these
+    /// together, so its curve passes through every refined peak. Not in the JSON (the
+    /// peaks are).
+    #[serde(skip)]
+    pub refined: Vec<[f64; 3]>,
     /// Real coordinates only: the elliptical orbit at each speed (`amplitude` is then its
     /// semi-major axis and `phase` that of its x motion); absent in complex coordinates,
     /// where the orbit is the circle of radius `amplitude`.
@@ -455,6 +461,17 @@ impl OrbitResponse {
 }
 
 impl ProbeResponse {
+    /// The drawn curve (Ω rad/s, |U| m, arg U rad): the grid and the refinement's samples
+    /// ([`ProbeResponse::refined`]) merged by speed.
+    pub fn curve(&self, speeds: &[f64]) -> Vec<[f64; 3]> {
+        let mut out: Vec<[f64; 3]> =
+            speeds.iter().zip(&self.amplitude).zip(&self.phase).map(|((w, a), p)| [*w, *a, *p]).collect();
+        out.extend(self.refined.iter().copied());
+        out.sort_by(|x, y| x[0].total_cmp(&y[0]));
+        out.dedup_by(|x, y| x[0] == y[0]);
+        out
+    }
+
     /// The largest amplitude over the range, grid ends and refined peaks included:
     /// (speed in rad/s, amplitude in m, unbounded).
     pub fn largest(&self, speeds: &[f64]) -> (f64, f64, bool) {
@@ -501,6 +518,7 @@ impl UnbalanceResult {
                     amplitude: amplitude.clone(),
                     phase: phase.clone(),
                     peaks: Vec::new(),
+                    refined: Vec::new(),
                     orbit: None,
                 })
             })
@@ -573,8 +591,8 @@ pub fn response_with(
                     (orbit.major.clone(), orbit.x_phase.clone(), Some(orbit))
                 }
             };
-            let peaks = refine_peaks(a, probe.dof, speeds, &amplitude, work)?;
-            Ok(ProbeResponse { probe: probe.clone(), amplitude, phase, peaks, orbit })
+            let (peaks, refined) = refine_peaks(a, probe.dof, speeds, &amplitude, work)?;
+            Ok(ProbeResponse { probe: probe.clone(), amplitude, phase, peaks, refined, orbit })
         })
         .collect()
 }

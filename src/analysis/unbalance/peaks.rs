@@ -63,24 +63,32 @@ struct Curve<'a> {
     speeds: &'a [f64],
     /// |U_dof| at each grid speed (m).
     amp: &'a [f64],
+    /// Every (Ω, |U|, arg U) the refinement solved, for the drawn curve.
+    samples: std::cell::RefCell<Vec<[f64; 3]>>,
 }
 
 impl Curve<'_> {
     /// The amplitude and phase at DOF `dof` at speed Ω ([`DynamicStiffness::amplitude`]).
     fn at(&self, speed: f64, work: &mut Workspace) -> Result<(f64, f64), AnalysisError> {
-        Ok(self.a.amplitude(&self.a.solve(speed, work)?, self.dof))
+        let (amplitude, phase) = self.a.amplitude(&self.a.solve(speed, work)?, self.dof);
+        self.samples.borrow_mut().push([speed, amplitude, phase]);
+        Ok((amplitude, phase))
     }
 }
 
-/// The interior local maxima of `amp` over `speeds`, refined.
+/// The interior local maxima of `amp` over `speeds`, refined, and every sample of the
+/// analytic response the refinement solved (Ω, |U|, arg U), sorted by speed: points of the
+/// same response as the grid, dense near each peak (the golden section closes in on it,
+/// the half-power bisections sample both flanks), so a curve drawn through the grid and
+/// them passes through every refined peak.
 pub(super) fn refine_peaks(
     a: &DynamicStiffness,
     dof: usize,
     speeds: &[f64],
     amp: &[f64],
     work: &mut Workspace,
-) -> Result<Vec<Peak>, AnalysisError> {
-    let curve = Curve { a, dof, speeds, amp };
+) -> Result<(Vec<Peak>, Vec<[f64; 3]>), AnalysisError> {
+    let curve = Curve { a, dof, speeds, amp, samples: Default::default() };
     let mut peaks = Vec::new();
     for i in 1..amp.len().saturating_sub(1) {
         // Strict on the left, not on the right: a flat top counts once.
@@ -104,7 +112,10 @@ pub(super) fn refine_peaks(
             unbounded,
         });
     }
-    Ok(peaks)
+    let mut samples = curve.samples.into_inner();
+    samples.sort_by(|x, y| x[0].total_cmp(&y[0]));
+    samples.dedup_by(|x, y| x[0] == y[0]);
+    Ok((peaks, samples))
 }
 
 /// Golden-section maximisation of |U_dof| on [lo, hi], which holds the grid maximum

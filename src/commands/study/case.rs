@@ -113,7 +113,7 @@ const COUNT_METRICS: [&str; 4] =
 /// Metrics that are text.
 const TEXT_METRICS: [&str; 2] = ["design_status", "lowest_onset_region"];
 /// Metrics that are true or false.
-const FLAG_METRICS: [&str; 1] = ["verified"];
+const FLAG_METRICS: [&str; 3] = ["verified", "clipped", "clipped_after"];
 /// The metric that lists warnings (texts).
 const WARNINGS_METRIC: &str = "warnings";
 

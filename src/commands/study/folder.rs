@@ -40,12 +40,14 @@ pub(crate) const CASE_LOCK: &str = ".rotorshunt-case.lock";
 pub(crate) const CASES: &str = "cases";
 /// The folder of `study slurm`'s job scripts and Slurm's logs.
 pub(crate) const SLURM_DIR: &str = "slurm";
-/// The folder of the summaries (`summary.csv`, `summary.json`, `summary.md`), replaced
+/// The folder of the summaries (`summary.csv`, `summary.json`, `summary.md`, and the
+/// `figure.{svg,png}` of a sweep), replaced
 /// whole by each merge so that a reader finds the three of one generation.
 pub(crate) const SUMMARY: &str = "summary";
 /// The summaries, as paths inside the `--out` folder (checked against the run's inputs
 /// before any work).
-pub(crate) const SUMMARY_FILES: [&str; 3] = ["summary/summary.csv", "summary/summary.json", "summary/summary.md"];
+pub(crate) const SUMMARY_FILES: [&str; 5] =
+    ["summary/summary.csv", "summary/summary.json", "summary/summary.md", "summary/figure.svg", "summary/figure.png"];
 /// The entries a study writes in its `--out` folder besides its manifest and lock.
 pub(crate) const ROOT_OUTPUTS: [&str; 3] = [CASES, SUMMARY, SLURM_DIR];
 

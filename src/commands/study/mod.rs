@@ -367,7 +367,7 @@ pub fn study_cmd(
         }
     }
     if !sharded {
-        write_summary(&root, &rows, progress)?;
+        write_summary(&root, &plan.columns(), &rows, progress)?;
     }
     drop(lock);
     let failed = rows.iter().filter(|r| r.status != CaseStatus::Ok).count();
@@ -425,7 +425,8 @@ fn cell(v: Option<&serde_json::Value>) -> String {
 }
 
 /// The flags of a case's result a reader must not miss: `failed`, `infeasible`, `not
-/// verified` (a design), `phi_op unstable` (no stable band around φ_op).
+/// verified` (a design), `phi_op unstable` (no stable band around φ_op), `band clipped by the
+/// window` (a band bounded by the end of the φ window, not by a tongue).
 fn flags(r: &CaseResult) -> Vec<&'static str> {
     let mut f = Vec::new();
     if r.status == CaseStatus::Failed {
@@ -444,6 +445,9 @@ fn flags(r: &CaseResult) -> Vec<&'static str> {
     if unstable {
         f.push("phi_op unstable");
     }
+    if ["clipped", "clipped_after"].iter().any(|k| m(k).and_then(|v| v.as_bool()) == Some(true)) {
+        f.push("band clipped by the window");
+    }
     f
 }
 
@@ -460,11 +464,110 @@ fn case_link(r: &CaseResult) -> String {
     format!("[{file}](../{CASES}/{}/{file})", r.slug)
 }
 
+/// The metrics' column order: the key figures first (lo before hi), then the rest by
+/// name, then the counts of work and the warnings.
+fn metric_rank(key: &str) -> (usize, &str) {
+    const FIRST: [&str; 17] = [
+        "design_status",
+        "verified",
+        "band_lo",
+        "band_hi",
+        "band_width",
+        "clipped",
+        "band_width_before",
+        "band_width_after",
+        "band_lo_after",
+        "band_hi_after",
+        "clipped_after",
+        "strict_band_width_after",
+        "load_margin_after",
+        "phi_margin_below_after",
+        "phi_margin_above_after",
+        "lowest_onset",
+        "lowest_onset_region",
+    ];
+    const LAST: [&str; 3] = ["regions", "floquet_evaluations", "warnings"];
+    match (FIRST.iter().position(|k| *k == key), LAST.iter().position(|k| *k == key)) {
+        (Some(i), _) => (i, ""),
+        (None, Some(j)) => (FIRST.len() + 1 + j, ""),
+        (None, None) => (FIRST.len(), key),
+    }
+}
+
+/// The value case `r` gives the varied key `key` (its last `key=value` override), as text.
+fn key_value(r: &CaseResult, key: &str) -> String {
+    r.overrides
+        .iter()
+        .rev()
+        .find_map(|o| o.split_once('=').filter(|(k, _)| k.trim() == key).map(|(_, v)| v.trim().to_string()))
+        .unwrap_or_default()
+}
+
+/// The plot of the study's key figure against its first numeric varied key with at
+/// least two values: one line per combination of the other keys' values. None when the
+/// study has no such key or figure.
+fn sweep_figure(columns: &[String], rows: &[&CaseResult]) -> Option<crate::report::plot::CurvePlot> {
+    let ok: Vec<&&CaseResult> = rows.iter().filter(|r| r.status == CaseStatus::Ok).collect();
+    let x = columns.iter().position(|k| {
+        let values: Vec<Option<f64>> = ok.iter().map(|r| key_value(r, k).parse::<f64>().ok()).collect();
+        let mut distinct: Vec<f64> = values.iter().flatten().copied().collect();
+        distinct.sort_by(f64::total_cmp);
+        distinct.dedup();
+        values.iter().all(Option::is_some) && distinct.len() >= 2
+    })?;
+    let y = crate::report::study::PLOTTED_FIGURES
+        .into_iter()
+        .find(|f| ok.iter().any(|r| r.metrics.get(*f).and_then(|v| v.as_f64()).is_some()))?;
+    let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+    for r in &ok {
+        let name: Vec<String> = columns
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != x)
+            .map(|(_, k)| format!("{k} = {}", key_value(r, k)))
+            .collect();
+        let name = name.join(", ");
+        // A band width is 0 where φ_op is unstable (no band), as a design's is.
+        let value = match r.metrics.get(y) {
+            Some(serde_json::Value::Null) if y.contains("band_width") => Some(0.0),
+            v => v.and_then(|v| v.as_f64()),
+        };
+        let (Ok(px), Some(py)) = (key_value(r, &columns[x]).parse::<f64>(), value) else {
+            continue;
+        };
+        match series.iter_mut().find(|s| s.0 == name) {
+            Some(s) => s.1.push((px, py)),
+            None => series.push((name, vec![(px, py)])),
+        }
+    }
+    for s in &mut series {
+        s.1.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    let title = format!("Study: {y} against {}", columns[x]);
+    let y_label =
+        if y.contains("band_width") { format!("{y} (rad/s; 0: phi_op unstable)") } else { format!("{y} (−)") };
+    Some(crate::report::study::sweep_plot(&title, &columns[x], &y_label, series))
+}
+
 /// `summary/` of the study folder `root`, swapped whole: `summary.json`, `summary.csv` and
-/// `summary.md`, one row per case with its status, flags and key figures (and, in Markdown, a link to its output).
-pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult], progress: &dyn Progress) -> Result<(), Error> {
+/// `summary.md`, one row per case with the values of the keys its cases vary (`columns`,
+/// [`plan::Plan::columns`]), its status, flags and key figures (and, in Markdown, a link to
+/// its output), and `figure.{svg,png}`, the key figure against a swept key, when there is
+/// one ([`sweep_figure`]).
+pub(crate) fn write_summary(
+    root: &OutDir,
+    columns: &[String],
+    rows: &[&CaseResult],
+    progress: &dyn Progress,
+) -> Result<(), Error> {
     let dir = root.sub(folder::SUMMARY)?;
-    let keys: std::collections::BTreeSet<String> = rows.iter().flat_map(|r| r.metrics.keys().cloned()).collect();
+    let mut keys: Vec<String> = rows
+        .iter()
+        .flat_map(|r| r.metrics.keys().cloned())
+        .collect::<std::collections::BTreeSet<String>>()
+        .into_iter()
+        .collect();
+    keys.sort_by(|a, b| metric_rank(a).cmp(&metric_rank(b)));
     #[derive(Serialize)]
     struct Summary<'a> {
         tool: &'static str,
@@ -472,20 +575,19 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult], progress: &dyn 
     }
     let json = json_pretty(&Summary { tool: TOOL, cases: rows }, "the JSON output")? + "\n";
     dir.write("summary.json", json.as_bytes())?;
-    let mut header = vec!["case".to_string(), "kind".into(), "status".into(), "flags".into(), "seconds".into()];
+    let mut header = vec!["case".to_string()];
+    header.extend(columns.iter().cloned());
+    header.extend(["kind".to_string(), "status".into(), "flags".into()]);
     header.extend(keys.iter().cloned());
-    header.push("error".into());
+    header.extend(["seconds".to_string(), "error".into()]);
     let cells = rows
         .iter()
         .map(|r| {
-            let mut rec = vec![
-                r.name.clone(),
-                format!("{:?}", r.kind).to_lowercase(),
-                r.status.word().into(),
-                flags(r).join("; "),
-                format!("{:.2}", r.seconds),
-            ];
+            let mut rec = vec![r.name.clone()];
+            rec.extend(columns.iter().map(|k| key_value(r, k)));
+            rec.extend([format!("{:?}", r.kind).to_lowercase(), r.status.word().into(), flags(r).join("; ")]);
             rec.extend(keys.iter().map(|k| cell(r.metrics.get(k))));
+            rec.push(format!("{:.2}", r.seconds));
             rec.push(r.error.clone().unwrap_or_default());
             rec
         })
@@ -493,6 +595,11 @@ pub(crate) fn write_summary(root: &OutDir, rows: &[&CaseResult], progress: &dyn 
     let table = SummaryTable { header, rows: cells };
     dir.write("summary.csv", &table.csv().map_err(|e| dir.error("summary.csv", e))?)?;
     let links: Vec<String> = rows.iter().map(|r| case_link(r)).collect();
-    dir.write("summary.md", table.markdown(&links).as_bytes())?;
+    let mut md = table.markdown(&links);
+    if let Some(plot) = sweep_figure(columns, rows) {
+        dir.figure("figure", &plot)?;
+        md += &format!("\n![{}](figure.png)\n", plot.title);
+    }
+    dir.write("summary.md", md.as_bytes())?;
     dir.commit("study", progress)
 }

@@ -22,8 +22,9 @@ pub const MAX_STUDY_CASES: u64 = 1_000_000;
 
 /// Longest sanitised text of a case folder name (bytes, ASCII): with the hash suffix the
 /// name stays far below the 255 bytes every filesystem allows, with room for
-/// `write_atomic`'s temporaries beside the files inside it.
-const SLUG_TEXT_MAX: usize = 64;
+/// `write_atomic`'s temporaries beside the files inside it. Long enough for a sweep
+/// case's short keys and values (`resistance=0.0,tuning_frequency=900.0`).
+const SLUG_TEXT_MAX: usize = 80;
 
 /// Hex digits of the hash suffix of a folder name whose case name had to be changed: 64
 /// bits, so that even 10⁶ sweep names cut to the same first [`SLUG_TEXT_MAX`] bytes keep
@@ -45,20 +46,52 @@ pub struct Case {
 }
 
 /// The folder name of a case: its name with every character other than ASCII letters,
-/// digits, `-`, `_` and `.` replaced by `_`, leading and trailing `.` and `_` removed (no
-/// hidden, `.` or `..` folder), cut to [`SLUG_TEXT_MAX`] bytes, `case` if nothing is
-/// left; and, when that changed the name, a hash of the name appended (`-` and
+/// digits, `-`, `_`, `.`, `=` and `,` replaced by `_`, leading and trailing `.`, `_`, `=`
+/// and `,` removed (no hidden, `.` or `..` folder), cut to [`SLUG_TEXT_MAX`] bytes, `case` if
+/// nothing is left; and, when that changed the name, a hash of the name appended (`-` and
 /// [`SLUG_HASH_HEX`] hex digits of its SHA-256), so that names differing only in the
 /// characters replaced keep apart.
 pub(crate) fn slug(name: &str) -> String {
-    let mapped: String =
-        name.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' }).collect();
-    let text: String = mapped.trim_matches(|c| c == '.' || c == '_').chars().take(SLUG_TEXT_MAX).collect();
-    if !text.is_empty() && text == name {
+    shown_slug(name, name)
+}
+
+/// [`slug`] of the text `shown` (a sweep case's name with its keys shortened), with the
+/// hash of the case's full `name` when `shown` had to be changed.
+fn shown_slug(shown: &str, name: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.' | '=' | ',');
+    let mapped: String = shown.chars().map(|c| if safe(c) { c } else { '_' }).collect();
+    let text: String = mapped.trim_matches(['.', '_', '=', ',']).chars().take(SLUG_TEXT_MAX).collect();
+    if !text.is_empty() && text == shown {
         return text;
     }
     let hash = format!("{:x}", Sha256::digest(name.as_bytes()));
     format!("{}-{}", if text.is_empty() { "case" } else { &text }, &hash[..SLUG_HASH_HEX])
+}
+
+/// The shortest trailing part of each sweep key (its last `.`-separated segments) that
+/// still tells the keys apart: `rings[0].circuit.branches[0].resistance` is `resistance`
+/// beside `rings[0].circuit.branches[0].tuning_frequency`, and
+/// `branches[1].resistance` beside `branches[0].resistance`.
+fn short_keys(keys: &[String]) -> Vec<String> {
+    let tail = |k: &str, n: usize| {
+        let parts: Vec<&str> = k.split('.').collect();
+        parts[parts.len().saturating_sub(n)..].join(".")
+    };
+    let mut depth = vec![1usize; keys.len()];
+    loop {
+        let shown: Vec<String> = keys.iter().zip(&depth).map(|(k, &n)| tail(k, n)).collect();
+        let mut changed = false;
+        for i in 0..keys.len() {
+            let clash = (0..keys.len()).any(|j| j != i && shown[j] == shown[i]);
+            if clash && shown[i] != keys[i] {
+                depth[i] += 1;
+                changed = true;
+            }
+        }
+        if !changed {
+            return shown;
+        }
+    }
 }
 
 /// A study file read and checked: its parameters and the lazily iterated cases.
@@ -71,6 +104,10 @@ pub(crate) struct Plan {
     text: String,
     /// The sweep's keys (sorted).
     sweep_keys: Vec<String>,
+    /// The sweep's keys shortened for folder names ([`short_keys`]), in the same order.
+    short: Vec<String>,
+    /// The sweep's keys in the order of the study file.
+    file_order: Vec<String>,
     /// The sweep: per key (sorted), its overrides `key=value`.
     sweep: Vec<Vec<String>>,
     /// Cases of the sweep: the product of its value counts (0 without a sweep).
@@ -113,7 +150,21 @@ impl Plan {
             Some(n) if n <= MAX_STUDY_CASES => {}
             _ => return Err(Error::StudyTooLarge { file: file.display().to_string(), cases, limit: MAX_STUDY_CASES }),
         }
-        let plan = Plan { study, base, text: text.to_string(), sweep_keys, sweep, swept: swept.unwrap_or(0) };
+        let short = short_keys(&sweep_keys);
+        // The keys where the file gives them (the map is sorted): by their offset in it.
+        let index = LineIndex::new(&text);
+        let mut file_order = sweep_keys.clone();
+        file_order.sort_by_key(|k| index.offset(&format!("sweep.{k}")).unwrap_or(usize::MAX));
+        let plan = Plan {
+            study,
+            base,
+            text: text.to_string(),
+            sweep_keys,
+            short,
+            file_order,
+            sweep,
+            swept: swept.unwrap_or(0),
+        };
         plan.check_fields(file)?;
         Ok(plan)
     }
@@ -177,6 +228,21 @@ impl Plan {
         }
     }
 
+    /// The keys the cases vary, one summary column each: the sweep's in the order of the
+    /// study file, then those the listed cases `set`, in order of first appearance.
+    pub(crate) fn columns(&self) -> Vec<String> {
+        let mut out = self.file_order.clone();
+        for c in &self.study.cases {
+            for o in &c.set {
+                let key = o.split_once('=').map_or(o.as_str(), |(k, _)| k.trim());
+                if !out.iter().any(|k| k == key) {
+                    out.push(key.to_string());
+                }
+            }
+        }
+        out
+    }
+
     /// Number of cases (listed, then swept).
     pub(crate) fn len(&self) -> u64 {
         self.study.cases.len() as u64 + self.swept
@@ -211,8 +277,14 @@ impl Plan {
             rest /= n;
         }
         let name = parts.join(",");
+        let shown: Vec<String> = parts
+            .iter()
+            .zip(&self.sweep_keys)
+            .zip(&self.short)
+            .map(|((part, key), short)| format!("{short}{}", &part[key.len()..]))
+            .collect();
         Case {
-            slug: slug(&name),
+            slug: shown_slug(&shown.join(","), &name),
             name,
             kind: self.study.kind,
             overrides: self.study.set.iter().cloned().chain(parts.iter().map(|p| p.to_string())).collect(),
@@ -294,7 +366,7 @@ mod tests {
         let slugs: Vec<String> = names.iter().map(|n| slug(n)).collect();
         for (n, s) in names.iter().zip(&slugs) {
             assert!(!s.is_empty() && !s.starts_with('.') && !s.ends_with('.'), "{n:?} -> {s:?}");
-            assert!(s.bytes().all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b)), "{n:?} -> {s:?}");
+            assert!(s.bytes().all(|b| b.is_ascii_alphanumeric() || b"-_.=,".contains(&b)), "{n:?} -> {s:?}");
         }
         let distinct: BTreeSet<String> = slugs.iter().map(|s| s.to_ascii_lowercase()).collect();
         assert_eq!(distinct.len(), names.len(), "{slugs:?}");
@@ -326,6 +398,25 @@ mod tests {
             assert_eq!(c.overrides[0], "analysis.reduced_modes=4");
             assert_eq!(&c.overrides[1..], &e[..]);
         }
+    }
+
+    #[test]
+    fn sweep_folders_keep_every_value_under_short_keys() {
+        let p = plan(
+            "base = \"b.toml\"\n[sweep]\n\"rings[0].circuit.branches[0].tuning_frequency\" = [900.0]\n\"rings[0].circuit.branches[0].resistance\" = [0.0, 10.0]\n",
+        )
+        .unwrap();
+        assert_eq!(p.case(0).slug, "resistance=0.0,tuning_frequency=900.0");
+        assert_eq!(p.case(1).slug, "resistance=10.0,tuning_frequency=900.0");
+        assert_eq!(
+            p.columns(),
+            ["rings[0].circuit.branches[0].tuning_frequency", "rings[0].circuit.branches[0].resistance"]
+        );
+        let keys: Vec<String> =
+            ["circuit.branches[0].resistance", "circuit.branches[1].resistance", "speed"].map(String::from).to_vec();
+        assert_eq!(short_keys(&keys), ["branches[0].resistance", "branches[1].resistance", "speed"]);
+        let text = plan("base = \"b.toml\"\n[sweep]\ntitle = [\"a b\"]\n").unwrap();
+        assert!(text.case(0).slug.starts_with("title=_a_b-"), "{}", text.case(0).slug);
     }
 
     #[test]

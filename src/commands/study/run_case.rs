@@ -81,6 +81,7 @@ pub(super) fn run_case(
                 if let [only] = o.after_bands() {
                     m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
                     m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
+                    m.insert("clipped_after".into(), metric(clipped(&only.band)));
                 }
                 // The tuned band's margins (the smallest over the speeds; docs/studies.md).
                 let after: Vec<&crate::analysis::regions::Margins> =
@@ -127,10 +128,12 @@ pub(super) fn run_case(
             m.insert("floquet_evaluations".into(), metric(cat.evaluations));
             if let Some(p) = study.phi_op {
                 // The same band as `rotorshunt band` over the study's φ range.
-                let b = band(&fs, &full, &s, range, p, level)?.band;
+                let found = band(&fs, &full, &s, range, p, level)?;
+                let b = found.band;
                 m.insert("band_lo".into(), metric(b.map(|b| b.lo)));
                 m.insert("band_hi".into(), metric(b.map(|b| b.hi)));
                 m.insert("band_width".into(), metric(b.map(|b| b.width())));
+                m.insert("clipped".into(), metric(clipped(&found)));
             }
         }
     }
@@ -149,4 +152,11 @@ pub(super) fn finished(dir: &OutDir, case: &Case, hash: &str) -> Option<CaseResu
     }
     let r = super::case::read_result(&dir.path(""), case)?.ok()?;
     (r.input_hash == hash && r.status == CaseStatus::Ok).then_some(r)
+}
+
+/// Whether a band is bounded by the end of its search window (below or above) rather than
+/// by a tongue: its true extent may be wider than the window shows.
+fn clipped(b: &crate::analysis::regions::Band) -> bool {
+    use crate::analysis::regions::Bound;
+    b.band.is_some() && [&b.left, &b.right].iter().any(|x| matches!(x, Some(Bound::Window)))
 }

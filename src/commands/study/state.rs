@@ -371,7 +371,7 @@ pub fn merge_cmd(dir: &Path, progress: &dyn crate::progress::Progress) -> Result
     };
     let root = root.with_ledger(folder::root_ledger(dir, manifest));
     let rows: Vec<&CaseResult> = s.states.iter().filter_map(|(_, r)| r.as_ref()).collect();
-    write_summary(&root, &rows, progress)?;
+    write_summary(&root, &s.loaded.plan.columns(), &rows, progress)?;
     drop(lock);
     let r = report(dir, &s);
     let text = format!(

@@ -438,6 +438,8 @@ fn tube(s: &Shaft, material: usize) -> Tube {
 /// section of its own.
 fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize]) -> Vec<SectionOut> {
     let mut out: Vec<SectionOut> = Vec::new();
+    // Each section's element lengths, summed as the decimals ROSS wrote at the end.
+    let mut lengths: Vec<Vec<f64>> = Vec::new();
     let mut last: Vec<Tube> = Vec::new();
     let mut index = 0;
     for group in groups {
@@ -450,7 +452,9 @@ fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize
         });
         match out.last_mut().filter(|_| same) {
             Some(sec) => {
-                sec.length += s.L;
+                if let Some(l) = lengths.last_mut() {
+                    l.push(s.L);
+                }
                 sec.elements += 1;
                 sec.tags.1 = s.tag.clone();
                 for (layer, e) in sec.layers.iter_mut().zip(&group[1..]) {
@@ -471,6 +475,7 @@ fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize
                     })
                     .collect();
                 let t = &tubes[0];
+                lengths.push(vec![s.L]);
                 out.push(SectionOut {
                     length: s.L,
                     outer_diameter: t.1,
@@ -488,7 +493,45 @@ fn sections(groups: &[Vec<&Shaft>], materials: &[MaterialOut], material: &[usize
         }
         last = tubes;
     }
+    for (sec, l) in out.iter_mut().zip(&lengths) {
+        sec.length = decimal_sum(l);
+    }
     out
+}
+
+/// The sum of `values` as the decimals they print as (each f64's shortest round-trip
+/// form, which is what ROSS saved), rounded once: three elements of 0.1 make a section of
+/// 0.3, not the float sum 0.30000000000000004. Falls back to the float sum when the
+/// decimals do not fit an exact 128-bit sum (exponents far apart).
+pub fn decimal_sum(values: &[f64]) -> f64 {
+    let float = values.iter().sum::<f64>();
+    // (digits, exponent): value = digits · 10^exponent.
+    let parts: Option<Vec<(i128, i32)>> = values
+        .iter()
+        .map(|v| {
+            if !v.is_finite() {
+                return None;
+            }
+            let text = format!("{v:e}");
+            let (mantissa, exp) = text.split_once('e')?;
+            let exp: i32 = exp.parse().ok()?;
+            let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+            let digits: i128 = format!("{int}{frac}").parse().ok()?;
+            Some((digits, exp - frac.len() as i32))
+        })
+        .collect();
+    let Some(parts) = parts else { return float };
+    let Some(low) = parts.iter().map(|p| p.1).min() else { return 0.0 };
+    let mut total: i128 = 0;
+    for (digits, exp) in parts {
+        let scaled =
+            u32::try_from(exp - low).ok().and_then(|e| 10i128.checked_pow(e)).and_then(|f| digits.checked_mul(f));
+        match scaled.and_then(|x| total.checked_add(x)) {
+            Some(t) => total = t,
+            None => return float,
+        }
+    }
+    format!("{total}e{low}").parse().unwrap_or(float)
 }
 
 /// A grounded bearing or seal with its full coefficients and table, or why not.
@@ -596,4 +639,20 @@ fn support_mass(m: &[(&'static str, &Coefficient)]) -> Result<f64, Refusal> {
 
 fn limits_number(v: f64) -> String {
     crate::analysis::limits::number(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::decimal_sum;
+
+    #[test]
+    fn a_section_length_is_the_sum_of_the_decimals_ross_wrote() {
+        assert_eq!(0.1 + 0.1 + 0.1, 0.30000000000000004);
+        assert_eq!(decimal_sum(&[0.1, 0.1, 0.1]), 0.3);
+        assert_eq!(decimal_sum(&[0.25; 6]), 1.5);
+        assert_eq!(decimal_sum(&[0.035500000000000004]), 0.035500000000000004);
+        assert_eq!(decimal_sum(&[0.09999999999999999; 6]), 0.6);
+        assert_eq!(decimal_sum(&[1e-300, 1e300]), 1e300);
+        assert_eq!(decimal_sum(&[]), 0.0);
+    }
 }

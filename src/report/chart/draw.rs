@@ -159,8 +159,9 @@ pub(super) fn draw_regions<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Region labels at the top of each region (centred on its φ at the highest β inside
-/// the plot), skipped where they would collide with a label already drawn.
+/// Region labels at the start of each region: beside its tip (the lowest point inside
+/// the plot), on the right where the tongue, widening upwards, leaves room; skipped where
+/// they would collide with a label already drawn.
 pub(super) fn draw_region_labels<DB: DrawingBackend>(
     plot: &mut Chart2d<'_, DB>,
     regions: &[RegionShape],
@@ -173,35 +174,28 @@ pub(super) fn draw_region_labels<DB: DrawingBackend>(
         .filter(|r| !r.label.is_empty())
         .filter_map(|r| {
             let inside: Vec<(f64, f64)> = clip::clip_polygon(&r.outline, (x.start, x.end), (y.start, y.end));
-            let top = inside.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
-            if !top.is_finite() {
-                return None;
-            }
-            let at_top: Vec<f64> = inside.iter().filter(|p| p.1 >= top - 1e-12).map(|p| p.0).collect();
-            let cx = at_top.iter().sum::<f64>() / at_top.len() as f64;
-            Some((r, (cx, top)))
+            inside.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)).map(|tip| (r, tip))
         })
         .collect();
     // Lowest onset first: the regions that reach furthest down are the ones that matter.
-    order.sort_by(|a, b| {
-        let onset = |r: &RegionShape| r.outline.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-        onset(a.0).total_cmp(&onset(b.0))
-    });
-    for (r, (cx, top)) in order {
+    order.sort_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+    for (r, tip) in order {
         let (w, h) = plot.plotting_area().estimate_text_size(&r.label, &font).map_err(err)?;
         let (w, h) = (w as i32, h as i32);
-        let (px, py) = plot.backend_coord(&(cx, top));
-        let top_px = plot.backend_coord(&(cx, y.end)).1;
-        // Just above the region's top, or inside the plot's top edge.
-        let ly = (py - h - 3).max(top_px + 2);
-        let b = [(px - w / 2 - 2, ly - 1), (px + w / 2 + 2, ly + h + 1)];
+        let (px, py) = plot.backend_coord(&tip);
+        let top_px = plot.backend_coord(&(tip.0, y.end)).1;
+        let bottom_px = plot.backend_coord(&(tip.0, y.start)).1;
+        // Right of the tip, its baseline at the tip's height, inside the plot.
+        let ly = (py - h - 2).clamp(top_px + 2, (bottom_px - h - 4).max(top_px + 2));
+        let lx = px + 4;
+        let b = [(lx - 2, ly - 1), (lx + w + 2, ly + h + 1)];
         if !occupied.claim(b) {
             continue;
         }
         let dy = ly - py;
-        let anchor = EmptyElement::at((cx, top))
-            + Rectangle::new([(-w / 2 - 2, dy - 1), (w / 2 + 2, dy + h + 1)], WHITE.mix(0.8).filled())
-            + Text::new(r.label.clone(), (-w / 2, dy), font.clone());
+        let anchor = EmptyElement::at(tip)
+            + Rectangle::new([(2, dy - 1), (w + 6, dy + h + 1)], WHITE.mix(0.8).filled())
+            + Text::new(r.label.clone(), (4, dy), font.clone());
         plot.plotting_area().draw(&anchor).map_err(err)?;
     }
     Ok(())

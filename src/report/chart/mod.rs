@@ -140,7 +140,7 @@ pub struct Span {
 /// An instability region drawn at its true width.
 #[derive(Debug, Clone)]
 pub struct RegionShape {
-    /// The label drawn at its top (e.g. `f1+b1`, `2 n1`); empty for none.
+    /// The label drawn at its start, beside its tip (e.g. `f1+b1`, `2 n1`); empty for none.
     pub label: String,
     /// The closed outline in (φ rad/s, β): the tip, then one edge up and the other down.
     pub outline: Vec<(f64, f64)>,

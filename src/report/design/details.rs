@@ -66,9 +66,9 @@ pub(super) fn details(s: &mut String, r: &DesignReport) {
     if let Some(f) = o.peak_findings() {
         classic_section(s, f);
     }
-    vibration_section(s, o);
+    vibration_section(s, o, &r.whirls);
     near_regions_section(s, o);
-    whirls_section(s, o);
+    whirls_section(s, o, &r.whirls);
     optimiser_section(s, o);
     settings_table(s, &p.settings);
     let _ = writeln!(s, "\n{}", crate::report::glossary::glossary());
@@ -185,8 +185,8 @@ fn near_regions_section(s: &mut String, o: &DesignOutcome) {
             shown.sort_by(|a, b| a.edges.lo.total_cmp(&b.edges.lo));
             let _ = writeln!(
                 s,
-                "\n{name}, Ω = {} rad/s ({} of {} tongues at β_op):\n\n| region | k | start (rad/s) | onset β | edges at β_op (rad/s) | width (rad/s) | distance (rad/s) |\n|---|---|---|---|---|---|---|",
-                d.speed,
+                "\n{name}, {} ({} of {} tongues at β_op):\n\n| region | k | start (rad/s) | onset β | edges at β_op (rad/s) | width (rad/s) | distance (rad/s) |\n|---|---|---|---|---|---|---|",
+                speed_text(o.spec.speed_unit, d.speed),
                 shown.len(),
                 all.len()
             );
@@ -208,14 +208,39 @@ fn near_regions_section(s: &mut String, o: &DesignOutcome) {
     }
 }
 
-fn whirls_section(s: &mut String, o: &DesignOutcome) {
+/// The whirls of the tuned design at each speed beside the reference's whirl of the same
+/// mode shape (`paired`, by MAC): a label follows frequency order, so the same label may
+/// name another mode before and after.
+fn whirls_section(s: &mut String, o: &DesignOutcome, paired: &[crate::design::content::SpeedWhirls]) {
+    let unit = o.spec.speed_unit;
     for (k, after) in o.after_speeds.iter().enumerate() {
-        let before = o.before_speeds.get(k);
-        let _ = writeln!(s, "\n## Whirl frequencies at Ω = {} rad/s\n", after.speed);
-        let _ = writeln!(s, "| mode | before (rad/s) | after (rad/s) |\n|---|---|---|");
-        for w in &after.whirls {
-            let b = before.and_then(|b| b.whirls.iter().find(|x| x.tag == w.tag));
-            let _ = writeln!(s, "| {} | {} | {:.2} |", w.tag, opt(b.map(|b| b.frequency), 2), w.frequency);
+        let _ = writeln!(s, "\n## Whirl frequencies at {}\n", speed_text(unit, after.speed));
+        match paired.get(k).filter(|p| !p.pairs.is_empty()) {
+            Some(p) => {
+                let _ = writeln!(
+                    s,
+                    "Each tuned whirl beside the reference whirl with the same mode shape (the largest MAC, one to one): labels follow frequency order, so a mode may carry another label after the design.\n\n| mode after | after (rad/s) | same mode before | before (rad/s) | MAC |\n|---|---|---|---|---|"
+                );
+                for w in &p.pairs {
+                    let _ = writeln!(
+                        s,
+                        "| {} | {:.2} | {} | {} | {} |",
+                        w.after,
+                        w.after_frequency,
+                        w.before.as_deref().unwrap_or("none (no reference whirl with MAC ≥ 0.5)"),
+                        opt(w.before_frequency, 2),
+                        opt(w.mac, 3)
+                    );
+                }
+            }
+            None => {
+                let before = o.before_speeds.get(k);
+                let _ = writeln!(s, "| mode | before (rad/s) | after (rad/s) |\n|---|---|---|");
+                for w in &after.whirls {
+                    let b = before.and_then(|b| b.whirls.iter().find(|x| x.tag == w.tag));
+                    let _ = writeln!(s, "| {} | {} | {:.2} |", w.tag, opt(b.map(|b| b.frequency), 2), w.frequency);
+                }
+            }
         }
     }
 }
@@ -338,7 +363,7 @@ fn classic_section(s: &mut String, f: &crate::design::optimise::PeakFindings) {
 }
 
 /// The unbalance response before and after (peaks table) and the damping ratios.
-fn vibration_section(s: &mut String, o: &DesignOutcome) {
+fn vibration_section(s: &mut String, o: &DesignOutcome, paired: &[crate::design::content::SpeedWhirls]) {
     let Some(v) = &o.vibration else { return };
     let _ = writeln!(
         s,
@@ -371,13 +396,22 @@ fn vibration_section(s: &mut String, o: &DesignOutcome) {
         }
     }
     let _ = writeln!(s, "\n## Damping ratios ζ = −Re λ/|λ| of the lowest whirls over the operating speeds\n");
-    let _ = writeln!(s, "| mode | ζ min before | at (rad/s) | ζ min after | at (rad/s) |\n|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "The same mode before and after, paired by mode shape at the first operating speed (MAC), whatever its label.\n\n| mode | ζ min before | at (rad/s) | ζ min after | at (rad/s) |\n|---|---|---|---|---|"
+    );
     for b in &v.damping_before {
-        let a = v.damping_after.iter().find(|a| a.tag == b.tag);
+        // The tuned whirl with this reference whirl's shape, else the same label.
+        let tag = paired
+            .first()
+            .and_then(|p| p.pairs.iter().find(|w| w.before.as_deref() == Some(b.tag.as_str())))
+            .map_or(b.tag.as_str(), |w| w.after.as_str());
+        let a = v.damping_after.iter().find(|a| a.tag == tag);
+        let name = if tag == b.tag { b.tag.clone() } else { format!("{} (after: {tag})", b.tag) };
         let _ = writeln!(
             s,
             "| {} | {:.6e} | {:.1} | {} | {} |",
-            b.tag,
+            name,
             b.min_damping_ratio,
             b.min_speed,
             a.map_or("–".into(), |a| format!("{:.6e}", a.min_damping_ratio)),

@@ -9,6 +9,8 @@ use crate::report::plot::{Figure, LinePlot, Series};
 use crate::report::unbalance::{BodeLayer, BodePlot};
 use crate::report::{campbell, style};
 
+use super::speed_text;
+
 /// Colour of the reference design's layer and band.
 const BEFORE_COLOR: (u8, u8, u8) = (31, 119, 180);
 /// Colour of the tuned design's layer and band.
@@ -63,13 +65,14 @@ fn spans(o: &DesignOutcome, k: usize) -> Vec<Span> {
 /// key figure of page one): (file stem, figure).
 pub fn figures<'a>(o: &'a DesignOutcome, content: DesignContent, title: &str) -> Vec<(String, Box<dyn Figure + 'a>)> {
     let spec = &o.spec;
+    let unit = spec.speed_unit;
     let mut out: Vec<(String, Box<dyn Figure + 'a>)> = Vec::new();
     if let Some(v) = &o.vibration {
         let layers = vec![
             BodeLayer { name: "reference circuit".into(), dashed: false, result: &v.before },
             BodeLayer { name: "tuned circuit".into(), dashed: true, result: &v.after },
         ];
-        let plot = BodePlot { title: format!("Unbalance response before and after the design: {title}"), layers };
+        let plot = BodePlot { title: format!("Unbalance response before and after the design: {title}"), layers, unit };
         out.push(("bode".into(), Box::new(plot)));
     }
     let markers: Vec<(f64, String)> = spec.phi_op().map(|p| (p, format!("φ_op = {p}"))).into_iter().collect();
@@ -79,14 +82,22 @@ pub fn figures<'a>(o: &'a DesignOutcome, content: DesignContent, title: &str) ->
             Layer { name: "reference circuit".into(), color: BEFORE_COLOR, chart: c.before },
             Layer { name: "tuned circuit".into(), color: AFTER_COLOR, chart: c.after },
         ];
-        let plot = StabilityPlot::new(&format!("Stability before and after the design, Ω = {} rad/s", c.speed), layers)
-            .with_spans(spans(o, k))
-            .with_levels(vec![(spec.level, format!("β_op = {}", spec.level))])
-            .with_markers(markers.clone());
+        let plot = StabilityPlot::new(
+            &format!("Stability before and after the design, {}", speed_text(unit, c.speed)),
+            layers,
+        )
+        .with_spans(spans(o, k))
+        .with_levels(vec![(spec.level, format!("β_op = {}", spec.level))])
+        .with_markers(markers.clone());
         let name = if charts == 1 { "charts".to_string() } else { format!("charts-{}", k + 1) };
         out.push((name, Box::new(plot)));
     }
-    let campbell = campbell::campbell_plot(&content.campbell, &format!("Campbell diagram, tuned circuit: {title}"));
+    let campbell = campbell::campbell_plot(
+        &content.campbell,
+        &format!("Campbell diagram, tuned circuit: {title}"),
+        unit,
+        &spec.speeds,
+    );
     out.push(("campbell".into(), Box::new(campbell)));
     out.push(("history".into(), Box::new(history_plot(o))));
     out

@@ -18,8 +18,9 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
     }
     let _ = writeln!(
         s,
-        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max|μ| over the band search's points inside the band; the strict band counts every point with max|μ| above 1 + the fast path's floor):\n\n| Ω (rad/s) | | load margin | φ_op − lo | hi − φ_op | largest max|μ| inside | declared band (tolerance {}) | strict band (max|μ| ≤ {}) |\n|---|---|---|---|---|---|---|---|",
+        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max|μ| over the band search's points inside the band; the strict band counts every point with max|μ| above 1 + the fast path's floor):\n\n| {} | | load margin | φ_op − lo | hi − φ_op | largest max|μ| inside | declared band (tolerance {}) | strict band (max|μ| ≤ {}) |\n|---|---|---|---|---|---|---|---|",
         o.spec.level,
+        super::speed_header(o.spec.speed_unit),
         o.after_speeds.first().map_or(f64::NAN, |d| d.catalogue.criterion.instability_tolerance),
         rows[0].2.strict_tolerance
     );
@@ -35,7 +36,8 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
                 m.strict_band.map_or("none".into(), |b| format!("[{:.2}, {:.2}] ({:.2})", b.lo, b.hi, b.width()));
             let _ = writeln!(
                 s,
-                "| {speed:.0} | {which} | {} | {:.2} | {:.2} | {} | {declared} | {strict} |",
+                "| {} | {which} | {} | {:.2} | {:.2} | {} | {declared} | {strict} |",
+                super::speed_cell(o.spec.speed_unit, *speed),
                 m.load_text().replace('|', "\\|"),
                 m.phi_below,
                 m.phi_above,
@@ -57,8 +59,8 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
                 let band = mc.band.map_or("none (φ_op unstable)".into(), |b| format!("[{:.2}, {:.2}]", b.lo, b.hi));
                 let _ = writeln!(
                     s,
-                    "- Ω = {:.0} rad/s: the catalogue at β = {:.6} gives the band {band} around φ_op (φ_op − lo = {}, hi − φ_op = {} rad/s), {} counted tongue(s) within {} rad/s of φ_op, {} of {} grid points unstable.",
-                    d.speed,
+                    "- {}: the catalogue at β = {:.6} gives the band {band} around φ_op (φ_op − lo = {}, hi − φ_op = {} rad/s), {} counted tongue(s) within {} rad/s of φ_op, {} of {} grid points unstable.",
+                    super::speed_text(o.spec.speed_unit, d.speed),
                     mc.level,
                     super::opt(mc.phi_below, 2),
                     super::opt(mc.phi_above, 2),

@@ -12,6 +12,7 @@ pub use figures::figures;
 
 use crate::analysis::regions::{Band, Bound};
 use crate::design::DesignOutcome;
+use crate::numbers::SpeedUnit;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -49,8 +50,26 @@ pub struct DesignReport {
     /// The optimiser's outcome (bands, intrusions, catalogues, verification, starts,
     /// history, counts).
     pub outcome: DesignOutcome,
+    /// The tuned design's lowest whirls at each operating speed, each paired with the
+    /// reference design's whirl of the same mode shape (by MAC, not by label).
+    pub whirls: Vec<crate::design::content::SpeedWhirls>,
     /// Files written next to the report.
     pub files: Vec<String>,
+}
+
+/// `Ω = 1256.6 rad/s`, or `n = 12000 rpm (1256.6 rad/s)`.
+pub fn speed_text(unit: SpeedUnit, speed: f64) -> String {
+    format!("{} = {}", unit.symbol(), unit.text(speed))
+}
+
+/// The header of a table's speed column: `Ω (rad/s)` or `n (rpm)`.
+pub(super) fn speed_header(unit: SpeedUnit) -> String {
+    format!("{} ({})", unit.symbol(), unit.unit())
+}
+
+/// A speed in a table's speed column (its header's unit), to the rpm or rad/s.
+pub(super) fn speed_cell(unit: SpeedUnit, speed: f64) -> String {
+    format!("{:.0}", unit.value(speed))
 }
 
 pub(super) fn opt(x: Option<f64>, digits: usize) -> String {

@@ -4,6 +4,7 @@
 use super::*;
 use crate::design::spec::Objective;
 use crate::design::{DesignOutcome, Status};
+use crate::numbers::SpeedUnit;
 use std::fmt::Write;
 
 /// The variables' names, joined for a sentence.
@@ -16,16 +17,16 @@ fn variable_names(r: &DesignReport) -> String {
     }
 }
 
-fn speeds_text(speeds: &[f64]) -> String {
-    let v: Vec<String> = speeds.iter().map(|w| format!("{w}")).collect();
-    format!("Ω = {} rad/s", v.join(", "))
+fn speeds_text(unit: SpeedUnit, speeds: &[f64]) -> String {
+    let v: Vec<String> = speeds.iter().map(|w| unit.text(*w)).collect();
+    format!("{} = {}", unit.symbol(), v.join(", "))
 }
 
 /// The question the design answers, in one sentence.
 fn question(r: &DesignReport) -> String {
     let spec = &r.outcome.spec;
     let vars = variable_names(r);
-    let at = speeds_text(&spec.speeds);
+    let at = speeds_text(spec.speed_unit, &spec.speeds);
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => format!(
             "Which {vars} (inside their bounds) give the widest stable band at β_op = {} around the load frequency φ_op = {phi_op} rad/s, at {at}?",
@@ -37,10 +38,9 @@ fn question(r: &DesignReport) -> String {
             bands.iter().map(|b| format!("[{}, {}] rad/s ± {} rad/s", b.lo, b.hi, b.clearance)).collect::<Vec<_>>().join(", ")
         ),
         Objective::MinPeakResponse { response } => format!(
-            "Which {vars} give the smallest peak unbalance response at node {} over the rotating speeds {}..{} rad/s{}?",
+            "Which {vars} give the smallest peak unbalance response at node {} over the rotating speeds {}{}?",
             response.node,
-            response.speeds.lo,
-            response.speeds.hi,
+            spec.speed_unit.range(response.speeds.lo, response.speeds.hi),
             if o_constrained(&r.outcome) {
                 format!(", with the stability constraints below met at β_op = {} and {at}", spec.level)
             } else {
@@ -127,14 +127,15 @@ pub(super) fn page_one(r: &DesignReport) -> String {
 fn widest_band_table(s: &mut String, o: &DesignOutcome) {
     let _ = writeln!(
         s,
-        "\nStable band at β_op = {} around φ_op (rad/s; width in brackets):\n\n| Ω (rad/s) | before | after | after: bounded below by | above by |\n|---|---|---|---|---|",
-        o.spec.level
+        "\nStable band at β_op = {} around φ_op (rad/s; width in brackets):\n\n| {} | before | after | after: bounded below by | above by |\n|---|---|---|---|---|",
+        o.spec.level,
+        speed_header(o.spec.speed_unit)
     );
     for (b, a) in o.before_bands().iter().zip(o.after_bands()) {
         let _ = writeln!(
             s,
-            "| {:.0} | {} | {} | {} | {} |",
-            b.speed,
+            "| {} | {} | {} | {} | {} |",
+            speed_cell(o.spec.speed_unit, b.speed),
             band_text(&b.band),
             band_text(&a.band),
             bound_text(&a.band.left),
@@ -157,8 +158,8 @@ fn widest_band_table(s: &mut String, o: &DesignOutcome) {
         for t in &a.band.ignored {
             let _ = writeln!(
                 s,
-                "\nIgnored by the criterion at Ω = {}: {} at [{:.3}, {:.3}] rad/s.",
-                a.speed,
+                "\nIgnored by the criterion at {}: {} at [{:.3}, {:.3}] rad/s.",
+                speed_text(o.spec.speed_unit, a.speed),
                 t.label(),
                 t.extent.lo,
                 t.extent.hi
@@ -301,7 +302,7 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
     }
     for d in &o.after_speeds {
         for f in &d.failures {
-            let _ = writeln!(s, "- Failed at Ω = {} rad/s: {f}", d.speed);
+            let _ = writeln!(s, "- Failed at {}: {f}", speed_text(o.spec.speed_unit, d.speed));
         }
     }
 }
