@@ -56,10 +56,33 @@ pub enum LinalgError {
     },
 }
 
-/// Test helpers shared by the exponentials' tests.
+/// Test helpers shared by the exponentials' and the QEP solvers' tests.
 #[cfg(test)]
 pub(crate) mod testing {
     use faer::{c64, Mat};
+
+    /// An n × n matrix of entries in [−0.5, 0.5) from a linear congruential sequence:
+    /// the same matrix for the same seed on every machine.
+    pub fn random(n: usize, seed: u64) -> Mat<f64> {
+        let mut state = seed;
+        Mat::from_fn(n, n, |_, _| {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+    }
+
+    /// A·Aᵀ + shift·I of a [`random`] A: symmetric positive (semi-)definite.
+    pub fn spd(n: usize, seed: u64, shift: f64) -> Mat<f64> {
+        let a = random(n, seed);
+        let p = super::seq::product(a.as_ref(), a.transpose());
+        Mat::from_fn(n, n, |i, j| p[(i, j)] + if i == j { shift } else { 0.0 })
+    }
+
+    /// Eigenvalues sorted by imaginary, then real part, to compare two solvers' lists.
+    pub fn sorted(mut v: Vec<c64>) -> Vec<c64> {
+        v.sort_by(|a, b| a.im.total_cmp(&b.im).then(a.re.total_cmp(&b.re)));
+        v
+    }
 
     /// The largest entry error of `ours` against nalgebra's Padé exp of `a`, relative to
     /// the largest entry of e^A (nalgebra is accurate to 1e-14 relative at ‖A‖ = 10,

@@ -254,40 +254,29 @@ pub fn solve_qep_definite(m: MatRef<'_, f64>, d: MatRef<'_, c64>, k: MatRef<'_, 
                 vectors[(i, col)] = -(0..r).map(|a| x_r[(a, col)] * x[(b, a)]).sum::<c64>();
             }
         }
-        let norm = (0..n).map(|i| vectors[(i, col)].norm_sqr()).sum::<f64>().sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return None;
-        }
-        for i in 0..n {
-            vectors[(i, col)] /= norm;
-        }
+        unit_column(&mut vectors, col)?;
     }
     Some(QepSolution { values, vectors })
+}
+
+/// Scales column `col` of `vectors` to unit 2-norm; `None` when its norm is zero or not
+/// finite (a vector the definite form could not recover).
+pub(super) fn unit_column(vectors: &mut Mat<c64>, col: usize) -> Option<()> {
+    let n = vectors.nrows();
+    let norm = (0..n).map(|i| vectors[(i, col)].norm_sqr()).sum::<f64>().sqrt();
+    if !(norm.is_finite() && norm > 0.0) {
+        return None;
+    }
+    for i in 0..n {
+        vectors[(i, col)] /= norm;
+    }
+    Some(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn random(n: usize, seed: u64) -> Mat<f64> {
-        let mut state = seed;
-        Mat::from_fn(n, n, |_, _| {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-    }
-
-    /// A·Aᵀ + shift·I, symmetric positive definite.
-    fn spd(n: usize, seed: u64, shift: f64) -> Mat<f64> {
-        let a = random(n, seed);
-        let p = seq::product(a.as_ref(), a.transpose());
-        Mat::from_fn(n, n, |i, j| p[(i, j)] + if i == j { shift } else { 0.0 })
-    }
-
-    fn sorted(mut v: Vec<c64>) -> Vec<c64> {
-        v.sort_by(|a, b| a.im.total_cmp(&b.im).then(a.re.total_cmp(&b.re)));
-        v
-    }
+    use crate::linalg::testing::{random, sorted, spd};
 
     #[test]
     fn definite_form_agrees_with_shift_invert_and_keeps_zero_damping() {

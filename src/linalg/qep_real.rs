@@ -3,7 +3,7 @@
 //! real with a positive definite symmetric part (the supports' cross-coupling makes it
 //! unsymmetric): the first-order form of [`super::solve_qep_definite`] generalised.
 
-use super::qep::{QepSolution, DEFINITE_FORM_SPREAD};
+use super::qep::{unit_column, QepSolution, DEFINITE_FORM_SPREAD};
 use super::seq;
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::{c64, Mat, MatRef, Par};
@@ -80,13 +80,7 @@ pub fn solve_qep_real(m: MatRef<'_, f64>, d: MatRef<'_, f64>, k: MatRef<'_, f64>
     let mut vectors = Mat::from_fn(n, 2 * n, |i, j| z[(n + i, j)]);
     solve_upper_triangular_in_place(l_st.as_ref(), vectors.as_mut(), Par::Seq);
     for col in 0..2 * n {
-        let norm = (0..n).map(|i| vectors[(i, col)].norm_sqr()).sum::<f64>().sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return None;
-        }
-        for i in 0..n {
-            vectors[(i, col)] /= norm;
-        }
+        unit_column(&mut vectors, col)?;
     }
     Some(QepSolution { values, vectors })
 }
@@ -94,26 +88,8 @@ pub fn solve_qep_real(m: MatRef<'_, f64>, d: MatRef<'_, f64>, k: MatRef<'_, f64>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::testing::{random, sorted, spd};
     use crate::linalg::{qep_residual, solve_qep};
-
-    fn random(n: usize, seed: u64) -> Mat<f64> {
-        let mut state = seed;
-        Mat::from_fn(n, n, |_, _| {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        })
-    }
-
-    fn spd(n: usize, seed: u64, shift: f64) -> Mat<f64> {
-        let a = random(n, seed);
-        let p = seq::product(a.as_ref(), a.transpose());
-        Mat::from_fn(n, n, |i, j| p[(i, j)] + if i == j { shift } else { 0.0 })
-    }
-
-    fn sorted(mut v: Vec<c64>) -> Vec<c64> {
-        v.sort_by(|a, b| a.im.total_cmp(&b.im).then(a.re.total_cmp(&b.re)));
-        v
-    }
 
     #[test]
     fn real_form_agrees_with_shift_invert_on_cross_coupled_and_gyroscopic_systems() {
