@@ -13,7 +13,8 @@ pub fn number(x: f64) -> String {
     }
 }
 
-use crate::problem::units::RAD_PER_S_PER_RPM;
+/// rad/s per revolution per minute: 2π rad per revolution, 60 s per minute (π/30).
+pub const RAD_PER_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
 
 /// `x` rounded to `digits` significant digits, in the shortest form that reads back to
 /// the rounded value: `sig(1256.6370614359173, 5)` is `1256.6`, `sig(12000.000000000002,

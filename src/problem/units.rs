@@ -15,8 +15,7 @@
 use super::ProblemErrorKind as K;
 use crate::analysis::limits;
 
-/// rad/s per revolution per minute: 2π rad per revolution, 60 s per minute (π/30).
-pub const RAD_PER_S_PER_RPM: f64 = std::f64::consts::PI / 30.0;
+pub use crate::numbers::RAD_PER_S_PER_RPM;
 
 /// Speed keys that have an rpm form: (table path, key in rad/s, key in rpm). The table
 /// path is empty for the top level, dotted for a nested table.
