@@ -1,0 +1,107 @@
+//! Continuity of the general path (issue 28): at zero anisotropy the real coordinates
+//! (v, w) reproduce the complex path's stable bands on every problem of problems/ that
+//! names an operating frequency, and the same design outcome on the paper's widest-band
+//! design. tests/anisotropic.rs compares the whirls of every problem and a Floquet chart;
+//! this file compares what the engineer reads: bands and tuned values.
+
+mod common;
+
+use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::regions::{band, RegionSettings};
+use rotorshunt::analysis::{Interval, Rotor};
+use rotorshunt::problem::Problem;
+
+/// The override that sends an isotropic problem down the general path.
+const REAL: &str = "analysis.coordinates=\"real\"";
+
+/// The two paths' monodromies differ by round-off (8.2e-12 on max|μ|, tests/anisotropic.rs),
+/// so the tuned values of a short design agree far below any tolerance an engineer uses.
+const VALUES_AGREE: f64 = 1e-9;
+
+/// The stable band of `p` around φ_op at β_op at its first operating speed (rad/s).
+fn band_edges(p: &Problem) -> Option<(f64, f64)> {
+    let spec = p.design.as_ref().expect("a [design] table");
+    let speed = spec.speeds[0];
+    let rotor = Rotor::new(&p.model).unwrap();
+    let fs = FloquetSystem::new(&rotor, &p.settings, speed).unwrap();
+    let full = whirl_modes_of(&rotor, &p.settings, speed).unwrap();
+    let window = Interval::new(spec.phi_range.0, spec.phi_range.1);
+    let phi_op = spec.phi_op().expect("an operating frequency");
+    let b = band(&fs, &full, &RegionSettings::default(), window, phi_op, spec.level).unwrap();
+    b.band.map(|i| (i.lo, i.hi))
+}
+
+/// Every problem file of problems/ (and its subfolders but `studies/`, which holds study
+/// files), by name relative to it.
+fn problem_names() -> Vec<String> {
+    let root = common::root().join("problems");
+    let mut out = Vec::new();
+    let mut dirs = vec![root.clone()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                if path.file_name().is_some_and(|n| n != "studies") {
+                    dirs.push(path);
+                }
+            } else if path.extension().is_some_and(|x| x == "toml") {
+                out.push(path.strip_prefix(&root).unwrap().to_string_lossy().into_owned());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn real_coordinates_give_the_same_band_on_every_problem_with_an_operating_frequency() {
+    let mut compared = 0;
+    for name in problem_names() {
+        let complex = match Problem::from_path(common::problem_path(&name), &[]) {
+            Ok(p) => p,
+            Err(e) => panic!("{name}: {e}"),
+        };
+        // Anisotropic problems already run on the general path; a design without φ_op
+        // (min-peak without a band) has no band to compare.
+        let has_band = complex.design.as_ref().is_some_and(|d| d.phi_op().is_some());
+        if complex.model.real_coordinates() || !has_band {
+            continue;
+        }
+        let real = common::load(&name, &[REAL]);
+        assert!(real.model.real_coordinates(), "{name}: the override must select the general path");
+        let (a, b) = (band_edges(&complex), band_edges(&real));
+        eprintln!("{name}: band complex {a:?}, real {b:?}");
+        assert_eq!(a, b, "{name}");
+        compared += 1;
+    }
+    // The catalogue's widest-band, margin, robust, clear-band and min-peak designs with φ_op.
+    assert!(compared >= 5, "only {compared} problems compared");
+}
+
+#[test]
+fn real_coordinates_give_the_same_design_outcome() {
+    let short = ["design.starts=1", "design.max_iterations=3"];
+    let complex = common::load("design-widest-band.toml", &short);
+    let real = common::load("design-widest-band.toml", &[short[0], short[1], REAL]);
+    let silent = rotorshunt::progress::Silent;
+    let (a, b) = (rotorshunt::run_design(&complex, &silent).unwrap(), rotorshunt::run_design(&real, &silent).unwrap());
+    let band = |o: &rotorshunt::DesignOutcome| o.after_bands()[0].band.band.map(|i| (i.lo, i.hi));
+    eprintln!(
+        "design: complex {:?} {:?} band {:?} ({} candidates); real {:?} {:?} band {:?} ({} candidates)",
+        a.status,
+        a.after,
+        band(&a),
+        a.candidates,
+        b.status,
+        b.after,
+        band(&b),
+        b.candidates
+    );
+    assert_eq!(a.status, b.status);
+    assert_eq!((a.verified, a.candidates), (b.verified, b.candidates));
+    for (x, y) in a.after.iter().zip(&b.after) {
+        assert!((x - y).abs() <= VALUES_AGREE * x.abs().max(1.0), "{:?} vs {:?}", a.after, b.after);
+    }
+    assert_eq!(band(&a), band(&b));
+}
