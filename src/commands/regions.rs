@@ -11,7 +11,7 @@ use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::margins::{band_margins, load_margin};
 use crate::analysis::regions::seeds_for;
 use crate::analysis::regions::{
-    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Margins, RegionSettings,
+    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
 };
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
@@ -60,14 +60,15 @@ fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progres
     let (phis, betas) = plot_grid(cat.range, cat.beta_max);
     progress.phase("chart", phis.len() as u64);
     let c = chart(fs, &phis, &betas, progress);
-    let regions = cat
-        .regions
+    let resolved: Vec<&Region> = cat.regions.iter().filter(|r| r.resolved).collect();
+    let regions = resolved
         .iter()
-        .filter(|r| r.resolved)
-        .map(|r| {
+        .enumerate()
+        .map(|(i, r)| {
+            let own = own_levels(r, resolved.iter().enumerate().filter(|&(j, _)| j != i).map(|(_, q)| *q));
             let mut outline = vec![(r.start, r.onset_beta)];
-            outline.extend(r.boundary.iter().map(|e| (e.phi.lo, e.beta)));
-            outline.extend(r.boundary.iter().rev().map(|e| (e.phi.hi, e.beta)));
+            outline.extend(r.boundary[..own].iter().map(|e| (e.phi.lo, e.beta)));
+            outline.extend(r.boundary[..own].iter().rev().map(|e| (e.phi.hi, e.beta)));
             RegionShape { label: r.label.clone(), outline }
         })
         .collect();
@@ -83,6 +84,41 @@ fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progres
     StabilityPlot::new(&format!("Instability regions: {}", super::plot_title(problem)), vec![layer])
         .with_regions(regions)
         .with_levels(levels)
+}
+
+/// The number of `r`'s tracked levels (from its onset up) that are its own: up to the
+/// first level where its interval meets another tracked region's at the same β after
+/// being apart (the two have merged into one unstable area, whose tracked edges then
+/// belong to neither), or every level. Above it the plot shows the grid alone, so
+/// unrelated regions never cross. A region that meets `r` from `r`'s first level on is a
+/// second tracking of the same tongue (two labels of one area), not a merge.
+fn own_levels<'a>(r: &Region, others: impl Iterator<Item = &'a Region>) -> usize {
+    let meets = |q: &Region, e: &Edges| interval_at(q, e.beta).is_some_and(|i| i.lo < e.phi.hi && e.phi.lo < i.hi);
+    others
+        .filter(|q| r.boundary.first().is_some_and(|e| !meets(q, e)))
+        .filter_map(|q| r.boundary.iter().position(|e| meets(q, e)))
+        .min()
+        .unwrap_or(r.boundary.len())
+}
+
+/// A tracked region's φ interval at `beta` (rad/s): its edges interpolated linearly
+/// between the tracked levels around `beta`, from its tip (start, onset) up; `None` below
+/// its onset or above its highest level.
+fn interval_at(q: &Region, beta: f64) -> Option<Interval> {
+    let tip = Interval::new(q.start, q.start);
+    let mut below = (q.onset_beta, tip);
+    for e in &q.boundary {
+        if e.beta >= beta {
+            if beta < below.0 {
+                return None;
+            }
+            let t = if e.beta > below.0 { (beta - below.0) / (e.beta - below.0) } else { 1.0 };
+            let lerp = |a: f64, b: f64| a + t * (b - a);
+            return Some(Interval::new(lerp(below.1.lo, e.phi.lo), lerp(below.1.hi, e.phi.hi)));
+        }
+        below = (e.beta, e.phi);
+    }
+    None
 }
 
 /// Colour of the grid chart under the tracked regions: light, so the tracked outlines
