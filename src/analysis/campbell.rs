@@ -92,7 +92,7 @@ const TRACKING_MARGIN: usize = 3;
 /// and may change with speed (planar at rest, then backward or forward), so the whirls
 /// [`ModesResult::lowest`] lists are tracked in one pool whatever their direction, each
 /// point keeping its own ([`TrackPoint::whirl`]); the modes at each speed are those of
-/// the window of `count` + [`TRACKING_MARGIN`] (the shift-invert solve on a large model,
+/// the window of `count` + `TRACKING_MARGIN` (the shift-invert solve on a large model,
 /// [`super::modes::lowest_whirls_of`]).
 pub fn campbell(
     rotor: &Rotor,

@@ -735,11 +735,11 @@ fn real_result(
     })
 }
 
-/// Share of a mode's 2-norm in its weaker plane below which [`separate_planes`] sets that
+/// Share of a mode's 2-norm in its weaker plane below which `separate_planes` sets that
 /// plane to zero: round-off of a solve mixes the planes by ~ε over the relative gap
 /// between an x-plane and a y-plane whirl (measured 3e-12 on the Jeffcott rotor of
 /// tests/fast_modes.rs from the Krylov solve); 1e-6 separates whirls down to gaps of
-/// ~1e-10, where [`circularise`] takes over.
+/// ~1e-10, where `circularise` takes over.
 pub const PLANE_NOISE: f64 = 1e-6;
 
 /// Where the planes do not couple (no gyroscopic term at the speed, no cross-coupled
