@@ -165,17 +165,7 @@ fn every_coefficient_error_of_a_file_is_reported_at_once() {
         assert_eq!((key.as_str(), *line, *kind), (k, Some(l), d));
     }
     // The command line prints each on its own `error:` line, and exits 2.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
-        .args(["check", path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
-    assert_eq!(lines.len(), 4, "{stderr}");
-    for ((k, l, _), line) in expected.iter().zip(&lines) {
-        assert!(line.contains(&format!("line {l}: key `{k}`")), "{line}");
-    }
+    common::check_lists_errors(&path, &expected.map(|(k, l, _)| (k, l)));
 }
 
 #[test]

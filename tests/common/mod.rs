@@ -448,3 +448,16 @@ pub fn jeffcott_tilt(k: f64) -> f64 {
     let shaft = 12.0 * JEFFCOTT_EI / JEFFCOTT_SPAN;
     1.0 / (1.0 / shaft + 1.0 / (k * JEFFCOTT_SPAN * JEFFCOTT_SPAN / 2.0))
 }
+
+/// `rotorshunt check FILE` exits 2 and prints one `error:` line per expected (key, line),
+/// in the file's order: every error of the file listed at once.
+pub fn check_lists_errors(path: &std::path::Path, expected: &[(&str, usize)]) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rotorshunt")).arg("check").arg(path).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error: ")).collect();
+    assert_eq!(lines.len(), expected.len(), "{stderr}");
+    for ((k, l), line) in expected.iter().zip(&lines) {
+        assert!(line.contains(&format!("line {l}: key `{k}`")), "{line}");
+    }
+}
