@@ -7,49 +7,10 @@ mod common;
 use rotorshunt::analysis::modes::{whirl_modes, ModesResult, Whirl};
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 
-/// A Jeffcott rotor: a 10 kg disk without inertia at the middle of a 0.4 m shaft of
-/// diameter 0.05 m whose density is 1e-3 kg/m³ (7.9e-7 kg: 8e-8 of the disk), on two
-/// identical bearings kxx = `kx`, kyy = `ky` (N/m) at its ends, no damping unless `c`.
+/// A Jeffcott rotor with a disk without inertia, bearings kxx = `kx`, kyy = `ky` (N/m) and
+/// cxx = `c` (N·s/m) at both ends (`common::jeffcott_damped`).
 fn jeffcott(kx: f64, ky: f64, c: f64, speed: f64) -> String {
-    format!(
-        r#"version = 1
-title = "anisotropic Jeffcott rotor"
-speed = {speed:?}
-[[sections]]
-length = 0.4
-outer_diameter = 0.05
-youngs_modulus = 2.0e11
-density = 1.0e-3
-elements = 4
-[[disks]]
-node = 2
-mass = 10.0
-polar_inertia = 0.0
-diametral_inertia = 0.0
-eccentricity = 1.0e-4
-[[bearings]]
-node = 0
-kxx = {kx:?}
-kyy = {ky:?}
-cxx = {c:?}
-[[bearings]]
-node = 4
-kxx = {kx:?}
-kyy = {ky:?}
-cxx = {c:?}
-[load]
-alpha = 0.0
-"#
-    )
-}
-
-/// The Jeffcott rotor's stiffness in one plane: the shaft's mid-span stiffness 48EI/L³
-/// (cubic beam elements reproduce a nodal point load's static deflection exactly) in
-/// series with its two bearings (N/m).
-fn jeffcott_stiffness(k: f64) -> f64 {
-    let i = std::f64::consts::PI * 0.05f64.powi(4) / 64.0;
-    let shaft = 48.0 * 2.0e11 * i / 0.4f64.powi(3);
-    1.0 / (1.0 / shaft + 1.0 / (2.0 * k))
+    common::jeffcott_damped(kx, ky, 0.0, 0.0, c, speed)
 }
 
 /// The shaft's mass is 8e-8 of the disk's: the whirls move by about half that from the
@@ -62,8 +23,8 @@ fn anisotropic_jeffcott_whirls_at_the_two_closed_form_critical_speeds() {
     let p = Problem::from_text(&jeffcott(kx, ky, 0.0, 0.0), "jeffcott.toml", &[]).unwrap();
     assert!(p.model.real_coordinates());
     let r = whirl_modes(&p.model, &p.settings, 0.0).unwrap();
-    let wx = (jeffcott_stiffness(kx) / 10.0).sqrt();
-    let wy = (jeffcott_stiffness(ky) / 10.0).sqrt();
+    let wx = (common::jeffcott_translation(kx) / 10.0).sqrt();
+    let wy = (common::jeffcott_translation(ky) / 10.0).sqrt();
     let lowest: Vec<f64> = r.modes.iter().take(2).map(|m| m.frequency).collect();
     assert!(common::rel(lowest[0], wx) < JEFFCOTT_TOLERANCE, "{} vs {wx}", lowest[0]);
     assert!(common::rel(lowest[1], wy) < JEFFCOTT_TOLERANCE, "{} vs {wy}", lowest[1]);
@@ -115,13 +76,7 @@ fn compare(name: &str, complex: &ModesResult, real: &ModesResult) {
 
 #[test]
 fn real_coordinates_reproduce_the_complex_whirls_on_every_problem() {
-    let mut names: Vec<String> = std::fs::read_dir(common::root().join("problems"))
-        .unwrap()
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    names.sort();
+    let names = common::problem_names();
     assert!(names.len() >= 20, "{names:?}");
     for name in &names {
         let complex = common::load(name, &[]);
@@ -195,7 +150,7 @@ fn anisotropic_jeffcott_orbit_is_backward_between_the_critical_speeds() {
     let (kx, ky) = (1.0e6, 2.0e6);
     let p = Problem::from_text(&jeffcott(kx, ky, 0.0, 0.0), "jeffcott.toml", &[]).unwrap();
     let rotor = Rotor::new(&p.model).unwrap();
-    let (kx, ky) = (jeffcott_stiffness(kx), jeffcott_stiffness(ky));
+    let (kx, ky) = (common::jeffcott_translation(kx), common::jeffcott_translation(ky));
     let (wx, wy) = ((kx / 10.0).sqrt(), (ky / 10.0).sqrt());
     let speeds = [0.5 * wx, 0.9 * wx, 1.1 * wx, 0.5 * (wx + wy), 0.9 * wy, 1.1 * wy, 2.0 * wy];
     let probe = node_probe(&rotor.system.dofs, 2).unwrap();

@@ -97,13 +97,7 @@ fn krylov_and_dense_whirls_agree_on_the_anisotropic_rotors() {
 
 #[test]
 fn krylov_and_dense_whirls_agree_on_every_problem_forced_to_the_real_path() {
-    let mut names: Vec<String> = std::fs::read_dir(common::root().join("problems"))
-        .unwrap()
-        .flatten()
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    names.sort();
+    let names = common::problem_names();
     assert!(names.len() >= 20, "{names:?}");
     for name in &names {
         let p = common::load(name, &["analysis.coordinates=\"real\""]);

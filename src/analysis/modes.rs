@@ -252,11 +252,6 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
     let norms = QepNorms::of(sys.m.as_ref(), d.as_ref(), k.as_ref());
     let mut mx = vec![c64::new(0.0, 0.0); n];
 
-    struct Raw {
-        col: usize,
-        mode: WhirlMode,
-        branch: Option<usize>,
-    }
     let mut raw = Vec::new();
     for (col, &lambda) in sol.values.iter().enumerate() {
         let x = sol.vectors.col(col);
@@ -305,7 +300,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
         } else {
             None
         };
-        raw.push(Raw {
+        raw.push(RawMode {
             col,
             branch,
             mode: WhirlMode {
@@ -329,9 +324,31 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
             tolerance: settings.oscillation_tolerance,
         });
     }
+    sort_and_label(&mut raw, &slots);
+    let shapes = Mat::from_fn(n, raw.len(), |i, c| sol.vectors[(i, raw[c].col)]);
+    Ok(ModesResult {
+        speed,
+        critical_load: rotor.critical_load,
+        static_load: rotor.static_load(),
+        modes: raw.into_iter().map(|r| r.mode).collect(),
+        shapes,
+        real: false,
+    })
+}
+
+/// A whirl found by a solver before numbering: its eigenvector's column, the mode, and
+/// the electrical slot it belongs to (`None`: a rotor mode).
+struct RawMode {
+    col: usize,
+    mode: WhirlMode,
+    branch: Option<usize>,
+}
+
+/// Sorts `raw` by frequency and numbers it per whirl direction: rotor modes 1, 2, …;
+/// electrical modes by branch letter, count and ring suffix.
+fn sort_and_label(raw: &mut [RawMode], slots: &[Slot]) {
     raw.sort_by(|a, b| a.mode.frequency.total_cmp(&b.mode.frequency));
-    // Number per whirl direction: rotor modes 1, 2, …; electrical modes by branch letter.
-    for whirl in [Whirl::Forward, Whirl::Backward] {
+    for whirl in Whirl::all() {
         let mut mech = 0;
         let mut elec = vec![0; slots.len()];
         for r in raw.iter_mut().filter(|r| r.mode.whirl == whirl) {
@@ -347,15 +364,6 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
             };
         }
     }
-    let shapes = Mat::from_fn(n, raw.len(), |i, c| sol.vectors[(i, raw[c].col)]);
-    Ok(ModesResult {
-        speed,
-        critical_load: rotor.critical_load,
-        static_load: rotor.static_load(),
-        modes: raw.into_iter().map(|r| r.mode).collect(),
-        shapes,
-        real: false,
-    })
 }
 
 /// An electrical mode family: the charges whose kinetic energy decides that a mode
@@ -617,11 +625,6 @@ fn real_result(
     let slots = electrical_slots(rotor);
     let norms = QepNorms::of(sys.m.as_ref(), dc.as_ref(), k.as_ref());
     let nodes = sys.dofs.nodes;
-    struct Raw {
-        col: usize,
-        mode: WhirlMode,
-        branch: Option<usize>,
-    }
     let mut raw = Vec::new();
     for (col, (lambda, x)) in kept.iter().enumerate() {
         let xc = faer::Col::from_fn(n2, |i| x[i]);
@@ -683,7 +686,7 @@ fn real_result(
             other => other,
         };
         let reported = if whirl == Whirl::Backward { lambda.conj() } else { *lambda };
-        raw.push(Raw {
+        raw.push(RawMode {
             col,
             branch,
             mode: WhirlMode {
@@ -707,23 +710,7 @@ fn real_result(
             tolerance: settings.oscillation_tolerance,
         });
     }
-    raw.sort_by(|a, b| a.mode.frequency.total_cmp(&b.mode.frequency));
-    for whirl in Whirl::all() {
-        let mut mech = 0;
-        let mut elec = vec![0; slots.len()];
-        for r in raw.iter_mut().filter(|r| r.mode.whirl == whirl) {
-            r.mode.label = match r.branch {
-                None => {
-                    mech += 1;
-                    mech.to_string()
-                }
-                Some(s) => {
-                    elec[s] += 1;
-                    format!("{}{}{}", branch_letter(slots[s].branch), elec[s], slots[s].suffix)
-                }
-            };
-        }
-    }
+    sort_and_label(&mut raw, &slots);
     let shapes = Mat::from_fn(n2, raw.len(), |i, c| kept[raw[c].col].1[i]);
     Ok(ModesResult {
         speed,

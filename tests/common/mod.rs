@@ -397,6 +397,11 @@ pub fn mkfifo(path: &std::path::Path) {
 /// 1e-3 kg/m³ (7.9e-7 kg: 8e-8 of the disk), on two identical bearings kxx = `kx`,
 /// kyy = `ky` (N/m) at its ends, undamped, at speed `speed` (rad/s).
 pub fn jeffcott(kx: f64, ky: f64, polar: f64, diametral: f64, speed: f64) -> String {
+    jeffcott_damped(kx, ky, polar, diametral, 0.0, speed)
+}
+
+/// [`jeffcott`] with a damping `c` (N·s/m) in x at each bearing (`cxx`).
+pub fn jeffcott_damped(kx: f64, ky: f64, polar: f64, diametral: f64, c: f64, speed: f64) -> String {
     format!(
         r#"version = 1
 title = "anisotropic Jeffcott rotor"
@@ -417,10 +422,12 @@ eccentricity = 1.0e-4
 node = 0
 kxx = {kx:?}
 kyy = {ky:?}
+cxx = {c:?}
 [[bearings]]
 node = 4
 kxx = {kx:?}
 kyy = {ky:?}
+cxx = {c:?}
 [load]
 alpha = 0.0
 "#
@@ -460,4 +467,16 @@ pub fn check_lists_errors(path: &std::path::Path, expected: &[(&str, usize)]) {
     for ((k, l), line) in expected.iter().zip(&lines) {
         assert!(line.contains(&format!("line {l}: key `{k}`")), "{line}");
     }
+}
+
+/// The problem files at the top of problems/ (no subfolders), by file name, sorted.
+pub fn problem_names() -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(root().join("problems"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    names
 }

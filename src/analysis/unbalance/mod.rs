@@ -163,6 +163,24 @@ pub struct DynamicStiffness {
     half: Option<usize>,
 }
 
+/// The sparsity pattern of an n × n dynamic stiffness (compressed columns) and its
+/// symbolic LU, after checking that every matrix value and the unbalance are finite.
+fn symbolic_lu<'a>(
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    mut values: impl Iterator<Item = &'a f64>,
+    unbalance: &[c64],
+) -> Result<(SymbolicSparseColMat<usize>, SymbolicLu<usize>), AnalysisError> {
+    let non_finite = || LinalgError::NonFinite { what: "dynamic stiffness" };
+    if values.any(|v| !v.is_finite()) || unbalance.iter().any(|z| !(z.re.is_finite() && z.im.is_finite())) {
+        return Err(non_finite().into());
+    }
+    let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default()).map_err(|_| non_finite())?;
+    Ok((pattern, symbolic))
+}
+
 impl DynamicStiffness {
     /// The dynamic stiffness of `rotor` under its static load αP_cr.
     pub fn of(rotor: &Rotor) -> Result<DynamicStiffness, AnalysisError> {
@@ -218,12 +236,7 @@ impl DynamicStiffness {
             col_ptr.push(row_idx.len());
         }
         let values = stiffness.iter().chain(&inertia).chain(&damping).chain(&gyroscopic);
-        if values.chain(sys.unbalance.iter().flat_map(|z| [&z.re, &z.im])).any(|v| !v.is_finite()) {
-            return Err(LinalgError::NonFinite { what: "dynamic stiffness" }.into());
-        }
-        let pattern = SymbolicSparseColMat::new_checked(n2, n2, col_ptr, None, row_idx);
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
-            .map_err(|_| LinalgError::NonFinite { what: "dynamic stiffness" })?;
+        let (pattern, symbolic) = symbolic_lu(n2, col_ptr, row_idx, values, &sys.unbalance)?;
         Ok(DynamicStiffness {
             pattern,
             symbolic,
@@ -277,12 +290,7 @@ impl DynamicStiffness {
             col_ptr.push(row_idx.len());
         }
         let values = stiffness.iter().chain(&inertia).chain(&damping);
-        if values.chain(sys.unbalance.iter().flat_map(|z| [&z.re, &z.im])).any(|v| !v.is_finite()) {
-            return Err(LinalgError::NonFinite { what: "dynamic stiffness" }.into());
-        }
-        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
-            .map_err(|_| LinalgError::NonFinite { what: "dynamic stiffness" })?;
+        let (pattern, symbolic) = symbolic_lu(n, col_ptr, row_idx, values, sys.unbalance)?;
         Ok(DynamicStiffness {
             pattern,
             symbolic,
