@@ -6,6 +6,7 @@
 //!
 //! Units: SI, frequencies in rad/s.
 
+use rotorshunt::analysis::unbalance;
 use rotorshunt::{run_design, BandRequest, CatalogueRequest, ChartRequest, Interval, Problem};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -19,27 +20,42 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // 2. A stability chart around ω_b1 + ω_r (Fig. 11): 1 rad/s × 0.05.
-    let grid = ChartRequest::grid(Interval::new(1150.0, 1250.0), 1.0, 0.5, 0.05)?;
+    let grid =
+        ChartRequest::grid().phi(Interval::new(1150.0, 1250.0)).phi_step(1.0).beta_max(0.5).beta_step(0.05).build()?;
     let chart = op.chart(&grid);
     println!("chart: {} of {} points unstable", chart.unstable(), chart.points.len());
 
     // 3. The catalogue of regions in 1000–1400 rad/s up to β = 1, edges at β = 0.3.
-    let cat = op.catalogue(&CatalogueRequest::new(Interval::new(1000.0, 1400.0), 1.0, 0.3, false)?)?;
+    let request = CatalogueRequest::builder().range(Interval::new(1000.0, 1400.0)).beta_max(1.0).level(0.3);
+    let cat = op.catalogue(&request.build()?)?;
     for r in cat.regions.iter().filter(|r| r.order == 1) {
         println!("  region {:>8}: starts at {:7.1} rad/s, onset β = {:.4}", r.label, r.start, r.onset_beta);
     }
 
     // 4. The stable band around φ_op = 1230 rad/s at β_op = 0.3.
-    let band = op.band(&BandRequest::new(Interval::new(100.0, 8000.0), 1230.0, 0.3)?)?;
+    let band =
+        op.band(&BandRequest::builder().range(Interval::new(100.0, 8000.0)).phi_op(1230.0).level(0.3).build()?)?;
     match band.band {
         Some(b) => println!("stable band around 1230 rad/s: [{:.2}, {:.2}] rad/s", b.lo, b.hi),
         None => println!("1230 rad/s is unstable at β = 0.3"),
     }
 
-    // 5. A design: widen that band by tuning branch 1 (two starts, to keep the tour short).
+    // 5. The unbalance response at the disk (node 16) over 200–600 rad/s, 1 rad/s apart:
+    //    its peak, at the first forward critical speed (unbounded: this rotor is undamped).
+    let rotor = problem.rotor()?;
+    let disk = unbalance::node_probe(&rotor.system.dofs, 16)?;
+    let speeds: Vec<f64> = (200..=600).map(f64::from).collect();
+    let response = unbalance::unbalance_response(&rotor, &speeds, &[disk], &|| {})?;
+    match response.probes[0].largest(&speeds) {
+        (speed, _, true) => println!("unbalance at node 16: unbounded at {speed:.1} rad/s"),
+        (speed, amplitude, false) => println!("unbalance at node 16: largest {amplitude:.3e} m at {speed:.1} rad/s"),
+    }
+
+    // 6. A design: widen that band by tuning branch 1 (two starts, to keep the tour short).
     let overrides = ["design.starts=2".to_string(), "design.max_iterations=10".to_string()];
     let design = Problem::from_path("problems/design-widest-band.toml", &overrides)?;
-    let outcome = run_design(&design, &rotorshunt::progress::Silent)?;
+    let spec = design.design.as_ref().ok_or("the file has a [design] table")?;
+    let outcome = run_design(&design.machine(), spec, &rotorshunt::progress::Silent)?;
     let (before, after) = (&outcome.before_bands()[0].band, &outcome.after_bands()[0].band);
     println!(
         "design {:?} (verified: {}): band width {:.1} → {:.1} rad/s with {:?}",

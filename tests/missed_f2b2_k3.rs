@@ -120,7 +120,7 @@ fn missed_f2b2_k3_is_outside_the_band_and_catalogued() {
     assert!(counted.is_empty(), "grid points inside the band count: {counted:?}");
 
     // 3. The catalogue of 1150–1250 rad/s lists the tongue as f2+b2 of order 3, counted.
-    let req = CatalogueRequest::new(NEAR, 1.0, LEVEL, false).unwrap();
+    let req = CatalogueRequest::builder().range(NEAR).beta_max(1.0).level(LEVEL).build().unwrap();
     let cat = catalogue(&fs, &full, &s, &req).unwrap();
     let holding: Vec<_> = cat
         .regions

@@ -53,4 +53,14 @@ fn the_example_prints_what_the_readme_says() {
             .unwrap_or_else(|| panic!("the tour prints no {tag} line:\n{text}"));
         assert!(common::rel(printed, paper) < 1e-3, "{tag}: the tour prints {printed} rad/s, Table 3 has {paper}");
     }
+    // The unbalance peak is a critical speed: the forward whirl at that speed, by the
+    // modal solve (a second computation), equals it within the 1 rad/s grid's half step
+    // and the peak refinement.
+    let peak: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("unbalance at node 16: unbounded at ")?.strip_suffix(" rad/s")?.parse().ok())
+        .unwrap_or_else(|| panic!("the tour prints no unbounded unbalance peak:\n{text}"));
+    let p = rotorshunt::Problem::from_path(common::problem_path("fig11-closed-2000.toml"), &[]).unwrap();
+    let f1 = p.operating_point_at(peak).unwrap().modes.forward().next().unwrap().frequency;
+    assert!((f1 - peak).abs() < 0.6, "unbalance peak at {peak} rad/s, f1 there {f1} rad/s");
 }

@@ -24,7 +24,12 @@ fn regions_table_sets_the_search_and_is_recorded() {
     // the band's edges by less than the tolerances allow.
     let op = p.operating_point().unwrap();
     assert_eq!(op.regions, p.regions);
-    let req = rotorshunt::BandRequest::new(Interval::new(100.0, 8000.0), 1230.0, 0.3).unwrap();
+    let req = rotorshunt::BandRequest::builder()
+        .range(Interval::new(100.0, 8000.0))
+        .phi_op(1230.0)
+        .level(0.3)
+        .build()
+        .unwrap();
     let fine = op.band(&req).unwrap().band.unwrap();
     let plain = Problem::from_path(common::problem_path("fig11-closed-2000.toml"), &[]).unwrap();
     let coarse = plain.operating_point().unwrap().band(&req).unwrap().band.unwrap();

@@ -22,7 +22,9 @@ pub mod warnings;
 
 pub use criterion::Criterion;
 pub use interval::Interval;
-pub use operating::{BandRequest, ChartRequest, OperatingPoint, MAX_CHART_AXIS};
+pub use operating::{
+    BandRequest, BandRequestBuilder, ChartGrid, ChartRequest, OperatingPoint, DEFAULT_BAND_RANGE, MAX_CHART_AXIS,
+};
 pub use rotor::Rotor;
 pub use settings::{MonodromyMethod, Settings};
 

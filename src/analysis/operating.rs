@@ -8,7 +8,8 @@
 //!
 //! let problem = Problem::from_path("problems/fig11-closed-2000.toml", &[]).unwrap();
 //! let op = problem.operating_point().unwrap(); // at the file's speed, 2000 rad/s
-//! let band = op.band(&BandRequest::new(Interval::new(100.0, 8000.0), 1230.0, 0.3).unwrap()).unwrap();
+//! let request = BandRequest::builder().range(Interval::new(100.0, 8000.0)).phi_op(1230.0).level(0.3).build();
+//! let band = op.band(&request.unwrap()).unwrap();
 //! let b = band.band.unwrap();
 //! assert!(b.lo < 1230.0 && 1230.0 < b.hi);
 //! ```
@@ -72,20 +73,75 @@ pub struct ChartRequest {
     betas: Vec<f64>,
 }
 
-impl ChartRequest {
-    /// The grid `phi.lo, phi.lo + phi_step, … ≤ phi.hi` × `0, beta_step, … ≤ beta_max`
-    /// (rad/s and −), each checked by the parameter rules ([`crate::analysis::limits`]).
-    pub fn grid(phi: Interval, phi_step: f64, beta_max: f64, beta_step: f64) -> Result<ChartRequest, ParamError> {
-        let phi = limits::phi_range(phi.lo, phi.hi)?;
-        let phi_step = limits::positive(Quantity::Frequency, phi_step)?;
-        let beta_max = limits::beta_max(beta_max)?;
-        let beta_step = limits::positive(Quantity::Load, beta_step)?;
+/// A regular chart grid by its named values (rad/s and −), checked when it is built
+/// ([`ChartGrid::validate`], [`ChartGrid::build`]): `ChartRequest::grid().phi(…)
+/// .phi_step(…).beta_max(…).beta_step(…).build()`. Every value is required: one not set
+/// is NaN and refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChartGrid {
+    phi: Interval,
+    phi_step: f64,
+    beta_max: f64,
+    beta_step: f64,
+}
+
+impl Default for ChartGrid {
+    fn default() -> ChartGrid {
+        ChartGrid {
+            phi: Interval::new(f64::NAN, f64::NAN),
+            phi_step: f64::NAN,
+            beta_max: f64::NAN,
+            beta_step: f64::NAN,
+        }
+    }
+}
+
+impl ChartGrid {
+    /// The φ range of the grid (rad/s).
+    pub fn phi(self, phi: Interval) -> ChartGrid {
+        ChartGrid { phi, ..self }
+    }
+    /// The φ step (rad/s): φ runs `phi.lo, phi.lo + phi_step, … ≤ phi.hi`.
+    pub fn phi_step(self, phi_step: f64) -> ChartGrid {
+        ChartGrid { phi_step, ..self }
+    }
+    /// The largest load β (−): β runs `0, beta_step, … ≤ beta_max`.
+    pub fn beta_max(self, beta_max: f64) -> ChartGrid {
+        ChartGrid { beta_max, ..self }
+    }
+    /// The β step (−).
+    pub fn beta_step(self, beta_step: f64) -> ChartGrid {
+        ChartGrid { beta_step, ..self }
+    }
+    /// The grid's axes, each value checked by the parameter rules
+    /// ([`crate::analysis::limits`]) and each axis's length bounded.
+    fn axes(&self) -> Result<(Vec<f64>, Vec<f64>), ParamError> {
+        let phi = limits::phi_range(self.phi.lo, self.phi.hi)?;
+        let phi_step = limits::positive(Quantity::Frequency, self.phi_step)?;
+        let beta_max = limits::beta_max(self.beta_max)?;
+        let beta_step = limits::positive(Quantity::Load, self.beta_step)?;
         let axis = |lo: f64, hi: f64, step: f64| -> Result<Vec<f64>, ParamError> {
             let n = ((hi - lo) / step + 1e-9).floor() + 1.0;
             let n = limits::count(n as u64, 1, MAX_CHART_AXIS as u64)? as usize;
             Ok((0..n).map(|i| lo + step * i as f64).collect())
         };
-        ChartRequest::values(axis(phi.lo, phi.hi, phi_step)?, axis(0.0, beta_max, beta_step)?)
+        Ok((axis(phi.lo, phi.hi, phi_step)?, axis(0.0, beta_max, beta_step)?))
+    }
+    /// Check the values without building the grid.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.axes().map(|_| ())
+    }
+    /// The checked request.
+    pub fn build(self) -> Result<ChartRequest, ParamError> {
+        let (phis, betas) = self.axes()?;
+        ChartRequest::values(phis, betas)
+    }
+}
+
+impl ChartRequest {
+    /// A regular grid, built by named values ([`ChartGrid`]).
+    pub fn grid() -> ChartGrid {
+        ChartGrid::default()
     }
 
     /// A grid of given values: every φ a frequency (rad/s), every β a load (−).
@@ -122,12 +178,75 @@ pub struct BandRequest {
 }
 
 impl BandRequest {
+    /// A request by named values ([`BandRequestBuilder`]).
+    pub fn builder() -> BandRequestBuilder {
+        BandRequestBuilder::default()
+    }
+
     /// A request checked by the parameter rules: a φ range, φ_op inside it, a level up to
     /// the largest load.
-    pub fn new(range: Interval, phi_op: f64, level: f64) -> Result<BandRequest, ParamError> {
+    pub(crate) fn new(range: Interval, phi_op: f64, level: f64) -> Result<BandRequest, ParamError> {
         let range = limits::phi_range(range.lo, range.hi)?;
         let phi_op = limits::phi_op(phi_op, range)?;
         let level = limits::level(level, limits::MAX_BETA)?;
         Ok(BandRequest { range, phi_op, level })
+    }
+
+    /// The φ range searched (rad/s).
+    pub fn range(&self) -> Interval {
+        self.range
+    }
+    /// φ_op (rad/s).
+    pub fn phi_op(&self) -> f64 {
+        self.phi_op
+    }
+    /// β_op (−).
+    pub fn level(&self) -> f64 {
+        self.level
+    }
+}
+
+/// A [`BandRequest`] by named values, checked when it is built: `BandRequest::builder()
+/// .phi_op(1230.0).level(0.3).build()`. The range defaults to that of `rotorshunt band`
+/// ([`DEFAULT_BAND_RANGE`]); φ_op and the level are required (one not set is NaN and
+/// refused).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BandRequestBuilder {
+    range: Interval,
+    phi_op: f64,
+    level: f64,
+}
+
+/// The φ range a band is searched over when none is given (rad/s): that of
+/// `rotorshunt band` and of `[design]`, wide enough for every tongue of a machinery rotor
+/// whose whirls lie below 4 000 rad/s.
+pub const DEFAULT_BAND_RANGE: Interval = Interval { lo: 100.0, hi: 8000.0 };
+
+impl Default for BandRequestBuilder {
+    fn default() -> BandRequestBuilder {
+        BandRequestBuilder { range: DEFAULT_BAND_RANGE, phi_op: f64::NAN, level: f64::NAN }
+    }
+}
+
+impl BandRequestBuilder {
+    /// The φ range searched (rad/s), containing φ_op.
+    pub fn range(self, range: Interval) -> BandRequestBuilder {
+        BandRequestBuilder { range, ..self }
+    }
+    /// The operating excitation frequency φ_op (rad/s).
+    pub fn phi_op(self, phi_op: f64) -> BandRequestBuilder {
+        BandRequestBuilder { phi_op, ..self }
+    }
+    /// The level β_op of the band (−).
+    pub fn level(self, level: f64) -> BandRequestBuilder {
+        BandRequestBuilder { level, ..self }
+    }
+    /// Check the values by the parameter rules.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.build().map(|_| ())
+    }
+    /// The checked request.
+    pub fn build(self) -> Result<BandRequest, ParamError> {
+        BandRequest::new(self.range, self.phi_op, self.level)
     }
 }

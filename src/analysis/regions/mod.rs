@@ -98,20 +98,72 @@ pub struct CatalogueRequest {
 }
 
 impl CatalogueRequest {
+    /// A request by named values ([`CatalogueRequestBuilder`]).
+    pub fn builder() -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder::default()
+    }
+
     /// A request checked by the parameter rules ([`crate::analysis::limits`]): the range
     /// finite, 0 < lo < hi within the ratio and frequency bounds, 0 < β_max ≤ the largest
     /// load, 0 < level ≤ β_max.
-    pub fn new(range: Interval, beta_max: f64, level: f64, track: bool) -> Result<CatalogueRequest, ParamError> {
+    pub(crate) fn new(range: Interval, beta_max: f64, level: f64, track: bool) -> Result<CatalogueRequest, ParamError> {
         let req = CatalogueRequest { range, beta_max, level, track };
         req.check()?;
         Ok(req)
     }
 
-    /// Check a request built field by field (the fields are public).
+    /// Check a request built field by field (the fields are public; the catalogue checks
+    /// its request again).
     pub fn check(&self) -> Result<(), ParamError> {
         limits::phi_range(self.range.lo, self.range.hi)?;
         limits::level(self.level, limits::beta_max(self.beta_max)?)?;
         Ok(())
+    }
+}
+
+/// A [`CatalogueRequest`] by named values, checked when it is built:
+/// `CatalogueRequest::builder().range(…).beta_max(1.0).level(0.3).build()`. β_max defaults
+/// to 1 (that of `rotorshunt regions`), tracking to off; the range and the level are
+/// required (one not set is NaN and refused).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CatalogueRequestBuilder(CatalogueRequest);
+
+impl Default for CatalogueRequestBuilder {
+    fn default() -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder(CatalogueRequest {
+            range: Interval::new(f64::NAN, f64::NAN),
+            beta_max: 1.0,
+            level: f64::NAN,
+            track: false,
+        })
+    }
+}
+
+impl CatalogueRequestBuilder {
+    /// The φ range searched (rad/s).
+    pub fn range(self, range: Interval) -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder(CatalogueRequest { range, ..self.0 })
+    }
+    /// The highest load searched for onsets, β_max (−).
+    pub fn beta_max(self, beta_max: f64) -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder(CatalogueRequest { beta_max, ..self.0 })
+    }
+    /// The level β_op of edges and bands (−), at most β_max.
+    pub fn level(self, level: f64) -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder(CatalogueRequest { level, ..self.0 })
+    }
+    /// Also track boundaries from each located onset up to β_max.
+    pub fn track(self, track: bool) -> CatalogueRequestBuilder {
+        CatalogueRequestBuilder(CatalogueRequest { track, ..self.0 })
+    }
+    /// Check the values by the parameter rules.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.0.check()
+    }
+    /// The checked request.
+    pub fn build(self) -> Result<CatalogueRequest, ParamError> {
+        self.validate()?;
+        Ok(self.0)
     }
 }
 
