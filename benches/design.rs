@@ -30,7 +30,8 @@ const POINT_REPEATS: usize = 15;
 fn cost_over_phi(name: &str, level: f64, phis: &[f64]) {
     let p = problem(name);
     let spec = p.design.as_ref().expect("a [design] table");
-    let c = Candidate::new(&p, spec, &values_of(&p, spec)).unwrap();
+    let m = p.machine();
+    let c = Candidate::new(&m, spec, &values_of(&m, spec)).unwrap();
     let fs = &c.systems[0].1;
     let f = &fs.reduced.frequencies;
     let (lo, hi) = f.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &w| (a.min(w), b.max(w)));

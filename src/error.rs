@@ -222,6 +222,15 @@ pub enum Error {
     },
 }
 
+impl From<crate::import::ross::ImportError> for Error {
+    fn from(e: crate::import::ross::ImportError) -> Error {
+        match e {
+            crate::import::ross::ImportError::Read(e) => Error::Problem(e),
+            crate::import::ross::ImportError::Ross(e) => Error::Ross(Box::new(e)),
+        }
+    }
+}
+
 impl From<crate::import::ross::RossError> for Error {
     fn from(e: crate::import::ross::RossError) -> Error {
         Error::Ross(Box::new(e))

@@ -20,7 +20,10 @@
 //!
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
 //! (matrices) → [`analysis`] → [`design`] → [`report`]; [`import`] turns other programs'
-//! rotor files (ROSS's) into problem files. SI units and rad/s throughout.
+//! rotor files (ROSS's) into problem files. The code's dependencies follow the types: the
+//! file layer builds the model, the settings and the design spec, so it names those
+//! layers and none of them names it; it reads and checks, and never runs an analysis
+//! (tests/layers.rs checks every layer). SI units and rad/s throughout.
 //!
 //! ## The library's face
 //!
@@ -28,9 +31,10 @@
 //! rotor at a speed as an [`OperatingPoint`] (whirls and the reduced periodic system),
 //! and ask it for a chart ([`ChartRequest`]), a catalogue of regions
 //! ([`CatalogueRequest`]) or a stable band ([`BandRequest`]); every request is checked
-//! when it is built. A file with a `[design]` table is designed by [`run_design`]. The
-//! modules stay public for the rest (assembled matrices, solvers); `commands` is the
-//! command line's layer and not part of the library.
+//! when it is built. A file with a `[design]` table is designed by [`run_design`], given
+//! its machine ([`Problem::machine`]) and its spec. The modules stay public for the rest
+//! (assembled matrices, solvers); `commands` is the command line's layer and not part of
+//! the library.
 //!
 //! ```
 //! use rotorshunt::{CatalogueRequest, Interval, Problem};
@@ -39,7 +43,8 @@
 //! let op = problem.operating_point_at(2000.0).unwrap();
 //! let f1 = op.modes.forward().next().unwrap().frequency;
 //! assert!((f1 / 399.0 - 1.0).abs() < 1e-3); // Table 2: ω_f1 = 399.0 rad/s
-//! let cat = op.catalogue(&CatalogueRequest::new(Interval::new(600.0, 800.0), 0.1, 0.05, false).unwrap()).unwrap();
+//! let request = CatalogueRequest::builder().range(Interval::new(600.0, 800.0)).beta_max(0.1).level(0.05);
+//! let cat = op.catalogue(&request.build().unwrap()).unwrap();
 //! assert!(cat.regions.iter().any(|r| r.label == "f1+b1")); // Fig. 9: ω_f1 + ω_b1 ≈ 700
 //! ```
 
@@ -84,6 +89,6 @@ pub mod report;
 
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};
 pub use analysis::{AnalysisError, BandRequest, ChartRequest, Criterion, Interval, OperatingPoint, Rotor, Settings};
-pub use design::{run as run_design, DesignError, DesignOutcome};
+pub use design::{run as run_design, DesignError, DesignOutcome, DesignSpec, Machine};
 pub use error::Error;
 pub use problem::{Problem, ProblemError};

@@ -22,9 +22,10 @@ pub trait Progress: Sync {
     /// `steps` steps of the current phase are done.
     fn advance(&self, _steps: u64) {}
     /// A command found an implausible input while it ran (e.g. a φ range no region can
-    /// reach); the warning is also in its JSON output. The problem file's own warnings
-    /// are in [`crate::problem::Problem::warnings`], not reported here.
-    fn warning(&self, _warning: &crate::problem::Warning) {}
+    /// reach): the warning's text, without the `warning: ` prefix; the warning is also in
+    /// its JSON output. The problem file's own warnings are in the problem, not reported
+    /// here.
+    fn warning(&self, _warning: &dyn std::fmt::Display) {}
     /// A command found something on disk it ignored or left alone (a tampered record, a
     /// leftover it could not prove its own): one line, starting `warning: `.
     fn notice(&self, _line: &str) {}

@@ -118,7 +118,7 @@ impl Progress for Reporter {
         }
     }
     /// Warnings are not progress: printed even with `--quiet`, above the bar if one is drawn.
-    fn warning(&self, warning: &rotorshunt::problem::Warning) {
+    fn warning(&self, warning: &dyn std::fmt::Display) {
         match self {
             Reporter::Bar(b) => b.bar.suspend(|| eprintln!("warning: {}", printable(&warning.to_string()))),
             _ => eprintln!("warning: {}", printable(&warning.to_string())),

@@ -158,6 +158,21 @@ fn bad_fixtures_are_refused_by_the_library_with_the_right_line() {
         let name = name_of(&path);
         let expect = expectation(&path);
         match Problem::from_path(&path, &[]) {
+            // A damping constraint's whirl tag needs the model's whirls: the loader reads
+            // it, and the design refuses it before any candidate (the file layer solves
+            // nothing; tests/file_layer.rs), with the same words as `check`.
+            Ok(p) if p.design.as_ref().is_some_and(|d| !d.constraints.damping.is_empty()) => {
+                let spec = p.design.as_ref().unwrap();
+                match rotorshunt::design::checks::modes_exist(&p.machine(), spec) {
+                    Ok(()) => failures.push(format!("{name}: loaded and its whirl tags accepted")),
+                    Err(e) => {
+                        let words = expect.split_once("`: ").map_or(expect.as_str(), |(_, w)| w);
+                        if !e.to_string().contains(words) {
+                            failures.push(format!("{name}: the design's message lacks {words:?}\n    got: {e}"));
+                        }
+                    }
+                }
+            }
             Ok(_) => failures.push(format!("{name}: loaded without error")),
             Err(e) => {
                 let message = e.to_string();

@@ -1,4 +1,4 @@
-//! Design candidates set their values on the model ([`problem_at`]); the tuned file is
+//! Design candidates set their values on the model ([`machine_at`]); the tuned file is
 //! written by the file layer ([`tuned_file`]). The two must agree bit for bit: the tuned
 //! file, read back by the normal loader, gives the candidate's model, for every bundled
 //! design and for the cases where the file's meaning matters (a tuning frequency held
@@ -8,7 +8,7 @@
 mod common;
 
 use common::load;
-use rotorshunt::design::evaluate::problem_at;
+use rotorshunt::design::evaluate::machine_at;
 use rotorshunt::design::DesignError;
 use rotorshunt::model::{BranchError, Given, Model};
 use rotorshunt::problem::tuned::{tuned_file, Setting};
@@ -20,10 +20,10 @@ fn given(m: &Model) -> Vec<Vec<Given>> {
 }
 
 /// The candidate at the scaled point `u` of every variable, and the tuned file read back.
-fn both(base: &Problem, u: f64) -> (Problem, Problem) {
+fn both(base: &Problem, u: f64) -> (rotorshunt::design::Machine, Problem) {
     let spec = base.design.as_ref().expect("a [design] table");
     let values: Vec<f64> = spec.variables.iter().map(|v| v.from_unit(u)).collect();
-    let candidate = problem_at(base, spec, &values).unwrap_or_else(|e| panic!("{e}"));
+    let candidate = machine_at(&base.machine(), spec, &values).unwrap_or_else(|e| panic!("{e}"));
     let settings: Vec<Setting> = spec
         .variables
         .iter()
@@ -61,7 +61,7 @@ fn a_held_tuning_frequency_follows_c_f_and_an_inductance_replaces_it() {
     assert_agree("design-widest-band.toml", &c_f);
     let base = load("design-widest-band.toml", &c_f);
     let spec = base.design.as_ref().expect("[design]");
-    let c = problem_at(&base, spec, &[900.0, 2e-6]).unwrap_or_else(|e| panic!("{e}"));
+    let c = machine_at(&base.machine(), spec, &[900.0, 2e-6]).unwrap_or_else(|e| panic!("{e}"));
     let b = &c.model.rings[1].circuit.branches[0];
     assert_eq!(b.given, Given::TuningFrequency(900.0));
     assert!((b.tuning_frequency(c.model.rings[0].ring.cp_t) / 900.0 - 1.0).abs() < 1e-12);
@@ -70,7 +70,8 @@ fn a_held_tuning_frequency_follows_c_f_and_an_inductance_replaces_it() {
         ["design.variables[0].parameter=\"inductance\"", "design.variables[0].min=0.5", "design.variables[0].max=2"];
     assert_agree("design-widest-band.toml", &l);
     let base = load("design-widest-band.toml", &l);
-    let c = problem_at(&base, base.design.as_ref().expect("[design]"), &[1.25, 3.0]).unwrap_or_else(|e| panic!("{e}"));
+    let c = machine_at(&base.machine(), base.design.as_ref().expect("[design]"), &[1.25, 3.0])
+        .unwrap_or_else(|e| panic!("{e}"));
     assert!(c.model.rings.iter().all(|r| r.circuit.branches[0].given == Given::Inductance));
     assert!(c.model.rings.iter().all(|r| r.circuit.branches[0].inductance == 1.25));
 }
@@ -80,8 +81,8 @@ fn the_shorthand_circuit_is_tuned_with_the_left_ring_whichever_ring_is_named() {
     let right = ["ring.right.cp_t=2.5e-6", "design.variables[0].ring=\"right\""];
     assert_agree("design-widest-band.toml", &right);
     let base = load("design-widest-band.toml", &right);
-    let c =
-        problem_at(&base, base.design.as_ref().expect("[design]"), &[1000.0, 5.0]).unwrap_or_else(|e| panic!("{e}"));
+    let c = machine_at(&base.machine(), base.design.as_ref().expect("[design]"), &[1000.0, 5.0])
+        .unwrap_or_else(|e| panic!("{e}"));
     let cp_t_left = c.model.rings[0].ring.cp_t;
     assert!(c.model.rings[1].ring.cp_t != cp_t_left);
     for r in &c.model.rings {
@@ -89,7 +90,7 @@ fn the_shorthand_circuit_is_tuned_with_the_left_ring_whichever_ring_is_named() {
         assert!((r.circuit.branches[0].tuning_frequency(cp_t_left) / 1000.0 - 1.0).abs() < 1e-12, "{}", r.name);
     }
     // The reference values are the file's: ω = 900 rad/s read with the left ring's C_p^T.
-    let before = rotorshunt::design::evaluate::values_of(&base, base.design.as_ref().expect("[design]"));
+    let before = rotorshunt::design::evaluate::values_of(&base.machine(), base.design.as_ref().expect("[design]"));
     assert!((before[0] / 900.0 - 1.0).abs() < 1e-12, "{before:?}");
 }
 
@@ -97,7 +98,7 @@ fn the_shorthand_circuit_is_tuned_with_the_left_ring_whichever_ring_is_named() {
 fn a_value_no_branch_could_take_is_a_typed_error() {
     let base = load("design-widest-band.toml", &[]);
     let spec = base.design.as_ref().expect("[design]");
-    let err = |values: &[f64]| match problem_at(&base, spec, values) {
+    let err = |values: &[f64]| match machine_at(&base.machine(), spec, values) {
         Err(DesignError::Candidate { variable, error, .. }) => (variable, error),
         other => panic!("{values:?}: {:?}", other.map(|_| ())),
     };

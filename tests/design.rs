@@ -194,8 +194,9 @@ fn a_band_that_fails_verification_is_reported_with_exit_4() {
 #[test]
 fn a_design_run_is_reproducible_bit_for_bit() {
     let p = common::load("design-widest-band.toml", &["design.starts=3", "design.max_iterations=15"]);
-    let a = design::run(&p, &|| {}).unwrap();
-    let b = design::run(&p, &|| {}).unwrap();
+    let spec = p.design.as_ref().unwrap();
+    let a = design::run(&p.machine(), spec, &|| {}).unwrap();
+    let b = design::run(&p.machine(), spec, &|| {}).unwrap();
     assert_eq!(a.status, Status::Improved);
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a.after), bits(&b.after));

@@ -5,8 +5,8 @@
 
 mod common;
 use common::{load, problem_path, rel, root};
-use rotorshunt::analysis::warnings::WarningKind;
 use rotorshunt::problem::units::RAD_PER_S_PER_RPM;
+use rotorshunt::problem::WarningKind;
 use rotorshunt::problem::{Location, Problem, ProblemErrorKind, Warning};
 use std::process::Command;
 

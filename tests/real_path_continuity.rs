@@ -85,7 +85,9 @@ fn real_coordinates_give_the_same_design_outcome() {
     let complex = common::load("design-widest-band.toml", &short);
     let real = common::load("design-widest-band.toml", &[short[0], short[1], REAL]);
     let silent = rotorshunt::progress::Silent;
-    let (a, b) = (rotorshunt::run_design(&complex, &silent).unwrap(), rotorshunt::run_design(&real, &silent).unwrap());
+    let run =
+        |p: &rotorshunt::Problem| rotorshunt::run_design(&p.machine(), p.design.as_ref().unwrap(), &silent).unwrap();
+    let (a, b) = (run(&complex), run(&real));
     let band = |o: &rotorshunt::DesignOutcome| o.after_bands()[0].band.band.map(|i| (i.lo, i.hi));
     eprintln!(
         "design: complex {:?} {:?} band {:?} ({} candidates); real {:?} {:?} band {:?} ({} candidates)",

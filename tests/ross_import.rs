@@ -4,7 +4,7 @@
 //! straight from ROSS's JSON.
 
 mod common;
-use rotorshunt::import::ross::{import_path, ElementRef, Options, Refusal, RossErrorKind};
+use rotorshunt::import::ross::{import_path, ElementRef, ImportError, Options, Refusal, RossErrorKind};
 use rotorshunt::Error;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -17,7 +17,7 @@ fn fixture(name: &str) -> PathBuf {
 /// Every refusal of a file: (element, reason), in the order of the message.
 fn refusals(path: &Path) -> Vec<(Option<ElementRef>, Refusal)> {
     match import_path(path, Options::default()) {
-        Err(Error::Ross(e)) => match e.kind {
+        Err(ImportError::Ross(e)) => match e.kind {
             RossErrorKind::Refused { element, reason, more } => std::iter::once((element.map(|e| *e), *reason))
                 .chain(more.iter().map(|r| (r.element.clone().map(|e| *e), (*r.reason).clone())))
                 .collect(),

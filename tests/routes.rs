@@ -346,14 +346,25 @@ fn library_requests_obey_the_same_rules() {
     use rotorshunt::analysis::Interval;
     use rotorshunt::problem::ProblemErrorKind;
 
-    let ok = CatalogueRequest::new(Interval::new(1000.0, 1500.0), 0.5, 0.3, false).expect("a valid request");
+    let near = CatalogueRequest::builder().range(Interval::new(1000.0, 1500.0));
+    let ok = near.beta_max(0.5).level(0.3).build().expect("a valid request");
     assert_eq!((ok.beta_max, ok.level), (0.5, 0.3));
-    let e = CatalogueRequest::new(Interval::new(1000.0, 1500.0), f64::NAN, 0.3, false).unwrap_err();
+    let e = near.beta_max(f64::NAN).level(0.3).build().unwrap_err();
     assert_eq!(
         (e.quantity, ProblemErrorKind::from(&e).to_string()),
         (Quantity::BetaMax, "must be a finite number, found NaN".into())
     );
-    let e = CatalogueRequest::new(Interval::new(1000.0, 1500.0), 0.5, 0.9, false).unwrap_err();
+    let e = near.beta_max(0.5).level(0.9).build().unwrap_err();
+    assert_eq!(near.beta_max(0.5).level(0.9).validate().unwrap_err(), e);
+    // A required value not set is refused, never defaulted quietly.
+    assert!(CatalogueRequest::builder().level(0.3).build().is_err());
+    assert!(rotorshunt::BandRequest::builder().level(0.3).build().is_err());
+    assert!(rotorshunt::ChartRequest::grid()
+        .phi(Interval::new(1000.0, 1500.0))
+        .beta_max(0.5)
+        .beta_step(0.1)
+        .build()
+        .is_err());
     assert_eq!(e.rule, Rule::AboveBetaMax { beta_max: 0.5 });
     assert_eq!(e.to_string(), "must be at most beta_max = 0.5, found 0.9");
     // A request built field by field is checked by the catalogue itself.
@@ -366,6 +377,6 @@ fn library_requests_obey_the_same_rules() {
     if let Some(spec) = p.design.as_mut() {
         spec.level = 1e300;
     }
-    let e = rotorshunt::design::optimise::run(&p, &|| {}).unwrap_err();
+    let e = rotorshunt::design::optimise::run(&p.machine(), p.design.as_ref().unwrap(), &|| {}).unwrap_err();
     assert_eq!(e.to_string(), "design.level: must be at most 100, found 1e300");
 }

@@ -83,7 +83,7 @@ fn fine_peak(p: &Problem, w: f64, r: f64, node: usize, lo: f64, hi: f64, n: usiz
 fn unconstrained_tuning_lands_on_the_classic_optimum_and_beats_it() {
     let p = Problem::from_path(problem_path("design-min-peak-stepped.toml"), &[]).unwrap();
     let (w, r) = classic(&p);
-    let out = rotorshunt::design::run(&p, &rotorshunt::progress::Silent).unwrap();
+    let out = rotorshunt::design::run(&p.machine(), p.design.as_ref().unwrap(), &rotorshunt::progress::Silent).unwrap();
     assert_eq!(out.status, rotorshunt::design::Status::Improved);
     let (tw, tr) = (out.after[0], out.after[1]);
     eprintln!("classic: {w:.3} rad/s, {r:.3} ohm; tuned: {tw:.3} rad/s, {tr:.3} ohm");
@@ -182,15 +182,6 @@ fn bad_response_and_constraint_keys_are_typed_errors_with_key_and_line() {
     assert_eq!(e.key, "design.response.speeds[1]");
     assert!(matches!(e.kind, ProblemErrorKind::OutOfRange { value, .. } if value == 800.0), "{e}");
     assert_eq!(e.line(), Some(line_of(&t, "speeds = [1300.0")));
-    // A constraint on a whirl the model does not have.
-    let t = edited(
-        "[[design.variables]]",
-        "[[design.constraints.damping]]\nmode = \"fq9\"\nmin = 0.01\n\n[[design.variables]]",
-    );
-    let e = error_of(&t);
-    assert_eq!(e.key, "design.constraints.damping[0].mode");
-    assert!(matches!(&e.kind, ProblemErrorKind::UnknownMode { mode, .. } if mode == "fq9"), "{e}");
-    assert_eq!(e.line(), Some(line_of(&t, "mode = \"fq9\"")));
     // A node off the shaft (nodes 0 to 28).
     let t = edited("node = 0\nspeeds", "node = 29\nspeeds");
     let e = error_of(&t);
@@ -206,4 +197,39 @@ fn bad_response_and_constraint_keys_are_typed_errors_with_key_and_line() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains(&format!("line {}: key `design.response.node`", line_of(&t, "node = 29"))), "{err}");
+}
+
+/// A damping constraint on a whirl the model does not have needs the model's whirls: the
+/// file layer reads it (no solve while a file is read), the design refuses it before any
+/// candidate (typed, with the tags the model has), and the command line names key and
+/// line, exit 2, before any folder is made.
+#[test]
+fn a_damping_constraint_on_a_missing_whirl_is_refused_by_the_design() {
+    let t = edited(
+        "[[design.variables]]",
+        "[[design.constraints.damping]]\nmode = \"fq9\"\nmin = 0.01\n\n[[design.variables]]",
+    );
+    let p = Problem::from_text(&t, "t.toml", &[]).unwrap();
+    let e = rotorshunt::design::run(&p.machine(), p.design.as_ref().unwrap(), &rotorshunt::progress::Silent)
+        .expect_err("a missing whirl accepted");
+    match &e {
+        rotorshunt::design::DesignError::UnknownMode { index: 0, mode, available, .. } => {
+            assert_eq!(mode, "fq9");
+            assert!(available.iter().any(|t| t == "f1"), "{available:?}");
+        }
+        other => panic!("{other}"),
+    }
+    let dir = tmp("unknown-mode");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("t.toml");
+    std::fs::write(&file, &t).unwrap();
+    let out_dir = dir.join("out");
+    let out = bin().arg("design").arg(&file).arg("--out").arg(&out_dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = line_of(&t, "mode = \"fq9\"");
+    assert!(err.contains(&format!("line {line}: key `design.constraints.damping[0].mode`")), "{err}");
+    assert!(err.contains("no whirl mode `fq9`"), "{err}");
+    assert!(!out_dir.exists(), "a folder was made for a refused design");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -57,7 +57,8 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
     memory.amount = (memory.amount * threads as f64).max(verify_dense.memory.amount);
     let admitted = Estimate { time: dense.time.clone(), memory: memory.clone() };
     bounds::admit(budget, "the design", &admitted, &DESIGN)?;
-    let reference = Candidate::new(problem, spec, &values_of(problem, spec))?;
+    let machine = problem.machine();
+    let reference = Candidate::new(&machine, spec, &values_of(&machine, spec))?;
     let s = problem.regions.clone();
     let criterion = reference.criterion();
     let mut per_candidate = Estimate::time(dense.time.amount * speeds, Driver::Dofs, dense.time.detail.clone());
@@ -138,19 +139,36 @@ pub fn design_cmd(
     // No folder is created for a file without a [design] table.
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
+    modes_exist(problem, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
     let outcome = design_report(problem, &dir, progress)?;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
 
+/// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),
+/// checked once the run is admitted and before its folder is made; a tag the model lacks
+/// is refused as the file's error at the tag's line.
+pub(crate) fn modes_exist(problem: &Problem, spec: &DesignSpec) -> Result<(), Error> {
+    match design::checks::modes_exist(&problem.machine(), spec) {
+        Err(DesignError::UnknownMode { index, mode, speed, available }) => Err(problem
+            .refuse(
+                &format!("design.constraints.damping[{index}].mode"),
+                crate::problem::ProblemErrorKind::UnknownMode { mode, speed, available: available.into() },
+            )
+            .into()),
+        other => Ok(other?),
+    }
+}
+
 /// Run the design and write the report files to `dir`; the outcome.
 pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let outcome = design::run(problem, progress)?;
+    let machine = problem.machine();
+    let outcome = design::run(&machine, spec, progress)?;
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
-    let before = Candidate::new(problem, spec, &outcome.before)?;
-    let after = Candidate::new(problem, spec, &outcome.after)?;
+    let before = Candidate::new(&machine, spec, &outcome.before)?;
+    let after = Candidate::new(&machine, spec, &outcome.after)?;
     // The charts' rows and Campbell speeds, the three text files and report.html; a step
     // per figure once the figures are known.
     progress.phase("report", (content_steps(spec) + 4) as u64);
@@ -175,7 +193,7 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         provenance: super::Provenance::of(problem),
         title: title(problem),
         branches_before: branch_rows(&problem.model),
-        branches_after: branch_rows(&after.problem.model),
+        branches_after: branch_rows(&after.machine.model),
         outcome: outcome.clone(),
         whirls,
         files,
@@ -348,8 +366,9 @@ pub fn pareto_cmd(
     let one = design_estimate(problem, spec, &budget)?;
     let runs = (2 * points) as f64;
     bounds::admit(&budget, "the Pareto front", &one.times(runs, Driver::Candidates, "design runs"), &DESIGN)?;
+    modes_exist(problem, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let front = design::pareto::front(problem, points, progress)?;
+    let front = design::pareto::front(&problem.machine(), spec, points, progress)?;
     progress.phase("report", (front.points.len() + 4) as u64);
     let design_files: Vec<String> = front.points.iter().map(point_file).collect();
     let mut files: Vec<String> =

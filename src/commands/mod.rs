@@ -62,7 +62,7 @@ pub(crate) fn range_warning(
                 file: problem.file.clone(),
                 location: crate::problem::Location::Unknown,
                 key: key.to_string(),
-                kind,
+                kind: crate::problem::WarningKind::Range(kind),
             };
             progress.warning(&w);
             w
@@ -92,9 +92,14 @@ pub fn plot_title(p: &Problem) -> String {
 }
 
 /// `rotorshunt check FILE`: the model summary. Refused before assembly when the model's
-/// dense matrices are beyond `budget`.
+/// dense matrices are beyond `budget`. A design's damping constraints are checked against
+/// the model's whirls here too, as the design will ([`design::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
+    if let Some(spec) = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty()) {
+        bounds::admit_dense(&budget, "`check`", problem, Dense::Whirls(1))?;
+        design::modes_exist(problem, spec)?;
+    }
     let rotor = Rotor::new(&problem.model)?;
     Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
 }

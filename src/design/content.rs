@@ -85,8 +85,8 @@ pub fn pair_whirls(spec: &DesignSpec, before: &Candidate, after: &Candidate) -> 
     use crate::analysis::modes::{whirl_modes_of, Whirl};
     let mut out = Vec::new();
     for &speed in &spec.speeds {
-        let b = whirl_modes_of(&before.rotor, &before.problem.settings, speed)?;
-        let a = whirl_modes_of(&after.rotor, &after.problem.settings, speed)?;
+        let b = whirl_modes_of(&before.rotor, &before.machine.settings, speed)?;
+        let a = whirl_modes_of(&after.rotor, &after.machine.settings, speed)?;
         let same_dofs = a.shapes.nrows() == b.shapes.nrows();
         let mut pairs = Vec::new();
         for dir in [Whirl::Forward, Whirl::Backward] {
@@ -217,7 +217,7 @@ pub fn content(
             after: chart(&after.systems[k].1, &phis, &betas, progress),
         })
         .collect();
-    let campbell = campbell(&after.rotor, &after.problem.settings, &campbell_speeds(spec), CAMPBELL_WHIRLS, progress)?;
+    let campbell = campbell(&after.rotor, &after.machine.settings, &campbell_speeds(spec), CAMPBELL_WHIRLS, progress)?;
     let whirls = pair_whirls(spec, before, after)?;
     Ok(DesignContent { charts, campbell, whirls })
 }

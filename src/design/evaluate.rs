@@ -1,24 +1,22 @@
-//! One candidate design: the problem with the variables set, its Floquet systems at the
+//! One candidate design: the machine with the variables set, its Floquet systems at the
 //! operating speeds, and the quantities the optimiser works on: the true stable band at
 //! β_op around φ_op ([`crate::analysis::regions::band_around`], the same function as
 //! `rotorshunt band`) and the tongues intruding into the operating bands (from the same
 //! unstable set at β_op, [`Level::scan`]).
 
+use super::machine::Machine;
 use super::spec::{Band as OperatingRange, DesignSpec, Parameter};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
 use crate::model::BranchError;
-use crate::problem::Problem;
 use serde::Serialize;
 
-/// The problem with the design variables set to `values` (SI units) on its model
+/// The machine with the design variables set to `values` (SI units) on its model
 /// ([`crate::model::Model::set_branch`]: each variable's branch in the rings the file
-/// means, [`Problem::targets`]), checked as the file layer checks a branch. The file data,
-/// hash and warnings stay the base's: the tuned file is written by
-/// [`crate::problem::tuned::tuned_file`].
-pub fn problem_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<Problem, DesignError> {
+/// means, [`Machine::targets`]), checked as the file layer checks a branch.
+pub fn machine_at(base: &Machine, spec: &DesignSpec, values: &[f64]) -> Result<Machine, DesignError> {
     let mut model = base.model.clone();
     let error =
         |index: usize, error| DesignError::Candidate { variable: index, name: spec.variables[index].name(), error };
@@ -46,21 +44,21 @@ pub fn problem_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<P
             error(own.unwrap_or(last), e)
         })?;
     }
-    Ok(Problem { model, ..base.clone() })
+    Ok(base.with_model(model))
 }
 
-/// The current values of the variables in a problem (SI units): L from Eq. (4) where the
+/// The current values of the variables in a machine (SI units): L from Eq. (4) where the
 /// branch is given by its tuning frequency and the other way round (with the C_p^T the
 /// file tunes the branch with). NaN for a variable whose branch the model lacks (a spec
 /// built in code): a candidate at that value is refused as not finite.
-pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
+pub fn values_of(machine: &Machine, spec: &DesignSpec) -> Vec<f64> {
     spec.variables
         .iter()
         .map(|v| {
             // The first ring the variable sets, with the C_p^T its tuning uses.
             let ring = v.ring.unwrap_or(0);
-            let cp_t = problem.targets(v.ring).iter().find(|t| t.ring == ring).map_or(f64::NAN, |t| t.cp_t);
-            let Some(b) = problem.model.rings.get(ring).and_then(|s| s.circuit.branches.get(v.branch)) else {
+            let cp_t = machine.targets(v.ring).iter().find(|t| t.ring == ring).map_or(f64::NAN, |t| t.cp_t);
+            let Some(b) = machine.model.rings.get(ring).and_then(|s| s.circuit.branches.get(v.branch)) else {
                 return f64::NAN;
             };
             match v.parameter {
@@ -75,8 +73,8 @@ pub fn values_of(problem: &Problem, spec: &DesignSpec) -> Vec<f64> {
 
 /// A candidate prepared at every operating speed.
 pub struct Candidate {
-    /// The problem with the variables set on its model ([`problem_at`]).
-    pub problem: Problem,
+    /// The machine with the variables set on its model ([`machine_at`]).
+    pub machine: Machine,
     /// The candidate's assembled rotor (matrices and P_cr).
     pub rotor: Rotor,
     /// (speed, reduced periodic system) per operating speed.
@@ -85,22 +83,22 @@ pub struct Candidate {
 
 impl Candidate {
     /// Build the rotor and the reduced systems at the spec's speeds.
-    pub fn new(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<Candidate, DesignError> {
-        let problem = problem_at(base, spec, values)?;
-        let rotor = Rotor::new(&problem.model)?;
+    pub fn new(base: &Machine, spec: &DesignSpec, values: &[f64]) -> Result<Candidate, DesignError> {
+        let machine = machine_at(base, spec, values)?;
+        let rotor = Rotor::new(&machine.model)?;
         let systems = spec
             .speeds
             .iter()
-            .map(|&w| Ok((w, FloquetSystem::new(&rotor, &problem.settings, w)?)))
+            .map(|&w| Ok((w, FloquetSystem::new(&rotor, &machine.settings, w)?)))
             .collect::<Result<Vec<_>, DesignError>>()?;
-        Ok(Candidate { problem, rotor, systems })
+        Ok(Candidate { machine, rotor, systems })
     }
 
-    /// A candidate from a problem and its rotor already built; the reduced systems at the
+    /// A candidate from a machine and its rotor already built; the reduced systems at the
     /// spec's speeds only when `stability` (a design judged on the response alone needs
     /// none).
     pub fn from_parts(
-        problem: Problem,
+        machine: Machine,
         rotor: Rotor,
         spec: &DesignSpec,
         stability: bool,
@@ -108,12 +106,12 @@ impl Candidate {
         let systems = if stability {
             spec.speeds
                 .iter()
-                .map(|&w| Ok((w, FloquetSystem::new(&rotor, &problem.settings, w)?)))
+                .map(|&w| Ok((w, FloquetSystem::new(&rotor, &machine.settings, w)?)))
                 .collect::<Result<Vec<_>, DesignError>>()?
         } else {
             Vec::new()
         };
-        Ok(Candidate { problem, rotor, systems })
+        Ok(Candidate { machine, rotor, systems })
     }
 
     /// The candidate as built with the component factors `p`
@@ -124,20 +122,20 @@ impl Candidate {
         p: &crate::design::tolerance::Perturbation,
     ) -> Result<Candidate, DesignError> {
         let built = self.perturbed_rotor(p)?;
-        Candidate::from_parts(built.problem, built.rotor, spec, true)
+        Candidate::from_parts(built.machine, built.rotor, spec, true)
     }
 
     /// The candidate as built with the component factors `p`, its rotor only (no reduced
     /// system: for judging at a speed of the caller's choice).
     pub fn perturbed_rotor(&self, p: &crate::design::tolerance::Perturbation) -> Result<Candidate, DesignError> {
-        let problem = Problem { model: p.apply(&self.problem.model, self.rotor.critical_load), ..self.problem.clone() };
-        let rotor = Rotor::new(&problem.model)?;
-        Ok(Candidate { problem, rotor, systems: Vec::new() })
+        let machine = self.machine.with_model(p.apply(&self.machine.model, self.rotor.critical_load));
+        let rotor = Rotor::new(&machine.model)?;
+        Ok(Candidate { machine, rotor, systems: Vec::new() })
     }
 
     /// The declared criterion of the candidate (that of the problem file).
     pub fn criterion(&self) -> Criterion {
-        Criterion::of(&self.problem.settings)
+        Criterion::of(&self.machine.settings)
     }
 
     /// The seeds of the design's φ range at speed index `k`, without full-model labels

@@ -28,8 +28,10 @@
 //! reference (DSTM) Floquet point at the tongue centres near the band, and a grid at
 //! β_op over the band(s) [`verify::GRID_STEP`] (0.05 rad/s) apart.
 
+pub mod checks;
 pub mod content;
 pub mod evaluate;
+pub mod machine;
 pub mod optimise;
 pub mod pareto;
 pub mod qp;
@@ -39,6 +41,7 @@ pub mod tolerance;
 pub mod verify;
 pub mod vibration;
 
+pub use machine::Machine;
 pub use optimise::{run, run_with, DesignOutcome, RunOptions, Status};
 pub use spec::DesignSpec;
 
@@ -90,4 +93,20 @@ pub enum DesignError {
     /// The convex step failed to solve.
     #[error("the convex tuning step failed: {0}")]
     Qp(String),
+    /// A damping constraint on a whirl tag the model does not have at the lowest
+    /// operating speed ([`checks::modes_exist`]).
+    #[error(
+        "design.constraints.damping[{index}].mode: the model has no whirl mode `{mode}` at speed {speed} rad/s; its lowest modes there are {}",
+        crate::analysis::tag_list(available)
+    )]
+    UnknownMode {
+        /// The constraint, from 0 (as in `[[design.constraints.damping]]`).
+        index: usize,
+        /// The tag given.
+        mode: String,
+        /// The speed the tags are taken at (rad/s).
+        speed: f64,
+        /// The model's tags there, forward then backward, lowest first.
+        available: Vec<String>,
+    },
 }

@@ -20,13 +20,13 @@
 //! peak the response found again on a grid ten times finer
 //! ([`crate::design::vibration::peak_recheck`]).
 
+use super::machine::Machine;
 use super::optimise::{run_with, RunOptions};
 use super::spec::{BandWidth, DesignSpec, Objective, Response};
 use super::verify::{PEAK_AGREEMENT, PEAK_GRID_FACTOR, SAME_EDGE};
 use super::vibration::{peak_recheck, Baseline, PeakValue};
 use super::{DesignError, DesignOutcome, Status};
 use crate::analysis::Interval;
-use crate::problem::Problem;
 use crate::progress::Progress;
 use serde::Serialize;
 use std::time::Instant;
@@ -217,7 +217,7 @@ impl Progress for Relay<'_> {
     fn advance(&self, steps: u64) {
         self.0.advance(steps);
     }
-    fn warning(&self, w: &crate::problem::Warning) {
+    fn warning(&self, w: &dyn std::fmt::Display) {
         self.0.warning(w);
     }
     fn notice(&self, line: &str) {
@@ -228,15 +228,15 @@ impl Progress for Relay<'_> {
 /// Run one point: the design of [`point_spec`] with the caller's `options`, and its
 /// verified figures.
 fn point(
-    base: &Problem,
+    base: &Machine,
+    spec: &DesignSpec,
     t: &TradeOff,
     width: Option<f64>,
     options: RunOptions,
     progress: &dyn Progress,
 ) -> Result<FrontPoint, DesignError> {
-    let spec = point_spec(base.design.as_ref().ok_or(DesignError::NoDesign)?, t, width);
-    let problem = Problem { design: Some(spec.clone()), ..base.clone() };
-    let outcome = run_with(&problem, &options, progress)?;
+    let spec = point_spec(spec, t, width);
+    let outcome = run_with(base, &spec, &options, progress)?;
     // The band: the full catalogue's, at the speed where it is narrowest.
     let mut band: Option<Interval> = None;
     let mut width_found = f64::INFINITY;
@@ -300,8 +300,7 @@ fn first_to_rerun(points: &[FrontPoint]) -> Option<(usize, usize)> {
 /// Trace the front of `base`'s design with `k` points ([`MIN_POINTS`]..=[`MAX_POINTS`]):
 /// see the module docs. `progress` sees one phase, `front`, whose steps are the runs'
 /// candidates and verification points, known as each run begins.
-pub fn front(base: &Problem, k: usize, progress: &dyn Progress) -> Result<Front, DesignError> {
-    let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
+pub fn front(base: &Machine, spec: &DesignSpec, k: usize, progress: &dyn Progress) -> Result<Front, DesignError> {
     let t = trade_off(spec).map_err(DesignError::NoTradeOff)?;
     if !(MIN_POINTS..=MAX_POINTS).contains(&k) {
         return Err(DesignError::FrontPoints(k));
@@ -311,8 +310,8 @@ pub fn front(base: &Problem, k: usize, progress: &dyn Progress) -> Result<Front,
     let relay = Relay(progress);
     let mut runs = 2;
     let (damping, widest) = rayon::join(
-        || point(base, &t, Some(FLOOR_WIDTH), RunOptions::default(), &relay),
-        || point(base, &t, None, RunOptions::default(), &relay),
+        || point(base, spec, &t, Some(FLOOR_WIDTH), RunOptions::default(), &relay),
+        || point(base, spec, &t, None, RunOptions::default(), &relay),
     );
     let (mut damping, widest) = (damping?, widest?);
     damping.role = Role::BestDamping;
@@ -331,7 +330,7 @@ pub fn front(base: &Problem, k: usize, progress: &dyn Progress) -> Result<Front,
         let mut wider = widest.values.clone();
         for i in (1..k - 1).rev() {
             let width = lo + (hi - lo) * i as f64 / (k - 1) as f64;
-            let p = point(base, &t, Some(width), options("the next wider point".into(), &wider), &relay)?;
+            let p = point(base, spec, &t, Some(width), options("the next wider point".into(), &wider), &relay)?;
             runs += 1;
             wider = p.values.clone();
             between.push(p);
@@ -344,7 +343,7 @@ pub fn front(base: &Problem, k: usize, progress: &dyn Progress) -> Result<Front,
     // enough for it): at most once per point.
     while let Some((j, i)) = first_to_rerun(&points) {
         let start = options(format!("front point {}", i + 1), &points[i].values);
-        let mut again = point(base, &t, points[j].asked_width, start, &relay)?;
+        let mut again = point(base, spec, &t, points[j].asked_width, start, &relay)?;
         runs += 1;
         again.role = points[j].role;
         again.reruns = points[j].reruns + 1;

@@ -131,7 +131,7 @@ pub fn judged_at(
     count: &Counter,
     penalty: f64,
 ) -> Result<f64, DesignError> {
-    let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+    let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
     let band = OperatingBand { speed: w, band: band_of_system(c, spec, &fs, phi_op, spec.level, s, count)? };
     let penalty = match spec.constraints.margins {
         Some(m) => {
@@ -167,7 +167,7 @@ pub fn refined_worst(
         .map(|(k, b)| (k, b.signed_width()))
         .ok_or_else(|| DesignError::Optimiser("no operating speed".into()))?;
     let at = |w: f64| -> Result<f64, DesignError> {
-        let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+        let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
         Ok(band_of_system(c, spec, &fs, phi_op, spec.level, s, count)?.signed_width())
     };
     let speeds: Vec<f64> = bands.iter().map(|b| b.speed).collect();
@@ -296,7 +296,7 @@ pub fn check(
             let built = match sample_speed {
                 Some(w) => {
                     let mut b = c.perturbed_rotor(p)?;
-                    b.systems = vec![(w, FloquetSystem::new(&b.rotor, &b.problem.settings, w)?)];
+                    b.systems = vec![(w, FloquetSystem::new(&b.rotor, &b.machine.settings, w)?)];
                     b
                 }
                 None => c.perturbed(spec, p)?,
@@ -418,7 +418,7 @@ pub fn speed_check(
     let judged: Vec<(f64, crate::analysis::regions::Band, Option<String>)> = grid
         .par_iter()
         .map(|&w| {
-            let fs = FloquetSystem::new(&c.rotor, &c.problem.settings, w)?;
+            let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
             let band = band_of_system(c, spec, &fs, phi_op, spec.level, s, &count)?;
             let mut why = None;
             if band.band.is_none() {

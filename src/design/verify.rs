@@ -249,7 +249,7 @@ pub fn describe(
     c.systems
         .iter()
         .map(|(w, fs)| {
-            let full = whirl_modes_of(&c.rotor, &c.problem.settings, *w)?;
+            let full = whirl_modes_of(&c.rotor, &c.machine.settings, *w)?;
             let req =
                 CatalogueRequest { range: spec.range(), beta_max: spec.beta_max, level: spec.level, track: false };
             let cat = catalogue_with(fs, &full, s, &req, progress)?;
@@ -589,9 +589,9 @@ fn margin_check(
 ) -> Result<MarginCheck, DesignError> {
     let (w, fs) = (&c.systems[k].0, &c.systems[k].1);
     let level = m.level(spec.level);
-    let full = whirl_modes_of(&c.rotor, &c.problem.settings, *w)?;
+    let full = whirl_modes_of(&c.rotor, &c.machine.settings, *w)?;
     let req = CatalogueRequest { range: spec.range(), beta_max: spec.beta_max.max(level), level, track: false };
-    let cat = catalogue_with(fs, &full, &c.problem.regions, &req, progress)?;
+    let cat = catalogue_with(fs, &full, &c.machine.regions, &req, progress)?;
     let band = cat.band_containing(phi_op);
     let guarded = Interval::new(phi_op - m.phi, phi_op + m.phi);
     let intruders = tongues(&cat)

@@ -34,8 +34,9 @@
 //! `tuning_frequency`.
 
 use super::evaluate::{
-    frequency_margin, intrusions, margin_shortfall, operating_bands, operating_bands_at, problem_at, Candidate,
+    frequency_margin, intrusions, machine_at, margin_shortfall, operating_bands, operating_bands_at, Candidate,
 };
+use super::machine::Machine;
 use super::spec::{DesignSpec, Parameter, Response};
 use super::DesignError;
 use crate::analysis::damping::mode_damping;
@@ -44,7 +45,6 @@ use crate::analysis::regions::{Counter, RegionSettings};
 use crate::analysis::unbalance::{node_probe, peak_at_node, unbalance_response, UnbalanceResult};
 use crate::analysis::{Rotor, Settings};
 use crate::model::{CircuitState, Model};
-use crate::problem::Problem;
 use crate::progress::Silent;
 use serde::Serialize;
 
@@ -297,7 +297,7 @@ pub fn check_constraints(
         });
     }
     if !k.damping.is_empty() {
-        let zetas = damping_ratios(&c.rotor, &c.problem.settings, spec)?;
+        let zetas = damping_ratios(&c.rotor, &c.machine.settings, spec)?;
         for (f, z) in k.damping.iter().zip(zetas) {
             out.push(floor(ConstraintKind::Damping, format!("zeta of {} >= {}", f.mode, f.min), z, f.min));
         }
@@ -412,7 +412,7 @@ fn branch_state(model: &Model, rings: &[usize], branch: usize, open: bool) -> Mo
 
 /// The classic tuning for `spec`'s response range, on the branch of the first tuning
 /// (or resistance) variable; None without such a variable or without a response.
-pub fn classic_tuning(base: &Problem, spec: &DesignSpec) -> Result<Option<ClassicTuning>, DesignError> {
+pub fn classic_tuning(base: &Machine, spec: &DesignSpec) -> Result<Option<ClassicTuning>, DesignError> {
     let Some(response) = spec.response() else { return Ok(None) };
     let target = spec
         .variables
@@ -509,10 +509,10 @@ pub fn classic_tuning(base: &Problem, spec: &DesignSpec) -> Result<Option<Classi
 }
 
 /// The rotor of the design at `values` (SI units).
-pub fn rotor_at(base: &Problem, spec: &DesignSpec, values: &[f64]) -> Result<(Problem, Rotor), DesignError> {
-    let problem = problem_at(base, spec, values)?;
-    let rotor = Rotor::new(&problem.model)?;
-    Ok((problem, rotor))
+pub fn rotor_at(base: &Machine, spec: &DesignSpec, values: &[f64]) -> Result<(Machine, Rotor), DesignError> {
+    let machine = machine_at(base, spec, values)?;
+    let rotor = Rotor::new(&machine.model)?;
+    Ok((machine, rotor))
 }
 
 /// One design the tuned shunt is compared with in a min-peak report (issue 27, point 6):
@@ -546,7 +546,7 @@ impl Baseline {
 /// computed here, beside the reference circuit and the tuned design from their responses
 /// the report already has (`before`, `after`); the same response computation for all.
 pub fn baselines(
-    base: &Problem,
+    base: &Machine,
     spec: &DesignSpec,
     r: &Response,
     classic: Option<&[f64]>,
@@ -559,7 +559,7 @@ pub fn baselines(
     let mut out = vec![of_model("open circuit", &base.model.with_state(CircuitState::Open))?];
     out.push(Baseline::of("reference circuit", before));
     if let Some(c) = classic {
-        out.push(of_model("classic tuning", &problem_at(base, spec, c)?.model)?);
+        out.push(of_model("classic tuning", &machine_at(base, spec, c)?.model)?);
     }
     out.push(Baseline::of("tuned", after));
     Ok(out)

@@ -141,27 +141,6 @@ fn constraints(
     Ok(out)
 }
 
-/// The damping constraints' whirl tags against the model's whirls at the lowest
-/// operating speed (the tags of `rotorshunt modes` there). Skipped when the model's
-/// whirls cannot be computed: the design run reports that analysis failure itself.
-pub fn modes_exist(spec: &DesignSpec, model: &Model, settings: &crate::analysis::Settings) -> Result<(), Failure> {
-    if spec.constraints.damping.is_empty() {
-        return Ok(());
-    }
-    let speed = spec.speeds.iter().copied().fold(f64::INFINITY, f64::min);
-    let Ok(modes) = crate::analysis::modes::whirl_modes(model, settings, speed) else { return Ok(()) };
-    let tags: Vec<String> = modes.forward().chain(modes.backward()).map(|m| m.tag()).collect();
-    for (i, z) in spec.constraints.damping.iter().enumerate() {
-        if !tags.contains(&z.mode) {
-            return Err((
-                format!("design.constraints.damping[{i}].mode"),
-                K::UnknownMode { mode: z.mode.clone(), speed, available: tags.into_boxed_slice() },
-            ));
-        }
-    }
-    Ok(())
-}
-
 /// Check `[design]` against the rest of the file and the model built from it.
 pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Failure> {
     let Some(d) = &f.design else { return Ok(None) };

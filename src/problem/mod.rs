@@ -18,7 +18,7 @@ mod validate;
 pub use error::{NameOf, ProblemError, ProblemErrorKind};
 pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
-pub use plausibility::Warning;
+pub use plausibility::{Warning, WarningKind};
 pub use source::Location;
 pub use validate::{DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
 
@@ -232,11 +232,6 @@ impl Problem {
             let key = units::file_key(&key, &rpm);
             err(index.locate(&key), &key, kind)
         })?;
-        if let Some(spec) = &design {
-            // Only a file read checks the whirl tags (a candidate's are the file's).
-            design_keys::modes_exist(spec, &model, &settings)
-                .map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
-        }
         let regions = validate::regions(&data).map_err(|(key, kind)| err(index.locate(&key), &key, kind))?;
         let warnings = plausibility::check(&data, &model, &rpm)
             .into_iter()

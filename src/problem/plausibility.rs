@@ -7,9 +7,10 @@
 use super::file::ProblemFile;
 use super::source::Location;
 use super::units::RAD_PER_S_PER_RPM;
-use crate::analysis::warnings::WarningKind;
+use crate::analysis::warnings::RangeWarning;
 use crate::model::Model;
 use serde::Serialize;
+use thiserror::Error;
 
 /// Lowest plausible Young's modulus of a shaft or disk material (Pa). Engineering solids
 /// start about here: nylon and other structural polymers have 2–4 GPa, magnesium 45 GPa,
@@ -43,6 +44,110 @@ pub const MAX_PERIPHERAL_SPEED: f64 = 800.0;
 /// the paper's 60° typed in radians is 1.047. So small an angle (below 1.6°) would make
 /// the ring's stack stiffness k_eq1 = 2k_2·cot²β over 2 600 times k_2.
 pub const MAX_RADIAN_LIKE_ANGLE: f64 = std::f64::consts::FRAC_PI_2;
+
+/// One implausible value, with the numbers that make it so. The text (`Display`) is what
+/// the command line prints after `warning: FILE, line N: key `K`: `.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum WarningKind {
+    /// A Young's modulus outside the range of engineering solids.
+    #[error(
+        "E = {value:e} Pa is far from any metal or composite ({lo:e} to {hi:e} Pa): check the unit (Pa, not MPa or GPa)"
+    )]
+    YoungsModulus {
+        /// E (Pa).
+        value: f64,
+        /// Lower end of the plausible range (Pa).
+        lo: f64,
+        /// Upper end (Pa).
+        hi: f64,
+    },
+    /// A shaft or disk heavier than any machinery rotor.
+    #[error("the {what} weighs {mass:.4e} kg, more than any machinery rotor ({limit:e} kg): check the units (kg, and lengths in m, not mm)")]
+    Mass {
+        /// `shaft` or `disk`.
+        what: &'static str,
+        /// Its mass (kg).
+        mass: f64,
+        /// The limit (kg).
+        limit: f64,
+    },
+    /// A shaft far more slender than machinery shafts.
+    #[error("the shaft's slenderness L/D = {length:.4e} m / {diameter:.4e} m = {ratio:.4e} is above {limit} (machinery shafts stay far below): check the length and diameter units (m)")]
+    Slenderness {
+        /// L (m).
+        length: f64,
+        /// The largest outer diameter D (m).
+        diameter: f64,
+        /// L/D.
+        ratio: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// A ring angle small enough to be a value in radians.
+    #[error("angle_deg = {angle_deg} degrees is at most pi/2: it looks like radians ({angle_deg} rad = {:.4} degrees); the key is in degrees", angle_deg.to_degrees(), angle_deg = crate::analysis::limits::number(*angle_deg))]
+    AngleInRadians {
+        /// The angle given (degrees).
+        angle_deg: f64,
+    },
+    /// A speed whose peripheral speed no metal rotor survives: likely rpm given as rad/s.
+    #[error("{speed} rad/s gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst: a speed in rpm is given as `{rpm_key}` (or check that the lengths are in m)", speed = crate::analysis::limits::number(*speed))]
+    PeripheralSpeed {
+        /// Ω (rad/s).
+        speed: f64,
+        /// The largest radius of the rotor (m).
+        radius: f64,
+        /// Ω·radius (m/s).
+        peripheral: f64,
+        /// The limit (m/s).
+        limit: f64,
+        /// The rpm key to use instead.
+        rpm_key: String,
+    },
+    /// A speed given in rpm whose peripheral speed no metal rotor survives.
+    #[error("{rpm} rpm gives a peripheral speed of {peripheral:.4e} m/s at the radius {radius:.4} m, above the {limit} m/s at which metal disks burst", rpm = crate::analysis::limits::number(*rpm))]
+    PeripheralSpeedRpm {
+        /// n (rpm).
+        rpm: f64,
+        /// The largest radius of the rotor (m).
+        radius: f64,
+        /// Ω·radius (m/s).
+        peripheral: f64,
+        /// The limit (m/s).
+        limit: f64,
+    },
+    /// A speed outside a bearing's or seal's coefficient table: its coefficients are
+    /// held at the nearest end of the table (not extrapolated).
+    #[error("{speed} rad/s is outside the table's speeds ({lo} to {hi} rad/s): the coefficients are held at their value at {} rad/s, not extrapolated", if speed < lo { lo } else { hi }, speed = crate::analysis::limits::number(*speed), lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi))]
+    OutsideTable {
+        /// The speed (rad/s).
+        speed: f64,
+        /// The table's first speed (rad/s).
+        lo: f64,
+        /// Its last speed (rad/s).
+        hi: f64,
+    },
+    /// A φ range that no instability region can reach (found by the analysis, which needs
+    /// the whirls; located here).
+    #[error(transparent)]
+    Range(RangeWarning),
+}
+
+impl WarningKind {
+    /// The kind's name, as `docs/errors.md` lists it (`YoungsModulus`, …): the `kind` of
+    /// a warning in JSON.
+    pub fn name(&self) -> &'static str {
+        match self {
+            WarningKind::YoungsModulus { .. } => "YoungsModulus",
+            WarningKind::Mass { .. } => "Mass",
+            WarningKind::Slenderness { .. } => "Slenderness",
+            WarningKind::AngleInRadians { .. } => "AngleInRadians",
+            WarningKind::PeripheralSpeed { .. } => "PeripheralSpeed",
+            WarningKind::PeripheralSpeedRpm { .. } => "PeripheralSpeedRpm",
+            WarningKind::OutsideTable { .. } => "OutsideTable",
+            WarningKind::Range(r) => r.name(),
+        }
+    }
+}
 
 /// A plausibility warning on a problem file: where it is (file, line or `--set`, key
 /// path or flag) and what looks wrong. Printed by the command line as

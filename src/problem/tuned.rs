@@ -1,9 +1,10 @@
-//! The file side of a design: which rings a design variable's branch belongs to, with the
-//! C_p^T its tuning frequency uses, and the tuned problem file (`tuned.toml`): the input
-//! with the variables' values written into its branches.
+//! The file side of a design: the machine a design of the file works on
+//! ([`Problem::machine`]) and the tuned problem file (`tuned.toml`): the input with the
+//! variables' values written into its branches.
 
 use super::file::{BranchFile, ProblemFile};
 use super::Problem;
+use crate::design::machine::Machine;
 use crate::model::Parameter;
 
 /// One design variable's value in a tuned file: `parameter` of branch `branch` (from 0)
@@ -20,32 +21,15 @@ pub struct Setting {
     pub value: f64,
 }
 
-/// A branch a design variable sets in the model: ring `ring` (model order), whose
-/// tuning frequency gives L by Eq. (4) with `cp_t` (F).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Target {
-    /// The ring, model order.
-    pub ring: usize,
-    /// C_p^T of Eq. (4) for this ring's branches (F).
-    pub cp_t: f64,
-}
-
 impl Problem {
-    /// The rings whose branch a design variable on `ring` (model order; `None`: every
-    /// ring) sets, each with the C_p^T its tuning frequency uses, as the file means
-    /// them: the shorthand's one `[circuit]` is both rings' circuit, tuned with the left
-    /// ring's C_p^T whichever ring is named; a general-form ring's circuit is its own,
-    /// tuned with its own C_p^T.
-    pub fn targets(&self, ring: Option<usize>) -> Vec<Target> {
-        let rings = &self.model.rings;
-        let own = |r: usize| Target { ring: r, cp_t: rings.get(r).map_or(f64::NAN, |s| s.ring.cp_t) };
-        match (&self.data.circuit, ring) {
-            (Some(_), _) => {
-                let cp_t = rings.first().map_or(f64::NAN, |s| s.ring.cp_t);
-                (0..rings.len()).map(|r| Target { ring: r, cp_t }).collect()
-            }
-            (None, Some(r)) => vec![own(r)],
-            (None, None) => (0..rings.len()).map(own).collect(),
+    /// What a design of this problem works on: its model and settings, with the
+    /// shorthand's one `[circuit]` shared by every ring ([`Machine::targets`]).
+    pub fn machine(&self) -> Machine {
+        Machine {
+            model: self.model.clone(),
+            settings: self.settings.clone(),
+            regions: self.regions.clone(),
+            shared_circuit: self.data.circuit.is_some(),
         }
     }
 }

@@ -147,10 +147,10 @@ impl Context<'_> {
     fn judge_quietly(&self, u: &[f64], values: &[f64], constrained: bool) -> Result<Judged, DesignError> {
         let spec = self.spec;
         let response = spec.response().ok_or(DesignError::NoResponse)?;
-        let (problem, rotor) = rotor_at(self.base, spec, values)?;
+        let (machine, rotor) = rotor_at(self.base, spec, values)?;
         let peak = peak_of(&rotor, response)?;
         let checks = if constrained && !spec.constraints.is_empty() {
-            let c = Candidate::from_parts(problem, rotor, spec, spec.constraints.needs_stability())?;
+            let c = Candidate::from_parts(machine, rotor, spec, spec.constraints.needs_stability())?;
             check_constraints(&c, spec, &self.regions, Some(peak), &self.floquet)?
         } else {
             Vec::new()

@@ -2,12 +2,12 @@
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
 use super::evaluate::{follow, intrusions, values_of, Candidate, Intrusion, OperatingBand};
+use super::machine::Machine;
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Objective, Parameter, Variable};
 use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
 use super::DesignError;
 use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
-use crate::problem::Problem;
 use crate::progress::Progress;
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
@@ -34,9 +34,9 @@ pub use outcome::{
 /// Cost of a candidate whose analysis failed (rad/s, far worse than any band).
 const FAILED_COST: f64 = 1.0e9;
 
-/// Shared state of a run: the base problem, counters and the progress observer.
+/// Shared state of a run: the base machine, counters and the progress observer.
 struct Context<'a> {
-    base: &'a Problem,
+    base: &'a Machine,
     spec: &'a DesignSpec,
     regions: RegionSettings,
     floquet: Counter,
@@ -188,15 +188,20 @@ pub fn most_candidates(spec: &DesignSpec) -> usize {
 /// `verification`, a step per search and grid point of the checks ([`describe`],
 /// [`verify`]). The result is verified independently ([`crate::design::verify`]); the
 /// catalogues of the reference and the tuned design (for the report) come with it.
-pub fn run(base: &Problem, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
-    run_with(base, &RunOptions::default(), progress)
+pub fn run(base: &Machine, spec: &DesignSpec, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
+    run_with(base, spec, &RunOptions::default(), progress)
 }
 
 /// [`run`] with a caller's [`RunOptions`].
-pub fn run_with(base: &Problem, options: &RunOptions, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
-    let spec = base.design.as_ref().ok_or(DesignError::NoDesign)?;
+pub fn run_with(
+    base: &Machine,
+    spec: &DesignSpec,
+    options: &RunOptions,
+    progress: &dyn Progress,
+) -> Result<DesignOutcome, DesignError> {
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
+    super::checks::modes_exist(base, spec)?;
     progress.phase("optimise", most_candidates(spec) as u64);
     let started = Instant::now();
     let before = values_of(base, spec);
@@ -405,12 +410,12 @@ pub fn run_with(base: &Problem, options: &RunOptions, progress: &dyn Progress) -
     out.verified = out.verification.passed;
     if let Some(r) = spec.response() {
         let vibration = |values: &[f64]| -> Result<_, DesignError> {
-            let (p, rotor) = crate::design::vibration::rotor_at(base, spec, values)?;
+            let (m, rotor) = crate::design::vibration::rotor_at(base, spec, values)?;
             let response = crate::design::vibration::response_of(&rotor, r)?;
             let speeds = crate::design::vibration::ascending(&spec.speeds);
             let silent = crate::progress::Silent;
             let damping =
-                crate::analysis::damping::lowest_damping(&rotor, &p.settings, &speeds, REPORT_DAMPING_WHIRLS, &silent)?;
+                crate::analysis::damping::lowest_damping(&rotor, &m.settings, &speeds, REPORT_DAMPING_WHIRLS, &silent)?;
             Ok((response, damping))
         };
         let (before, damping_before) = vibration(&out.before)?;

@@ -47,9 +47,22 @@ pub fn import_text(text: &str, name: &str, options: Options) -> Result<Import, R
     Ok(Import { rotor, text })
 }
 
+/// Why a ROSS file could not be imported: it could not be read as an input, or its
+/// content was refused.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ImportError {
+    /// The file could not be read as every input is read (size, kind, UTF-8, parse cost).
+    #[error(transparent)]
+    Read(#[from] crate::problem::ProblemError),
+    /// Its content was refused.
+    #[error(transparent)]
+    Ross(#[from] RossError),
+}
+
 /// Import a ROSS file: read as every input is ([`crate::problem::read_input`]: a regular
 /// file of bounded size, UTF-8, a TOML text of bounded parse cost).
-pub fn import_path(path: &Path, options: Options) -> Result<Import, crate::Error> {
+pub fn import_path(path: &Path, options: Options) -> Result<Import, ImportError> {
     let bytes = crate::problem::read_input(path)?;
     let name = path.display().to_string();
     let text = crate::problem::input::text_of(&bytes, &name)?;

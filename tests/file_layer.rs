@@ -1,0 +1,73 @@
+//! The file layer reads, checks and builds types; it never runs an analysis. A design's
+//! damping constraints name whirls, which need an eigensolve: that check belongs to the
+//! design run (after the command line's cost guard), not to reading the file.
+//!
+//! The witness is a model too large for the guard: the paper's design rotor with 2 000
+//! shaft elements (8 000 degrees of freedom, a dense quadratic eigenproblem of order
+//! 16 000 that would take hours) and a damping constraint. Reading it must return at
+//! once, and `check` and `design` must refuse it by its cost before any solve. A hang
+//! timeout (not a duration assertion) stops the test if a solve does start.
+
+mod common;
+
+use common::{bin, problem_path, scratch};
+use rotorshunt::Problem;
+use std::sync::mpsc;
+use std::time::Duration;
+
+/// Generous limit against a hang: a read takes milliseconds; the eigensolve it must not
+/// run takes hours.
+const HANG_TIMEOUT: Duration = Duration::from_secs(120);
+
+/// design-min-peak.toml with a damping constraint on `f1` and 2 000 shaft elements.
+fn too_large_with_damping_constraint() -> String {
+    let text = std::fs::read_to_string(problem_path("design-min-peak.toml")).unwrap();
+    let text = text.replacen("elements = 64 ", "elements = 2000 ", 1);
+    assert!(text.contains("elements = 2000 "));
+    assert!(text.contains("[[design.variables]]"));
+    text.replacen(
+        "[[design.variables]]",
+        "[[design.constraints.damping]]\nmode = \"f1\"\nmin = 0.01\n\n[[design.variables]]",
+        1,
+    )
+}
+
+#[test]
+fn reading_a_file_with_damping_constraints_solves_nothing() {
+    let text = too_large_with_damping_constraint();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(Problem::from_text(&text, "big.toml", &[]).map(|p| {
+            let spec = p.design.expect("[design]");
+            (p.model.shaft.elements(), spec.constraints.damping.len())
+        }));
+    });
+    let read = rx.recv_timeout(HANG_TIMEOUT).expect("Problem::from_text hangs: it runs a solve");
+    let (elements, constraints) = read.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((elements, constraints), (2000, 1));
+}
+
+#[test]
+fn the_cost_guard_refuses_the_model_before_any_solve() {
+    let dir = scratch("file-layer");
+    let file = dir.join("big.toml");
+    std::fs::write(&file, too_large_with_damping_constraint()).unwrap();
+    for command in ["check", "design"] {
+        let out_dir = dir.join(format!("out-{command}"));
+        let mut cmd = bin();
+        cmd.arg(command).arg(&file);
+        if command == "design" {
+            cmd.arg("--out").arg(&out_dir);
+        }
+        let measured = common::run_measured(
+            &cmd.get_args().map(|a| a.to_string_lossy().into_owned()).collect::<Vec<_>>(),
+            &dir,
+            HANG_TIMEOUT,
+        );
+        assert!(!measured.timed_out, "`{command}` hangs: a solve ran before the guard");
+        assert_ne!(measured.code, Some(0), "`{command}` accepted a model beyond the guard");
+        assert!(measured.stderr.contains("--max-cost"), "`{command}`: {}", measured.stderr);
+        assert!(!out_dir.exists(), "`{command}` made a folder for a refused run");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
