@@ -346,6 +346,7 @@ fn exit_code(e: &rotorshunt::Error) -> u8 {
         | rotorshunt::Error::Cost(_)
         | rotorshunt::Error::Analysis(
             rotorshunt::analysis::AnalysisError::Request(_)
+            | rotorshunt::analysis::AnalysisError::Settings(_)
             | rotorshunt::analysis::AnalysisError::ProbeNodeOffShaft { .. }
             | rotorshunt::analysis::AnalysisError::NoSpeeds
             | rotorshunt::analysis::AnalysisError::SpeedsNotAscending { .. }

@@ -100,6 +100,12 @@ fn analysis_kind(e: &AnalysisError) -> &'static str {
         AnalysisError::UnknownMode { .. } => "UnknownMode",
         // A library request's broken rule is the file layer's kind for that value.
         AnalysisError::Request(e) => problem_kind(&ProblemErrorKind::from(e)),
+        // Settings built in code: the file layer's kind of the same rule.
+        AnalysisError::Settings(e) => match e.rule {
+            rotorshunt::analysis::SettingsRule::NotFinite(_) => "NotFinite",
+            rotorshunt::analysis::SettingsRule::Negative(_) => "Negative",
+            rotorshunt::analysis::SettingsRule::OutOfRange { .. } => "OutOfRange",
+        },
     }
 }
 

@@ -380,3 +380,37 @@ fn library_requests_obey_the_same_rules() {
     let e = rotorshunt::design::optimise::run(&p.machine(), p.design.as_ref().unwrap(), &|| {}).unwrap_err();
     assert_eq!(e.to_string(), "design.level: must be at most 100, found 1e300");
 }
+
+/// Settings built in code are held to the `[analysis]` rules by every analysis, with the
+/// file layer's words: no silent use of a setting the file would refuse.
+#[test]
+fn settings_built_in_code_are_validated() {
+    use rotorshunt::analysis::{floquet::FloquetSystem, modes::whirl_modes_of, SettingsRule};
+    let p = common::load("paper-closed.toml", &[]);
+    let rotor = p.rotor().unwrap();
+    let bad = rotorshunt::Settings { steps_per_period: 1, ..p.settings.clone() };
+    let e = bad.validate().unwrap_err();
+    assert_eq!(e.field, "steps_per_period");
+    assert!(matches!(e.rule, SettingsRule::OutOfRange { value, .. } if value == 1.0));
+    assert_eq!(e.to_string(), "analysis.steps_per_period: must be a whole number from 2 to 65536, found 1");
+    let floquet = FloquetSystem::new(&rotor, &bad, 2000.0).err().expect("bad settings accepted by Floquet");
+    let modes = whirl_modes_of(&rotor, &bad, 2000.0).err().expect("bad settings accepted by modes");
+    for err in [floquet, modes] {
+        assert!(matches!(&err, rotorshunt::AnalysisError::Settings(s) if *s == e), "{err}");
+    }
+    let nan = rotorshunt::Settings { min_growth_rate: f64::NAN, ..p.settings.clone() };
+    assert_eq!(nan.validate().unwrap_err().rule.to_string(), "must be a finite number, found NaN");
+    // The same rule through the file: the same words at the key.
+    let from_file = rotorshunt::Problem::from_path(
+        common::problem_path("paper-closed.toml"),
+        &["analysis.steps_per_period=1".into()],
+    )
+    .unwrap_err();
+    assert!(
+        from_file
+            .to_string()
+            .ends_with("key `analysis.steps_per_period`: must be a whole number from 2 to 65536, found 1"),
+        "{from_file}"
+    );
+    p.settings.validate().unwrap();
+}

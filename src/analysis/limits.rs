@@ -2,7 +2,7 @@
 //! numbers that return the value or a typed [`ParamError`]. Every way a value comes in
 //! calls them: the problem file's `[design]` and `speed` (and so `--set` and a study's
 //! sweep values), the command-line flags, a study's fields, and the library's request
-//! constructors ([`crate::analysis::regions::CatalogueRequest::new`],
+//! constructors ([`crate::analysis::regions::CatalogueRequestBuilder::build`],
 //! [`crate::analysis::regions::band()`], [`crate::design::DesignSpec::check`]). Each entry
 //! point names the value by its own key or flag; the rule and its wording are the same.
 //!

@@ -16,7 +16,7 @@ pub mod reduction;
 pub mod regions;
 pub mod response;
 mod rotor;
-mod settings;
+pub mod settings;
 pub mod unbalance;
 pub mod warnings;
 
@@ -26,7 +26,7 @@ pub use operating::{
     BandRequest, BandRequestBuilder, ChartGrid, ChartRequest, OperatingPoint, DEFAULT_BAND_RANGE, MAX_CHART_AXIS,
 };
 pub use rotor::Rotor;
-pub use settings::{MonodromyMethod, Settings};
+pub use settings::{MonodromyMethod, Settings, SettingsError, SettingsRule};
 
 use crate::linalg::LinalgError;
 use thiserror::Error;
@@ -114,6 +114,10 @@ pub enum AnalysisError {
     /// ([`limits`]); the command line checks its flags by the same rules first.
     #[error("the {} of the request {}", quantity_name(.0.quantity), .0)]
     Request(#[from] limits::ParamError),
+    /// Settings built in code break a rule of the `[analysis]` table
+    /// ([`Settings::validate`]); the file layer refuses such a table first.
+    #[error(transparent)]
+    Settings(#[from] settings::SettingsError),
     /// A response asked at a shaft node the model does not have.
     #[error("node {node} is off the shaft: the shaft has nodes 0 to {last}")]
     ProbeNodeOffShaft {

@@ -227,6 +227,7 @@ pub fn whirl_modes(model: &Model, settings: &Settings, speed: f64) -> Result<Mod
 
 /// Whirl modes of a prepared rotor at speed Ω (rad/s).
 pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<ModesResult, AnalysisError> {
+    settings.validate()?;
     if rotor.real {
         return real_modes(rotor, settings, speed);
     }

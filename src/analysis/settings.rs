@@ -1,4 +1,5 @@
-//! Analysis settings: plain struct, defaults written once, validated by the problem layer.
+//! Analysis settings: plain struct, defaults written once, checked by [`Settings::validate`]
+//! (the file layer for `[analysis]`, every analysis for a struct built in code).
 
 use serde::{Deserialize, Serialize};
 
@@ -58,6 +59,87 @@ pub enum MonodromyMethod {
     Fast,
     /// The paper's discrete state transition matrix (Eq. 26–27).
     Dstm,
+}
+
+/// Highest tongue order the search may be asked for: orders cost a few evaluations per
+/// pair each, and beyond 32 the tongues of any physical rotor are thinner than any φ
+/// tolerance (their width shrinks like β^k).
+pub const MAX_TONGUE_ORDER: usize = 32;
+
+/// A setting that breaks its rule: the field (as in `[analysis]`) and the rule.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("analysis.{field}: {rule}")]
+pub struct SettingsError {
+    /// The field, e.g. `steps_per_period`.
+    pub field: &'static str,
+    /// The rule broken, with the value.
+    pub rule: SettingsRule,
+}
+
+/// The rule a setting breaks (the words are those of the file layer's kinds of the same
+/// names).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SettingsRule {
+    /// NaN or infinite.
+    #[error("must be a finite number, found {}", crate::analysis::limits::number(*.0))]
+    NotFinite(f64),
+    /// Negative where a floor is asked.
+    #[error("must not be negative, found {}", crate::analysis::limits::number(*.0))]
+    Negative(f64),
+    /// Outside its range, described in words.
+    #[error("must be {range}, found {}", crate::analysis::limits::number(*value))]
+    OutOfRange {
+        /// The value given.
+        value: f64,
+        /// The range, e.g. `in (0, 1]`.
+        range: String,
+    },
+}
+
+impl Settings {
+    /// Check every setting against its rule, in field order; the first broken is
+    /// returned. Every analysis that takes settings runs this check, so a struct built in
+    /// code is held to the rules of the `[analysis]` table.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let err = |field, rule| Err(SettingsError { field, rule });
+        let within = |field: &'static str, v: f64, lo: f64, hi: f64, range: &str| -> Result<(), SettingsError> {
+            if !v.is_finite() {
+                return err(field, SettingsRule::NotFinite(v));
+            }
+            if v > lo && v < hi {
+                Ok(())
+            } else {
+                err(field, SettingsRule::OutOfRange { value: v, range: range.into() })
+            }
+        };
+        let count = |field: &'static str, v: usize, lo: usize, hi: usize| -> Result<(), SettingsError> {
+            if (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                let range = format!("a whole number from {lo} to {hi}");
+                err(field, SettingsRule::OutOfRange { value: v as f64, range })
+            }
+        };
+        let floor = |field: &'static str, v: f64| -> Result<(), SettingsError> {
+            match v {
+                v if !v.is_finite() => err(field, SettingsRule::NotFinite(v)),
+                v if v < 0.0 => err(field, SettingsRule::Negative(v)),
+                _ => Ok(()),
+            }
+        };
+        within("mac_threshold", self.mac_threshold, 0.0, 1.0 + 1e-12, "in (0, 1]")?;
+        within("electrical_fraction", self.electrical_fraction, 0.0, 1.0, "in (0, 1)")?;
+        within("oscillation_tolerance", self.oscillation_tolerance, 0.0, 1.0, "in (0, 1)")?;
+        within("max_step_phase", self.max_step_phase, 0.0, 10.0, "in (0, 10) rad")?;
+        within("instability_tolerance", self.instability_tolerance, 1.0, f64::INFINITY, "above 1")?;
+        count("reduced_modes", self.reduced_modes, 1, 200)?;
+        count("steps_per_period", self.steps_per_period, 2, 1 << 16)?;
+        count("reference_steps", self.reference_steps, 2, 1 << 20)?;
+        // The criterion's floors: 0 (nothing ignored) up to any finite value.
+        floor("min_growth_rate", self.min_growth_rate)?;
+        floor("min_tongue_width", self.min_tongue_width)?;
+        count("max_tongue_order", self.max_tongue_order, 1, MAX_TONGUE_ORDER)
+    }
 }
 
 impl Default for Settings {

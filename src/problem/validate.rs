@@ -264,11 +264,6 @@ enum OneOf<A, B> {
     Second(B),
 }
 
-/// Highest tongue order the search may be asked for: orders cost a few evaluations per
-/// pair each, and beyond 32 the tongues of any physical rotor are thinner than any φ
-/// tolerance (their width shrinks like β^k).
-pub const MAX_TONGUE_ORDER: usize = 32;
-
 /// Check every value and build the model and settings.
 pub fn translate(f: &ProblemFile) -> Result<(Model, Settings), Failure> {
     if f.version != FORMAT_VERSION {
@@ -606,26 +601,14 @@ pub fn regions(f: &ProblemFile) -> Result<RegionSettings, Failure> {
 }
 
 fn settings(s: &Settings) -> Result<Settings, Failure> {
-    within("analysis.mac_threshold", s.mac_threshold, 0.0, 1.0 + 1e-12, "in (0, 1]")?;
-    within("analysis.electrical_fraction", s.electrical_fraction, 0.0, 1.0, "in (0, 1)")?;
-    within("analysis.oscillation_tolerance", s.oscillation_tolerance, 0.0, 1.0, "in (0, 1)")?;
-    within("analysis.max_step_phase", s.max_step_phase, 0.0, 10.0, "in (0, 10) rad")?;
-    within("analysis.instability_tolerance", s.instability_tolerance, 1.0, f64::INFINITY, "above 1")?;
-    let count = |key: &str, v: usize, lo: usize, hi: usize| -> Result<(), Failure> {
-        if v < lo || v > hi {
-            return Err((
-                key.into(),
-                K::OutOfRange { value: v as f64, range: format!("a whole number from {lo} to {hi}") },
-            ));
-        }
-        Ok(())
-    };
-    count("analysis.reduced_modes", s.reduced_modes, 1, 200)?;
-    count("analysis.steps_per_period", s.steps_per_period, 2, 1 << 16)?;
-    count("analysis.reference_steps", s.reference_steps, 2, 1 << 20)?;
-    // The criterion's floors: 0 (nothing ignored) up to any finite value.
-    non_negative("analysis.min_growth_rate", s.min_growth_rate)?;
-    non_negative("analysis.min_tongue_width", s.min_tongue_width)?;
-    count("analysis.max_tongue_order", s.max_tongue_order, 1, MAX_TONGUE_ORDER)?;
+    use crate::analysis::settings::SettingsRule as R;
+    s.validate().map_err(|e| {
+        let kind = match e.rule {
+            R::NotFinite(v) => K::NotFinite(v),
+            R::Negative(v) => K::Negative(v),
+            R::OutOfRange { value, range } => K::OutOfRange { value, range },
+        };
+        (format!("analysis.{}", e.field), kind)
+    })?;
     Ok(s.clone())
 }

@@ -102,8 +102,10 @@ pub struct FloquetSystem {
 }
 
 impl FloquetSystem {
-    /// Reduce the rotor to `settings.reduced_modes` modes at `speed` (rad/s).
+    /// Reduce the rotor to `settings.reduced_modes` modes at `speed` (rad/s); the settings
+    /// are checked first ([`Settings::validate`]).
     pub fn new(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<FloquetSystem, AnalysisError> {
+        settings.validate()?;
         let reduced = ReducedModel::new(rotor, settings.reduced_modes, speed)?;
         let system = reduced.periodic_system(speed);
         let symmetry = Symmetry::new(&system);
