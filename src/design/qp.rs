@@ -46,11 +46,38 @@ pub enum Step {
     Infeasible,
 }
 
+/// Clarabel's verdict on a step problem, kept as data (recorded with every convex step of
+/// a design). The "almost" verdicts, reached at clarabel's reduced accuracy tolerances,
+/// are taken as their full verdicts: a step is only a trial that the true model then
+/// judges (it is kept only when it improves the design), so a step of reduced accuracy
+/// costs at most a rejected trial.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum QpStatus {
+    /// Solved to full accuracy.
+    Solved,
+    /// Solved to clarabel's reduced accuracy.
+    AlmostSolved,
+    /// Proved infeasible.
+    PrimalInfeasible,
+    /// Proved infeasible to reduced accuracy.
+    AlmostPrimalInfeasible,
+}
+
+/// A solved step problem: the step and clarabel's verdict.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solved {
+    /// The step, or infeasibility.
+    pub step: Step,
+    /// Clarabel's status.
+    pub status: QpStatus,
+}
+
 /// Solve the step problem; Err with clarabel's status when it neither solves nor proves
 /// infeasibility. With `elastic = Some(ρ)` every constraint gets a slack s_i ≥ 0 costing
 /// ρ·s_i (g_i·d − s_i ≤ h_i): the problem is then always feasible and the step reduces the
 /// constraint violation as far as the trust region allows.
-pub fn solve(p: &StepProblem<'_>, elastic: Option<f64>) -> Result<Step, String> {
+pub fn solve(p: &StepProblem<'_>, elastic: Option<f64>) -> Result<Solved, String> {
     let n = p.current.len();
     let m = if elastic.is_some() { p.constraints.len() } else { 0 };
     let dim = n + m;
@@ -93,11 +120,18 @@ pub fn solve(p: &StepProblem<'_>, elastic: Option<f64>) -> Result<Step, String> 
     let settings = DefaultSettingsBuilder::default().verbose(false).build().map_err(|e| e.to_string())?;
     let mut solver = DefaultSolver::new(&pcsc, &q, &acsc, &b, &cones, settings).map_err(|e| e.to_string())?;
     solver.solve();
-    match solver.solution.status {
-        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(Step::Solved(solver.solution.x[..n].to_vec())),
-        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Ok(Step::Infeasible),
-        other => Err(format!("clarabel stopped with status {other:?}")),
-    }
+    let status = match solver.solution.status {
+        SolverStatus::Solved => QpStatus::Solved,
+        SolverStatus::AlmostSolved => QpStatus::AlmostSolved,
+        SolverStatus::PrimalInfeasible => QpStatus::PrimalInfeasible,
+        SolverStatus::AlmostPrimalInfeasible => QpStatus::AlmostPrimalInfeasible,
+        other => return Err(format!("clarabel stopped with status {other:?}")),
+    };
+    let step = match status {
+        QpStatus::Solved | QpStatus::AlmostSolved => Step::Solved(solver.solution.x[..n].to_vec()),
+        QpStatus::PrimalInfeasible | QpStatus::AlmostPrimalInfeasible => Step::Infeasible,
+    };
+    Ok(Solved { step, status })
 }
 
 #[cfg(test)]
@@ -113,7 +147,7 @@ mod tests {
         let h = -0.05;
         let c = [Linear { g: g.clone(), h }];
         let p = StepProblem { current: &u, reference: &u, weights: &[1.0; 3], constraints: &c, trust: 1.0 };
-        let Step::Solved(d) = solve(&p, None).unwrap() else { panic!("infeasible") };
+        let Step::Solved(d) = solve(&p, None).unwrap().step else { panic!("infeasible") };
         let norm2 = 0.3f64 * 0.3 + 0.4 * 0.4;
         for j in 0..3 {
             assert!((d[j] - h * g[j] / norm2).abs() < 1e-7, "{d:?}");
@@ -133,11 +167,11 @@ mod more_tests {
         let u = [0.5, 0.5];
         let c = [Linear { g: vec![-1.0, 0.0], h: -0.1 }, Linear { g: vec![0.0, -1.0], h: -0.2 }];
         let p = StepProblem { current: &u, reference: &u, weights: &[1.0, 1.0], constraints: &c, trust: 1.0 };
-        let Step::Solved(d) = solve(&p, None).unwrap() else { panic!() };
+        let Step::Solved(d) = solve(&p, None).unwrap().step else { panic!() };
         assert!((d[0] - 0.1).abs() < 1e-7 && (d[1] - 0.2).abs() < 1e-7, "{d:?}");
         let tight = StepProblem { trust: 0.15, ..p.clone() };
-        assert_eq!(solve(&tight, None).unwrap(), Step::Infeasible);
-        let Step::Solved(d) = solve(&tight, Some(1e3)).unwrap() else { panic!() };
+        assert_eq!(solve(&tight, None).unwrap().step, Step::Infeasible);
+        let Step::Solved(d) = solve(&tight, Some(1e3)).unwrap().step else { panic!() };
         assert!((d[0] - 0.1).abs() < 1e-6 && (d[1] - 0.15).abs() < 1e-6, "{d:?}");
     }
 
@@ -147,7 +181,7 @@ mod more_tests {
         let u = [0.6, 0.3];
         let r = [0.5, 0.5];
         let p = StepProblem { current: &u, reference: &r, weights: &[2.0, 1.0], constraints: &[], trust: 1.0 };
-        let Step::Solved(d) = solve(&p, None).unwrap() else { panic!() };
+        let Step::Solved(d) = solve(&p, None).unwrap().step else { panic!() };
         assert!((d[0] + 0.1).abs() < 1e-7 && (d[1] - 0.2).abs() < 1e-7, "{d:?}");
     }
 }

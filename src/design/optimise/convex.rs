@@ -123,12 +123,14 @@ fn convex_run(ctx: &Context<'_>, u0: &[f64], reference: &[f64]) -> Result<Convex
         let constraints = linearise(ctx, &u, &ints)?;
         let problem =
             |trust: f64| StepProblem { current: &u, reference, weights: &weights, constraints: &constraints, trust };
-        let step = match qp::solve(&problem(trust), None).map_err(DesignError::Qp)? {
-            Step::Solved(d) => d,
+        let solved = qp::solve(&problem(trust), None).map_err(DesignError::Qp)?;
+        let (step, qp_status) = match solved.step {
+            Step::Solved(d) => (d, solved.status),
             Step::Infeasible => {
-                linear_infeasible = qp::solve(&problem(1.0), None).map_err(DesignError::Qp)? == Step::Infeasible;
-                match qp::solve(&problem(trust), Some(ELASTIC_WEIGHT)).map_err(DesignError::Qp)? {
-                    Step::Solved(d) => d,
+                linear_infeasible = qp::solve(&problem(1.0), None).map_err(DesignError::Qp)?.step == Step::Infeasible;
+                let elastic = qp::solve(&problem(trust), Some(ELASTIC_WEIGHT)).map_err(DesignError::Qp)?;
+                match elastic.step {
+                    Step::Solved(d) => (d, elastic.status),
                     Step::Infeasible => return Err(DesignError::Qp("the elastic step problem is infeasible".into())),
                 }
             }
@@ -151,6 +153,7 @@ fn convex_run(ctx: &Context<'_>, u0: &[f64], reference: &[f64]) -> Result<Convex
             intrusion_after: Some(trial_merit),
             accepted,
             values: ctx.values(&trial),
+            qp_status,
         });
         if accepted {
             u = trial;

@@ -90,6 +90,8 @@ pub struct PeakStep {
     pub accepted: bool,
     /// Trial values (SI units).
     pub values: Vec<f64>,
+    /// Clarabel's verdict on the step's QP ([`crate::design::qp::QpStatus`]).
+    pub qp_status: crate::design::qp::QpStatus,
 }
 
 /// What the price of the stability constraints is in response.
@@ -318,7 +320,9 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
         }
         let target: Vec<f64> = at.u.iter().zip(&grad_ln).map(|(u, g)| u - trust * g / norm).collect();
         let problem = StepProblem { current: &at.u, reference: &target, weights: &weights, constraints: &rows, trust };
-        let d = match qp::solve(&problem, None).map_err(DesignError::Qp)? {
+        let solved = qp::solve(&problem, None).map_err(DesignError::Qp)?;
+        let qp_status = solved.status;
+        let d = match solved.step {
             Step::Solved(d) => d,
             Step::Infeasible => {
                 trust /= 2.0;
@@ -340,6 +344,7 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
             feasible: judged.feasible(),
             accepted,
             values: ctx.values(&trial),
+            qp_status,
         });
         if accepted {
             at = judged;

@@ -85,6 +85,9 @@ pub struct ConvexStep {
     pub accepted: bool,
     /// Trial values (SI units).
     pub values: Vec<f64>,
+    /// Clarabel's verdict on the step's QP (the elastic one's when the plain step was
+    /// infeasible): [`crate::design::qp::QpStatus`].
+    pub qp_status: crate::design::qp::QpStatus,
 }
 
 /// What a run found that only its objective has.
