@@ -21,7 +21,7 @@ pub const PATH_FLOOR: f64 = 1e-6;
 /// counted point and is at least `min_tongue_width` wide there. Tongues are searched up to
 /// order `max_order` of (ω_i + ω_j)/k: stable bands are complete up to that order.
 /// Tongues the criterion ignores are listed as such, never dropped.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct Criterion {
     /// max|μ| above which a point is unstable (−).
     pub instability_tolerance: f64,

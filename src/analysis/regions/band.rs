@@ -71,7 +71,7 @@ pub fn bound_name(tongues: &[NamedTongue], side: Side, edge: f64) -> Option<Stri
 
 /// What is known of an unlabelled bound's tongue: the frequency of its unstable Floquet
 /// exponent and the whirl frequency nearest to it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Unexplained {
     /// Where the exponent was taken: the tongue's counted point (rad/s).
     pub phi: f64,
@@ -118,7 +118,7 @@ pub fn unexplained(fs: &FloquetSystem, full: &ModesResult, phi: f64, level: f64)
 }
 
 /// What bounds a band on one side.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case", tag = "kind")]
 pub enum Bound {
     /// The end of the search window: no counted tongue before it.
@@ -140,7 +140,7 @@ pub enum Bound {
 }
 
 /// The stable band around φ_op at β_op.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Band {
     /// Operating frequency φ_op (rad/s).
     pub phi_op: f64,

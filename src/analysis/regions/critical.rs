@@ -8,7 +8,7 @@ use crate::analysis::Interval;
 use serde::Serialize;
 
 /// Result of one β_c(φ) evaluation.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct CriticalLoad {
     /// φ (rad/s).
     pub phi: f64,

@@ -27,7 +27,7 @@ use serde::Serialize;
 pub const LOAD_MARGIN_REACH: f64 = 1.0;
 
 /// The lowest onset of a counted tongue born inside a band.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct LoadMargin {
     /// onset/β_op − 1 (−).
     pub margin: f64,
@@ -45,7 +45,7 @@ pub struct LoadMargin {
 }
 
 /// The margins of a stable band at β_op around φ_op.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Margins {
     /// β_op (−).
     pub level: f64,

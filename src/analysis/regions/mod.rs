@@ -51,7 +51,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 /// An instability region.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Region {
     /// Name of the seed's whirl pair: forward and backward whirl tags (`f1+b1`, `f1+r1`),
     /// or `2 n1` and `n1+n2` at rest.
@@ -85,7 +85,7 @@ pub struct Region {
 }
 
 /// What a catalogue is asked for.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct CatalogueRequest {
     /// φ range searched (rad/s).
     pub range: Interval,
@@ -168,7 +168,7 @@ impl CatalogueRequestBuilder {
 }
 
 /// The catalogue of a φ range.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Catalogue {
     /// Regions whose onset is below β_max, or whose tongue reaches the level, sorted by
     /// start.

@@ -9,7 +9,7 @@ use crate::analysis::{AnalysisError, Interval};
 use serde::Serialize;
 
 /// Simple (one mode with itself, at rest) or combination.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RegionKind {
     /// 2ω_p/k at rest.
@@ -19,7 +19,7 @@ pub enum RegionKind {
 }
 
 /// A predicted region start.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Seed {
     /// e.g. `f1+b1`, `f1+r1`, `2 n1`, `n1+n2`.
     pub label: String,

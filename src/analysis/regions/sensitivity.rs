@@ -16,7 +16,7 @@ use crate::analysis::modes::ModesResult;
 use serde::Serialize;
 
 /// A region's quantities for one parameter value.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct Quantities {
     /// φ_s (rad/s).
     pub start: f64,
@@ -30,7 +30,7 @@ pub struct Quantities {
 }
 
 /// Derivatives of the quantities with respect to the parameter (per unit of it).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 pub struct Derivatives {
     /// Sensitivity dφ_s/dp of the start frequency φ_s (rad/s per SI unit of the parameter).
     pub start: f64,
@@ -46,7 +46,7 @@ pub struct Derivatives {
 }
 
 /// Sensitivity of a region to one parameter.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Sensitivity {
     /// Key path of the parameter.
     pub parameter: String,

@@ -47,7 +47,7 @@ pub struct Hit {
 }
 
 /// One tongue of the unstable set at β_op.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct Tongue {
     /// Its extent at β_op (rad/s): the outer ends of the lattice cells of its two
     /// crossings, clipped to the search window.
@@ -67,7 +67,7 @@ pub struct Tongue {
 }
 
 /// Why the declared criterion ignores a tongue (it is listed, never dropped).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Ignored {
     /// Narrower at β_op than `min_tongue_width`.

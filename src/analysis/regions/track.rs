@@ -9,7 +9,7 @@ use serde::Serialize;
 /// A tracked boundary at one load: the region's φ interval at β.
 ///
 /// Recorded in outputs as `{"beta", "left", "right"}`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, serde::Deserialize)]
 #[serde(into = "EdgesRecord")]
 pub struct Edges {
     /// β (−).
@@ -19,7 +19,7 @@ pub struct Edges {
 }
 
 /// The output form of [`Edges`].
-#[derive(Serialize)]
+#[derive(Serialize, serde::Deserialize)]
 struct EdgesRecord {
     beta: f64,
     left: f64,
