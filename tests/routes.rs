@@ -393,8 +393,8 @@ fn settings_built_in_code_are_validated() {
     assert_eq!(e.field, "steps_per_period");
     assert!(matches!(e.rule, SettingsRule::OutOfRange { value, .. } if value == 1.0));
     assert_eq!(e.to_string(), "analysis.steps_per_period: must be a whole number from 2 to 65536, found 1");
-    let floquet = FloquetSystem::new(&rotor, &bad, 2000.0).err().expect("bad settings accepted by Floquet");
-    let modes = whirl_modes_of(&rotor, &bad, 2000.0).err().expect("bad settings accepted by modes");
+    let Err(floquet) = FloquetSystem::new(&rotor, &bad, 2000.0) else { panic!("bad settings accepted by Floquet") };
+    let Err(modes) = whirl_modes_of(&rotor, &bad, 2000.0) else { panic!("bad settings accepted by modes") };
     for err in [floquet, modes] {
         assert!(matches!(&err, rotorshunt::AnalysisError::Settings(s) if *s == e), "{err}");
     }
