@@ -93,7 +93,7 @@ pub fn plot_title(p: &Problem) -> String {
 
 /// `rotorshunt check FILE`: the model summary. Refused before assembly when the model's
 /// dense matrices are beyond `budget`. A design's damping constraints are checked against
-/// the model's whirls here too, as the design will ([`design::modes_exist`]).
+/// the model's whirls here too, as the design will ([`crate::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
     if let Some(spec) = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty()) {
