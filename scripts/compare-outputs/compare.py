@@ -49,6 +49,10 @@ around the value, so it cannot reach a result:
                  hash only repeats that comparison; left as written, it would differ
                  with every wall time inside the file (regions.json, report.*).
 
+  owned-token    in an output folder's ownership record `.rotorshunt-out.json`, the
+                 run-unique random token (`"token": "<24 hex digits>"`) -> `<TOKEN>`: it
+                 is new on every run by design (what the tool removes it proves it wrote).
+
   progress-line  a whole line of standard error starting `progress: ` (the CLI's progress
                  on a non-terminal: from a run's fifth second on, every 5 s and at each
                  phase) -> removed: how many there are, and their counts and times,
@@ -74,6 +78,7 @@ RULES = [
     ("tool-version", re.compile(r"\brotorshunt \d+\.\d+\.\d+[0-9A-Za-z.+-]*"), "rotorshunt <VERSION>"),
     ("json-seconds", re.compile(r'^(\s*"seconds": )' + NUM + r"(,?)$", re.M), r"\g<1>" + WALL + r"\g<2>"),
     ("task-pid", re.compile(r'^(\s*"pid": )\d+(,?)$', re.M), r"\g<1><PID>\g<2>"),
+    ("owned-token", re.compile(r'^(\s*"token": ")[0-9a-f]{24}("(,?))$', re.M), r"\g<1><TOKEN>\g<2>"),
     ("regions-wall", re.compile(r"( monodromy evaluations in )" + NUM + r"( s)$", re.M), r"\g<1>" + WALL + r"\g<2>"),
     ("band-wall", re.compile(r"(\(\d+ evaluations, )" + NUM + r"( s\))"), r"\g<1>" + WALL + r"\g<2>"),
     (
