@@ -7,6 +7,7 @@
 //! an empty file), the content of the sidecar `tests/fixtures/bad/<stem>.expect`.
 //! `tests/fixtures/good/*.toml` are valid variants that must load.
 
+mod common;
 use rotorshunt::problem::Problem;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -162,8 +163,7 @@ fn bad_fixtures_are_refused_by_the_library_with_the_right_line() {
             // it, and the design refuses it before any candidate (the file layer solves
             // nothing; tests/file_layer.rs), with the same words as `check`.
             Ok(p) if p.design.as_ref().is_some_and(|d| !d.constraints.damping.is_empty()) => {
-                let spec = p.design.as_ref().unwrap();
-                match rotorshunt::design::checks::modes_exist(&p.machine(), spec) {
+                match common::design_refusal(&p) {
                     Ok(()) => failures.push(format!("{name}: loaded and its whirl tags accepted")),
                     Err(e) => {
                         let words = expect.split_once("`: ").map_or(expect.as_str(), |(_, w)| w);

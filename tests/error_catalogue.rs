@@ -473,8 +473,7 @@ fn every_bad_fixture_has_its_kind_documented() {
         let (kind, e) = match Problem::from_path(&path, &[]) {
             Err(e) => (problem_kind(&e.kind), e.to_string()),
             Ok(p) => {
-                let spec = p.design.as_ref().expect("a bad fixture that loads has a [design] table");
-                let e = rotorshunt::design::checks::modes_exist(&p.machine(), spec).expect_err("bad fixture accepted");
+                let e = common::design_refusal(&p).expect_err("bad fixture accepted");
                 (design_kind(&e), e.to_string())
             }
         };

@@ -325,16 +325,7 @@ pub fn whirl_modes_of(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<
             tolerance: settings.oscillation_tolerance,
         });
     }
-    sort_and_label(&mut raw, &slots);
-    let shapes = Mat::from_fn(n, raw.len(), |i, c| sol.vectors[(i, raw[c].col)]);
-    Ok(ModesResult {
-        speed,
-        critical_load: rotor.critical_load,
-        static_load: rotor.static_load(),
-        modes: raw.into_iter().map(|r| r.mode).collect(),
-        shapes,
-        real: false,
-    })
+    Ok(numbered(rotor, speed, raw, &slots, n, |i, col| sol.vectors[(i, col)], false))
 }
 
 /// A whirl found by a solver before numbering: its eigenvector's column, the mode, and
@@ -343,6 +334,29 @@ struct RawMode {
     col: usize,
     mode: WhirlMode,
     branch: Option<usize>,
+}
+
+/// The result of a solver's whirls `raw`: sorted and numbered ([`sort_and_label`]), each
+/// shape the `rows` entries `entry(row, col)` of its eigenvector's column.
+fn numbered(
+    rotor: &Rotor,
+    speed: f64,
+    mut raw: Vec<RawMode>,
+    slots: &[Slot],
+    rows: usize,
+    entry: impl Fn(usize, usize) -> c64,
+    real: bool,
+) -> ModesResult {
+    sort_and_label(&mut raw, slots);
+    let shapes = Mat::from_fn(rows, raw.len(), |i, c| entry(i, raw[c].col));
+    ModesResult {
+        speed,
+        critical_load: rotor.critical_load,
+        static_load: rotor.static_load(),
+        modes: raw.into_iter().map(|r| r.mode).collect(),
+        shapes,
+        real,
+    }
 }
 
 /// Sorts `raw` by frequency and numbers it per whirl direction: rotor modes 1, 2, …;
@@ -711,16 +725,7 @@ fn real_result(
             tolerance: settings.oscillation_tolerance,
         });
     }
-    sort_and_label(&mut raw, &slots);
-    let shapes = Mat::from_fn(n2, raw.len(), |i, c| kept[raw[c].col].1[i]);
-    Ok(ModesResult {
-        speed,
-        critical_load: rotor.critical_load,
-        static_load: rotor.static_load(),
-        modes: raw.into_iter().map(|r| r.mode).collect(),
-        shapes,
-        real: true,
-    })
+    Ok(numbered(rotor, speed, raw, &slots, n2, |i, col| kept[col].1[i], true))
 }
 
 /// Share of a mode's 2-norm in its weaker plane below which `separate_planes` sets that

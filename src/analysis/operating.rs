@@ -217,9 +217,9 @@ pub struct BandRequestBuilder {
     level: f64,
 }
 
-/// The φ range a band is searched over when none is given (rad/s): that of
-/// `rotorshunt band` and of `[design]`, wide enough for every tongue of a machinery rotor
-/// whose whirls lie below 4 000 rad/s.
+/// The φ range a band is searched over when none is given (rad/s): that of `[design]`
+/// and of a study's cases, wide enough for every tongue of a machinery rotor whose whirls
+/// lie below 4 000 rad/s. (`rotorshunt band` searches φ_op/20 to 20·φ_op by default.)
 pub const DEFAULT_BAND_RANGE: Interval = Interval { lo: 100.0, hi: 8000.0 };
 
 impl Default for BandRequestBuilder {

@@ -5,7 +5,7 @@
 use super::bounds::{self, Names};
 use super::{title, OutDir};
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
-use crate::analysis::Interval;
+use crate::analysis::{Interval, Rotor};
 use crate::commands::out::json_pretty;
 use crate::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
 use crate::design::evaluate::Candidate;
@@ -139,7 +139,7 @@ pub fn design_cmd(
     // No folder is created for a file without a [design] table.
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
-    modes_exist(problem, spec)?;
+    modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
     let outcome = design_report(problem, &dir, progress)?;
     dir.commit("design", progress)?;
@@ -149,8 +149,19 @@ pub fn design_cmd(
 /// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),
 /// checked once the run is admitted and before its folder is made; a tag the model lacks
 /// is refused as the file's error at the tag's line.
-pub(crate) fn modes_exist(problem: &Problem, spec: &DesignSpec) -> Result<(), Error> {
-    match design::checks::modes_exist(&problem.machine(), spec) {
+pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &DesignSpec) -> Result<(), Error> {
+    if spec.constraints.damping.is_empty() {
+        return Ok(());
+    }
+    let built;
+    let rotor = match rotor {
+        Some(r) => r,
+        None => {
+            built = Rotor::new(&problem.model)?;
+            &built
+        }
+    };
+    match design::checks::modes_exist(rotor, &problem.settings, spec) {
         Err(DesignError::UnknownMode { index, mode, speed, available }) => Err(problem
             .refuse(
                 &format!("design.constraints.damping[{index}].mode"),
@@ -366,7 +377,7 @@ pub fn pareto_cmd(
     let one = design_estimate(problem, spec, &budget)?;
     let runs = (2 * points) as f64;
     bounds::admit(&budget, "the Pareto front", &one.times(runs, Driver::Candidates, "design runs"), &DESIGN)?;
-    modes_exist(problem, spec)?;
+    modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
     let front = design::pareto::front(&problem.machine(), spec, points, progress)?;
     progress.phase("report", (front.points.len() + 4) as u64);

@@ -96,11 +96,14 @@ pub fn plot_title(p: &Problem) -> String {
 /// the model's whirls here too, as the design will ([`crate::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
-    if let Some(spec) = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty()) {
+    let spec = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty());
+    if spec.is_some() {
         bounds::admit_dense(&budget, "`check`", problem, Dense::Whirls(1))?;
-        design::modes_exist(problem, spec)?;
     }
     let rotor = Rotor::new(&problem.model)?;
+    if let Some(spec) = spec {
+        design::modes_exist(problem, Some(&rotor), spec)?;
+    }
     Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
 }
 

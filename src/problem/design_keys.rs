@@ -71,8 +71,9 @@ fn ring_of(
     }
 }
 
-/// Default φ range of a design's catalogues and band searches (rad/s): the paper's charts.
-const DEFAULT_PHI_RANGE: [f64; 2] = [100.0, 8000.0];
+/// Default φ range of a design's catalogues and band searches (rad/s): the paper's charts
+/// ([`crate::analysis::DEFAULT_BAND_RANGE`]).
+const DEFAULT_PHI_RANGE: [f64; 2] = [crate::analysis::DEFAULT_BAND_RANGE.lo, crate::analysis::DEFAULT_BAND_RANGE.hi];
 /// Default Nelder–Mead starts and iterations.
 const DEFAULT_STARTS: i64 = 4;
 const DEFAULT_ITERATIONS: i64 = 40;

@@ -52,7 +52,7 @@ fn default_kind() -> CaseKind {
     CaseKind::Regions
 }
 fn default_phi() -> [f64; 2] {
-    [100.0, 8000.0]
+    [crate::analysis::DEFAULT_BAND_RANGE.lo, crate::analysis::DEFAULT_BAND_RANGE.hi]
 }
 fn default_beta_max() -> f64 {
     1.0

@@ -65,6 +65,14 @@ pub fn generated(name: &str, write: impl FnOnce(&std::path::Path)) -> std::path:
     path
 }
 
+/// How the design refuses a file that loads: its damping constraints' whirl tags checked
+/// against its rotor as `design::run` checks them (the loader solves nothing).
+pub fn design_refusal(p: &Problem) -> Result<(), rotorshunt::design::DesignError> {
+    let spec = p.design.as_ref().expect("a [design] table");
+    let rotor = p.rotor()?;
+    rotorshunt::design::checks::modes_exist(&rotor, &p.settings, spec)
+}
+
 /// `too_large.toml` in [`generated_dir`]: one byte over 17 MiB (sparse: cheap to make).
 pub fn too_large_file() -> std::path::PathBuf {
     generated("too_large.toml", |p| {

@@ -201,13 +201,14 @@ pub fn run_with(
 ) -> Result<DesignOutcome, DesignError> {
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
-    super::checks::modes_exist(base, spec)?;
     progress.phase("optimise", most_candidates(spec) as u64);
     let started = Instant::now();
     let before = values_of(base, spec);
     // The reference design's Floquet points must pass the β = 0 check over the design's
-    // range at every speed before any candidate is searched.
+    // range at every speed before any candidate is searched, and its whirls must have the
+    // damping constraints' tags.
     let reference = Candidate::new(base, spec, &before)?;
+    super::checks::modes_exist(&reference.rotor, &base.settings, spec)?;
     for (_, fs) in &reference.systems {
         check_reliable(fs, spec.range())?;
     }
