@@ -131,9 +131,9 @@ fn widest_band_design_reports_the_band_of_tuned_toml_and_verifies_it() {
 fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let dir = tmp("design-clear");
     let input = PathBuf::from(problem_path("design-clear-bands.toml"));
-    // 4 convex steps, and the design's catalogues over 1000-2100 rad/s around both bands:
+    // 2 convex steps, and the design's catalogues over 1000-2100 rad/s around both bands:
     // the checks below are the test's own chart and regions runs.
-    let short = ["--set", "design.max_iterations=4", "--set", "design.phi_range=[1000.0, 2100.0]"];
+    let short = ["--set", "design.max_iterations=2", "--set", "design.phi_range=[1000.0, 2100.0]"];
     let text = run_ok(bin().arg("design").arg(&input).args(short).arg("--out").arg(&dir));
     assert!(text.contains("design: feasible") && text.contains("verification: passed"), "{text}");
     let layout = common::check_design_report(&dir);
