@@ -324,35 +324,72 @@ fn assert_csv_finite(text: &str, what: &str) {
     }
 }
 
+/// The `floquet` points of every corpus case: inside a region, far beyond the paper's
+/// loads, and at extreme φ: 50 rad/s, an order of magnitude below the paper's range (a
+/// point's cost grows as the fastest mode over φ: at 1 rad/s the tiny-L cases alone took
+/// several minutes of CPU, at 10 rad/s 44 s), and 1e6 rad/s.
+const FLOQUET_POINTS: [(&str, &str); 5] =
+    [("704", "0.25"), ("1230", "1e300"), ("50", "0.5"), ("1e6", "0.5"), ("3000", "0")];
+
+/// One unit of the corpus's work: a case's `floquet` point, or the rest of its commands.
+enum Job<'a> {
+    Floquet(&'a Case, &'static str, &'static str),
+    Commands(&'a Case),
+}
+
 #[test]
 fn no_null_nan_or_inf_in_any_json_or_csv_over_the_extreme_corpus() {
-    // The cases are independent: two at a time (the machine's two cores; each case runs
-    // its commands one after another, most of them on one thread).
-    let checked: usize = corpus().par_iter().with_max_len(1).map(check_corpus_case).sum();
+    // The cases and their floquet points are independent: two at a time (the machine's
+    // two cores; most commands run on one thread), each point a job of its own, since a
+    // few of them (M = 40 at φ = 50 rad/s and at β = 1e300) take most of the time.
+    let cases = corpus();
+    let mut jobs: Vec<Job> = Vec::new();
+    for case in &cases {
+        jobs.extend(FLOQUET_POINTS.iter().map(|&(phi, beta)| Job::Floquet(case, phi, beta)));
+        jobs.push(Job::Commands(case));
+    }
+    let checked: usize = jobs
+        .par_iter()
+        .with_max_len(1)
+        .map(|job| match job {
+            Job::Floquet(case, phi, beta) => check_floquet_point(case, phi, beta),
+            Job::Commands(case) => check_corpus_case(case),
+        })
+        .sum();
     println!("{checked} outputs checked");
 }
 
-/// The commands of one corpus case and the checks of their outputs; the outputs checked.
+/// `--set` arguments of a corpus case.
+fn set_args(case: &Case) -> Vec<String> {
+    case.set.iter().flat_map(|s| ["--set".to_string(), s.to_string()]).collect()
+}
+
+/// One `floquet --json` point of a corpus case: no null in its JSON; the outputs checked.
+fn check_floquet_point(case: &Case, phi: &str, beta: &str) -> usize {
+    let file = problem_path(case.file);
+    let set = set_args(case);
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let what = format!("{} (floquet {phi} {beta})", case.name);
+    let out = run(&["floquet", &file, "--json", "--phi", phi, "--beta", beta], &set);
+    assert!(out.status.success(), "{what}: {}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert_no_null(&json, "", &what);
+    1
+}
+
+/// The commands of one corpus case but its `floquet` points, and the checks of their
+/// outputs; the outputs checked.
 fn check_corpus_case(case: &Case) -> usize {
     let mut checked = 0;
     {
         let file = problem_path(case.file);
-        let set: Vec<String> = case.set.iter().flat_map(|s| ["--set".to_string(), s.to_string()]).collect();
+        let set = set_args(case);
         let set: Vec<&str> = set.iter().map(String::as_str).collect();
         let what = |cmd: &str| format!("{} ({cmd})", case.name);
         let json_of = |out: &Output, cmd: &str| -> serde_json::Value {
             assert!(out.status.success(), "{}: {}", what(cmd), String::from_utf8_lossy(&out.stderr));
             serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{}: {e}", what(cmd)))
         };
-        // floquet: inside a region, far beyond the paper's loads, and at extreme φ: 50 rad/s,
-        // an order of magnitude below the paper's range (a point's cost grows as the fastest
-        // mode over φ: at 1 rad/s the tiny-L cases alone took several minutes of CPU, at
-        // 10 rad/s 44 s), and 1e6 rad/s.
-        for (phi, beta) in [("704", "0.25"), ("1230", "1e300"), ("50", "0.5"), ("1e6", "0.5"), ("3000", "0")] {
-            let out = run(&["floquet", &file, "--json", "--phi", phi, "--beta", beta], &set);
-            assert_no_null(&json_of(&out, "floquet"), "", &what(&format!("floquet {phi} {beta}")));
-            checked += 1;
-        }
         let out = run(&["modes", &file, "--json", "--count", "50"], &set);
         assert_no_null(&json_of(&out, "modes"), "", &what("modes"));
         let out = run(&["check", &file], &set);

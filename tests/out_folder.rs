@@ -143,7 +143,7 @@ fn cases() -> Vec<Case> {
         Case {
             name: "chart",
             previous: strings(&["chart", &fig11, "--phi", "1000:1500:50", "--beta", "0:0.5:0.1"]),
-            next: strings(&["chart", &fig11, "--phi", "1000:1500:0.5", "--beta", "0:0.5:0.025"]),
+            next: strings(&["chart", &fig11, "--phi", "1000:1500:1", "--beta", "0:0.5:0.025"]),
         },
         Case {
             name: "regions",

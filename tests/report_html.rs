@@ -65,7 +65,8 @@ fn the_design_report_renders_offline_in_chromium() {
     let out = dir.join("design");
     let run = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
         .args(["design", &common::problem_path("design-widest-band.toml"), "--out", out.to_str().unwrap(), "--quiet"])
-        .args(["--set", "design.starts=2", "--set", "design.max_iterations=8"])
+        .args(["--set", "design.starts=1", "--set", "design.max_iterations=3"])
+        .args(["--set", "design.phi_range=[900.0, 1600.0]"])
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
