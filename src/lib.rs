@@ -36,6 +36,11 @@
 //! (assembled matrices, solvers); `commands` is the command line's layer and not part of
 //! the library.
 //!
+//! Each layer returns its own error: [`ProblemError`] (with a [`problem::ProblemErrorKind`]),
+//! [`AnalysisError`], [`DesignError`] and the ROSS importer's [`ImportError`]. The enums
+//! are `#[non_exhaustive]`, and each names its kind as docs/errors.md heads it
+//! (`ProblemErrorKind::name`, `AnalysisError::kind`, `DesignError::kind`).
+//!
 //! ```
 //! use rotorshunt::{CatalogueRequest, Interval, Problem};
 //!
@@ -77,7 +82,6 @@ pub mod assembly;
 #[doc(hidden)]
 pub mod commands;
 pub mod design;
-pub mod error;
 pub mod files;
 pub mod import;
 pub mod linalg;
@@ -90,5 +94,5 @@ pub mod report;
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};
 pub use analysis::{AnalysisError, BandRequest, ChartRequest, Criterion, Interval, OperatingPoint, Rotor, Settings};
 pub use design::{run as run_design, DesignError, DesignOutcome, DesignSpec, Machine};
-pub use error::Error;
+pub use import::ross::ImportError;
 pub use problem::{Problem, ProblemError};

@@ -30,10 +30,10 @@ use rotorshunt::problem::Problem;
 use std::process::ExitCode;
 
 /// The shard count of `--shards`/`--tasks`.
-fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Error> {
+fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::commands::Error> {
     text.map(|t| match t.trim().parse::<u32>() {
         Ok(n) if (1..=commands::MAX_SHARDS).contains(&n) => Ok(n),
-        _ => Err(rotorshunt::Error::Shard {
+        _ => Err(rotorshunt::commands::Error::Shard {
             source_name: source.into(),
             value: t.into(),
             message: format!("the number of shards must be a whole number from 1 to {}", commands::MAX_SHARDS),
@@ -42,7 +42,7 @@ fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::Er
     .transpose()
 }
 
-fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error> {
+fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
     let done = |r: &commands::StatusReport| if r.done == r.cases { 0 } else { exit::STUDY_FAILED_CASES };
     match args.action {
         Some(StudyAction::Plan { file, shards, json }) => {
@@ -68,7 +68,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
             allow_non_empty,
         }) => {
             let tasks = count("--tasks", Some(&tasks))?.unwrap_or(1);
-            let binary = std::env::current_exe().map_err(|e| rotorshunt::Error::Argument {
+            let binary = std::env::current_exe().map_err(|e| rotorshunt::commands::Error::Argument {
                 argument: "study slurm".into(),
                 message: format!("cannot find this program's own path for the job scripts: {e}"),
             })?;
@@ -87,7 +87,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
         None => {
             // clap requires both without a subcommand.
             let (Some(file), Some(out)) = (args.file, args.out) else {
-                return Err(rotorshunt::Error::Argument {
+                return Err(rotorshunt::commands::Error::Argument {
                     argument: "study".into(),
                     message: "give a study file and --out DIR".into(),
                 });
@@ -181,7 +181,7 @@ fn remove_outputs_on_signals() {
 fn remove_outputs_on_signals() {}
 
 /// Load the problem and print its plausibility warnings on standard error.
-fn load(input: &Input) -> Result<Problem, rotorshunt::Error> {
+fn load(input: &Input) -> Result<Problem, rotorshunt::commands::Error> {
     let problem = Problem::from_path(&input.file, &input.set)?;
     warn(&problem);
     Ok(problem)
@@ -201,7 +201,7 @@ fn compared(
     compare: Option<&std::path::Path>,
     compare_set: &[String],
     main: &Problem,
-) -> Result<Option<commands::Compared>, rotorshunt::Error> {
+) -> Result<Option<commands::Compared>, rotorshunt::commands::Error> {
     let other = commands::compared(&input.file, &input.set, compare, compare_set)?;
     for w in other.iter().flat_map(|o| o.new_warnings(main)) {
         eprintln!("warning: {}", printable(&w.to_string()));
@@ -220,9 +220,9 @@ mod exit {
 }
 
 /// The text for standard output and the exit code of a run that produced output.
-fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::Error> {
-    let plain = |r: Result<String, rotorshunt::Error>| r.map(|t| (t, 0));
-    let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::Error::parameter("--max-cost", &e))?;
+fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
+    let plain = |r: Result<String, rotorshunt::commands::Error>| r.map(|t| (t, 0));
+    let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::commands::Error::parameter("--max-cost", &e))?;
     match cli.command {
         Command::Check { input } => plain(commands::check(&load(&input)?, budget)),
         Command::Modes { input, speed, count, json } => {
@@ -312,7 +312,7 @@ fn main() -> ExitCode {
         }
         Err(e) => {
             eprintln!("error: {}", printable(&e.to_string()));
-            ExitCode::from(exit_code(&e))
+            ExitCode::from(e.exit_code())
         }
     }
 }
@@ -331,46 +331,4 @@ fn parse_failed(e: clap::Error) -> ! {
         print!("{}", printable(&plain));
     }
     std::process::exit(e.exit_code())
-}
-
-/// The exit code of a failed run (docs/errors.md): 2 for bad input (the problem or study
-/// file, arguments, a refused cost or output folder, a request or design that breaks a
-/// rule), 1 for a failure on valid input.
-fn exit_code(e: &rotorshunt::Error) -> u8 {
-    match e {
-        rotorshunt::Error::Problem(_)
-        | rotorshunt::Error::Ross(_)
-        | rotorshunt::Error::OutputExists { .. }
-        | rotorshunt::Error::Argument { .. }
-        | rotorshunt::Error::Parameter { .. }
-        | rotorshunt::Error::Cost(_)
-        | rotorshunt::Error::Analysis(
-            rotorshunt::analysis::AnalysisError::Request(_)
-            | rotorshunt::analysis::AnalysisError::Settings(_)
-            | rotorshunt::analysis::AnalysisError::ProbeNodeOffShaft { .. }
-            | rotorshunt::analysis::AnalysisError::NoSpeeds
-            | rotorshunt::analysis::AnalysisError::SpeedsNotAscending { .. }
-            | rotorshunt::analysis::AnalysisError::UnknownMode { .. },
-        )
-        | rotorshunt::Error::Study { .. }
-        | rotorshunt::Error::StudyTooLarge { .. }
-        | rotorshunt::Error::FolderNotEmpty { .. }
-        | rotorshunt::Error::NotOwned { .. }
-        | rotorshunt::Error::OtherStudy { .. }
-        | rotorshunt::Error::StudyLocked { .. }
-        | rotorshunt::Error::Shard { .. }
-        | rotorshunt::Error::PlanMismatch { .. }
-        | rotorshunt::Error::NotAStudyFolder { .. }
-        | rotorshunt::Error::SlurmMissing { .. }
-        | rotorshunt::Error::SlurmValue { .. }
-        | rotorshunt::Error::OutputIsInput { .. }
-        | rotorshunt::Error::OutIsNotAFolder { .. }
-        | rotorshunt::Error::Unsafe { .. }
-        | rotorshunt::Error::Design(
-            rotorshunt::design::DesignError::NoDesign
-            | rotorshunt::design::DesignError::Candidate { .. }
-            | rotorshunt::design::DesignError::Spec { .. },
-        ) => 2,
-        _ => 1,
-    }
 }

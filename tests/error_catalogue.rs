@@ -1,16 +1,17 @@
 //! `docs/errors.md` cannot drift: every example command in it is run and must print
-//! exactly the quoted message; every error kind has a section (the `match`es below are
-//! exhaustive, so a new kind does not compile until it is listed); every fixture in
-//! `tests/fixtures/bad` has its kind documented.
+//! exactly the quoted message; every error kind has a section (each error's `kind()` is
+//! an exhaustive match in the crate, so a new kind has a name before it compiles, and the
+//! list below holds one of each); every fixture in `tests/fixtures/bad` has its kind
+//! documented.
 
 mod common;
 use rotorshunt::analysis::cost::{CostError, Resource};
 use rotorshunt::analysis::AnalysisError;
+use rotorshunt::commands::Error;
 use rotorshunt::design::DesignError;
 use rotorshunt::import::ross::{Format, Refusal, RossError, RossErrorKind};
 use rotorshunt::linalg::LinalgError;
 use rotorshunt::problem::{Problem, ProblemErrorKind};
-use rotorshunt::Error;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
@@ -33,135 +34,6 @@ const EXIT_1: [&str; 10] = [
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn problem_kind(k: &ProblemErrorKind) -> &'static str {
-    use ProblemErrorKind as K;
-    match k {
-        K::Read(_) => "Read",
-        K::NotARegularFile { .. } => "NotARegularFile",
-        K::TooLarge { .. } => "TooLarge",
-        K::TooComplex { .. } => "TooComplex",
-        K::NotUtf8(_) => "NotUtf8",
-        K::Empty => "Empty",
-        K::Syntax(_) => "Syntax",
-        K::Schema(_) => "Schema",
-        K::Version { .. } => "Version",
-        K::NotFinite(_) => "NotFinite",
-        K::NotPositive(_) => "NotPositive",
-        K::Negative(_) => "Negative",
-        K::OutOfRange { .. } => "OutOfRange",
-        K::BothGiven(..) => "BothGiven",
-        K::NeitherGiven(..) => "NeitherGiven",
-        K::DiskOffShaft { .. } => "DiskOffShaft",
-        K::DiskNodeOffShaft { .. } => "DiskNodeOffShaft",
-        K::TooManyEntries { .. } => "TooManyEntries",
-        K::TooManyDofs { .. } => "TooManyDofs",
-        K::NoBranches => "NoBranches",
-        K::NodeOffShaft { .. } => "NodeOffShaft",
-        K::PositionOffShaft { .. } => "PositionOffShaft",
-        K::SupportsShareNode { .. } => "SupportsShareNode",
-        K::RigidBody { .. } => "RigidBody",
-        K::NegativeStiffness { .. } => "NegativeStiffness",
-        K::DampingNotSemiDefinite { .. } => "DampingNotSemiDefinite",
-        K::TableSpeedsNotIncreasing { .. } => "TableSpeedsNotIncreasing",
-        K::TableLength { .. } => "TableLength",
-        K::Several { .. } => "Several",
-        K::InnerNotBelowOuter { .. } => "InnerNotBelowOuter",
-        K::ShaftLength { .. } => "ShaftLength",
-        K::UnknownName { .. } => "UnknownName",
-        K::BadName { .. } => "BadName",
-        K::MixedForms(..) => "MixedForms",
-        K::NoShearModulus { .. } => "NoShearModulus",
-        K::TimoshenkoOnly(_) => "TimoshenkoOnly",
-        K::Override { .. } => "Override",
-        K::ClampedCapacitance { .. } => "ClampedCapacitance",
-        K::UnknownMode { .. } => "UnknownMode",
-        K::NoTradeOff(_) => "NoTradeOff",
-    }
-}
-
-fn analysis_kind(e: &AnalysisError) -> &'static str {
-    match e {
-        AnalysisError::Linalg(_) => "Linalg",
-        AnalysisError::ReducedModes { .. } => "ReducedModes",
-        AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
-        AnalysisError::OutsideWindow { .. } => "OutsideWindow",
-        AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
-        AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
-        AnalysisError::ReducedBasis { .. } => "ReducedBasis",
-        AnalysisError::StiffResponse { .. } => "StiffResponse",
-        AnalysisError::Unreliable { .. } => "Unreliable",
-        AnalysisError::ProbeNodeOffShaft { .. } => "ProbeNodeOffShaft",
-        AnalysisError::ProbeOffSystem { .. } => "ProbeOffSystem",
-        AnalysisError::SingularAtSpeed { .. } => "SingularAtSpeed",
-        AnalysisError::NoSpeeds => "NoSpeeds",
-        AnalysisError::SpeedsNotAscending { .. } => "SpeedsNotAscending",
-        AnalysisError::UnknownMode { .. } => "UnknownMode",
-        // A library request's broken rule is the file layer's kind for that value.
-        AnalysisError::Request(e) => problem_kind(&ProblemErrorKind::from(e)),
-        // Settings built in code: the file layer's kind of the same rule.
-        AnalysisError::Settings(e) => match e.rule {
-            rotorshunt::analysis::SettingsRule::NotFinite(_) => "NotFinite",
-            rotorshunt::analysis::SettingsRule::Negative(_) => "Negative",
-            rotorshunt::analysis::SettingsRule::OutOfRange { .. } => "OutOfRange",
-        },
-    }
-}
-
-fn design_kind(e: &DesignError) -> &'static str {
-    match e {
-        DesignError::NoDesign => "NoDesign",
-        DesignError::Candidate { .. } => "Candidate",
-        DesignError::Analysis(a) => analysis_kind(a),
-        DesignError::Optimiser(_) => "Optimiser",
-        DesignError::Qp(_) => "Qp",
-        DesignError::NoResponse => "NoResponse",
-        // The command line refuses it as the file's `NoTradeOff`, at the key.
-        DesignError::NoTradeOff(_) => "NoTradeOff",
-        DesignError::FrontPoints(_) => "FrontPoints",
-        // The command line refuses it as the file's `UnknownMode`, at the tag's line.
-        DesignError::UnknownMode { .. } => "UnknownMode",
-        DesignError::Spec { error, .. } => problem_kind(&ProblemErrorKind::from(error)),
-    }
-}
-
-fn error_kind(e: &Error) -> &'static str {
-    match e {
-        Error::Problem(p) => problem_kind(&p.kind),
-        Error::Analysis(a) => analysis_kind(a),
-        Error::Design(d) => design_kind(d),
-        Error::Study { .. } => "Study",
-        Error::Argument { .. } => "Argument",
-        // A flag's broken rule is the file layer's kind for that value.
-        Error::Parameter { kind, .. } => problem_kind(kind),
-        Error::Cost(_) => "Cost",
-        Error::Output { .. } => "Output",
-        Error::OutputIsInput { .. } => "OutputIsInput",
-        Error::OutIsNotAFolder { .. } => "OutIsNotAFolder",
-        Error::Unsafe { .. } => "Unsafe",
-        Error::FolderNotEmpty { .. } => "FolderNotEmpty",
-        Error::NotOwned { .. } => "NotOwned",
-        Error::OtherStudy { .. } => "OtherStudy",
-        Error::StudyLocked { .. } => "StudyLocked",
-        Error::StudyTooLarge { .. } => "StudyTooLarge",
-        Error::Shard { .. } => "Shard",
-        Error::PlanMismatch { .. } => "PlanMismatch",
-        Error::NotAStudyFolder { .. } => "NotAStudyFolder",
-        Error::SlurmMissing { .. } => "SlurmMissing",
-        Error::SlurmValue { .. } => "SlurmValue",
-        Error::SlurmFailed { .. } => "SlurmFailed",
-        Error::OutputExists { .. } => "OutputExists",
-        Error::Ross(r) => ross_kind(&r.kind),
-    }
-}
-
-fn ross_kind(k: &RossErrorKind) -> &'static str {
-    match k {
-        RossErrorKind::Syntax { .. } => "RossSyntax",
-        RossErrorKind::Schema { .. } => "RossSchema",
-        RossErrorKind::Refused { .. } => "RossRefused",
-    }
 }
 
 /// One of every kind, so that the list of names follows the enums.
@@ -277,16 +149,16 @@ fn every_kind() -> Vec<&'static str> {
             error: rotorshunt::model::BranchError::NoBranch { ring: 0, branch: 0, branches: 0 },
         }),
     ];
-    let mut names: Vec<&str> = problem.iter().map(problem_kind).collect();
-    names.extend(analysis.iter().map(analysis_kind));
-    names.extend(errors.iter().map(error_kind));
+    let mut names: Vec<&str> = problem.iter().map(ProblemErrorKind::name).collect();
+    names.extend(analysis.iter().map(AnalysisError::kind));
+    names.extend(errors.iter().map(Error::kind));
     // The argument parser's own errors (clap).
     names.push("Usage");
     names.extend(warning_kinds());
     names
 }
 
-/// Every plausibility warning kind (exhaustive, as the error kinds): their sections'
+/// Every plausibility warning kind (named in the crate, as the error kinds): their sections'
 /// examples print a `warning: ` line and exit 0.
 fn warning_kinds() -> Vec<&'static str> {
     use rotorshunt::analysis::warnings::RangeWarning as R;
@@ -303,19 +175,7 @@ fn warning_kinds() -> Vec<&'static str> {
         W::Range(R::RangeBelowWhirls { lo: x, hi: x, smallest_sum: x, order: 1, speed: x }),
         W::OutsideTable { speed: x, lo: x, hi: x },
     ];
-    all.iter()
-        .map(|w| match w {
-            W::YoungsModulus { .. }
-            | W::Mass { .. }
-            | W::Slenderness { .. }
-            | W::AngleInRadians { .. }
-            | W::PeripheralSpeed { .. }
-            | W::PeripheralSpeedRpm { .. }
-            | W::Range(R::RangeAboveWhirls { .. })
-            | W::Range(R::RangeBelowWhirls { .. })
-            | W::OutsideTable { .. } => w.name(),
-        })
-        .collect()
+    all.iter().map(W::name).collect::<Vec<_>>()
 }
 
 /// Section name (`### \`Name\``) → its text.
@@ -471,10 +331,10 @@ fn every_bad_fixture_has_its_kind_documented() {
         // A whirl tag of a damping constraint is refused by the design, not the loader
         // (tests/bad_input.rs): its kind is the design's.
         let (kind, e) = match Problem::from_path(&path, &[]) {
-            Err(e) => (problem_kind(&e.kind), e.to_string()),
+            Err(e) => (e.kind.name(), e.to_string()),
             Ok(p) => {
                 let e = common::design_refusal(&p).expect_err("bad fixture accepted");
-                (design_kind(&e), e.to_string())
+                (e.kind(), e.to_string())
             }
         };
         if !sections.contains_key(kind) {

@@ -410,10 +410,6 @@ struct Stats {
     slowest_case: String,
 }
 
-fn kind_name(k: &ProblemErrorKind) -> String {
-    format!("{k:?}").split(['(', ' ', '{']).next().unwrap_or("?").to_string()
-}
-
 /// The whole-message checks every rejection must pass.
 fn check_error(e: &ProblemError, name: &str, bytes: &[u8]) -> Result<(), String> {
     let shown = e.to_string();
@@ -612,7 +608,7 @@ fn run_case(bases: &[Base], c: &Case, stats: &Mutex<Stats>) -> Result<(), String
     s.cases += 1;
     match &result {
         Ok(_) => s.loaded += 1,
-        Err(e) => *s.rejected.entry(kind_name(&e.kind)).or_default() += 1,
+        Err(e) => *s.rejected.entry(e.kind.name().to_string()).or_default() += 1,
     }
     if let Some(outcome) = rotor_outcome {
         s.rotors += 1;
@@ -846,8 +842,10 @@ fn run_flag_case(
                 toml_number(*o)
             );
             let file = dir.join("study.toml");
-            std::fs::write(&file, text)
-                .map_err(|e| rotorshunt::Error::Output { path: "study.toml".into(), message: e.to_string() })?;
+            std::fs::write(&file, text).map_err(|e| rotorshunt::commands::Error::Output {
+                path: "study.toml".into(),
+                message: e.to_string(),
+            })?;
             let options = StudyOptions { force: false, allow_non_empty: false, budget, ..Default::default() };
             commands::study_cmd(&file, &out, options, &Quiet).map(|(t, _)| t)
         }
@@ -864,7 +862,7 @@ fn run_flag_case(
             _ => Ok(()),
         },
         Ok(Err(e)) => {
-            use rotorshunt::Error as E;
+            use rotorshunt::commands::Error as E;
             match &e {
                 E::Parameter { .. } | E::Argument { .. } | E::Cost(_) | E::Problem(_) | E::Analysis(_) => Ok(()),
                 other => Err(format!("{c:?}: unexpected error kind: {other}")),

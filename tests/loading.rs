@@ -159,7 +159,7 @@ fn dev_zero_is_refused_by_every_route() {
     // The library's study command gives the typed error.
     let options = rotorshunt::commands::StudyOptions::default();
     match rotorshunt::commands::study_cmd(&study, &out, options, &rotorshunt::progress::Silent) {
-        Err(rotorshunt::Error::Problem(e)) => {
+        Err(rotorshunt::commands::Error::Problem(e)) => {
             assert!(matches!(e.kind, ProblemErrorKind::NotARegularFile { .. }), "{e}");
             assert_eq!(e.file, "/dev/zero");
         }

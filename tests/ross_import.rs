@@ -4,8 +4,8 @@
 //! straight from ROSS's JSON.
 
 mod common;
+use rotorshunt::commands::Error;
 use rotorshunt::import::ross::{import_path, ElementRef, ImportError, Options, Refusal, RossErrorKind};
-use rotorshunt::Error;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -77,6 +77,7 @@ pub enum Quantity {
 /// The rule a value breaks.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case", tag = "rule")]
+#[non_exhaustive]
 pub enum Rule {
     /// NaN or infinite.
     NotFinite,
@@ -120,6 +121,24 @@ pub enum Rule {
         /// Largest.
         max: u64,
     },
+}
+
+impl Rule {
+    /// The error kind a broken rule is, named as docs/errors.md heads it: the sign and
+    /// finiteness rules are kinds of their own, every bound is `OutOfRange`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Rule::NotFinite => "NotFinite",
+            Rule::NotPositive => "NotPositive",
+            Rule::Negative => "Negative",
+            Rule::TooLarge { .. }
+            | Rule::NotAboveLow { .. }
+            | Rule::RatioTooLarge { .. }
+            | Rule::AboveBetaMax { .. }
+            | Rule::Outside { .. }
+            | Rule::Count { .. } => "OutOfRange",
+        }
+    }
 }
 
 /// A value that breaks a rule: the rule, the value, and which parameter it was.

@@ -33,6 +33,7 @@ use thiserror::Error;
 
 /// Failures of an analysis.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum AnalysisError {
     /// Dense linear algebra failed.
     #[error(transparent)]
@@ -174,6 +175,34 @@ pub enum AnalysisError {
         /// P_cr (N).
         critical_load: f64,
     },
+}
+
+impl AnalysisError {
+    /// The error's kind, named as docs/errors.md heads its section: a request's or a
+    /// setting's broken rule is the file layer's kind of that rule. Matched here, in the
+    /// crate, so that a new variant has a name before it compiles (the enum is
+    /// `#[non_exhaustive]` to users).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            AnalysisError::Linalg(_) => "Linalg",
+            AnalysisError::ReducedModes { .. } => "ReducedModes",
+            AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
+            AnalysisError::OutsideWindow { .. } => "OutsideWindow",
+            AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
+            AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
+            AnalysisError::ReducedBasis { .. } => "ReducedBasis",
+            AnalysisError::StiffResponse { .. } => "StiffResponse",
+            AnalysisError::Unreliable { .. } => "Unreliable",
+            AnalysisError::ProbeNodeOffShaft { .. } => "ProbeNodeOffShaft",
+            AnalysisError::ProbeOffSystem { .. } => "ProbeOffSystem",
+            AnalysisError::SingularAtSpeed { .. } => "SingularAtSpeed",
+            AnalysisError::NoSpeeds => "NoSpeeds",
+            AnalysisError::SpeedsNotAscending { .. } => "SpeedsNotAscending",
+            AnalysisError::UnknownMode { .. } => "UnknownMode",
+            AnalysisError::Request(e) => e.rule.kind(),
+            AnalysisError::Settings(e) => e.rule.kind(),
+        }
+    }
 }
 
 /// The first `TAGS_LISTED` tags of each whirl direction of `tags` (forward tags start

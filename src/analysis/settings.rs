@@ -79,6 +79,7 @@ pub struct SettingsError {
 /// The rule a setting breaks (the words are those of the file layer's kinds of the same
 /// names).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SettingsRule {
     /// NaN or infinite.
     #[error("must be a finite number, found {}", crate::analysis::limits::number(*.0))]
@@ -94,6 +95,18 @@ pub enum SettingsRule {
         /// The range, e.g. `in (0, 1]`.
         range: String,
     },
+}
+
+impl SettingsRule {
+    /// The error kind, named as docs/errors.md heads it (the file layer's kind of the
+    /// same rule).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SettingsRule::NotFinite(_) => "NotFinite",
+            SettingsRule::Negative(_) => "Negative",
+            SettingsRule::OutOfRange { .. } => "OutOfRange",
+        }
+    }
 }
 
 impl Settings {

@@ -9,6 +9,7 @@ use thiserror::Error;
 /// A φ range that no instability region of the reduced model can reach, with the numbers
 /// that make it so.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum RangeWarning {
     /// A φ range above every whirl sum of the reduced model: no region starts in it.
     #[error("the phi range [{lo}, {hi}] rad/s lies above every whirl sum of the reduced model (largest omega_f + omega_b = {largest_sum:.4e} rad/s at {speed} rad/s): no instability region starts in it; raise analysis.reduced_modes or check the units", lo = crate::analysis::limits::number(*lo), hi = crate::analysis::limits::number(*hi), speed = crate::analysis::limits::number(*speed))]

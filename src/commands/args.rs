@@ -1,6 +1,6 @@
 //! Parsing of command-line values.
 
-use crate::Error;
+use crate::commands::Error;
 
 /// Most points a range may expand to: protects against `0:1e9:1e-9` exhausting memory.
 pub const MAX_RANGE_POINTS: usize = 10_000_000;

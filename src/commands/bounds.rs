@@ -4,8 +4,8 @@
 
 use crate::analysis::cost::{self, Budget, Dense, Driver, Estimate};
 use crate::analysis::limits::ParamError;
+use crate::commands::Error;
 use crate::problem::Problem;
-use crate::Error;
 
 /// A flag's value by its rule: the value, or the error naming the flag.
 pub(crate) fn flag<T>(argument: &str, r: Result<T, ParamError>) -> Result<T, Error> {

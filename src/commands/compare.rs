@@ -2,8 +2,8 @@
 //! `--compare-set key=value`) and its legend name.
 
 use super::layer_name;
+use crate::commands::Error;
 use crate::problem::{Problem, Warning};
-use crate::Error;
 use std::path::Path;
 
 /// The compared configuration and its legend name.

@@ -7,6 +7,7 @@ use super::{title, OutDir};
 use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
 use crate::analysis::{Interval, Rotor};
 use crate::commands::out::json_pretty;
+use crate::commands::Error;
 use crate::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
 use crate::design::evaluate::Candidate;
 use crate::design::evaluate::{neighbourhood, values_of};
@@ -16,7 +17,6 @@ use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::design::{self as report_design, branch_rows, markdown, DesignReport};
-use crate::Error;
 use std::path::Path;
 
 /// The name of the design file written: `tuned.toml` for a result that can be handed on,

@@ -11,12 +11,12 @@ use crate::analysis::response::{checked_response, response_steps, ResponseResult
 use crate::analysis::unbalance::Probe;
 use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
+use crate::commands::Error;
 use crate::problem::Problem;
 use crate::progress::Progress;
 use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use crate::report::plot::{envelope, Curve, CurvePlot};
 use crate::report::style;
-use crate::Error;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;

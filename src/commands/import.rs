@@ -2,9 +2,9 @@
 
 use super::bounds;
 use crate::analysis::limits;
+use crate::commands::Error;
 use crate::files;
 use crate::import::ross::{self, Options};
-use crate::Error;
 use std::io::Write;
 use std::path::Path;
 

@@ -29,8 +29,8 @@
 //! swap. A user's folder that merely looks like one is left alone.
 
 use super::study::Ledger;
+use crate::commands::Error;
 use crate::files;
-use crate::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io;

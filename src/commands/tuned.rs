@@ -2,10 +2,10 @@
 
 use super::design::{design_file_name, status_word};
 use super::TOOL;
+use crate::commands::Error;
 use crate::design::DesignOutcome;
 use crate::problem::tuned::{tuned_file, Setting};
 use crate::problem::Problem;
-use crate::Error;
 
 /// The tuned problem file: the input (with overrides applied) with the tuned values of
 /// `outcome`'s variables in its branches ([`tuned_file`]), under a header naming where it

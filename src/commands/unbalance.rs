@@ -9,9 +9,9 @@ use crate::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
 use crate::analysis::limits::{self, MAX_COUNT};
 use crate::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
 use crate::analysis::{AnalysisError, Rotor};
+use crate::commands::Error;
 use crate::problem::Problem;
 use crate::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
-use crate::Error;
 use serde::Serialize;
 use std::path::Path;
 

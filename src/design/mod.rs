@@ -49,6 +49,7 @@ use thiserror::Error;
 
 /// Why a design run failed (an infeasible design is an outcome, not an error).
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum DesignError {
     /// The problem file has no `[design]` table.
     #[error("the problem file has no [design] table: add one (problems/README.md, section [design])")]
@@ -109,4 +110,24 @@ pub enum DesignError {
         /// The model's tags there, forward then backward, lowest first.
         available: Vec<String>,
     },
+}
+
+impl DesignError {
+    /// The error's kind, named as docs/errors.md heads its section (an analysis failure
+    /// keeps its own kind; a spec value's broken rule is the file layer's kind of it).
+    /// Matched here, in the crate, so that a new variant has a name before it compiles.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            DesignError::NoDesign => "NoDesign",
+            DesignError::Candidate { .. } => "Candidate",
+            DesignError::Analysis(a) => a.kind(),
+            DesignError::Optimiser(_) => "Optimiser",
+            DesignError::Qp(_) => "Qp",
+            DesignError::NoResponse => "NoResponse",
+            DesignError::NoTradeOff(_) => "NoTradeOff",
+            DesignError::FrontPoints(_) => "FrontPoints",
+            DesignError::UnknownMode { .. } => "UnknownMode",
+            DesignError::Spec { error, .. } => error.rule.kind(),
+        }
+    }
 }

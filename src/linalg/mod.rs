@@ -28,6 +28,7 @@ use thiserror::Error;
 
 /// Failures of the dense linear algebra.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum LinalgError {
     /// The eigenvalue iteration did not converge.
     #[error("the {what} eigenvalue iteration did not converge")]

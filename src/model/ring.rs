@@ -165,6 +165,7 @@ impl std::fmt::Display for Parameter {
 /// Why a branch parameter cannot take a value: the rules the file layer checks a branch
 /// of `[[circuit.branches]]` by.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BranchError {
     /// The ring or the branch does not exist.
     #[error("ring {ring} has no branch {branch} (it has {branches}; branches count from 0)")]

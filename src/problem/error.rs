@@ -7,6 +7,7 @@ use thiserror::Error;
 
 /// What is wrong with a problem file.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum ProblemErrorKind {
     /// The file cannot be read.
     #[error("cannot read the file: {0}")]
@@ -343,6 +344,57 @@ fn table_length(values: usize, speeds: usize) -> String {
         format!("an array of {values} values needs `speeds`, the table's speeds (rad/s), one per value")
     } else {
         format!("the array has {values} values but `speeds` has {speeds}: give one value per speed")
+    }
+}
+
+impl ProblemErrorKind {
+    /// The kind's name: the heading of its section in docs/errors.md and the name other
+    /// front ends give it. Matched here, in the crate, so that a new kind has a name
+    /// before it compiles (the enum is `#[non_exhaustive]` to users).
+    pub fn name(&self) -> &'static str {
+        use ProblemErrorKind as K;
+        match self {
+            K::Read(_) => "Read",
+            K::NotARegularFile { .. } => "NotARegularFile",
+            K::TooLarge { .. } => "TooLarge",
+            K::TooComplex { .. } => "TooComplex",
+            K::NotUtf8(_) => "NotUtf8",
+            K::Empty => "Empty",
+            K::Syntax(_) => "Syntax",
+            K::Schema(_) => "Schema",
+            K::Version { .. } => "Version",
+            K::NotFinite(_) => "NotFinite",
+            K::NotPositive(_) => "NotPositive",
+            K::Negative(_) => "Negative",
+            K::NoTradeOff(_) => "NoTradeOff",
+            K::OutOfRange { .. } => "OutOfRange",
+            K::BothGiven(..) => "BothGiven",
+            K::NeitherGiven(..) => "NeitherGiven",
+            K::DiskOffShaft { .. } => "DiskOffShaft",
+            K::DiskNodeOffShaft { .. } => "DiskNodeOffShaft",
+            K::TooManyEntries { .. } => "TooManyEntries",
+            K::TooManyDofs { .. } => "TooManyDofs",
+            K::NodeOffShaft { .. } => "NodeOffShaft",
+            K::PositionOffShaft { .. } => "PositionOffShaft",
+            K::SupportsShareNode { .. } => "SupportsShareNode",
+            K::RigidBody { .. } => "RigidBody",
+            K::NegativeStiffness { .. } => "NegativeStiffness",
+            K::DampingNotSemiDefinite { .. } => "DampingNotSemiDefinite",
+            K::TableSpeedsNotIncreasing { .. } => "TableSpeedsNotIncreasing",
+            K::TableLength { .. } => "TableLength",
+            K::Several { .. } => "Several",
+            K::InnerNotBelowOuter { .. } => "InnerNotBelowOuter",
+            K::ShaftLength { .. } => "ShaftLength",
+            K::UnknownName { .. } => "UnknownName",
+            K::BadName { .. } => "BadName",
+            K::MixedForms(..) => "MixedForms",
+            K::NoShearModulus { .. } => "NoShearModulus",
+            K::TimoshenkoOnly(_) => "TimoshenkoOnly",
+            K::ClampedCapacitance { .. } => "ClampedCapacitance",
+            K::UnknownMode { .. } => "UnknownMode",
+            K::NoBranches => "NoBranches",
+            K::Override { .. } => "Override",
+        }
     }
 }
 

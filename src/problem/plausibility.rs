@@ -48,6 +48,7 @@ pub const MAX_RADIAN_LIKE_ANGLE: f64 = std::f64::consts::FRAC_PI_2;
 /// One implausible value, with the numbers that make it so. The text (`Display`) is what
 /// the command line prints after `warning: FILE, line N: key `K`: `.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum WarningKind {
     /// A Young's modulus outside the range of engineering solids.
     #[error(

@@ -20,8 +20,8 @@
 pub(crate) use super::lock::{case_running, CaseLock, StudyLock};
 use super::TOOL;
 use crate::commands::out::json_pretty;
+use crate::commands::Error;
 use crate::files::{remove_temporaries, temporary_target, write_atomic};
-use crate::Error;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::io;

@@ -8,7 +8,7 @@ use super::shard::{self, kind_cost, Shard};
 use super::state::LISTED_CASES;
 use super::{case_id, load_study, CaseKind, Loaded};
 use crate::commands::out::json_pretty;
-use crate::Error;
+use crate::commands::Error;
 use serde::Serialize;
 use std::path::Path;
 

@@ -5,7 +5,7 @@
 
 use super::folder::{output_error, CASE_LOCK, LOCK};
 use crate::commands::out::json_compact;
-use crate::Error;
+use crate::commands::Error;
 use fs4::{FileExt, TryLockError};
 use serde::{Deserialize, Serialize};
 use std::fs::File;

@@ -5,10 +5,10 @@
 
 use super::CaseKind;
 use crate::analysis::limits::{self, ParamError, Quantity};
+use crate::commands::Error;
 use crate::problem::source::LineIndex;
 use crate::problem::study::StudyFile;
 use crate::problem::{Problem, ProblemError, ProblemErrorKind};
-use crate::Error;
 use rayon::prelude::*;
 use sha2::{Digest, Sha256};
 use std::collections::{BTreeSet, HashMap};

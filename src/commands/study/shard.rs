@@ -10,7 +10,7 @@
 
 use super::plan::Plan;
 use super::CaseKind;
-use crate::Error;
+use crate::commands::Error;
 use serde::{Deserialize, Serialize};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;

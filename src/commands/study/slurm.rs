@@ -6,7 +6,7 @@
 use super::folder::{self, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS, SLURM_DIR};
 use super::shard;
 use super::{load_study, Loaded, OutDir, TOOL};
-use crate::Error;
+use crate::commands::Error;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 

@@ -8,7 +8,7 @@ use super::shard;
 use super::write_summary;
 use super::{case_id, load_study, CaseResult, CaseStatus, InputHasher, Loaded, OutDir};
 use crate::commands::out::json_pretty;
-use crate::Error;
+use crate::commands::Error;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::HashSet;

@@ -58,6 +58,7 @@ impl std::fmt::Display for Format {
 
 /// What is wrong with a ROSS file.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum RossErrorKind {
     /// The text is not valid TOML or JSON.
     #[error("{format} syntax error{}: {message}", line_text(*line))]
@@ -93,6 +94,17 @@ pub enum RossErrorKind {
         /// The other refusals of the file.
         more: Box<[Refused]>,
     },
+}
+
+impl RossErrorKind {
+    /// The kind's name, as docs/errors.md heads its section.
+    pub fn name(&self) -> &'static str {
+        match self {
+            RossErrorKind::Syntax { .. } => "RossSyntax",
+            RossErrorKind::Schema { .. } => "RossSchema",
+            RossErrorKind::Refused { .. } => "RossRefused",
+        }
+    }
 }
 
 /// A ROSS element as messages name it: its class, its tag, its node and the line of its

@@ -1,9 +1,12 @@
-//! The crate's error type, composed from the layers' errors.
+//! The command line's error: the layers' errors, and those of its arguments, out folders,
+//! studies and Slurm. The library's own errors are the layers' (`ProblemError`,
+//! `AnalysisError`, `DesignError`, `ImportError`).
 
 use thiserror::Error;
 
-/// Any failure of a rotorshunt operation.
+/// Any failure of a command.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A problem file is unreadable or invalid.
     #[error(transparent)]
@@ -244,6 +247,99 @@ impl Error {
         match e.get_ref().and_then(|r| r.downcast_ref::<crate::files::Refused>()) {
             Some(r) => Error::Unsafe { path: path.display().to_string(), what: r.what.clone() },
             None => Error::Output { path: path.display().to_string(), message: e.to_string() },
+        }
+    }
+
+    /// The error's kind, named as docs/errors.md heads its section: a layer's error keeps
+    /// its layer's kind, and a flag's broken rule is the file layer's kind of that value.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Error::Problem(p) => p.kind.name(),
+            Error::Analysis(a) => a.kind(),
+            Error::Design(d) => d.kind(),
+            Error::Ross(r) => r.kind.name(),
+            Error::Parameter { kind, .. } => kind.name(),
+            Error::Study { .. } => "Study",
+            Error::Argument { .. } => "Argument",
+            Error::Cost(_) => "Cost",
+            Error::Output { .. } => "Output",
+            Error::OutputIsInput { .. } => "OutputIsInput",
+            Error::OutIsNotAFolder { .. } => "OutIsNotAFolder",
+            Error::Unsafe { .. } => "Unsafe",
+            Error::FolderNotEmpty { .. } => "FolderNotEmpty",
+            Error::NotOwned { .. } => "NotOwned",
+            Error::OtherStudy { .. } => "OtherStudy",
+            Error::StudyLocked { .. } => "StudyLocked",
+            Error::StudyTooLarge { .. } => "StudyTooLarge",
+            Error::Shard { .. } => "Shard",
+            Error::PlanMismatch { .. } => "PlanMismatch",
+            Error::NotAStudyFolder { .. } => "NotAStudyFolder",
+            Error::SlurmMissing { .. } => "SlurmMissing",
+            Error::SlurmValue { .. } => "SlurmValue",
+            Error::SlurmFailed { .. } => "SlurmFailed",
+            Error::OutputExists { .. } => "OutputExists",
+        }
+    }
+
+    /// The exit code of a run that failed with this error (docs/errors.md): 2 for bad
+    /// input (the problem or study file, arguments, a refused cost or output folder, a
+    /// request or design that breaks a rule), 1 for a failure on valid input.
+    pub fn exit_code(&self) -> u8 {
+        use crate::analysis::AnalysisError as A;
+        use crate::design::DesignError as D;
+        const BAD_INPUT: u8 = 2;
+        const FAILED: u8 = 1;
+        match self {
+            Error::Problem(_)
+            | Error::Ross(_)
+            | Error::OutputExists { .. }
+            | Error::Argument { .. }
+            | Error::Parameter { .. }
+            | Error::Cost(_)
+            | Error::Study { .. }
+            | Error::StudyTooLarge { .. }
+            | Error::FolderNotEmpty { .. }
+            | Error::NotOwned { .. }
+            | Error::OtherStudy { .. }
+            | Error::StudyLocked { .. }
+            | Error::Shard { .. }
+            | Error::PlanMismatch { .. }
+            | Error::NotAStudyFolder { .. }
+            | Error::SlurmMissing { .. }
+            | Error::SlurmValue { .. }
+            | Error::OutputIsInput { .. }
+            | Error::OutIsNotAFolder { .. }
+            | Error::Unsafe { .. } => BAD_INPUT,
+            Error::Output { .. } | Error::SlurmFailed { .. } => FAILED,
+            Error::Analysis(a) => match a {
+                A::Request(_)
+                | A::Settings(_)
+                | A::ProbeNodeOffShaft { .. }
+                | A::NoSpeeds
+                | A::SpeedsNotAscending { .. }
+                | A::UnknownMode { .. } => BAD_INPUT,
+                A::Linalg(_)
+                | A::ReducedModes { .. }
+                | A::StaticLoadBuckles { .. }
+                | A::OutsideWindow { .. }
+                | A::ResponseNotFinite { .. }
+                | A::NoWhirlModes { .. }
+                | A::ReducedBasis { .. }
+                | A::StiffResponse { .. }
+                | A::Unreliable { .. }
+                | A::ProbeOffSystem { .. }
+                | A::SingularAtSpeed { .. } => FAILED,
+            },
+            Error::Design(d) => match d {
+                D::NoDesign | D::Candidate { .. } | D::Spec { .. } => BAD_INPUT,
+                D::Analysis(_)
+                | D::Optimiser(_)
+                | D::Qp(_)
+                | D::NoResponse
+                | D::NoTradeOff(_)
+                | D::FrontPoints(_)
+                | D::UnknownMode { .. } => FAILED,
+            },
         }
     }
 
