@@ -7,7 +7,10 @@
 //! Units: SI, frequencies in rad/s.
 
 use rotorshunt::analysis::unbalance;
-use rotorshunt::{run_design, BandRequest, CatalogueRequest, ChartRequest, Interval, Problem};
+use rotorshunt::design::{run_with, Observation, RunOptions};
+use rotorshunt::{BandRequest, CatalogueRequest, ChartRequest, Interval, Problem};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 1. Load: the paper's rotor with the closed two-branch shunt at Ω = 2000 rad/s.
@@ -52,20 +55,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // 6. A design: widen that band by tuning branch 1 (two starts of ten iterations, set
-    //    as typed values on the file's spec, to keep the tour short; the run checks them).
+    //    as typed values on the file's spec, to keep the tour short; the run checks them),
+    //    with an observer that counts the evaluations as they are made.
     let design = Problem::from_path("problems/design-widest-band.toml", &[])?;
     let mut spec = design.design.clone().ok_or("the file has a [design] table")?;
     spec.starts = 2;
     spec.max_iterations = 10;
-    let outcome = run_design(&design.machine(), &spec, &rotorshunt::progress::Silent)?;
+    let evaluations = Arc::new(AtomicUsize::new(0));
+    let counter = Arc::clone(&evaluations);
+    let observer = move |_: &Observation<'_>| {
+        counter.fetch_add(1, Ordering::Relaxed);
+    };
+    let options = RunOptions { observer: Some(Arc::new(observer)), ..RunOptions::default() };
+    let outcome = run_with(&design.machine(), &spec, &options, &rotorshunt::progress::Silent)?;
     let (before, after) = (&outcome.before_bands()[0].band, &outcome.after_bands()[0].band);
     println!(
-        "design {:?} (verified: {}): band width {:.1} → {:.1} rad/s with {:?}",
+        "design {:?} (verified: {}): band width {:.1} → {:.1} rad/s with {:?}, {} evaluations watched",
         outcome.status,
         outcome.verified,
         before.signed_width(),
         after.signed_width(),
-        outcome.after
+        outcome.after,
+        evaluations.load(Ordering::Relaxed)
     );
     Ok(())
 }

@@ -42,7 +42,7 @@ pub mod verify;
 pub mod vibration;
 
 pub use machine::Machine;
-pub use optimise::{run, run_with, DesignOutcome, RunOptions, Status};
+pub use optimise::{run, run_with, DesignOutcome, Observation, Observer, RunOptions, Status};
 pub use spec::DesignSpec;
 
 use thiserror::Error;

@@ -320,6 +320,7 @@ pub fn front(base: &Machine, spec: &DesignSpec, k: usize, progress: &dyn Progres
     let options = |name: String, start: &[f64]| RunOptions {
         extra_starts: vec![(name, start.to_vec())],
         unconstrained: unconstrained.clone(),
+        observer: None,
     };
     let (lo, hi) = (damping.width.max(FLOOR_WIDTH), widest.width);
     let collapsed = hi <= lo + SAME_EDGE;

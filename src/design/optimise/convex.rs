@@ -213,10 +213,10 @@ pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
     // The run from the reference always exists; a later run replaces it when better.
     let (first, rest) = seeds.split_first().ok_or(DesignError::Qp("no convex start".into()))?;
     let mut best_run = convex_run(ctx, first, &reference)?;
-    record(out, 0, &best_run);
+    record(ctx, out, 0, &best_run);
     for (k, u0) in rest.iter().enumerate() {
         let run = convex_run(ctx, u0, &reference)?;
-        record(out, k + 1, &run);
+        record(ctx, out, k + 1, &run);
         let (m0, m1) = (total(&best_run.intrusions), total(&run.intrusions));
         if m1 < m0 || (m1 == m0 && change(&run.u, &reference) < change(&best_run.u, &reference)) {
             best_run = run;
@@ -230,12 +230,17 @@ pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
 }
 
 /// A convex run's history and steps, as start `k`.
-fn record(out: &mut DesignOutcome, k: usize, run: &ConvexRun) {
+/// Each entry goes to the caller's observer as it is recorded.
+fn record(ctx: &Context<'_>, out: &mut DesignOutcome, k: usize, run: &ConvexRun) {
     let merit = total(&run.intrusions);
-    out.history.push(HistoryPoint { start: k, step: 0, value: merit, best: merit });
+    let mut push = |point: HistoryPoint| {
+        out.history.push(point);
+        ctx.observe(point, &[]);
+    };
+    push(HistoryPoint { start: k, step: 0, value: merit, best: merit });
     for (i, s) in run.steps.iter().enumerate() {
         let value = s.intrusion_after.unwrap_or(s.intrusion_before);
-        out.history.push(HistoryPoint { start: k, step: i + 1, value, best: value.min(s.intrusion_before) });
+        push(HistoryPoint { start: k, step: i + 1, value, best: value.min(s.intrusion_before) });
     }
     out.convex_steps.extend(run.steps.iter().cloned());
 }

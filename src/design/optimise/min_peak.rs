@@ -206,7 +206,9 @@ impl CostFunction for PeakCost<'_, '_> {
         let value = cost.exp();
         let best = h.last().map_or(value, |p| p.best.min(value));
         let step = h.len() + 1;
-        h.push(HistoryPoint { start: self.start, step, value, best });
+        let point = HistoryPoint { start: self.start, step, value, best };
+        h.push(point);
+        self.ctx.observe(point, u);
         Ok(cost + BOUND_PENALTY * outside)
     }
 }

@@ -20,12 +20,14 @@ use std::time::Instant;
 mod convex;
 mod min_peak;
 mod nelder_mead;
+mod observer;
 mod outcome;
 
 use convex::clear_bands;
 use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 use nelder_mead::widest_band;
+pub use observer::{Observation, Observer};
 pub use outcome::{
     ConvexStep, Cost, DesignOutcome, Findings, HistoryPoint, StartReport, Status, VibrationReport,
     REPORT_DAMPING_WHIRLS,
@@ -50,10 +52,12 @@ struct Context<'a> {
     extra_starts: Vec<(String, Vec<f64>)>,
     /// The caller's unconstrained optimum ([`RunOptions::unconstrained`]), scaled.
     unconstrained: Option<Vec<f64>>,
+    /// The caller's observer ([`RunOptions::observer`]).
+    observer: Option<&'a dyn Observer>,
 }
 
 /// What a caller adds to a design run beyond its `[design]` table.
-#[derive(Debug, Clone, Default)]
+#[derive(Clone, Default)]
 pub struct RunOptions {
     /// More Nelder–Mead starts of the min-peak-response runs, by name, in variable values
     /// (SI units, as in the problem file), tried beside the classic tuning, the reference
@@ -65,9 +69,30 @@ pub struct RunOptions {
     /// (it does not depend on the constraints): its Nelder–Mead runs are skipped and this
     /// design is judged in their place.
     pub unconstrained: Option<Vec<f64>>,
+    /// Watches every evaluation of the objective as it is made ([`Observer`]).
+    pub observer: Option<std::sync::Arc<dyn Observer>>,
+}
+
+impl std::fmt::Debug for RunOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("extra_starts", &self.extra_starts)
+            .field("unconstrained", &self.unconstrained)
+            .field("observer", &self.observer.as_ref().map(|_| "an observer"))
+            .finish()
+    }
 }
 
 impl Context<'_> {
+    /// Hand one history entry to the caller's observer, with the candidate's scaled
+    /// variables `u` (empty: none).
+    fn observe(&self, point: HistoryPoint, u: &[f64]) {
+        if let Some(o) = self.observer {
+            let values = if u.is_empty() { Vec::new() } else { self.values(u) };
+            o.observe(&Observation { point, values: &values });
+        }
+    }
+
     fn values(&self, u: &[f64]) -> Vec<f64> {
         self.spec.variables.iter().zip(u).map(|(v, &x)| v.from_unit(x.clamp(0.0, 1.0))).collect()
     }
@@ -224,6 +249,7 @@ pub fn run_with(
         reference,
         extra_starts: options.extra_starts.iter().map(|(name, v)| (name.clone(), to_unit(spec, v))).collect(),
         unconstrained: options.unconstrained.as_ref().map(|v| to_unit(spec, v)),
+        observer: options.observer.as_deref(),
     };
     let mut out = DesignOutcome {
         spec: spec.clone(),

@@ -42,7 +42,9 @@ impl CostFunction for BandCost<'_, '_> {
         let mut h = self.history.borrow_mut();
         let best = h.last().map_or(value, |p| p.best.max(value));
         let step = h.len() + 1;
-        h.push(HistoryPoint { start: self.start, step, value, best });
+        let point = HistoryPoint { start: self.start, step, value, best };
+        h.push(point);
+        self.ctx.observe(point, u);
         Ok(-value + BOUND_PENALTY * outside)
     }
 }
