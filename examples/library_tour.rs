@@ -72,7 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "design {:?} (verified: {}): band width {:.1} → {:.1} rad/s with {:?}, {} evaluations watched",
         outcome.status,
-        outcome.verified,
+        outcome.verified(),
         before.signed_width(),
         after.signed_width(),
         outcome.after,

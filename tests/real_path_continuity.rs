@@ -123,7 +123,7 @@ fn real_coordinates_give_the_same_design_outcome() {
         b.candidates
     );
     assert_eq!(a.status, b.status);
-    assert_eq!((a.verified, a.candidates), (b.verified, b.candidates));
+    assert_eq!((a.verified(), a.candidates), (b.verified(), b.candidates));
     for (x, y) in a.after.iter().zip(&b.after) {
         assert!((x - y).abs() <= VALUES_AGREE * x.abs().max(1.0), "{:?} vs {:?}", a.after, b.after);
     }

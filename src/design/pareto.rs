@@ -266,7 +266,7 @@ fn point(
         asked_width: width,
         values: outcome.after.clone(),
         status: outcome.status,
-        verified: outcome.verified,
+        verified: outcome.verified(),
         verdict: outcome.verification.verdict.clone(),
         band,
         width: if width_found.is_finite() { width_found } else { 0.0 },

@@ -69,7 +69,7 @@ pub(super) fn run_case(
             admit_case(&problem, CaseKind::Design, study, budget)?;
             let o = design_report(&problem, dir, &Silent)?;
             m.insert("design_status".into(), metric(o.status));
-            m.insert("verified".into(), metric(o.verified));
+            m.insert("verified".into(), metric(o.verified()));
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
             // the smallest over the speeds.
             let width = |v: &[crate::design::evaluate::OperatingBand]| {

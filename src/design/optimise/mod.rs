@@ -265,7 +265,6 @@ pub fn run_with(
         },
         before_speeds: Vec::new(),
         after_speeds: Vec::new(),
-        verified: false,
         verification: Verification::of(Vec::new(), None),
         starts: Vec::new(),
         history: Vec::new(),
@@ -434,7 +433,6 @@ pub fn run_with(
         }
     }
     out.verification = Verification::of(parts, recheck);
-    out.verified = out.verification.passed;
     if let Some(r) = spec.response() {
         let vibration = |values: &[f64]| -> Result<_, DesignError> {
             let (m, rotor) = crate::design::vibration::rotor_at(base, spec, values)?;
@@ -458,7 +456,7 @@ pub fn run_with(
         out.vibration =
             Some(VibrationReport { response: r.clone(), before, after, unconstrained, damping_before, damping_after });
     }
-    if !out.verified && out.status != Status::Infeasible {
+    if !out.verified() && out.status != Status::Infeasible {
         // Not robust when the builds of the tolerance box are all that failed.
         let failed: Vec<&str> = out
             .verification

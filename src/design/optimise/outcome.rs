@@ -153,8 +153,6 @@ pub struct DesignOutcome {
     pub before_speeds: Vec<DesignAtSpeed>,
     /// The tuned design at each speed: whirls, full catalogue and the verification checks.
     pub after_speeds: Vec<DesignAtSpeed>,
-    /// Whether the tuned design passed every verification check.
-    pub verified: bool,
     /// The verification part by part (passed, failed or not applicable, with counts) and
     /// its verdict.
     pub verification: crate::design::verify::Verification,
@@ -190,6 +188,12 @@ pub struct DesignOutcome {
 }
 
 impl DesignOutcome {
+    /// Whether the tuned design passed every verification check (the verdict of
+    /// [`DesignOutcome::verification`]).
+    pub fn verified(&self) -> bool {
+        self.verification.passed
+    }
+
     /// Widest band: the reference design's band around φ_op at each speed (else empty).
     pub fn before_bands(&self) -> &[OperatingBand] {
         match &self.findings {
@@ -284,7 +288,7 @@ impl Serialize for DesignOutcome {
             after_intrusions: self.after_intrusions(),
             before_speeds: &self.before_speeds,
             after_speeds: &self.after_speeds,
-            verified: self.verified,
+            verified: self.verified(),
             verification: &self.verification,
             starts: &self.starts,
             history: &self.history,
