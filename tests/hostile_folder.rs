@@ -133,28 +133,35 @@ fn every_out_command_ignores_or_refuses_each_plant_and_touches_nothing_outside()
         m["commands"][c.name]["../victim.txt"] = hash.clone().into();
         m["commands"][c.name][victim.to_str().unwrap()] = hash.into();
         std::fs::write(&manifest, m.to_string()).unwrap();
-        for user in [".out.tmp-vm-999999", ".out.tmp-0123456789abcdef01234567"] {
+        for user in [".rotorshunt-tmp.out.vm-999999", ".rotorshunt-tmp.out.0123456789abcdef01234567"] {
             std::fs::create_dir(parent.join(user)).unwrap();
             std::fs::write(parent.join(user).join("mine.txt"), "the user's\n").unwrap();
         }
         // A record forged with the name's token, of a process that runs (this test).
-        let forged = parent.join(".out.tmp-aaaaaaaaaaaaaaaaaaaaaaaa");
+        let forged = parent.join(".rotorshunt-tmp.out.aaaaaaaaaaaaaaaaaaaaaaaa");
         std::fs::create_dir(&forged).unwrap();
         let record = serde_json::json!({"format": 1, "commands": {},
             "staged_by": {"token": "aaaaaaaaaaaaaaaaaaaaaaaa", "host": "any", "pid": std::process::id()}});
         std::fs::write(forged.join(".rotorshunt-out.json"), record.to_string()).unwrap();
         std::fs::write(forged.join("mine.txt"), "the user's\n").unwrap();
-        std::os::unix::fs::symlink(parent.join("victim_dir"), parent.join(".out.tmp-bbbbbbbbbbbbbbbbbbbbbbbb"))
-            .unwrap();
-        std::fs::create_dir(out.join(".rotorshunt-out.tmp-vm-999997")).unwrap();
-        std::fs::write(out.join(".rotorshunt-out.tmp-vm-999997/mine.txt"), "the user's\n").unwrap();
+        std::os::unix::fs::symlink(
+            parent.join("victim_dir"),
+            parent.join(".rotorshunt-tmp.out.bbbbbbbbbbbbbbbbbbbbbbbb"),
+        )
+        .unwrap();
+        std::fs::create_dir(out.join(".rotorshunt-tmp..rotorshunt-out.json.999997.0")).unwrap();
+        std::fs::write(out.join(".rotorshunt-tmp..rotorshunt-out.json.999997.0/mine.txt"), "the user's\n").unwrap();
         let before = common::tree(&parent, &out);
         let second = run(&c, &out);
         assert!(wrote(&second), "{}: {}", c.name, stderr(&second));
         let e = stderr(&second);
         assert!(e.contains("\"../victim.txt\"") && e.contains("not a plain name"), "{}: {e}", c.name);
         assert_eq!(common::tree(&parent, &out), before, "{}: something outside --out changed", c.name);
-        assert!(out.join(".rotorshunt-out.tmp-vm-999997/mine.txt").exists(), "{}: a user's folder in --out", c.name);
+        assert!(
+            out.join(".rotorshunt-tmp..rotorshunt-out.json.999997.0/mine.txt").exists(),
+            "{}: a user's folder in --out",
+            c.name
+        );
         plants += 6;
 
         // The manifest a link to a record outside: read as unreadable, never written through.

@@ -210,7 +210,7 @@ fn plants() -> Vec<Plant> {
     v.push(Plant {
         name: "user folders named like staging folders",
         make: Box::new(move |_, out| {
-            for user in [".summary.tmp-vm-999999", ".summary.tmp-0123456789abcdef01234567"] {
+            for user in [".rotorshunt-tmp.summary.vm-999999", ".rotorshunt-tmp.summary.0123456789abcdef01234567"] {
                 std::fs::create_dir(out.join(user)).unwrap();
                 std::fs::write(out.join(user).join("mine.txt"), "the user's\n").unwrap();
             }

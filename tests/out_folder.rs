@@ -62,7 +62,7 @@ fn snapshot(dir: &Path) -> Snapshot {
 fn staging(p: &Path) -> bool {
     p.components().any(|c| {
         let c = c.as_os_str().to_string_lossy();
-        c.starts_with(".rotorshunt-out.tmp-") || (c.starts_with('.') && c.contains(".tmp-"))
+        c.starts_with(".rotorshunt-tmp.")
     })
 }
 

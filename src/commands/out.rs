@@ -3,8 +3,8 @@
 //! folder a study owns, never allowed to replace a file the study did not write.
 //!
 //! A command's `--out` folder ([`OutDir::create`], [`OutDir::with_inputs`]) is written
-//! through a staging folder beside it, `PARENT/.NAME.tmp-TOKEN` (TOKEN unique to the
-//! run, [`files::token`]): every file goes first into the staging folder, and only
+//! through a staging folder beside it, `PARENT/.rotorshunt-tmp.NAME.TOKEN` (TOKEN unique
+//! to the run, [`files::token`]; the tool's one hidden-name scheme, [`files::staging_name`]): every file goes first into the staging folder, and only
 //! [`OutDir::commit`], after the last file, puts the whole set in place in one step.
 //! So a reader, and a run that fails or is killed at any point, sees the old folder or
 //! the new one, never a mix:
@@ -41,9 +41,6 @@ use std::sync::Mutex;
 pub const MANIFEST: &str = ".rotorshunt-out.json";
 /// Format of [`MANIFEST`].
 const MANIFEST_FORMAT: u32 = 1;
-/// Suffix of the name under which the old folder waits where folders cannot be
-/// exchanged (`.NAME.tmp-TOKEN-old`).
-const OLD_SUFFIX: &str = "-old";
 
 /// Staging folders of this process not yet committed or removed (for [`remove_unfinished`]).
 /// A commit holds the lock while it moves files, so an interruption sees a folder either
@@ -195,23 +192,17 @@ fn stager(token: &str) -> Stager {
     Stager { token: token.to_string(), host: files::host(), pid: std::process::id() }
 }
 
-/// The prefix of the staging folders of the folder named `name`.
-fn staging_prefix(name: &str) -> String {
-    format!(".{name}.tmp-")
+/// Whether a folder's entry is a temporary of its record that a killed run left: named
+/// so, and a plain file as every temporary is (a folder or link so named is a user's and
+/// is kept).
+fn manifest_temporary(name: &str, entry: &std::fs::DirEntry) -> bool {
+    files::temporary_target(name).is_some_and(|t| t == MANIFEST) && entry.file_type().is_ok_and(|t| t.is_file())
 }
 
-/// The folder a staging folder named `name` stands for: `E` of `.E.tmp-TOKEN` (or of
-/// `.E.tmp-TOKEN-old`), by name only: whether it is the tool's is proved by its record
-/// before anything removes it.
+/// The folder a staging folder named `name` stands for, by name only: whether it is the
+/// tool's is proved by its record before anything removes it.
 pub(crate) fn staging_of(name: &str) -> Option<&str> {
-    let (entry, rest) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
-    let token = rest.strip_suffix(OLD_SUFFIX).unwrap_or(rest);
-    (is_token(token) && !entry.is_empty()).then_some(entry)
-}
-
-/// Whether `s` is a token as [`files::token`] makes them.
-fn is_token(s: &str) -> bool {
-    s.len() == 24 && s.bytes().all(|b| b.is_ascii_hexdigit())
+    files::staging_parts(name).map(|(entry, _, _)| entry)
 }
 
 impl Staging {
@@ -240,7 +231,7 @@ impl Staging {
         let mut notes = Vec::new();
         remove_stale(parent, &name, &target, &mut notes);
         let token = files::token();
-        let temp = parent.join(format!("{}{token}", staging_prefix(&name)));
+        let temp = parent.join(files::staging_name(&name, &token, false));
         let mut live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
         if let Err(e) = files::create_dir(&temp) {
             for p in &created {
@@ -349,7 +340,7 @@ impl Staging {
                     continue;
                 }
             }
-            if files::temporary_target(&text).is_some_and(|t| t == MANIFEST) {
+            if manifest_temporary(&text, &e) {
                 continue;
             }
             carry(&from, &self.temp.join(&name)).map_err(io_error(&from))?;
@@ -363,7 +354,7 @@ impl Staging {
         let old = if exchanged {
             self.temp.clone()
         } else {
-            let old = PathBuf::from(format!("{}{OLD_SUFFIX}", self.temp.display()));
+            let old = files::old_staging(&self.temp);
             files::rename_new(&self.target, &old).map_err(io_error(&self.target))?;
             if let Err(e) = files::rename_new(&self.temp, &self.target) {
                 let _ = files::rename_new(&old, &self.target);
@@ -427,7 +418,7 @@ fn retire(old: &Path, target: &Path, manifest: &Manifest, notes: &mut Vec<String
             if text == MANIFEST || files::standing(&kept).is_ok_and(|s| !matches!(s, files::Standing::Missing)) {
                 continue;
             }
-            if files::temporary_target(&text).is_some_and(|t| t == MANIFEST) || stale(&text, &e.path()) {
+            if manifest_temporary(&text, &e) || stale(&text, &e.path()) {
                 continue;
             }
             if files::rename_new(&e.path(), &kept).is_err() {
@@ -449,7 +440,6 @@ fn retire(old: &Path, target: &Path, manifest: &Manifest, notes: &mut Vec<String
 /// they carry a token this host could check.
 fn remove_stale(parent: &Path, name: &str, target: &Path, notes: &mut Vec<String>) {
     let Ok(entries) = std::fs::read_dir(parent) else { return };
-    let prefix = staging_prefix(name);
     let mut target_notes = Vec::new();
     let current = files::real_dir(target)
         .ok()
@@ -459,12 +449,8 @@ fn remove_stale(parent: &Path, name: &str, target: &Path, notes: &mut Vec<String
     let me = files::host();
     for e in entries.flatten() {
         let entry = e.file_name();
-        let Some(rest) = entry.to_str().and_then(|n| n.strip_prefix(&prefix)) else { continue };
-        let (token, old) = match rest.strip_suffix(OLD_SUFFIX) {
-            Some(t) => (t, true),
-            None => (rest, false),
-        };
-        if !is_token(token) || !files::real_dir(&e.path()).unwrap_or(false) {
+        let Some((of, token, old)) = entry.to_str().and_then(files::staging_parts) else { continue };
+        if of != name || !files::real_dir(&e.path()).unwrap_or(false) {
             continue;
         }
         let gone = |s: &Stager| s.host == me && s.pid != std::process::id() && ended(s.pid);

@@ -6,9 +6,10 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Prefix of [`write_atomic`]'s temporaries, `.rotorshunt-tmp.NAME.PID.N` (NAME the file
-/// being written, PID the process, N a per-process counter). No user file is named like
-/// this, so the temporaries a killed run leaves can be told from anything else.
-pub const TEMPORARY_PREFIX: &str = ".rotorshunt-tmp.";
+/// being written, PID the process, N a per-process counter): the tool's one hidden-name
+/// prefix ([`super::names::HIDDEN_PREFIX`]), so the temporaries a killed run leaves can be
+/// told from anything else.
+pub const TEMPORARY_PREFIX: &str = super::names::HIDDEN_PREFIX;
 
 /// Tries at a fresh temporary name before giving up (a name is only taken when a file
 /// of that exact name already exists, which no run of this tool leaves behind).

@@ -22,7 +22,7 @@ mod open;
 mod swap;
 
 pub use atomic::{remove_temporaries, temporary_target, write_atomic, TEMPORARY_PREFIX};
-pub use names::{host, plain_name, token};
+pub use names::{host, old_staging, plain_name, staging_name, staging_parts, token, HIDDEN_PREFIX};
 pub use open::{
     create_dir, create_new, ensure_dir, open_existing, open_lock, read, read_to_string, real_dir, remove_file_if,
     replaceable, standing, Refused, Standing,

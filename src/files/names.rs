@@ -23,6 +23,52 @@ pub fn host() -> String {
         .collect()
 }
 
+/// The one prefix of every hidden name the tool makes beside a user's files: the
+/// temporaries of atomic writes, `.rotorshunt-tmp.NAME.PID.N` ([`super::write_atomic`]),
+/// and the staging folders of output folders, `.rotorshunt-tmp.NAME.TOKEN`, where the old
+/// folder of a swap waits as `.rotorshunt-tmp.NAME.TOKEN-old` ([`staging_name`]). No user
+/// file is named like this; even so, nothing so named is removed on its name alone: a
+/// temporary must be a plain file of a recorded entry, a staging folder must carry its
+/// token in its own record.
+pub const HIDDEN_PREFIX: &str = ".rotorshunt-tmp.";
+
+/// Suffix of the name under which the old folder of a swap waits.
+const OLD_SUFFIX: &str = "-old";
+
+/// Hex digits of a [`token`].
+const TOKEN_DIGITS: usize = 24;
+
+/// The staging folder of the folder `name` for the run of `token`; `old`: the name the
+/// folder it replaces waits under where folders cannot be exchanged.
+pub fn staging_name(name: &str, token: &str, old: bool) -> String {
+    format!("{HIDDEN_PREFIX}{name}.{token}{}", if old { OLD_SUFFIX } else { "" })
+}
+
+/// The name the folder a staging folder replaces waits under, where folders cannot be
+/// exchanged: the staging folder's own path with the old suffix.
+pub fn old_staging(staging: &std::path::Path) -> std::path::PathBuf {
+    let mut name = staging.as_os_str().to_owned();
+    name.push(OLD_SUFFIX);
+    std::path::PathBuf::from(name)
+}
+
+/// The parts of a staging folder's name: the folder it stands for, the token and
+/// whether it is the old folder of a swap; by name only (whether it is the tool's is
+/// proved by its record before anything removes it).
+pub fn staging_parts(name: &str) -> Option<(&str, &str, bool)> {
+    let (entry, rest) = name.strip_prefix(HIDDEN_PREFIX)?.rsplit_once('.')?;
+    let (token, old) = match rest.strip_suffix(OLD_SUFFIX) {
+        Some(t) => (t, true),
+        None => (rest, false),
+    };
+    (is_token(token) && !entry.is_empty()).then_some((entry, token, old))
+}
+
+/// Whether `s` is a token as [`token`] makes them.
+pub fn is_token(s: &str) -> bool {
+    s.len() == TOKEN_DIGITS && s.bytes().all(|b| b.is_ascii_hexdigit())
+}
+
 /// Tokens made by this process so far (part of each token's seed).
 static TOKENS: AtomicU64 = AtomicU64::new(0);
 
@@ -37,7 +83,7 @@ pub fn token() -> String {
     let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
     let local = 0u8;
     let seed = format!("{}|{}|{nanos}|{n}|{:p}", host(), std::process::id(), &local);
-    Sha256::digest(seed.as_bytes()).iter().take(12).map(|b| format!("{b:02x}")).collect()
+    Sha256::digest(seed.as_bytes()).iter().take(TOKEN_DIGITS / 2).map(|b| format!("{b:02x}")).collect()
 }
 
 #[cfg(test)]
@@ -60,5 +106,30 @@ mod tests {
         assert_ne!(a, b);
         assert_eq!(a.len(), 24);
         assert!(a.bytes().all(|c| c.is_ascii_hexdigit()));
+    }
+
+    #[test]
+    fn staging_names_are_read_back_and_look_alikes_are_not() {
+        let t = token();
+        for (name, old) in [("out", false), ("out", true), ("run.1", false), ("a b", true)] {
+            let staged = staging_name(name, &t, old);
+            assert!(staged.starts_with(HIDDEN_PREFIX));
+            assert_eq!(staging_parts(&staged), Some((name, t.as_str(), old)), "{staged}");
+        }
+        let p = std::path::Path::new("/x").join(staging_name("out", &t, false));
+        let old = old_staging(&p);
+        assert_eq!(staging_parts(old.file_name().unwrap().to_str().unwrap()), Some(("out", t.as_str(), true)));
+        // Not the tool's scheme: the old `.NAME.tmp-TOKEN` form, short or non-hex tokens,
+        // no folder name, an atomic write's temporary (`.PID.N`).
+        for other in [
+            ".out.tmp-0123456789abcdef01234567".to_string(),
+            format!("{HIDDEN_PREFIX}out.0123456789abcdef0123456"),
+            format!("{HIDDEN_PREFIX}out.0123456789abcdef0123456g"),
+            format!("{HIDDEN_PREFIX}.{t}"),
+            format!("{HIDDEN_PREFIX}out.json.1234.5"),
+            "out".to_string(),
+        ] {
+            assert_eq!(staging_parts(&other), None, "{other}");
+        }
     }
 }
