@@ -177,15 +177,15 @@ class Problem:
                 out[key] = value.strip()
         return out
 
-    def modes(self, speed: Optional[float] = None, count: int = 8) -> ModesResult:
+    def modes(self, speed: Optional[float] = None, count: int = 4) -> ModesResult:
         """The lowest ``count`` forward and backward whirls at ``speed`` (rad/s; default
         the problem's), as `rotorshunt modes --json`."""
         return ModesResult._of(self._native.modes(speed, count))
 
-    def campbell(self, speeds: Iterable[float], count: int = 8, progress: Progress = None) -> CampbellResult:
+    def campbell(self, speeds: Iterable[float], count: int = 4, progress: Progress = None) -> CampbellResult:
         """The Campbell diagram over ``speeds`` (rad/s), ``count`` whirls of each
         direction tracked (`rotorshunt campbell`)."""
-        return CampbellResult._of(self._native.campbell(list(speeds), count, _progress(progress)))
+        return CampbellResult._of(self._native.campbell(speeds, count, _progress(progress)))
 
     def floquet(self, phi: float, beta: float) -> FloquetResult:
         """The Floquet point at excitation frequency ``phi`` (rad/s) and load ``beta``
@@ -196,7 +196,7 @@ class Problem:
         """The stability chart over the grid ``phis`` (rad/s) x ``betas``
         (`rotorshunt chart`): max|μ| and the growth rate as 2-D arrays. Releases the GIL;
         Ctrl-C stops it between φ rows (KeyboardInterrupt)."""
-        return ChartResult._of(self._native.chart(_seq(phis), _seq(betas), _progress(progress)))
+        return ChartResult._of(self._native.chart(phis, betas, _progress(progress)))
 
     def regions(
         self,
@@ -225,7 +225,7 @@ class Problem:
         """The synchronous unbalance response over ``speeds`` (rad/s) at shaft ``nodes``
         (`rotorshunt unbalance`): amplitude and phase, x/y and orbit axes in real
         coordinates."""
-        return UnbalanceResult._of(self._native.unbalance(_seq(speeds), list(nodes) if not isinstance(nodes, (str, bytes, dict)) else nodes, _progress(progress)))
+        return UnbalanceResult._of(self._native.unbalance(speeds, nodes, _progress(progress)))
 
     def design(
         self,
@@ -256,23 +256,6 @@ class Problem:
             report["summary"] = text
             return report
         return DesignResult._of(problem._native.design(None if out is None else os.fspath(out), cb))
-
-
-def _seq(values):
-    """numpy arrays pass as they are (no copy); other iterables as lists."""
-    try:
-        import numpy as np
-
-        if isinstance(values, np.ndarray):
-            return values.astype(float, copy=False) if values.dtype != float else values
-    except ImportError:  # pragma: no cover
-        pass
-    if isinstance(values, (str, bytes, dict)):
-        return values
-    try:
-        return list(values)
-    except TypeError:
-        return values
 
 
 def from_ross_file(path: Union[str, os.PathLike], rings: Optional[Sequence[Mapping[str, Any]]] = None, speed: Optional[float] = None, set=None) -> Problem:

@@ -327,7 +327,7 @@ class Probe:
 
     name: str
     kind: str
-    node: int
+    node: Optional[int]
     amplitude: np.ndarray
     phase: np.ndarray
     peaks: List[Dict[str, Any]]
@@ -355,7 +355,7 @@ class UnbalanceResult:
                 Probe(
                     name=p["name"],
                     kind=p["kind"],
-                    node=p["node"],
+                    node=p.get("node"),
                     amplitude=np.array([np.inf if a is None else a for a in p["amplitude"]], dtype=float),
                     phase=np.array([np.nan if a is None else a for a in p["phase"]], dtype=float),
                     peaks=p.get("peaks", []),

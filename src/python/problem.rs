@@ -154,7 +154,7 @@ impl NativeProblem {
         let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
         let count = match count.filter(|c| !c.is_none()) {
             Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
-            None => 8,
+            None => 4,
         };
         let p = &self.problem;
         released(py, || commands::modes(p, speed, count, true, Budget::default()))
@@ -172,7 +172,7 @@ impl NativeProblem {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
         let count = match count.filter(|c| !c.is_none()) {
             Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
-            None => 8,
+            None => 4,
         };
         let p = &self.problem;
         watched(py, callback(progress), |pr| commands::campbell_json(p, &speeds, count, pr, Budget::default()))

