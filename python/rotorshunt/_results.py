@@ -404,7 +404,10 @@ class DesignResult:
         outcome = json.loads(d["outcome"])
         variables = []
         for v in outcome.get("spec", {}).get("variables", []):
-            variables.append(v.get("name") or json.dumps(v.get("parameter")))
+            if "branch" in v:
+                variables.append(f"branch {v['branch'] + 1} {v.get('parameter')}")
+            else:
+                variables.append(str(v.get("parameter")))
         return cls(
             status=d["status"],
             verified=d["verified"],
@@ -421,19 +424,29 @@ class DesignResult:
         """The stable bands (lo, hi) at each design speed, before or after (rad/s)."""
         out = []
         for s in self.outcome[f"{which}_speeds"]:
-            for b in s.get("bands", []):
-                band = b.get("band", {}).get("band") if isinstance(b.get("band"), dict) else None
-                out.append((band["lo"], band["hi"]) if band else None)
+            found = s.get("band") or {}
+            band = found.get("band") if isinstance(found, dict) else None
+            out.append((band["lo"], band["hi"]) if band else None)
         return out
 
     def plot(self, title: Optional[str] = None):
         """Before and after: the variables (relative change) and the bands. Returns the Figure."""
         plt = _pyplot()
         fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+        # Each variable as its place in its bounds (0 = min, 1 = max), values annotated.
+        spec = self.outcome.get("spec", {}).get("variables", [])
+        lo = np.array([v.get("min", 0.0) for v in spec] or np.zeros(len(self.before)), dtype=float)
+        hi = np.array([v.get("max", 1.0) for v in spec] or np.ones(len(self.before)), dtype=float)
+        span = np.where(hi > lo, hi - lo, 1.0)
         x = np.arange(len(self.before))
-        a.bar(x - 0.2, self.before, 0.4, label="before")
-        a.bar(x + 0.2, self.after, 0.4, label="after")
-        a.set_xticks(x, [str(i) for i in range(len(x))] if not self.variables else self.variables, fontsize=7)
+        for k, (values, off, name) in enumerate(((self.before, -0.2, "before"), (self.after, 0.2, "after"))):
+            frac = (values - lo) / span
+            a.bar(x + off, frac, 0.4, label=name)
+            for xi, f, v in zip(x, frac, values):
+                a.annotate(f"{v:.4g}", (xi + off, f), ha="center", va="bottom", fontsize=7)
+        a.set_xticks(x, self.variables or [str(i) for i in x], fontsize=7)
+        a.set_ylim(0, 1.15)
+        a.set_ylabel("place in its bounds")
         a.set_title("design variables")
         a.legend()
         for k, (which, colour) in enumerate((("before", "tab:grey"), ("after", "tab:green"))):

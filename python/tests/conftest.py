@@ -48,3 +48,11 @@ def cli_message(stderr: str) -> str:
     lines = [l for l in stderr.splitlines() if l.startswith("error: ")]
     assert lines, stderr
     return lines[-1][len("error: "):]
+
+
+try:  # figures are drawn off screen
+    import matplotlib
+
+    matplotlib.use("Agg")
+except ImportError:  # pragma: no cover
+    pass

@@ -79,5 +79,6 @@ fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(problem::import_ross, m)?)?;
     m.add_function(wrap_pyfunction!(problem::run_study, m)?)?;
     m.add_function(wrap_pyfunction!(problem::rayon_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::_rust_floquet_seconds, m)?)?;
     Ok(())
 }

@@ -459,3 +459,18 @@ fn status_code(s: PointStatus) -> u8 {
         PointStatus::Failed => 2,
     }
 }
+
+/// Benchmark only (python/bench/overhead.py): the wall time (s) of `floquet` at each
+/// (φ, β) of `points` called from Rust, the same calls `NativeProblem.floquet` makes
+/// (checks, admission, the point), without Python between them.
+#[pyfunction]
+pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, points: Vec<(f64, f64)>) -> PyResult<f64> {
+    released(py, || {
+        let fs = problem.system()?;
+        let start = std::time::Instant::now();
+        for &(phi, beta) in &points {
+            std::hint::black_box(commands::floquet_point(fs, phi, beta, &Budget::default())?);
+        }
+        Ok(start.elapsed().as_secs_f64())
+    })
+}
