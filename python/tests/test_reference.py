@@ -125,7 +125,7 @@ def test_band_equals_the_cli(cli):
 
 
 def test_design_equals_the_cli_tuned_toml(cli, tmp_path):
-    sets = ["design.starts=1", "design.max_iterations=6"]
+    sets = ["design.starts=1", "design.max_iterations=3"]
     out = tmp_path / "design"
     args = ["design", "problems/design-widest-band.toml", "--out", out]
     for s in sets:
