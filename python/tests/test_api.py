@@ -93,3 +93,24 @@ def test_tqdm_progress_is_optional(fig11):
     # progress=True draws tqdm bars when tqdm is installed, and nothing otherwise.
     c = fig11.chart([1150.0, 1151.0], [0.1], progress=True)
     assert c.max_multiplier.shape == (2, 1)
+
+
+RING = dict(name="mid", position=0.75, k_b=3.96e7, m_b=0.15, eta=0.0, k_1=1.575e8, k_2=1.1e8, angle_deg=60.0,
+            theta_p=7.0356, cp_t=1.8e-6, k_eq2=2.444e7,
+            circuit=dict(state="closed", branches=[dict(c_f=5e-6, tuning_frequency=900.0, resistance=0.0)]))
+
+
+def test_a_ross_file_with_a_ring_added(root, cli, tmp_path):
+    saved = root / "tests/fixtures/ross/rotor_example_rayleigh.toml"
+    # Without rings: the problem import-ross writes.
+    code, _, err = cli("import-ross", saved, "--out", tmp_path / "p.toml")
+    assert code == 0, err
+    plain = rs.from_ross_file(saved)
+    reference = rs.Problem.from_file(tmp_path / "p.toml")
+    assert plain.modes(count=4).frequency.tolist() == reference.modes(count=4).frequency.tolist()
+    # With a ring on its shunt: its electrical whirls appear, labelled by the ring.
+    ringed = rs.from_ross_file(saved, rings=[RING], speed=500)
+    assert ringed.speed == 500.0
+    assert {"fr1@mid", "br1@mid"} <= set(ringed.modes(count=4).labels)
+    with pytest.raises(rs.ProblemError, match="rings\\[0\\].k_b"):
+        rs.from_ross_file(saved, rings=[{"name": "x"}])
