@@ -114,3 +114,12 @@ def test_a_ross_file_with_a_ring_added(root, cli, tmp_path):
     assert {"fr1@mid", "br1@mid"} <= set(ringed.modes(count=4).labels)
     with pytest.raises(rs.ProblemError, match="rings\\[0\\].k_b"):
         rs.from_ross_file(saved, rings=[{"name": "x"}])
+
+
+def test_a_study_plan_equals_the_cli(cli, tmp_path):
+    study = "problems/studies/resistance-speed.toml"
+    code, out, err = cli("study", study, "--out", tmp_path / "cli", "--dry-run")
+    assert code == 0, err
+    r = rs.run_study(study, tmp_path / "py", dry_run=True)
+    assert r == {"text": out, "failed": 0}
+    assert not (tmp_path / "py").exists()
