@@ -21,6 +21,14 @@ def _pyplot():
     return plt
 
 
+def _plotly():
+    try:
+        import plotly.graph_objects as go
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise ImportError("backend='plotly' needs plotly: pip install plotly") from e
+    return go
+
+
 def _new_axes(ax=None):
     plt = _pyplot()
     if ax is not None:
@@ -126,9 +134,19 @@ class CampbellResult:
             json=d,
         )
 
-    def plot(self, ax=None, title: Optional[str] = None):
+    def plot(self, ax=None, title: Optional[str] = None, backend: str = "matplotlib"):
         """The Campbell diagram: tracks (forward solid, backward dashed), the 1x line and the
-        operating speeds. Returns the matplotlib Figure."""
+        operating speeds. Returns the matplotlib Figure (``backend="plotly"``: a plotly
+        Figure)."""
+        if backend == "plotly":
+            go = _plotly()
+            fig = go.Figure()
+            for tag, whirl, f in zip(self.tags, self.whirl, self.frequency):
+                fig.add_scatter(x=self.speeds, y=f, name=tag, line_dash="dash" if whirl == "backward" else "solid")
+            fig.add_scatter(x=self.speeds, y=self.speeds, name="1x", line=dict(color="black", dash="dot"))
+            fig.update_layout(title=title or "Campbell diagram", xaxis_title="speed Ω (rad/s)",
+                              yaxis_title="whirl frequency (rad/s)")
+            return fig
         fig, ax = _new_axes(ax)
         for tag, whirl, f in zip(self.tags, self.whirl, self.frequency):
             ax.plot(self.speeds, f, "-" if whirl != "backward" else "--", label=tag)
@@ -213,8 +231,15 @@ class ChartResult:
         ax.set_title(title or f"Stability chart at Ω = {self.speed:g} rad/s")
         return fig
 
-    def plot_growth(self, ax=None, title: Optional[str] = None):
-        """The growth-rate map ln(max|μ|)/T (1/s) over the grid. Returns the Figure."""
+    def plot_growth(self, ax=None, title: Optional[str] = None, backend: str = "matplotlib"):
+        """The growth-rate map ln(max|μ|)/T (1/s) over the grid. Returns the matplotlib
+        Figure (``backend="plotly"``: a plotly heat map)."""
+        if backend == "plotly":
+            go = _plotly()
+            fig = go.Figure(go.Heatmap(x=self.phis, y=self.betas, z=self.growth_rate.T, colorbar_title="1/s"))
+            fig.update_layout(title=title or f"Growth rate at Ω = {self.speed:g} rad/s", xaxis_title="φ (rad/s)",
+                              yaxis_title="β")
+            return fig
         fig, ax = _new_axes(ax)
         m = ax.pcolormesh(self.phis, self.betas, self.growth_rate.T, shading="nearest", cmap="viridis")
         fig.colorbar(m, ax=ax, label="growth rate (1/s)")
@@ -364,9 +389,18 @@ class UnbalanceResult:
             )
         return cls(speeds=np.array(u["speeds"], dtype=float), probes=probes, json=d)
 
-    def plot(self, title: Optional[str] = None):
+    def plot(self, title: Optional[str] = None, backend: str = "matplotlib"):
         """Bode plot: amplitude (log) and phase over speed, a line per probe (and x/y per
-        direction in real coordinates). Returns the matplotlib Figure."""
+        direction in real coordinates). Returns the matplotlib Figure (``backend="plotly"``:
+        the amplitudes in a plotly Figure)."""
+        if backend == "plotly":
+            go = _plotly()
+            fig = go.Figure()
+            for pr in self.probes:
+                fig.add_scatter(x=self.speeds, y=pr.amplitude, name=pr.name)
+            fig.update_layout(title=title or "Unbalance response", xaxis_title="speed Ω (rad/s)",
+                              yaxis_title="amplitude (m)", yaxis_type="log")
+            return fig
         plt = _pyplot()
         fig, (a, p) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
         for pr in self.probes:

@@ -123,3 +123,11 @@ def test_a_study_plan_equals_the_cli(cli, tmp_path):
     r = rs.run_study(study, tmp_path / "py", dry_run=True)
     assert r == {"text": out, "failed": 0}
     assert not (tmp_path / "py").exists()
+
+
+def test_plotly_figures_when_plotly_is_installed():
+    pytest.importorskip("plotly")
+    c = rs.Problem.from_file("problems/paper-open.toml").campbell([0.0, 1000.0, 2000.0], count=2)
+    assert type(c.plot(backend="plotly")).__name__ == "Figure"
+    ch = rs.Problem.from_file("problems/fig11-closed-2000.toml").chart([1150.0, 1151.0], [0.1, 0.2])
+    assert type(ch.plot_growth(backend="plotly")).__name__ == "Figure"
