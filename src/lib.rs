@@ -89,6 +89,10 @@ pub mod model;
 pub mod numbers;
 pub mod problem;
 pub mod progress;
+// The Python bindings (`--features python`, built by maturin; docs/python.md): they only
+// convert, to and from the command layer and the library.
+#[cfg(feature = "python")]
+mod python;
 pub mod report;
 
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};

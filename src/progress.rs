@@ -29,6 +29,16 @@ pub trait Progress: Sync {
     /// A command found something on disk it ignored or left alone (a tampered record, a
     /// leftover it could not prove its own): one line, starting `warning: `.
     fn notice(&self, _line: &str) {}
+    /// Whether the caller asks the computation to stop (the Python bindings: Ctrl-C, a
+    /// progress callback that raised). The loops that take long ask it before each step
+    /// (a chart before each φ row, the region catalogue and the band search before each
+    /// seed's search and each boundary's tracking) and, once it is true, skip the steps
+    /// not yet begun and return early: the result is then incomplete, and the caller that
+    /// asked to stop discards it. Asking never changes a result that is not stopped.
+    /// Default: never.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// Progress that nobody watches: every report is dropped.

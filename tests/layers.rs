@@ -25,8 +25,8 @@ fn rank(module: &str) -> Option<u32> {
         // The file layer: builds the types of every layer above from a text.
         "problem" | "import" => 5,
         "report" => 6,
-        // The crate's composed error and the command layer.
-        "error" | "Error" | "commands" => 7,
+        // The crate's composed error, the command layer and the Python bindings.
+        "error" | "Error" | "commands" | "python" => 7,
         _ => return None,
     })
 }

@@ -44,10 +44,15 @@ impl ChartResult {
 }
 
 /// Compute a chart; `progress` advances one step per φ row (the caller names the phase).
+/// A row not begun when [`Progress::cancelled`] turns true is skipped: the chart is then
+/// incomplete (fewer points than φ × β) and to be discarded.
 pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress) -> ChartResult {
     let rows: Vec<Vec<ChartPoint>> = phis
         .par_iter()
         .map(|&phi| {
+            if progress.cancelled() {
+                return Vec::new();
+            }
             let row = fs.row(phi, betas).into_iter().map(|p| p.summary).collect();
             progress.advance(1);
             row

@@ -146,6 +146,16 @@ pub fn design_cmd(
     Ok((summary_text(&outcome, out), outcome))
 }
 
+/// The design of `problem` as `design` runs it (the same checks and admission), without
+/// its report: the outcome, for the Python bindings' `design` (its tuned file is
+/// [`super::tuned_toml`]). Progress: the design's `optimise` and `verification`.
+pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) -> Result<DesignOutcome, Error> {
+    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+    bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
+    modes_exist(problem, None, spec)?;
+    Ok(design::run(&problem.machine(), spec, progress)?)
+}
+
 /// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),
 /// checked once the run is admitted and before its folder is made; a tag the model lacks
 /// is refused as the file's error at the tag's line.

@@ -43,6 +43,11 @@ fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
 const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`--beta`", periods: "`--periods`" };
 
 /// The reduced system of `problem`, its dense stages admitted within `budget` first.
+pub fn reduced_system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
+    system(problem, budget)
+}
+
+/// The reduced system of `problem`, its dense stages admitted within `budget` first.
 fn system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
     Ok(rotor_and_system(problem, budget)?.1)
 }
@@ -99,8 +104,7 @@ pub struct FloquetOutput {
 pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: Budget) -> Result<String, Error> {
     check_point(phi, beta)?;
     let fs = system(problem, &budget)?;
-    bounds::admit(&budget, "the Floquet point", &cost::floquet_point(&PointCost::of(&fs), phi, beta), &POINT)?;
-    let point = fs.point(phi, beta);
+    let point = floquet_point(&fs, phi, beta, &budget)?;
     if json {
         let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
         return Ok(json_pretty(&out, "the JSON output")? + "\n");
@@ -129,6 +133,44 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: B
         );
     }
     Ok(s)
+}
+
+/// The Floquet point at (φ, β) of a problem's reduced system `fs` ([`reduced_system`]),
+/// as `floquet` computes it: φ and β checked by their rules and the point's cost admitted
+/// within `budget` first.
+pub fn floquet_point(fs: &FloquetSystem, phi: f64, beta: f64, budget: &Budget) -> Result<FloquetPoint, Error> {
+    check_point(phi, beta)?;
+    bounds::admit(budget, "the Floquet point", &cost::floquet_point(&PointCost::of(fs), phi, beta), &POINT)?;
+    Ok(fs.point(phi, beta))
+}
+
+/// The checks `chart` makes on its grid (φ in rad/s, β): every value by its rule, and at
+/// most [`MAX_CHART_POINTS`] points.
+pub fn check_grid(phis: &[f64], betas: &[f64]) -> Result<(), Error> {
+    for &p in phis {
+        bounds::flag("--phi", limits::frequency(Quantity::Frequency, p))?;
+    }
+    for &b in betas {
+        bounds::flag("--beta", limits::load(b))?;
+    }
+    let points = phis.len() * betas.len();
+    if points > MAX_CHART_POINTS {
+        return Err(arg_error(
+            "--phi/--beta",
+            format!("the grid has {points} points, more than the {MAX_CHART_POINTS} a chart may have (about 10 minutes here); use coarser steps"),
+        ));
+    }
+    Ok(())
+}
+
+/// The names of a chart's inputs in a refusal.
+const CHART: Names<'static> =
+    Names { phi: "`--phi`", grid: "`--phi` and `--beta`", load: "`--beta`", periods: "`--phi`" };
+
+/// Admit the chart of one reduced system `fs` over a grid (checked by [`check_grid`])
+/// within `budget`, as `chart` admits it.
+pub fn admit_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], budget: &Budget) -> Result<(), Error> {
+    bounds::admit(budget, "the chart", &cost::chart(&PointCost::of(fs), phis, betas), &CHART)
 }
 
 #[derive(Serialize)]
@@ -210,21 +252,9 @@ pub fn chart_cmd(
     let ChartArgs { phi, beta, compare, timing } = args;
     let phis = parse_range(phi, "--phi")?;
     let betas = parse_range(beta, "--beta")?;
-    for &p in &phis {
-        bounds::flag("--phi", limits::frequency(Quantity::Frequency, p))?;
-    }
-    for &b in &betas {
-        bounds::flag("--beta", limits::load(b))?;
-    }
-    let points = phis.len() * betas.len();
-    if points > MAX_CHART_POINTS {
-        return Err(arg_error(
-            "--phi/--beta",
-            format!("the grid has {points} points, more than the {MAX_CHART_POINTS} a chart may have (about 10 minutes here); use coarser steps"),
-        ));
-    }
+    check_grid(&phis, &betas)?;
     // Both systems built and the charts' work admitted before any file is touched.
-    let names = Names { phi: "`--phi`", grid: "`--phi` and `--beta`", load: "`--beta`", periods: "`--phi`" };
+    let names = CHART;
     let main_fs = system(problem, &budget)?;
     let mut estimate = cost::chart(&PointCost::of(&main_fs), &phis, &betas);
     let other_fs = match &compare {

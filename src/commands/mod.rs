@@ -2,9 +2,9 @@
 //! renders reports and writes files. Commands return the text for standard output.
 
 mod args;
-mod bounds;
+pub(crate) mod bounds;
 mod compare;
-mod design;
+pub(crate) mod design;
 mod error;
 mod floquet;
 mod import;
@@ -12,13 +12,16 @@ mod out;
 mod regions;
 mod study;
 mod tuned;
-mod unbalance;
+pub(crate) mod unbalance;
 
 pub use args::parse_range;
 pub use compare::{compared, Compared};
-pub use design::{design_cmd, design_file_name, design_report, pareto_cmd, status_word, summary_text};
+pub use design::{design_cmd, design_file_name, design_report, design_run, pareto_cmd, status_word, summary_text};
 pub use error::Error;
-pub use floquet::{chart_cmd, floquet_cmd, layer_name, response_cmd, ChartArgs, Compare};
+pub use floquet::{
+    admit_chart, chart_cmd, check_grid, floquet_cmd, floquet_point, layer_name, reduced_system, response_cmd,
+    ChartArgs, Compare, MAX_CHART_POINTS,
+};
 pub use import::import_ross_cmd;
 pub use out::{check_folder, remove_unfinished, OutDir};
 pub use regions::{band_cmd, regions_cmd, RegionsArgs};
@@ -28,7 +31,7 @@ pub use study::{
     TaskRecord, MAX_SHARDS, MAX_STUDY_CASES,
 };
 pub use tuned::tuned_toml;
-pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
+pub use unbalance::{damping_cmd, unbalance_cmd, unbalance_json, UnbalanceArgs};
 
 use crate::analysis::campbell::campbell;
 use crate::analysis::cost::{Budget, Dense};
@@ -159,6 +162,52 @@ fn operating_speeds(problem: &Problem) -> Vec<f64> {
     out
 }
 
+/// JSON of `campbell` (campbell.json).
+#[derive(Serialize)]
+struct CampbellJson<'a> {
+    #[serde(flatten)]
+    provenance: Provenance,
+    campbell: &'a crate::analysis::campbell::CampbellResult,
+    /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
+    operating_speeds: &'a [f64],
+    /// The crossings of the tracks with the 1× line, by speed.
+    critical_speeds: &'a [campbell_report::CriticalSpeed],
+}
+
+/// The Campbell diagram of `problem` over `speeds` (rad/s) as `campbell` computes it (the
+/// same checks and admission), returned as its campbell.json text instead of written:
+/// the Python bindings' `campbell`. Progress: `whirls`, a step per speed.
+pub fn campbell_json(
+    problem: &Problem,
+    speeds: &[f64],
+    count: usize,
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<String, Error> {
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+    if speeds.is_empty() {
+        return Err(crate::analysis::AnalysisError::NoSpeeds.into());
+    }
+    for &w in speeds {
+        bounds::flag("--speeds", limits::speed(w))?;
+    }
+    let threads = rayon::current_num_threads();
+    let estimate = crate::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
+    bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
+    let rotor = Rotor::new(&problem.model)?;
+    progress.phase("whirls", speeds.len() as u64);
+    let result = campbell(&rotor, &problem.settings, speeds, count, progress)?;
+    let operating = operating_speeds(problem);
+    let critical = campbell_report::critical_speeds(&result);
+    let json = CampbellJson {
+        provenance: Provenance::of(problem),
+        campbell: &result,
+        operating_speeds: &operating,
+        critical_speeds: &critical,
+    };
+    json_pretty(&json, "the JSON output")
+}
+
 /// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
 /// Progress: `whirls` (a step per speed), then `files` (a step per file).
 pub fn campbell_cmd(
@@ -186,17 +235,7 @@ pub fn campbell_cmd(
     progress.phase("files", 4);
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);
-    #[derive(Serialize)]
-    struct Json<'a> {
-        #[serde(flatten)]
-        provenance: Provenance,
-        campbell: &'a crate::analysis::campbell::CampbellResult,
-        /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
-        operating_speeds: &'a [f64],
-        /// The crossings of the tracks with the 1× line, by speed.
-        critical_speeds: &'a [campbell_report::CriticalSpeed],
-    }
-    let json = Json {
+    let json = CampbellJson {
         provenance: Provenance::of(problem),
         campbell: &result,
         operating_speeds: &operating,

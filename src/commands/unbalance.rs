@@ -130,6 +130,38 @@ const REAL_CONVENTIONS: Conventions = Conventions {
     amplification_factor: CONVENTIONS.amplification_factor,
 };
 
+/// The unbalance response of `problem` over `speeds` (rad/s) at shaft `nodes`, as
+/// `unbalance` computes it (the same checks and admission), returned as its
+/// unbalance.json text instead of written: the Python bindings' `unbalance`. Progress:
+/// `unbalance`, a step per speed.
+pub fn unbalance_json(
+    problem: &Problem,
+    speeds: &[f64],
+    nodes: &[usize],
+    progress: &dyn Progress,
+    budget: Budget,
+) -> Result<String, Error> {
+    if speeds.is_empty() {
+        return Err(about("--speeds", AnalysisError::NoSpeeds));
+    }
+    for &w in speeds {
+        bounds::flag("--speeds", limits::response_speed(w))?;
+    }
+    let last = problem.model.shaft.nodes() - 1;
+    if let Some(&node) = nodes.iter().find(|&&n| n > last) {
+        return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
+    }
+    bounds::admit(
+        &budget,
+        "the unbalance response",
+        &cost::unbalance(&problem.model, speeds.len(), nodes.len()),
+        &MODEL_ONLY,
+    )?;
+    let r = respond(problem, speeds, nodes, progress, "unbalance")?;
+    let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
+    json_pretty(&UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: &r }, "the JSON output")
+}
+
 fn write_layer(dir: &OutDir, stem: &str, problem: &Problem, r: &UnbalanceResult) -> Result<String, Error> {
     let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
     let json = UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: r };

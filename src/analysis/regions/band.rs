@@ -242,6 +242,10 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     let shared: Vec<Hit> = both
         .par_iter()
         .flat_map_iter(|&i| {
+            // A search not begun when the caller asks to stop is skipped.
+            if progress.cancelled() {
+                return Vec::new();
+            }
             let h = level.hits(seeds, i);
             progress.advance(1);
             h
@@ -334,6 +338,9 @@ fn side(
             let found: Vec<Vec<Hit>> = batch
                 .par_iter()
                 .map(|s| {
+                    if progress.cancelled() {
+                        return Vec::new();
+                    }
                     let found = match *s {
                         Search::Lattice(p) => {
                             if level.counts(p) {

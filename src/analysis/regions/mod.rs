@@ -342,7 +342,8 @@ pub fn catalogue_with(
             (0..seeds.len())
                 .into_par_iter()
                 .map(|i| {
-                    if !searched(i) {
+                    // A search not begun when the caller asks to stop is skipped.
+                    if !searched(i) || progress.cancelled() {
                         return None;
                     }
                     let start = probe.locate_start(seeds[i].phi, half_width(i), req.level, req.beta_max);
@@ -361,6 +362,9 @@ pub fn catalogue_with(
     let found: Vec<Option<Region>> = (0..seeds.len())
         .into_par_iter()
         .map(|i| {
+            if progress.cancelled() {
+                return None;
+            }
             let seed = &seeds[i];
             let hit = own(i);
             progress.advance(1);
@@ -407,6 +411,9 @@ pub fn catalogue_with(
     if req.track {
         progress.extend(regions.iter().filter(|r| r.resolved).count() as u64);
         regions.par_iter_mut().filter(|r| r.resolved).for_each(|r| {
+            if progress.cancelled() {
+                return;
+            }
             r.boundary = probe.track(r.start, r.onset_beta, req.beta_max);
             progress.advance(1);
         });

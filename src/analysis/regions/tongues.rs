@@ -197,6 +197,10 @@ impl Level<'_> {
         let mut hits: Vec<Hit> = chosen
             .par_iter()
             .flat_map_iter(|&i| {
+                // A search not begun when the caller asks to stop is skipped.
+                if progress.cancelled() {
+                    return Vec::new();
+                }
                 let h = self.hits(seeds, i);
                 progress.advance(1);
                 h
@@ -212,6 +216,9 @@ impl Level<'_> {
         let guard: Vec<Hit> = lattice
             .into_par_iter()
             .filter(|&p| {
+                if progress.cancelled() {
+                    return false;
+                }
                 let counted = !covered(p, &tongues) && self.counts(p);
                 progress.advance(1);
                 counted

@@ -1,0 +1,122 @@
+"""Bad input raises the package's exception of the right kind, with the command line's
+message (its `error: ` paragraph), never a crash."""
+
+import math
+
+import numpy as np
+import pytest
+
+import rotorshunt as rs
+from conftest import cli_message
+
+
+def test_the_hierarchy():
+    for kind in (rs.ProblemError, rs.ArgumentError, rs.CostError, rs.AnalysisError, rs.DesignError,
+                 rs.RossImportError, rs.StudyError, rs.OutputError):
+        assert issubclass(kind, rs.Error)
+    assert issubclass(rs.Error, Exception)
+
+
+def test_a_missing_file(cli):
+    _, _, err = cli("check", "problems/no-such-file.toml")
+    with pytest.raises(rs.ProblemError) as e:
+        rs.Problem.from_file("problems/no-such-file.toml")
+    assert str(e.value) == cli_message(err)
+
+
+def test_an_unknown_key_in_set(cli):
+    _, _, err = cli("check", "problems/paper-open.toml", "--set", "shaft.colour=3")
+    with pytest.raises(rs.ProblemError) as e:
+        rs.Problem.from_file("problems/paper-open.toml", set={"shaft.colour": 3})
+    assert str(e.value) == cli_message(err)
+
+
+def test_a_bad_value_in_set(cli):
+    _, _, err = cli("check", "problems/paper-open.toml", "--set", "speed=-5")
+    with pytest.raises(rs.ProblemError) as e:
+        rs.Problem.from_file("problems/paper-open.toml").with_set({"speed": -5})
+    assert str(e.value) == cli_message(err)
+
+
+def test_a_syntax_error(cli, tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("version = 1\n[shaft\n")
+    _, _, err = cli("check", bad)
+    with pytest.raises(rs.ProblemError) as e:
+        rs.Problem.from_file(bad)
+    assert str(e.value) == cli_message(err)
+    with pytest.raises(rs.ProblemError):
+        rs.Problem.from_toml("version = 1\n[shaft\n")
+
+
+@pytest.mark.parametrize(
+    "args, call",
+    [
+        (["modes", "--count", "0"], lambda p: p.modes(count=0)),
+        (["modes", "--speed=-1"], lambda p: p.modes(speed=-1)),
+        (["modes", "--speed", "NaN"], lambda p: p.modes(speed=math.nan)),
+        (["floquet", "--phi=-5", "--beta", "0.1"], lambda p: p.floquet(-5, 0.1)),
+        (["floquet", "--phi", "1000", "--beta", "inf"], lambda p: p.floquet(1000, math.inf)),
+        (["regions", "--phi", "1400:1000", "--beta-max", "1"], lambda p: p.regions((1400, 1000), 1)),
+        (["regions", "--phi", "1000:1400", "--beta-max", "1", "--level", "2"], lambda p: p.regions((1000, 1400), 1, 2)),
+        (["band", "--phi-op", "0", "--level", "0.3"], lambda p: p.band(0, 0.3)),
+        (["band", "--phi-op", "1230", "--level", "NaN"], lambda p: p.band(1230, math.nan)),
+    ],
+)
+def test_argument_errors_carry_the_cli_message(cli, args, call):
+    code, _, err = cli(args[0], "problems/fig11-closed-2000.toml", *args[1:])
+    assert code == 2
+    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+    with pytest.raises(rs.ArgumentError) as e:
+        call(p)
+    assert str(e.value) == cli_message(err)
+
+
+def test_a_node_off_the_shaft(cli, tmp_path):
+    _, _, err = cli("unbalance", "problems/paper-closed.toml", "--speeds", "200:300:50", "--nodes", "99", "--out", tmp_path / "u")
+    with pytest.raises(rs.ArgumentError) as e:
+        rs.Problem.from_file("problems/paper-closed.toml").unbalance([200, 250, 300], [99])
+    assert str(e.value) == cli_message(err)
+
+
+def test_no_design_table(cli, tmp_path):
+    _, _, err = cli("design", "problems/paper-open.toml", "--out", tmp_path / "d")
+    with pytest.raises(rs.DesignError) as e:
+        rs.Problem.from_file("problems/paper-open.toml").design()
+    assert str(e.value) == cli_message(err)
+
+
+def test_a_bad_ross_file(cli, tmp_path, root):
+    bad = root / "tests/fixtures/ross/bad_missing_key.toml"
+    _, _, err = cli("import-ross", bad, "--out", tmp_path / "x.toml")
+    with pytest.raises(rs.RossImportError) as e:
+        rs.from_ross_file(bad)
+    assert str(e.value) == cli_message(err)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda p: p.modes(count="3"),
+        lambda p: p.modes(count=2.5),
+        lambda p: p.modes(speed="fast"),
+        lambda p: p.floquet(None, 0.1),
+        lambda p: p.floquet([1000], 0.1),
+        lambda p: p.chart("1000:1100", [0.1]),
+        lambda p: p.chart([1000, "x"], [0.1]),
+        lambda p: p.chart([], [0.1]),
+        lambda p: p.regions(1000, 1),
+        lambda p: p.regions((1000, 1100, 1200), 1),
+        lambda p: p.unbalance([100], [-1]),
+        lambda p: p.unbalance([100], "16"),
+        lambda p: p.with_set(42),
+        lambda p: p.with_set({"speed": object()}),
+        lambda p: p.campbell([0, math.nan]),
+        lambda p: p.campbell([0, 100], count=-3),
+    ],
+)
+def test_wrong_types_raise_the_package_error(call):
+    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+    with pytest.raises(rs.Error) as e:
+        call(p)
+    assert str(e.value).startswith("argument `")

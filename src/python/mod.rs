@@ -1,0 +1,84 @@
+//! The Python bindings (`--features python`, built by maturin into the `rotorshunt` wheel;
+//! docs/python.md). They only convert: every call is a library or command-layer function
+//! (the same checks, the same numbers and the same error messages as the command line),
+//! its arguments taken from Python objects and its results handed back as numpy arrays,
+//! dicts or the command's own JSON text, which the pure-Python part (python/rotorshunt)
+//! turns into result objects. No physics here.
+//!
+//! Long calls ([`watch`]) run on a worker thread with the GIL released; the calling
+//! thread wakes every 50 ms to check Python's signals (Ctrl-C) and call the progress
+//! callback, and a pending signal asks the library to stop through
+//! [`crate::progress::Progress::cancelled`].
+
+mod args;
+mod problem;
+mod watch;
+
+use pyo3::prelude::*;
+
+pyo3::create_exception!(_rotorshunt, Error, pyo3::exceptions::PyException, "Any rotorshunt failure.");
+pyo3::create_exception!(_rotorshunt, ProblemError, Error, "A problem file that is unreadable or invalid.");
+pyo3::create_exception!(_rotorshunt, ArgumentError, Error, "An argument that breaks its rule.");
+pyo3::create_exception!(_rotorshunt, CostError, Error, "A run refused before it started: beyond the cost limit.");
+pyo3::create_exception!(_rotorshunt, AnalysisError, Error, "An analysis that failed on valid input.");
+pyo3::create_exception!(_rotorshunt, DesignError, Error, "A design run that failed.");
+pyo3::create_exception!(_rotorshunt, RossImportError, Error, "A ROSS rotor that cannot be imported.");
+pyo3::create_exception!(_rotorshunt, StudyError, Error, "A study file, shard or study folder that is not valid.");
+pyo3::create_exception!(_rotorshunt, OutputError, Error, "An output that cannot or may not be written.");
+
+/// The Python exception of a crate error: the class of its kind, and as message the
+/// error's text, the paragraph the command line prints after `error: `.
+pub(crate) fn to_py(e: crate::commands::Error) -> PyErr {
+    use crate::commands::Error as E;
+    let message = e.to_string();
+    match e {
+        E::Problem(_) => ProblemError::new_err(message),
+        E::Ross(_) => RossImportError::new_err(message),
+        E::Analysis(crate::analysis::AnalysisError::Request(_) | crate::analysis::AnalysisError::Settings(_)) => {
+            ArgumentError::new_err(message)
+        }
+        E::Analysis(_) => AnalysisError::new_err(message),
+        E::Design(_) => DesignError::new_err(message),
+        E::Argument { .. } | E::Parameter { .. } => ArgumentError::new_err(message),
+        E::Cost(_) => CostError::new_err(message),
+        E::Study { .. }
+        | E::StudyTooLarge { .. }
+        | E::Shard { .. }
+        | E::PlanMismatch { .. }
+        | E::NotAStudyFolder { .. }
+        | E::SlurmMissing { .. }
+        | E::SlurmValue { .. }
+        | E::SlurmFailed { .. } => StudyError::new_err(message),
+        E::Output { .. }
+        | E::Unsafe { .. }
+        | E::OutputIsInput { .. }
+        | E::OutIsNotAFolder { .. }
+        | E::OutputExists { .. }
+        | E::FolderNotEmpty { .. }
+        | E::NotOwned { .. }
+        | E::OtherStudy { .. }
+        | E::StudyLocked { .. } => OutputError::new_err(message),
+    }
+}
+
+/// The native module `rotorshunt._rotorshunt`.
+#[pymodule]
+fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("Error", py.get_type::<Error>())?;
+    m.add("ProblemError", py.get_type::<ProblemError>())?;
+    m.add("ArgumentError", py.get_type::<ArgumentError>())?;
+    m.add("CostError", py.get_type::<CostError>())?;
+    m.add("AnalysisError", py.get_type::<AnalysisError>())?;
+    m.add("DesignError", py.get_type::<DesignError>())?;
+    m.add("RossImportError", py.get_type::<RossImportError>())?;
+    m.add("StudyError", py.get_type::<StudyError>())?;
+    m.add("OutputError", py.get_type::<OutputError>())?;
+    m.add_class::<problem::NativeProblem>()?;
+    m.add_function(wrap_pyfunction!(problem::import_ross, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::rayon_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::_rust_floquet_seconds, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,476 @@
+//! The native problem object and the module's functions. Each method is one command-layer
+//! or library call: the arguments converted ([`super::args`]), the call made with the GIL
+//! released ([`super::watch`]), the result handed back as numpy arrays, a dict or the
+//! command's JSON text.
+
+use super::args;
+use super::watch::{released, watched};
+use crate::analysis::cost::Budget;
+use crate::analysis::floquet::{FloquetSystem, PointStatus};
+use crate::analysis::limits::MAX_COUNT;
+use crate::commands;
+use crate::commands::Error;
+use crate::problem::Problem;
+use numpy::{Complex64, IntoPyArray, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+/// A loaded, validated problem (`rotorshunt.Problem` wraps it). Immutable: overrides
+/// give a new one. Its reduced system is built once, at the first Floquet call.
+#[pyclass(name = "NativeProblem", module = "rotorshunt._rotorshunt", frozen)]
+pub(crate) struct NativeProblem {
+    problem: Problem,
+    system: OnceLock<FloquetSystem>,
+}
+
+impl NativeProblem {
+    fn new(problem: Problem) -> NativeProblem {
+        NativeProblem { problem, system: OnceLock::new() }
+    }
+
+    /// The reduced system at the problem's speed, built (and admitted) at the first call.
+    fn system(&self) -> Result<&FloquetSystem, Error> {
+        if let Some(fs) = self.system.get() {
+            return Ok(fs);
+        }
+        let fs = commands::reduced_system(&self.problem, &Budget::default())?;
+        Ok(self.system.get_or_init(|| fs))
+    }
+}
+
+/// An optional progress callback: `None` or Python's `None` is none.
+fn callback<'a, 'py>(progress: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+    progress.filter(|p| !p.is_none())
+}
+
+#[pymethods]
+impl NativeProblem {
+    /// Load a problem file and apply `set` overrides.
+    #[staticmethod]
+    #[pyo3(signature = (path, set = None))]
+    fn from_file(py: Python<'_>, path: &Bound<'_, PyAny>, set: Option<&Bound<'_, PyAny>>) -> PyResult<NativeProblem> {
+        let overrides = args::overrides(set).map_err(super::to_py)?;
+        let path: PathBuf = path.extract().map_err(|_| {
+            super::to_py(Error::Argument {
+                argument: "FILE".into(),
+                message: "expected a path (str or os.PathLike)".into(),
+            })
+        })?;
+        released(py, || Ok(Problem::from_path(&path, &overrides)?)).map(NativeProblem::new)
+    }
+
+    /// Parse a problem text; `name` names it in messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, name = "<string>", set = None))]
+    fn from_toml(
+        py: Python<'_>,
+        text: &Bound<'_, PyAny>,
+        name: &str,
+        set: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<NativeProblem> {
+        let overrides = args::overrides(set).map_err(super::to_py)?;
+        let text: String = text.extract().map_err(|_| {
+            super::to_py(Error::Argument {
+                argument: "text".into(),
+                message: "expected the problem's TOML text (str)".into(),
+            })
+        })?;
+        released(py, || Ok(Problem::from_text(&text, name, &overrides)?)).map(NativeProblem::new)
+    }
+
+    /// A copy with more overrides, applied after this problem's own.
+    fn with_set(&self, py: Python<'_>, set: &Bound<'_, PyAny>) -> PyResult<NativeProblem> {
+        let mut overrides = self.problem.overrides.clone();
+        overrides.extend(args::overrides(Some(set)).map_err(super::to_py)?);
+        let p = &self.problem;
+        released(py, || Ok(Problem::from_text(&p.text, &p.file, &overrides)?)).map(NativeProblem::new)
+    }
+
+    /// The problem's data, overrides applied, as TOML text (speeds in rad/s).
+    fn to_toml(&self) -> PyResult<String> {
+        toml::to_string(&self.problem.data).map_err(|e| {
+            super::to_py(Error::Output { path: self.problem.file.clone(), message: format!("as TOML: {e}") })
+        })
+    }
+
+    /// The file name as given.
+    #[getter]
+    fn file(&self) -> String {
+        self.problem.file.clone()
+    }
+
+    /// The title (the file name when it has none).
+    #[getter]
+    fn title(&self) -> String {
+        self.problem.data.title.clone().unwrap_or_else(|| self.problem.file.clone())
+    }
+
+    /// The overrides applied, as `key.path=value`.
+    #[getter]
+    fn overrides(&self) -> Vec<String> {
+        self.problem.overrides.clone()
+    }
+
+    /// The plausibility warnings, one line each (the command line prints them after `warning: `).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.problem.warnings.iter().map(|w| w.to_string()).collect()
+    }
+
+    /// The operating speed Ω (rad/s).
+    #[getter]
+    fn speed(&self) -> f64 {
+        self.problem.model.speed
+    }
+
+    /// SHA-256 of the text and overrides.
+    #[getter]
+    fn input_sha256(&self) -> String {
+        self.problem.input_sha256.clone()
+    }
+
+    /// Whether the file has a `[design]` table.
+    #[getter]
+    fn has_design(&self) -> bool {
+        self.problem.design.is_some()
+    }
+
+    /// `check`: the model summary text.
+    fn check(&self, py: Python<'_>) -> PyResult<String> {
+        let p = &self.problem;
+        released(py, || commands::check(p, Budget::default()))
+    }
+
+    /// `modes --json`: the JSON text.
+    #[pyo3(signature = (speed = None, count = None))]
+    fn modes(
+        &self,
+        py: Python<'_>,
+        speed: Option<&Bound<'_, PyAny>>,
+        count: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
+        let count = match count.filter(|c| !c.is_none()) {
+            Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
+            None => 4,
+        };
+        let p = &self.problem;
+        released(py, || commands::modes(p, speed, count, true, Budget::default()))
+    }
+
+    /// `campbell`: the campbell.json text.
+    #[pyo3(signature = (speeds, count = None, progress = None))]
+    fn campbell(
+        &self,
+        py: Python<'_>,
+        speeds: &Bound<'_, PyAny>,
+        count: Option<&Bound<'_, PyAny>>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
+        let count = match count.filter(|c| !c.is_none()) {
+            Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
+            None => 4,
+        };
+        let p = &self.problem;
+        watched(py, callback(progress), |pr| commands::campbell_json(p, &speeds, count, pr, Budget::default()))
+    }
+
+    /// `floquet`: the point at (φ, β) as a dict, the multipliers a complex array.
+    fn floquet<'py>(
+        &self,
+        py: Python<'py>,
+        phi: &Bound<'py, PyAny>,
+        beta: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let phi = args::number(phi, "--phi").map_err(super::to_py)?;
+        let beta = args::number(beta, "--beta").map_err(super::to_py)?;
+        let point = released(py, || {
+            let fs = self.system()?;
+            commands::floquet_point(fs, phi, beta, &Budget::default()).map(|p| (fs.speed, p))
+        })?;
+        let (speed, point) = point;
+        let scale = point.multiplier_log_scale.exp();
+        let mu: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0] * scale, m[1] * scale)).collect();
+        let raw: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0], m[1])).collect();
+        let s = &point.summary;
+        let d = PyDict::new(py);
+        d.set_item("speed", speed)?;
+        d.set_item("phi", s.phi)?;
+        d.set_item("beta", s.beta)?;
+        d.set_item("max_multiplier", s.max_multiplier)?;
+        d.set_item("ln_max_multiplier", s.ln_max_multiplier)?;
+        d.set_item("growth_rate", s.growth_rate)?;
+        d.set_item("stable", s.stable)?;
+        d.set_item("status", status_word(s.status))?;
+        d.set_item("reason", s.reason.as_ref().map(|r| r.to_string()))?;
+        d.set_item("multipliers", mu.into_pyarray(py))?;
+        d.set_item("scaled_multipliers", raw.into_pyarray(py))?;
+        d.set_item("multiplier_log_scale", point.multiplier_log_scale)?;
+        Ok(d)
+    }
+
+    /// `chart`: the grid's max|μ|, ln max|μ|, growth rate, verdicts and statuses as 2-D
+    /// arrays (φ rows, β columns).
+    #[pyo3(signature = (phis, betas, progress = None))]
+    fn chart<'py>(
+        &self,
+        py: Python<'py>,
+        phis: &Bound<'py, PyAny>,
+        betas: &Bound<'py, PyAny>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let phis = args::numbers(phis, "--phi").map_err(super::to_py)?;
+        let betas = args::numbers(betas, "--beta").map_err(super::to_py)?;
+        if phis.is_empty() || betas.is_empty() {
+            let argument = if phis.is_empty() { "--phi" } else { "--beta" };
+            return Err(super::to_py(Error::Argument { argument: argument.into(), message: "no values".into() }));
+        }
+        commands::check_grid(&phis, &betas).map_err(super::to_py)?;
+        let fs = released(py, || self.system())?;
+        commands::admit_chart(fs, &phis, &betas, &Budget::default()).map_err(super::to_py)?;
+        let c = watched(py, callback(progress), |pr| {
+            pr.phase("chart", phis.len() as u64);
+            Ok(crate::analysis::chart::chart(fs, &phis, &betas, pr))
+        })?;
+        let shape = (phis.len(), betas.len());
+        let field =
+            |f: &dyn Fn(&crate::analysis::chart::ChartPoint) -> f64| -> Vec<f64> { c.points.iter().map(f).collect() };
+        let grid = |v: Vec<f64>| v.into_pyarray(py).reshape([shape.0, shape.1]);
+        let d = PyDict::new(py);
+        d.set_item("speed", c.speed)?;
+        d.set_item("phis", c.phis.clone().into_pyarray(py))?;
+        d.set_item("betas", c.betas.clone().into_pyarray(py))?;
+        d.set_item("max_multiplier", grid(field(&|p| p.max_multiplier))?)?;
+        d.set_item("ln_max_multiplier", grid(field(&|p| p.ln_max_multiplier))?)?;
+        d.set_item("growth_rate", grid(field(&|p| p.growth_rate))?)?;
+        let stable: Vec<bool> = c.points.iter().map(|p| p.stable).collect();
+        d.set_item("stable", stable.into_pyarray(py).reshape([shape.0, shape.1])?)?;
+        let status: Vec<u8> = c.points.iter().map(|p| status_code(p.status)).collect();
+        d.set_item("status", status.into_pyarray(py).reshape([shape.0, shape.1])?)?;
+        d.set_item("status_names", ["ok", "inaccurate", "failed"])?;
+        d.set_item("instability_tolerance", c.instability_tolerance)?;
+        d.set_item("failed", c.failed)?;
+        d.set_item("inaccurate", c.inaccurate)?;
+        d.set_item("unstable", c.unstable())?;
+        d.set_item("reduction", serde_json::to_string(&c.reduction).unwrap_or_default())?;
+        Ok(d)
+    }
+
+    /// `regions --json`: the JSON text.
+    #[pyo3(signature = (phi_range, beta_max, level = None, progress = None))]
+    fn regions(
+        &self,
+        py: Python<'_>,
+        phi_range: &Bound<'_, PyAny>,
+        beta_max: &Bound<'_, PyAny>,
+        level: Option<&Bound<'_, PyAny>>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let phi = range_text(phi_range).map_err(super::to_py)?;
+        let beta_max = args::number(beta_max, "--beta-max").map_err(super::to_py)?;
+        let level = args::optional_number(level, "--level").map_err(super::to_py)?;
+        let p = &self.problem;
+        watched(py, callback(progress), |pr| {
+            let a = commands::RegionsArgs { phi: &phi, beta_max, level, json: true, out: None };
+            commands::regions_cmd(p, a, pr, Budget::default())
+        })
+    }
+
+    /// `band --json`: the JSON text.
+    #[pyo3(signature = (phi_op, level, phi_range = None, progress = None))]
+    fn band(
+        &self,
+        py: Python<'_>,
+        phi_op: &Bound<'_, PyAny>,
+        level: &Bound<'_, PyAny>,
+        phi_range: Option<&Bound<'_, PyAny>>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let phi_op = args::number(phi_op, "--phi-op").map_err(super::to_py)?;
+        let level = args::number(level, "--level").map_err(super::to_py)?;
+        let window = phi_range.filter(|r| !r.is_none()).map(range_text).transpose().map_err(super::to_py)?;
+        let p = &self.problem;
+        watched(py, callback(progress), |pr| {
+            commands::band_cmd(p, phi_op, level, window.as_deref(), true, pr, Budget::default())
+        })
+    }
+
+    /// `unbalance --json`: the unbalance.json text.
+    #[pyo3(signature = (speeds, nodes, progress = None))]
+    fn unbalance(
+        &self,
+        py: Python<'_>,
+        speeds: &Bound<'_, PyAny>,
+        nodes: &Bound<'_, PyAny>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
+        let nodes = args::nodes(nodes, "--nodes").map_err(super::to_py)?;
+        let p = &self.problem;
+        watched(py, callback(progress), |pr| commands::unbalance_json(p, &speeds, &nodes, pr, Budget::default()))
+    }
+
+    /// `design`: a dict of the outcome's JSON text, the tuned file's text, its file name
+    /// and the status; with `out`, the report is written there as `design --out` writes
+    /// it, and the summary text is included.
+    #[pyo3(signature = (out = None, progress = None))]
+    fn design<'py>(
+        &self,
+        py: Python<'py>,
+        out: Option<PathBuf>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let p = &self.problem;
+        let (summary, outcome, tuned) = watched(py, callback(progress), |pr| {
+            let (summary, outcome) = match &out {
+                Some(dir) => {
+                    let (text, outcome) = commands::design_cmd(p, dir, pr, Budget::default())?;
+                    (Some(text), outcome)
+                }
+                None => (None, commands::design_run(p, pr, Budget::default())?),
+            };
+            let tuned = commands::tuned_toml(p, &outcome)?;
+            Ok((summary, outcome, tuned))
+        })?;
+        let d = PyDict::new(py);
+        d.set_item("summary", summary)?;
+        d.set_item("status", commands::status_word(outcome.status))?;
+        d.set_item("file_name", commands::design_file_name(outcome.status))?;
+        d.set_item("verified", outcome.verified())?;
+        d.set_item("tuned_toml", tuned)?;
+        d.set_item("outcome", serde_json::to_string(&outcome).unwrap_or_default())?;
+        Ok(d)
+    }
+
+    /// `design --pareto K --out DIR`: the summary text (the front is in DIR/report.json).
+    #[pyo3(signature = (points, out, progress = None))]
+    fn pareto(
+        &self,
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        out: PathBuf,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let k = args::count(points, "--pareto", 2, u32::MAX as u64).map_err(super::to_py)?;
+        let p = &self.problem;
+        watched(py, callback(progress), |pr| commands::pareto_cmd(p, k, &out, pr, Budget::default()).map(|(t, _)| t))
+    }
+}
+
+fn status_word(s: PointStatus) -> &'static str {
+    match s {
+        PointStatus::Ok => "ok",
+        PointStatus::Inaccurate => "inaccurate",
+        PointStatus::Failed => "failed",
+    }
+}
+
+/// A (lo, hi) pair as the command line's `A:B` text (Rust's shortest round-trip form).
+fn range_text(range: &Bound<'_, PyAny>) -> Result<String, Error> {
+    let v = args::numbers(range, "--phi")?;
+    match v.as_slice() {
+        [lo, hi] => Ok(format!("{lo}:{hi}")),
+        _ => Err(Error::Argument {
+            argument: "--phi".into(),
+            message: format!("expected two numbers (lo, hi) in rad/s, got {} values", v.len()),
+        }),
+    }
+}
+
+/// `import-ross`: the problem text imported from a ROSS `Rotor.save` file (TOML or JSON),
+/// with `rings` (a list of dicts, the `[[rings]]` tables) appended, checked by loading.
+#[pyfunction]
+#[pyo3(signature = (path, speed = None, rings = None))]
+pub(crate) fn import_ross(
+    py: Python<'_>,
+    path: PathBuf,
+    speed: Option<&Bound<'_, PyAny>>,
+    rings: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
+    let rings = match rings.filter(|r| !r.is_none()) {
+        Some(r) => Some(args::python_to_toml(r).ok_or_else(|| {
+            super::to_py(Error::Argument {
+                argument: "rings".into(),
+                message: "expected a list of dicts (the [[rings]] tables)".into(),
+            })
+        })?),
+        None => None,
+    };
+    released(py, || {
+        let speed = speed.map(|w| commands::bounds::flag("--speed", crate::analysis::limits::speed(w))).transpose()?;
+        let import = crate::import::ross::import_path(&path, crate::import::ross::Options { speed })?;
+        let mut text = import.text;
+        if let Some(rings) = rings {
+            let mut t = toml::Table::new();
+            t.insert("rings".into(), rings);
+            let extra = toml::to_string(&t).map_err(|e| Error::Argument {
+                argument: "rings".into(),
+                message: format!("cannot be written as [[rings]] tables: {e}"),
+            })?;
+            text += "\n";
+            text += &extra;
+        }
+        let name = format!("{} (as imported)", path.display());
+        Problem::from_text(&text, &name, &[])?;
+        Ok(text)
+    })
+}
+
+/// `study FILE --out DIR`: the summary text and the number of failed cases.
+#[pyfunction]
+#[pyo3(signature = (file, out, force = false, allow_non_empty = false, dry_run = false, progress = None))]
+pub(crate) fn run_study(
+    py: Python<'_>,
+    file: PathBuf,
+    out: PathBuf,
+    force: bool,
+    allow_non_empty: bool,
+    dry_run: bool,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(String, usize)> {
+    watched(py, callback(progress), |pr| {
+        let options = commands::StudyOptions {
+            force,
+            allow_non_empty,
+            shard: commands::ShardRequest::Auto,
+            array_task_id: None,
+            dry_run,
+            budget: Budget::default(),
+        };
+        commands::study_cmd(&file, &out, options, pr)
+    })
+}
+
+/// The number of worker threads of the library's parallel loops.
+#[pyfunction]
+pub(crate) fn rayon_threads() -> usize {
+    rayon::current_num_threads()
+}
+
+/// A point's status as its index in `status_names`.
+fn status_code(s: PointStatus) -> u8 {
+    match s {
+        PointStatus::Ok => 0,
+        PointStatus::Inaccurate => 1,
+        PointStatus::Failed => 2,
+    }
+}
+
+/// Benchmark only (python/bench/overhead.py): the wall time (s) of `floquet` at each
+/// (φ, β) of `points` called from Rust, the same calls `NativeProblem.floquet` makes
+/// (checks, admission, the point), without Python between them.
+#[pyfunction]
+pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, points: Vec<(f64, f64)>) -> PyResult<f64> {
+    released(py, || {
+        let fs = problem.system()?;
+        let start = std::time::Instant::now();
+        for &(phi, beta) in &points {
+            std::hint::black_box(commands::floquet_point(fs, phi, beta, &Budget::default())?);
+        }
+        Ok(start.elapsed().as_secs_f64())
+    })
+}

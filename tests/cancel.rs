@@ -1,0 +1,59 @@
+//! `Progress::cancelled`: a chart and a region catalogue asked to stop skip the steps not
+//! begun (an incomplete result, for the caller to discard), and a progress that never
+//! asks changes nothing (the Python bindings' Ctrl-C, docs/python.md).
+
+use rotorshunt::analysis::chart::chart;
+use rotorshunt::analysis::regions::catalogue_with;
+use rotorshunt::progress::{Progress, Silent};
+use rotorshunt::{CatalogueRequest, Interval, Problem};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Asks to stop once `after` steps are done.
+struct StopAfter {
+    done: AtomicU64,
+    after: u64,
+}
+
+impl Progress for StopAfter {
+    fn advance(&self, steps: u64) {
+        self.done.fetch_add(steps, Ordering::Relaxed);
+    }
+    fn cancelled(&self) -> bool {
+        self.done.load(Ordering::Relaxed) >= self.after
+    }
+}
+
+fn stop_after(after: u64) -> StopAfter {
+    StopAfter { done: AtomicU64::new(0), after }
+}
+
+#[test]
+fn a_chart_asked_to_stop_skips_the_rows_not_begun() {
+    let problem = Problem::from_path("problems/fig11-closed-2000.toml", &[]).unwrap();
+    let op = problem.operating_point().unwrap();
+    let phis: Vec<f64> = (0..200).map(|k| 1000.0 + 2.0 * f64::from(k)).collect();
+    let betas = [0.1, 0.2, 0.3];
+    let full = chart(&op.floquet, &phis, &betas, &Silent);
+    assert_eq!(full.points.len(), 600);
+    // Never asked to stop: the same chart.
+    assert_eq!(chart(&op.floquet, &phis, &betas, &stop_after(u64::MAX)), full);
+    // Stopped from the start: no row computed; after 10 rows: at most a row per thread more.
+    assert!(chart(&op.floquet, &phis, &betas, &stop_after(0)).points.is_empty());
+    let part = chart(&op.floquet, &phis, &betas, &stop_after(10)).points.len();
+    let threads = rayon::current_num_threads();
+    assert!((30..=3 * (10 + threads)).contains(&part), "{part} points");
+}
+
+#[test]
+fn a_catalogue_asked_to_stop_returns_early() {
+    let problem = Problem::from_path("problems/fig11-closed-2000.toml", &[]).unwrap();
+    let op = problem.operating_point().unwrap();
+    let req =
+        CatalogueRequest::builder().range(Interval::new(1000.0, 1400.0)).beta_max(1.0).level(0.3).build().unwrap();
+    let full = catalogue_with(&op.floquet, &op.modes, &op.regions, &req, &Silent).unwrap();
+    let never = catalogue_with(&op.floquet, &op.modes, &op.regions, &req, &stop_after(u64::MAX)).unwrap();
+    assert_eq!(never.regions, full.regions);
+    assert!(!full.regions.is_empty());
+    let stopped = catalogue_with(&op.floquet, &op.modes, &op.regions, &req, &stop_after(0)).unwrap();
+    assert!(stopped.regions.is_empty(), "{} regions", stopped.regions.len());
+}
