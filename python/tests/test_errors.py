@@ -17,6 +17,21 @@ def test_the_hierarchy():
     assert issubclass(rs.Error, Exception)
 
 
+def test_the_kind_is_named_as_docs_errors_heads_it(root):
+    sections = (root / "docs" / "errors.md").read_text()
+    paper = rs.Problem.from_file("problems/paper-open.toml")
+    cases = [
+        (lambda: rs.Problem.from_file("problems/no-such-file.toml"), rs.ProblemError, "Read"),
+        (lambda: paper.modes(count=0), rs.ArgumentError, "OutOfRange"),
+        (lambda: paper.floquet(1000, math.nan), rs.ArgumentError, "NotFinite"),
+    ]
+    for call, cls, kind in cases:
+        with pytest.raises(cls) as e:
+            call()
+        assert e.value.kind == kind
+        assert f"### `{kind}`" in sections
+
+
 def test_a_missing_file(cli):
     _, _, err = cli("check", "problems/no-such-file.toml")
     with pytest.raises(rs.ProblemError) as e:

@@ -26,9 +26,22 @@ pyo3::create_exception!(_rotorshunt, RossImportError, Error, "A ROSS rotor that 
 pyo3::create_exception!(_rotorshunt, StudyError, Error, "A study file, shard or study folder that is not valid.");
 pyo3::create_exception!(_rotorshunt, OutputError, Error, "An output that cannot or may not be written.");
 
-/// The Python exception of a crate error: the class of its kind, and as message the
-/// error's text, the paragraph the command line prints after `error: `.
+/// The Python exception of a crate error: the class of its kind, as message the error's
+/// text (the paragraph the command line prints after `error: `), and as attribute `kind`
+/// the kind's name as docs/errors.md heads its section (e.g. `NotPositive`).
 pub(crate) fn to_py(e: crate::commands::Error) -> PyErr {
+    let kind = e.kind();
+    let err = class_of(e);
+    Python::attach(|py| {
+        // Setting an attribute on a new exception object cannot fail short of memory;
+        // the exception is raised either way.
+        let _ = err.value(py).setattr("kind", kind);
+    });
+    err
+}
+
+/// The exception class and message of a crate error.
+fn class_of(e: crate::commands::Error) -> PyErr {
     use crate::commands::Error as E;
     let message = e.to_string();
     match e {
