@@ -36,12 +36,11 @@
 
 mod common;
 
+use common::scan::{band_points, catalogued_windows, grid, GRID};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{
-    band, catalogue, Bound, Catalogue, CatalogueRequest, RegionSettings, START_WINDOW,
-};
+use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 use std::collections::HashMap;
@@ -50,60 +49,15 @@ const PHI_OPS: [f64; 5] = [300.0, 700.0, 1230.0, 1800.0, 2500.0];
 const LEVELS: [f64; 3] = [0.1, 0.3, 0.6];
 /// The window of every band and catalogue: the φ range of the paper's charts (rad/s).
 const WINDOW: Interval = Interval::new(100.0, 8000.0);
-/// Grid spacing (rad/s) and the reach beyond an edge (rad/s), from the acceptance.
-const GRID: f64 = 0.05;
+/// The reach beyond an edge (rad/s), from the acceptance.
 const BEYOND: f64 = 0.5;
 /// Two routes to the same lattice-refined edge give the same number; only round-off may
 /// separate them (rad/s), as for the band's own naming.
 const SAME_EDGE: f64 = 1e-9;
-/// Spacing of the scan over the whole of a band (rad/s): [`SCAN_STEPS`] grid steps.
-const SCAN: f64 = 0.1;
-const SCAN_STEPS: i64 = 2;
 
 /// Every problem file of the catalogue (top level of problems/).
 fn problems() -> Vec<String> {
     common::toml_names(&common::root().join("problems"))
-}
-
-/// Grid indices k (points k·GRID) strictly inside (lo, hi).
-fn grid(lo: f64, hi: f64) -> Vec<i64> {
-    let first = (lo / GRID).floor() as i64 + 1;
-    let last = (hi / GRID).ceil() as i64 - 1;
-    (first..=last).filter(|&k| k as f64 * GRID > lo && k as f64 * GRID < hi).collect()
-}
-
-/// Where the catalogue at the level puts a tongue, widened by [`SCAN`]: every region's
-/// extent and the start window around its start, the unexplained and the ignored tongues.
-/// A tongue thinner than the scan, inside a band, is looked for on the 0.05 rad/s grid here.
-fn catalogued_windows(cat: &Catalogue) -> Vec<Interval> {
-    let mut out = Vec::new();
-    for r in &cat.regions {
-        if let (Some(l), Some(h)) = (r.left, r.right) {
-            out.push(Interval::new(l - SCAN, h + SCAN));
-        }
-        let half = (START_WINDOW * r.start).max(SCAN);
-        out.push(Interval::new(r.start - half, r.start + half));
-    }
-    out.extend(cat.unexplained.iter().map(|u| Interval::new(u.lo - SCAN, u.hi + SCAN)));
-    out.extend(cat.ignored.iter().map(|t| Interval::new(t.extent.lo - SCAN, t.extent.hi + SCAN)));
-    out.sort_by(|a, b| a.lo.total_cmp(&b.lo));
-    out
-}
-
-/// The points of check 2 strictly inside (lo, hi): every [`SCAN_STEPS`]-th grid point, and
-/// every grid point within [`SCAN`] of an edge or inside one of `windows` (sorted by lo).
-fn band_points(lo: f64, hi: f64, windows: &[Interval]) -> Vec<i64> {
-    let near = |x: f64| {
-        let upto = windows.partition_point(|w| w.lo <= x);
-        windows[..upto].iter().any(|w| x <= w.hi)
-    };
-    grid(lo, hi)
-        .into_iter()
-        .filter(|&k| {
-            let x = k as f64 * GRID;
-            k % SCAN_STEPS == 0 || x - lo <= SCAN || hi - x <= SCAN || near(x)
-        })
-        .collect()
 }
 
 /// What one problem's checks found.

@@ -50,23 +50,18 @@
 //! Every case prints one summary line; failures are collected and asserted at the end.
 mod common;
 
+use common::scan::{band_points, catalogued_windows, grid as grid_indices, GRID, SCAN};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::{FloquetSystem, PointSummary};
 use rotorshunt::analysis::modes::{whirl_modes_of, ModesResult};
-use rotorshunt::analysis::regions::{
-    band, catalogue, Bound, Catalogue, CatalogueRequest, RegionSettings, CENTRE_WINDOW, START_WINDOW,
-};
+use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings, CENTRE_WINDOW};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 
 /// The window of every band (rad/s): the φ range of the paper's charts.
 const WINDOW: Interval = Interval::new(100.0, 8000.0);
-/// Grid spacing (rad/s) and reach beyond an edge (rad/s), as in tests/band_truth.rs.
-const GRID: f64 = 0.05;
+/// Reach beyond an edge (rad/s), as in tests/band_truth.rs.
 const BEYOND: f64 = 0.5;
-/// Spacing of the scan over the whole of a band (rad/s): [`SCAN_STEPS`] grid steps.
-const SCAN: f64 = 0.1;
-const SCAN_STEPS: i64 = 2;
 /// The neighbourhood of a band whose catalogue places the fine grid: the band widened by
 /// this fraction each side, as wide as the centre search's window ([`CENTRE_WINDOW`]).
 const NEAR: f64 = CENTRE_WINDOW;
@@ -178,47 +173,6 @@ fn operating_points_follow_the_rule() {
             "rule gives ({n}, {p}, {b}), CASES has ({cn}, {cp}, {cb})"
         );
     }
-}
-
-/// Grid indices k (points k·GRID) strictly inside (lo, hi).
-fn grid_indices(lo: f64, hi: f64) -> Vec<i64> {
-    let first = (lo / GRID).floor() as i64 + 1;
-    let last = (hi / GRID).ceil() as i64 - 1;
-    (first..=last).filter(|&k| k as f64 * GRID > lo && (k as f64 * GRID) < hi).collect()
-}
-
-/// Where the catalogue at the level puts a tongue, widened by [`SCAN`]: every region's
-/// extent and the start window around its start, the unexplained and the ignored tongues
-/// (sorted by lo). A tongue thinner than the scan is looked for on the grid here.
-fn catalogued_windows(cat: &Catalogue) -> Vec<Interval> {
-    let mut out = Vec::new();
-    for r in &cat.regions {
-        if let (Some(l), Some(h)) = (r.left, r.right) {
-            out.push(Interval::new(l - SCAN, h + SCAN));
-        }
-        let half = (START_WINDOW * r.start).max(SCAN);
-        out.push(Interval::new(r.start - half, r.start + half));
-    }
-    out.extend(cat.unexplained.iter().map(|u| Interval::new(u.lo - SCAN, u.hi + SCAN)));
-    out.extend(cat.ignored.iter().map(|t| Interval::new(t.extent.lo - SCAN, t.extent.hi + SCAN)));
-    out.sort_by(|a, b| a.lo.total_cmp(&b.lo));
-    out
-}
-
-/// The interior points of check (a), strictly inside (lo, hi): every [`SCAN_STEPS`]-th grid
-/// point, and every grid point within [`SCAN`] of an edge or inside one of `windows`.
-fn band_points(lo: f64, hi: f64, windows: &[Interval]) -> Vec<i64> {
-    let near = |x: f64| {
-        let upto = windows.partition_point(|w| w.lo <= x);
-        windows[..upto].iter().any(|w| x <= w.hi)
-    };
-    grid_indices(lo, hi)
-        .into_iter()
-        .filter(|&k| {
-            let x = k as f64 * GRID;
-            k % SCAN_STEPS == 0 || x - lo <= SCAN || hi - x <= SCAN || near(x)
-        })
-        .collect()
 }
 
 /// Consecutive unstable grid points grouped into clusters, for the failure report.

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod pins;
+pub mod scan;
 
 use rotorshunt::problem::Problem;
 
