@@ -199,11 +199,22 @@ pub fn campbell_json(
     let result = campbell(&rotor, &problem.settings, speeds, count, progress)?;
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);
+    campbell_json_text(problem, &result, &operating, &critical)
+}
+
+/// campbell.json's text: the diagram with the problem's provenance, its operating speeds
+/// (rad/s) and the critical speeds.
+fn campbell_json_text(
+    problem: &Problem,
+    result: &crate::analysis::campbell::CampbellResult,
+    operating: &[f64],
+    critical: &[campbell_report::CriticalSpeed],
+) -> Result<String, Error> {
     let json = CampbellJson {
         provenance: Provenance::of(problem),
-        campbell: &result,
-        operating_speeds: &operating,
-        critical_speeds: &critical,
+        campbell: result,
+        operating_speeds: operating,
+        critical_speeds: critical,
     };
     json_pretty(&json, "the JSON output")
 }
@@ -235,13 +246,7 @@ pub fn campbell_cmd(
     progress.phase("files", 4);
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);
-    let json = CampbellJson {
-        provenance: Provenance::of(problem),
-        campbell: &result,
-        operating_speeds: &operating,
-        critical_speeds: &critical,
-    };
-    dir.write("campbell.json", json_pretty(&json, "the JSON output")?.as_bytes())?;
+    dir.write("campbell.json", campbell_json_text(problem, &result, &operating, &critical)?.as_bytes())?;
     progress.advance(1);
     let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
