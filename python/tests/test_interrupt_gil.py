@@ -41,6 +41,28 @@ def test_ctrl_c_during_a_long_chart_raises_keyboard_interrupt_within_a_second():
     assert p.floquet(1000, 0.1).stable
 
 
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_during_a_long_campbell_raises_keyboard_interrupt_within_a_second():
+    # About 7 s here: 500 speeds of about 13 ms of whirls each (the most within the memory
+    # bound of the mode shapes it keeps); stopped after 1 s.
+    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+    sent = {}
+
+    def interrupt():
+        sent["at"] = time.monotonic()
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(1.0, interrupt)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        p.campbell(np.linspace(0.0, 3000.0, 500))
+    latency = time.monotonic() - sent["at"]
+    timer.join()
+    print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT (campbell)")
+    assert latency < 1.0
+    assert len(p.campbell([0.0, 1000.0]).speeds) == 2
+
+
 def test_a_progress_callback_sees_the_rows_and_can_stop_the_run():
     p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
     seen = []

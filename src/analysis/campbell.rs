@@ -94,6 +94,9 @@ const TRACKING_MARGIN: usize = 3;
 /// point keeping its own ([`TrackPoint::whirl`]); the modes at each speed are those of
 /// the window of `count` + `TRACKING_MARGIN` (the shift-invert solve on a large model,
 /// [`super::modes::lowest_whirls_of`]).
+///
+/// A speed not begun when [`Progress::cancelled`] turns true is skipped and the diagram
+/// comes back empty, to be discarded (as a chart's rows).
 pub fn campbell(
     rotor: &Rotor,
     settings: &Settings,
@@ -102,14 +105,27 @@ pub fn campbell(
     progress: &dyn Progress,
 ) -> Result<CampbellResult, AnalysisError> {
     let wanted = WHIRL_WINDOW * (count + TRACKING_MARGIN);
-    let solved: Vec<ModesResult> = speeds
+    let solved: Vec<Option<ModesResult>> = speeds
         .par_iter()
         .map(|&w| {
-            let r = whirls_at_least(rotor, settings, w, wanted);
+            // A speed not begun when the caller asks to stop is skipped.
+            if progress.cancelled() {
+                return Ok(None);
+            }
+            let r = whirls_at_least(rotor, settings, w, wanted)?;
             progress.advance(1);
-            r
+            Ok(Some(r))
         })
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<_, AnalysisError>>()?;
+    // Stopped: an empty diagram, which the caller that asked to stop discards.
+    let Some(solved) = solved.into_iter().collect::<Option<Vec<ModesResult>>>() else {
+        return Ok(CampbellResult {
+            speeds: Vec::new(),
+            tracks: Vec::new(),
+            mac_threshold: settings.mac_threshold,
+            flagged: 0,
+        });
+    };
     let mut tracks = Vec::new();
     let mut flagged = 0;
     if rotor.real {
