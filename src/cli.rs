@@ -59,7 +59,7 @@ pub(crate) enum Command {
         #[arg(long)]
         speed: Option<f64>,
         /// Number of forward and of backward whirls.
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Print JSON instead of a table.
         #[arg(long)]
@@ -73,7 +73,7 @@ pub(crate) enum Command {
         #[arg(long)]
         speeds: String,
         /// Number of forward and of backward whirls to track.
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Output directory (created if missing).
         #[arg(long)]
@@ -227,7 +227,7 @@ pub(crate) enum Command {
         #[arg(long, default_value = "")]
         modes: String,
         /// Without --modes: the number of forward and of backward whirls.
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Print JSON instead of a table.
         #[arg(long)]

@@ -19,16 +19,17 @@ from ._results import (
 
 __version__: str
 
-class Error(Exception):
-    kind: str  # the kind's name, as docs/errors.md heads its section (e.g. "NotPositive")
-class ProblemError(Error): ...
-class ArgumentError(Error): ...
-class CostError(Error): ...
-class AnalysisError(Error): ...
-class DesignError(Error): ...
-class RossImportError(Error): ...
-class StudyError(Error): ...
-class OutputError(Error): ...
+from ._rotorshunt import (
+    AnalysisError as AnalysisError,
+    ArgumentError as ArgumentError,
+    CostError as CostError,
+    DesignError as DesignError,
+    Error as Error,
+    OutputError as OutputError,
+    ProblemError as ProblemError,
+    RossImportError as RossImportError,
+    StudyError as StudyError,
+)
 
 Progress = Union[None, bool, Callable[[str, int, int], Any]]
 Overrides = Union[Mapping[str, Any], Sequence[str], None]

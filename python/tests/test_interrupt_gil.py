@@ -17,25 +17,31 @@ PHIS = np.linspace(500.0, 3000.0, 4000)
 BETAS = np.linspace(0.0, 0.95, 20)
 
 
-@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
-def test_ctrl_c_during_a_long_chart_raises_keyboard_interrupt_within_a_second():
-    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
-    p.floquet(1000, 0.1)  # the reduced system built before the clock starts
+def interrupted_after(seconds, call):
+    """Run `call` with a SIGINT sent to this process `seconds` into it; the KeyboardInterrupt
+    must come: (seconds from the signal to the exception, seconds from the start)."""
     sent = {}
 
     def interrupt():
         sent["at"] = time.monotonic()
         os.kill(os.getpid(), signal.SIGINT)
 
-    timer = threading.Timer(1.0, interrupt)
-    timer.start()
+    timer = threading.Timer(seconds, interrupt)
     start = time.monotonic()
+    timer.start()
     with pytest.raises(KeyboardInterrupt):
-        p.chart(PHIS, BETAS)
+        call()
     stopped = time.monotonic()
     timer.join()
-    latency = stopped - sent["at"]
-    print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT ({stopped - start:.2f} s into the chart)")
+    return stopped - sent["at"], stopped - start
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_during_a_long_chart_raises_keyboard_interrupt_within_a_second():
+    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+    p.floquet(1000, 0.1)  # the reduced system built before the clock starts
+    latency, into = interrupted_after(1.0, lambda: p.chart(PHIS, BETAS))
+    print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT ({into:.2f} s into the chart)")
     assert latency < 1.0
     # The problem is still usable.
     assert p.floquet(1000, 0.1).stable
@@ -46,18 +52,7 @@ def test_ctrl_c_during_a_long_campbell_raises_keyboard_interrupt_within_a_second
     # About 7 s here: 500 speeds of about 13 ms of whirls each (the most within the memory
     # bound of the mode shapes it keeps); stopped after 1 s.
     p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
-    sent = {}
-
-    def interrupt():
-        sent["at"] = time.monotonic()
-        os.kill(os.getpid(), signal.SIGINT)
-
-    timer = threading.Timer(1.0, interrupt)
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        p.campbell(np.linspace(0.0, 3000.0, 500))
-    latency = time.monotonic() - sent["at"]
-    timer.join()
+    latency, _ = interrupted_after(1.0, lambda: p.campbell(np.linspace(0.0, 3000.0, 500)))
     print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT (campbell)")
     assert latency < 1.0
     assert len(p.campbell([0.0, 1000.0]).speeds) == 2

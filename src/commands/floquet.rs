@@ -44,11 +44,6 @@ const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`-
 
 /// The reduced system of `problem`, its dense stages admitted within `budget` first.
 pub fn reduced_system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
-    system(problem, budget)
-}
-
-/// The reduced system of `problem`, its dense stages admitted within `budget` first.
-fn system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
     Ok(rotor_and_system(problem, budget)?.1)
 }
 
@@ -103,7 +98,7 @@ pub struct FloquetOutput {
 /// `rotorshunt floquet FILE --phi P --beta B [--json]`.
 pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: Budget) -> Result<String, Error> {
     check_point(phi, beta)?;
-    let fs = system(problem, &budget)?;
+    let fs = reduced_system(problem, &budget)?;
     let point = floquet_point(&fs, phi, beta, &budget)?;
     if json {
         let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
@@ -255,11 +250,11 @@ pub fn chart_cmd(
     check_grid(&phis, &betas)?;
     // Both systems built and the charts' work admitted before any file is touched.
     let names = CHART;
-    let main_fs = system(problem, &budget)?;
+    let main_fs = reduced_system(problem, &budget)?;
     let mut estimate = cost::chart(&PointCost::of(&main_fs), &phis, &betas);
     let other_fs = match &compare {
         Compare::Problem(_, other) => {
-            let fs = system(other, &budget)?;
+            let fs = reduced_system(other, &budget)?;
             estimate = estimate.then(cost::chart(&PointCost::of(&fs), &phis, &betas));
             Some(fs)
         }

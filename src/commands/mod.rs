@@ -46,6 +46,10 @@ use crate::report::{campbell as campbell_report, summary};
 use serde::Serialize;
 use std::path::Path;
 
+/// Forward and backward whirls listed or tracked when no `--count` is given (`modes`,
+/// `campbell`, `damping`, and the Python bindings' `modes` and `campbell`).
+pub const DEFAULT_WHIRL_COUNT: usize = 4;
+
 pub use crate::problem::provenance::{Provenance, TOOL};
 
 /// The warning of a φ range (the flag or key `key`) that no instability region of the

@@ -231,7 +231,7 @@ impl Staging {
         let mut notes = Vec::new();
         remove_stale(parent, &name, &target, &mut notes);
         let token = files::token();
-        let temp = parent.join(files::staging_name(&name, &token, false));
+        let temp = parent.join(files::staging_name(&name, &token));
         let mut live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
         if let Err(e) = files::create_dir(&temp) {
             for p in &created {

@@ -38,10 +38,10 @@ const OLD_SUFFIX: &str = "-old";
 /// Hex digits of a [`token`].
 const TOKEN_DIGITS: usize = 24;
 
-/// The staging folder of the folder `name` for the run of `token`; `old`: the name the
-/// folder it replaces waits under where folders cannot be exchanged.
-pub fn staging_name(name: &str, token: &str, old: bool) -> String {
-    format!("{HIDDEN_PREFIX}{name}.{token}{}", if old { OLD_SUFFIX } else { "" })
+/// The staging folder of the folder `name` for the run of `token` (the folder it replaces
+/// waits under [`old_staging`] where folders cannot be exchanged).
+pub fn staging_name(name: &str, token: &str) -> String {
+    format!("{HIDDEN_PREFIX}{name}.{token}")
 }
 
 /// The name the folder a staging folder replaces waits under, where folders cannot be
@@ -111,14 +111,13 @@ mod tests {
     #[test]
     fn staging_names_are_read_back_and_look_alikes_are_not() {
         let t = token();
-        for (name, old) in [("out", false), ("out", true), ("run.1", false), ("a b", true)] {
-            let staged = staging_name(name, &t, old);
+        for name in ["out", "run.1", "a b"] {
+            let staged = staging_name(name, &t);
             assert!(staged.starts_with(HIDDEN_PREFIX));
-            assert_eq!(staging_parts(&staged), Some((name, t.as_str(), old)), "{staged}");
+            assert_eq!(staging_parts(&staged), Some((name, t.as_str(), false)), "{staged}");
+            let old = old_staging(std::path::Path::new(&staged));
+            assert_eq!(staging_parts(old.to_str().unwrap()), Some((name, t.as_str(), true)), "{}", old.display());
         }
-        let p = std::path::Path::new("/x").join(staging_name("out", &t, false));
-        let old = old_staging(&p);
-        assert_eq!(staging_parts(old.file_name().unwrap().to_str().unwrap()), Some(("out", t.as_str(), true)));
         // Not the tool's scheme: the old `.NAME.tmp-TOKEN` form, short or non-hex tokens,
         // no folder name, an atomic write's temporary (`.PID.N`).
         for other in [

@@ -152,10 +152,7 @@ impl NativeProblem {
         count: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<String> {
         let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
-        let count = match count.filter(|c| !c.is_none()) {
-            Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
-            None => 4,
-        };
+        let count = whirl_count(count)?;
         let p = &self.problem;
         released(py, || commands::modes(p, speed, count, true, Budget::default()))
     }
@@ -170,10 +167,7 @@ impl NativeProblem {
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<String> {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
-        let count = match count.filter(|c| !c.is_none()) {
-            Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py)?,
-            None => 4,
-        };
+        let count = whirl_count(count)?;
         let p = &self.problem;
         watched(py, callback(progress), |pr| commands::campbell_json(p, &speeds, count, pr, Budget::default()))
     }
@@ -473,4 +467,13 @@ pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, poi
         }
         Ok(start.elapsed().as_secs_f64())
     })
+}
+
+/// A `count` of whirls as the command line's `--count` takes it: checked by its rule,
+/// [`commands::DEFAULT_WHIRL_COUNT`] when not given.
+fn whirl_count(count: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+    match count.filter(|c| !c.is_none()) {
+        Some(c) => args::count(c, "--count", 1, MAX_COUNT as u64).map_err(super::to_py),
+        None => Ok(commands::DEFAULT_WHIRL_COUNT),
+    }
 }
