@@ -3,7 +3,7 @@
 //! of the real coordinates with the complex ones on every problem of problems/, and the
 //! coefficient checks reported all at once.
 
-mod common;
+use crate::common;
 use rotorshunt::analysis::modes::{whirl_modes, ModesResult, Whirl};
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 

@@ -3,7 +3,7 @@
 //! tabulated, cross-coupled fluid-film bearing and a cross-coupled seal), each checked by
 //! other commands run on the files they wrote, not by the numbers they report.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, run_ok, scratch};
 use rotorshunt::problem::Problem;

@@ -7,7 +7,7 @@
 //! an empty file), the content of the sidecar `tests/fixtures/bad/<stem>.expect`.
 //! `tests/fixtures/good/*.toml` are valid variants that must load.
 
-mod common;
+use crate::common;
 use rotorshunt::problem::Problem;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

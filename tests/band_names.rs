@@ -8,7 +8,7 @@
 //! problem in problems/ at every φ_op and β_op of the band tests is checked in
 //! tests/band_truth.rs, beside the band's truth, on the catalogue it already computes.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use serde_json::Value;

@@ -34,7 +34,7 @@
 //! Problems whose model and `[analysis]` settings are equal (the design problems on the
 //! Fig. 11 rotor) are one input to these checks, checked once for the group.
 
-mod common;
+use crate::common;
 
 use common::scan::{band_points, catalogued_windows, grid, GRID};
 use rayon::prelude::*;

@@ -1,6 +1,6 @@
 //! Campbell diagram: tracking, outputs, and parallel = sequential.
 
-mod common;
+use crate::common;
 use common::{load, rel};
 use rotorshunt::analysis::campbell::campbell;
 use rotorshunt::analysis::Rotor;

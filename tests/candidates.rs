@@ -5,7 +5,7 @@
 //! while C_f changes, an inductance replacing a tuning frequency, the shorthand's one
 //! circuit tuned with the left ring's C_p^T whichever ring is named).
 
-mod common;
+use crate::common;
 
 use common::load;
 use rotorshunt::design::evaluate::machine_at;

@@ -3,7 +3,7 @@
 //! β_max ≥ β_op; the stable bands of `band`, of the catalogue, of the design report and of
 //! the study summary are the same numbers for the same input.
 
-mod common;
+use crate::common;
 
 use common::problem_path;
 use serde_json::Value;

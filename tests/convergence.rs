@@ -5,7 +5,7 @@
 //! measured as |Δ max|μ|| / max(1, max|μ|): absolute at the stability limit, relative for
 //! strongly unstable points whose max|μ| is large.
 
-mod common;
+use crate::common;
 use common::load;
 use rotorshunt::analysis::chart::chart;
 use rotorshunt::analysis::floquet::FloquetSystem;

@@ -3,7 +3,7 @@
 //! it ignores, and those tongues are listed, with their reason, by `band` and by the
 //! catalogue; they are real (unstable by the tolerance) and below the floor.
 
-mod common;
+use crate::common;
 
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;

@@ -8,7 +8,7 @@
 //! the optimiser's state, so a shorter search checks the same properties; the full
 //! problems' results are in docs/design.md.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use rotorshunt::design::{self, Status};

@@ -4,7 +4,7 @@
 //! line. The expected keys and lines come from the edited texts written here, never from
 //! the code under test.
 
-mod common;
+use crate::common;
 use common::root;
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -5,7 +5,7 @@
 //! every `src/…` path the README and docs cite exists. Small problems only: the whole
 //! file runs in seconds.
 
-mod common;
+use crate::common;
 
 use rotorshunt::analysis::unbalance::{probes, unbalance_response};
 use rotorshunt::analysis::Interval;

@@ -4,7 +4,7 @@
 //! list below holds one of each); every fixture in `tests/fixtures/bad` has its kind
 //! documented.
 
-mod common;
+use crate::common;
 use rotorshunt::analysis::cost::{CostError, Resource};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::commands::Error;

@@ -2,7 +2,7 @@
 //! failure, 2 bad input, 5 a study with failed cases. Codes 3 (infeasible design) and 4
 //! (design not verified) are tested with the design runs in tests/design.rs.
 
-mod common;
+use crate::common;
 
 use common::problem_path;
 use std::process::{Command, Output};

@@ -2,7 +2,7 @@
 //! closed form, a limit argument or an independent computation) or the typed error / flag
 //! it must raise. Run with `--nocapture` to see the values.
 
-mod common;
+use crate::common;
 use common::{load, problem_path, rel};
 use rotorshunt::analysis::buckling::buckling_load;
 use rotorshunt::analysis::floquet::{dstm, FloquetPoint, FloquetSystem, PointStatus};

@@ -5,7 +5,7 @@
 //! forced to the real path, at rest and at speed; and against the Jeffcott rotor's
 //! closed form.
 
-mod common;
+use crate::common;
 use rotorshunt::analysis::modes::{
     lowest_whirls_of, whirl_modes_nearest, whirl_modes_of, ModesResult, Whirl, WHIRL_WINDOW,
 };

@@ -8,7 +8,7 @@
 //! once, and `check` and `design` must refuse it by its cost before any solve. A hang
 //! timeout (not a duration assertion) stops the test if a solve does start.
 
-mod common;
+use crate::common;
 
 use common::{bin, problem_path, scratch};
 use rotorshunt::Problem;

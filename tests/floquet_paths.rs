@@ -3,7 +3,7 @@
 //! against an independent RK4 integration; parallel chart = sequential chart; a
 //! closed-form Mathieu boundary through the same monodromy code.
 
-mod common;
+use crate::common;
 use common::load;
 use faer::{c64, Mat};
 use rotorshunt::analysis::chart::chart;

@@ -11,7 +11,7 @@
 //! one targeted mutation also check *which* key and line are blamed.
 //!
 //! `FUZZ_CASES_DEFAULT` cases by default; `ROTORSHUNT_FUZZ_CASES=200000 cargo test --release
-//! --test fuzz -- --nocapture` for a longer run. Counts and the slowest case are printed.
+//! --test suite fuzz:: -- --nocapture` for a longer run. Counts and the slowest case are printed.
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};

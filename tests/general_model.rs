@@ -4,7 +4,7 @@
 //! the assembled stiffness for the rigid-body check. Also `modes` on a 200-element stepped
 //! rotor with two rings: its electrical whirls.
 
-mod common;
+use crate::common;
 use common::rel;
 use rotorshunt::analysis::modes::whirl_modes;
 use rotorshunt::analysis::Rotor;

@@ -3,7 +3,7 @@
 //! rings on different circuits against the symmetric case, bad general-form input, and
 //! every bundled problem run twice with identical outputs.
 
-mod common;
+use crate::common;
 use rotorshunt::problem::{Problem, ProblemErrorKind};
 use std::path::Path;
 use std::process::{Command, Output};

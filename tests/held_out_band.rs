@@ -48,7 +48,7 @@
 //! A band must also contain its φ_op.
 //!
 //! Every case prints one summary line; failures are collected and asserted at the end.
-mod common;
+use crate::common;
 
 use common::scan::{band_points, catalogued_windows, grid as grid_indices, GRID, SCAN};
 use rayon::prelude::*;

@@ -5,7 +5,7 @@
 //! and each plant is refused (exit 2, the plant named) or ignored with a warning.
 //! The study subcommands have their own test (tests/hostile_study.rs).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -10,7 +10,7 @@
 //! results are refused or recomputed and never reach a summary, and a full disk leaves
 //! the summary and `study status` agreeing.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -18,7 +18,7 @@
 //! opened in headless Chromium (`--dump-dom`): no element from the title, the title as
 //! text in `<title>` and `<h1>`; and no raw escape byte on the terminal.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::ffi::OsStr;

@@ -3,7 +3,7 @@
 //! no partial JSON file, the re-run must skip exactly the cases that had finished, leave no
 //! `write_atomic` temporaries and give the same results as an uninterrupted run.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::collections::BTreeMap;

@@ -1,6 +1,6 @@
 //! Invariants of the assembled model and the eigen-solutions, and closed forms.
 
-mod common;
+use crate::common;
 use common::{load, rel};
 use faer::{c64, Mat};
 use rotorshunt::analysis::buckling::buckling_load;

@@ -5,7 +5,7 @@
 //! user's files in it both times), and the next run leaves no leftover beside it. Points
 //! are counted, not timed: N runs from 1 until a run finishes without being killed.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::os::unix::process::ExitStatusExt;

@@ -7,7 +7,7 @@
 //! are in [`EXCEPTIONS`], each with its reason. This test reads every `crate::…` path in
 //! src/ (comments aside) and fails on one that runs back up the chain.
 
-mod common;
+use crate::common;
 
 /// The place of a top-level module in the dependency order; `None` for modules outside
 /// it (the binary's `main`, `cli` and `reporter` are not in src/ of the library's tree

@@ -3,9 +3,9 @@
 //! forever. (`tests/parse_memory.rs` checks the parse-memory estimate.)
 //!
 //! Time bounds are generous (a loaded CI machine); the measured figures are printed
-//! (`cargo test --release --test loading -- --nocapture`).
+//! (`cargo test --release --test suite loading:: -- --nocapture`).
 
-mod common;
+use crate::common;
 use rotorshunt::problem::file::BranchFile;
 use rotorshunt::problem::{Problem, ProblemError, ProblemErrorKind, MAX_DOFS, MAX_FILE_BYTES};
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 //! of `band` is the catalogue's under the strict tolerance declared, and a negative
 //! margin is refused naming its key and line.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use serde_json::Value;

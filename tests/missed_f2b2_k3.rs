@@ -12,7 +12,7 @@
 //! plain fast-path points on a 0.05 rad/s grid inside the whole band, and the tongue's
 //! pair from the full model's whirls and the unstable exponent's frequency.
 
-mod common;
+use crate::common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;

@@ -3,7 +3,7 @@
 //! NaN or infinity in any JSON or CSV the commands write over a corpus of extreme inputs.
 //! Run with `--nocapture` to see the figures.
 
-mod common;
+use crate::common;
 use common::{load, problem_path};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::{FloquetSystem, PointIssue, PointStatus, ZERO_LOAD_TOLERANCE};

@@ -5,7 +5,7 @@
 //! command's previous run are removed, a user's files never; `--out` naming a file is bad
 //! input (exit 2) and leaves the file alone.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::os::unix::process::ExitStatusExt;

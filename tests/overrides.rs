@@ -3,7 +3,7 @@
 //! file that gives both, or two `--set`s of both, are still refused. A study can sweep L
 //! over a base file that tunes its branch by frequency.
 
-mod common;
+use crate::common;
 use common::{load, problem_path, rel, root};
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;

@@ -2,7 +2,7 @@
 //! them: where instability regions start (sums of whirl frequencies of the reduced model)
 //! and how damping and resistance lift their onset.
 
-mod common;
+use crate::common;
 use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::Rotor;

@@ -14,7 +14,7 @@
 //! `--set`, to keep the run short (the band's edges are lattice-refined numbers that do
 //! not depend on the window searched: `rotorshunt band` over 100–8000 rad/s gives them).
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, tmp};
 use rotorshunt::analysis::unbalance::peak_at_node;

@@ -3,7 +3,7 @@
 //! `angle_deg`, rpm in `speed`) gets a warning or an error naming its key; the bundled
 //! problems get none.
 
-mod common;
+use crate::common;
 use common::{load, problem_path, rel, root};
 use rotorshunt::problem::units::RAD_PER_S_PER_RPM;
 use rotorshunt::problem::WarningKind;

@@ -2,7 +2,7 @@
 //! configuration, and Campbell tracks that keep a mode's identity when another mode
 //! enters the window.
 
-mod common;
+use crate::common;
 use common::load;
 use rotorshunt::analysis::campbell::{campbell, CampbellResult};
 use rotorshunt::analysis::modes::{whirl_modes_of, Whirl};

@@ -9,7 +9,7 @@
 //! line each time a phase's done count passes a multiple of [`EVERY`]. The 5 s lines are
 //! still printed beside them on a slow machine and must have the same form.
 
-mod common;
+use crate::common;
 
 use std::process::Output;
 

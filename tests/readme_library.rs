@@ -2,7 +2,7 @@
 //! to) is the program `examples/library_tour.rs`, word for word, and the program prints what
 //! the guide says it prints.
 
-mod common;
+use crate::common;
 use common::pins;
 
 /// The first ```rust block after the heading "## Using the library" of `docs/library.md`.

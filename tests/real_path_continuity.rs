@@ -6,7 +6,7 @@
 //! reads: bands and tuned values. Problems that ask the same band search of the same input
 //! are compared once, and the two paths run side by side.
 
-mod common;
+use crate::common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;

@@ -1,7 +1,7 @@
 //! `[regions]`: the region search's settings set from the file, checked with key and line,
 //! used by the searches and recorded in their output.
 
-mod common;
+use crate::common;
 
 use rotorshunt::problem::{Location, ProblemErrorKind};
 use rotorshunt::{Interval, Problem};

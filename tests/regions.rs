@@ -1,7 +1,7 @@
 //! Instability regions as objects, checked against the charts of the Floquet analysis
 //! and against theory (issue acceptance).
 
-mod common;
+use crate::common;
 use common::load;
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;

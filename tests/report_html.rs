@@ -9,7 +9,7 @@
 //! (`default-src 'none'`) refused; Chromium prints the DOM after it (`--dump-dom`).
 //! Without a browser the test fails, saying why, unless `ROTORSHUNT_SKIP_BROWSER=1`.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

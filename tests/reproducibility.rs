@@ -7,7 +7,7 @@
 //! iterations; clear-bands takes about 2 minutes on 2 cores, so it is `#[ignore]`d by
 //! default.
 
-mod common;
+use crate::common;
 use common::{load, problem_path};
 use rotorshunt::analysis::chart::{chart, ChartResult};
 use rotorshunt::analysis::floquet::FloquetSystem;
@@ -270,7 +270,7 @@ fn cli_widest_band_design_is_identical_except_wall_time() {
 }
 
 #[test]
-#[ignore = "about 2 minutes on 2 cores (four design runs with reports); the widest-band test covers design in CI; run with `cargo test --release --test reproducibility -- --ignored`"]
+#[ignore = "about 2 minutes on 2 cores (four design runs with reports); the widest-band test covers design in CI; run with `cargo test --release --test suite reproducibility:: -- --ignored`"]
 fn cli_clear_bands_design_is_identical_except_wall_time() {
     design_files_are_identical(
         "design-clear-bands.toml",

@@ -2,7 +2,7 @@
 //! rate, a point outside stays bounded. The RK4 time integration is independent of the
 //! monodromy paths, so the agreement of growth rates checks both.
 
-mod common;
+use crate::common;
 use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::response::response;

@@ -14,7 +14,7 @@
 //! every build, the nominal one does not) is checked on whatever designs the runs return;
 //! the closing figures come from the full problems.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use rand::{Rng, SeedableRng};

@@ -4,7 +4,7 @@
 //! `scripts/ross/make_aniso_fixtures.py` (no Python here), which also writes the rotor as
 //! a rotorshunt problem from the numbers it gives ROSS. Rayleigh elements on both sides.
 
-mod common;
+use crate::common;
 use rotorshunt::analysis::modes::{whirl_modes, Whirl};
 use rotorshunt::analysis::unbalance::{node_probe, unbalance_response};
 use rotorshunt::analysis::Rotor;

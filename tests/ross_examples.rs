@@ -17,7 +17,7 @@
 //! fixture), whose sense is noise in ROSS (it calls a line backward) and `mixed` (planar)
 //! in rotorshunt.
 
-mod common;
+use crate::common;
 use num_complex::Complex64 as c64;
 use rotorshunt::analysis::modes::{whirl_modes, Whirl};
 use rotorshunt::analysis::unbalance::{node_probe, unbalance_response};

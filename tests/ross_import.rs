@@ -3,7 +3,7 @@
 //! element, and the converted files hold the values of ROSS's own files, read here
 //! straight from ROSS's JSON.
 
-mod common;
+use crate::common;
 use rotorshunt::commands::Error;
 use rotorshunt::import::ross::{import_path, ElementRef, ImportError, Options, Refusal, RossErrorKind};
 use serde_json::Value;

@@ -11,7 +11,7 @@
 //! frequencies |Im λ| by whirl. At rest every lateral frequency appears twice in ROSS
 //! (forward and backward coincide) and once per whirl in rotorshunt.
 
-mod common;
+use crate::common;
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;

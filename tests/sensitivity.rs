@@ -2,7 +2,7 @@
 //! electrical region f1+r1 moves with the branch tuning frequency exactly as the sum of
 //! the whirl frequencies ω_f1 + ω_r does (an eigenvalue-only computation).
 
-mod common;
+use crate::common;
 use common::load;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;

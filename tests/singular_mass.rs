@@ -1,7 +1,7 @@
 //! A shunt branch with L = 0 makes M singular (section 4, Eq. 18–21): the shift-invert
 //! solver must give finite frequencies equal to those of a tiny L.
 
-mod common;
+use crate::common;
 use common::{load, rel};
 use rotorshunt::analysis::modes::whirl_modes;
 

@@ -11,7 +11,7 @@
 //! `/tmp/rotorshunt-slurm-test`; ports 6837/6838 unless `SLURM_LOCAL_CTLD_PORT` /
 //! `SLURM_LOCAL_SLURMD_PORT` are set) and stops that cluster at the end.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::collections::BTreeMap;

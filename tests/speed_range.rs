@@ -9,7 +9,7 @@
 //! check of the reference and the tuned file at the test's speeds, which hold for whatever
 //! design the run returns.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use rayon::prelude::*;

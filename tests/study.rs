@@ -1,7 +1,7 @@
 //! Batch studies: 12+ cases end to end, one deliberately broken case, and a re-run that
 //! skips finished cases without recomputing them.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -4,7 +4,7 @@
 //! output folder and read-only outputs are never replaced, and an oversized sweep is
 //! refused at once.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};

@@ -6,7 +6,7 @@
 //! tasks given one shard run each case once; bad shards and folders are refused without
 //! touching a file; a 10 000-case plan, its dry run, status and merge list every case.
 
-mod common;
+use crate::common;
 
 use rotorshunt::commands::{planned_inputs, CaseResult, CaseStatus, Manifest, Role, TaskRecord};
 use serde_json::Value;

@@ -5,7 +5,7 @@
 //! uniform Timoshenko elements checked against Nelson's closed forms in
 //! `src/model/element.rs`).
 
-mod common;
+use crate::common;
 use common::rel;
 use rotorshunt::analysis::modes::whirl_modes;
 use rotorshunt::analysis::Rotor;

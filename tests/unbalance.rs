@@ -2,7 +2,7 @@
 //! state, against the closed form of a one-DOF (Jeffcott) rotor, the shunt's effect on
 //! the paper's rotor, thread-count independence and the typed errors of bad input.
 
-mod common;
+use crate::common;
 use common::load;
 use faer::{c64, Mat};
 use rotorshunt::analysis::floquet::FloquetSystem;

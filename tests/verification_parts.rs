@@ -8,7 +8,7 @@
 //! parts have nothing to check), with few iterations and a short catalogue range through
 //! `--set` to keep the run short.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, run_ok, tmp};
 use rotorshunt::analysis::unbalance::peak_at_node;

@@ -3,7 +3,7 @@
 //! the constraints checked on the written tuned.toml by `band` and a fine chart, and the
 //! bad inputs of the new keys.
 
-mod common;
+use crate::common;
 
 use common::{bin, json, problem_path, rel, run_ok, tmp};
 use rotorshunt::analysis::modes::whirl_modes;

@@ -124,7 +124,9 @@ pub struct Measured {
     pub timed_out: bool,
     /// Wall time (s).
     pub seconds: f64,
-    /// Peak resident memory of the child (kB), from `wait4`'s rusage (`ru_maxrss`).
+    /// Peak resident memory of the child (kB), from `wait4`'s rusage (`ru_maxrss`). Linux
+    /// counts the spawning process's own peak in it (the high-water mark before `exec` is
+    /// kept), so a test that bounds it runs in a small binary of its own (tests/suite.rs).
     pub peak_kb: i64,
     /// Standard output.
     pub stdout: String,
