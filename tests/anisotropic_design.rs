@@ -44,7 +44,15 @@ fn a_design_on_an_anisotropic_rotor_ends_verified_with_the_band_of_its_tuned_fil
     assert!(p.model.real_coordinates(), "the fixture must take the real path");
     let dir = scratch("aniso-design");
     let out = dir.join("design");
-    let o = bin().arg("design").arg(&input).arg("--out").arg(&out).arg("--quiet").output().unwrap();
+    let o = bin()
+        .arg("design")
+        .arg(&input)
+        .args(common::COARSE_CHART_ARGS)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
     assert!(stdout.contains("design: improved") && stdout.contains("verification: passed"), "{stdout}");

@@ -61,7 +61,9 @@ fn design_report_names_the_bounds_as_band_does() {
         bin()
             .arg("design")
             .arg(&input)
-            .args(["--set", "design.starts=1", "--set", "design.max_iterations=3", "--out"])
+            .args(["--set", "design.starts=1", "--set", "design.max_iterations=3"])
+            .args(common::COARSE_CHART_ARGS)
+            .arg("--out")
             .arg(&dir)
             .arg("--quiet"),
     );

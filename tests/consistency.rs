@@ -134,7 +134,9 @@ fn band_catalogue_design_and_study_give_the_same_band() {
     // The design report's band before the design (the same file, the same φ range).
     let dir = tmp("design");
     let out = bin()
-        .args(["design", &file, "--set", "design.starts=1", "--set", "design.max_iterations=2", "--out"])
+        .args(["design", &file, "--set", "design.starts=1", "--set", "design.max_iterations=2"])
+        .args(common::COARSE_CHART_ARGS)
+        .arg("--out")
         .arg(&dir)
         .output()
         .unwrap();

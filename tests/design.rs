@@ -134,7 +134,8 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     // 2 convex steps, and the design's catalogues over 1000-2100 rad/s around both bands:
     // the checks below are the test's own chart and regions runs.
     let short = ["--set", "design.max_iterations=2", "--set", "design.phi_range=[1000.0, 2100.0]"];
-    let text = run_ok(bin().arg("design").arg(&input).args(short).arg("--out").arg(&dir));
+    let text =
+        run_ok(bin().arg("design").arg(&input).args(short).args(common::COARSE_CHART_ARGS).arg("--out").arg(&dir));
     assert!(text.contains("design: feasible") && text.contains("verification: passed"), "{text}");
     let layout = common::check_design_report(&dir);
     eprintln!(
@@ -167,7 +168,9 @@ fn impossible_bounds_are_reported_infeasible_with_exit_3_and_no_tuned_toml() {
         .arg(problem_path("design-clear-bands.toml"))
         .args(["--set", "design.variables[0].min=850", "--set", "design.variables[0].max=920"])
         .args(["--set", "design.variables[1].max=1", "--set", "design.max_iterations=4"])
-        .args(["--set", "design.phi_range=[1000.0, 2100.0]", "--out"])
+        .args(["--set", "design.phi_range=[1000.0, 2100.0]"])
+        .args(common::COARSE_CHART_ARGS)
+        .arg("--out")
         .arg(&dir)
         .output()
         .unwrap();
@@ -194,6 +197,7 @@ fn a_band_that_fails_verification_is_reported_with_exit_4() {
         .arg("design")
         .arg(problem_path("design-widest-band.toml"))
         .args(["--set", "analysis.max_tongue_order=1", "--set", "design.starts=1", "--set", "design.max_iterations=3"])
+        .args(common::COARSE_CHART_ARGS)
         .arg("--out")
         .arg(&dir)
         .output()
@@ -257,6 +261,7 @@ fn a_two_speed_report_lists_and_embeds_the_files_it_writes() {
         .arg(problem_path("design-widest-band.toml"))
         .args(["--set", "design.speeds=[1900, 2000]", "--set", "design.starts=1", "--set", "design.max_iterations=3"])
         .args(["--set", "design.phi_range=[900.0, 1600.0]"])
+        .args(common::COARSE_CHART_ARGS)
         .arg("--out")
         .arg(&dir)
         .arg("--quiet")
@@ -266,10 +271,56 @@ fn a_two_speed_report_lists_and_embeds_the_files_it_writes() {
     for f in ["charts-1.png", "charts-1.svg", "charts-2.png", "charts-2.svg"] {
         assert!(dir.join(f).exists(), "{f} missing");
     }
+    // The report says the grid its charts were drawn on (not the default).
+    assert_eq!(json(&dir.join("report.json"))["outcome"]["spec"]["chart_grid"], serde_json::json!([40, 7]));
     let layout = common::check_design_report(&dir);
     eprintln!(
         "two speeds: page one {} lines, {} region rows near the bands",
         layout.page_one_lines, layout.near_region_rows
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_report_charts_grid_is_a_bounded_setting_that_leaves_the_design_alone() {
+    use rotorshunt::design::content::chart_grid;
+    use rotorshunt::design::spec::CHART_GRID;
+    // The default, and the keys (as the tests' coarse grid gives them).
+    let default = common::load("design-widest-band.toml", &[]);
+    let coarse = common::load("design-widest-band.toml", &common::COARSE_CHARTS);
+    let (a, b) = (default.design.as_ref().unwrap(), coarse.design.as_ref().unwrap());
+    assert_eq!((a.chart_grid, b.chart_grid), ((400, 31), (40, 7)));
+    assert_eq!(CHART_GRID, (400, 31), "problems/README.md documents 400 × 31");
+    let (phis, betas) = chart_grid(b);
+    assert_eq!((phis.len(), betas.len()), (40, 7));
+    // Both grids span the same window and β range: only the spacing differs.
+    let (dp, db) = chart_grid(a);
+    assert_eq!((phis[0], phis[39], betas[6]), (dp[0], dp[399], db[30]));
+    // The design problem is otherwise the same; the JSON names the grid only when it is
+    // not the default.
+    let to_json = |s: &rotorshunt::design::DesignSpec| serde_json::to_value(s).unwrap();
+    let (ja, mut jb) = (to_json(a), to_json(b));
+    assert!(ja.get("chart_grid").is_none(), "{ja}");
+    assert_eq!(jb["chart_grid"], serde_json::json!([40, 7]));
+    jb.as_object_mut().unwrap().remove("chart_grid");
+    assert_eq!(ja, jb);
+    // Out of bounds, or not a whole number: refused at the key.
+    for (set, key) in [
+        ("design.chart_phi_points=1", "design.chart_phi_points"),
+        ("design.chart_phi_points=4001", "design.chart_phi_points"),
+        ("design.chart_beta_points=0", "design.chart_beta_points"),
+        ("design.chart_beta_points=402", "design.chart_beta_points"),
+        ("design.chart_beta_points=-7", "design.chart_beta_points"),
+        ("design.chart_phi_points=40.5", "design.chart_phi_points"),
+    ] {
+        let e = Problem::from_path(problem_path("design-widest-band.toml"), &[set.to_string()]).expect_err(set);
+        assert_eq!(e.key, key, "{set}: {e}");
+        eprintln!("{set}: {e}");
+    }
+    // A spec built in code obeys the same bounds.
+    let mut c = b.clone();
+    c.chart_grid = (40, 1);
+    let branches: Vec<usize> = coarse.model.rings.iter().map(|r| r.circuit.branches.len()).collect();
+    let (field, _) = c.check(&branches).expect_err("one β point");
+    assert_eq!(field, "chart_beta_points");
 }

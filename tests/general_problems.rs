@@ -106,6 +106,10 @@ fn design_on_the_ring_branch_ends_verified() {
         "design.starts=2",
         "--set",
         "design.max_iterations=8",
+        "--set",
+        common::COARSE_CHARTS[0],
+        "--set",
+        common::COARSE_CHARTS[1],
         "--out",
         dir.to_str().unwrap(),
     ]);

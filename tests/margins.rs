@@ -71,6 +71,7 @@ fn design_with_margins_holds_them_by_the_catalogue_of_tuned_toml() {
     cmd.arg("design").arg(&input).arg("--quiet");
     with_sets(&mut cmd, &sets);
     with_sets(&mut cmd, &["design.starts=2", "design.max_iterations=12"]);
+    with_sets(&mut cmd, &common::COARSE_CHARTS);
     run_ok(cmd.arg("--out").arg(&dir));
     let report = json(&dir.join("report.json"))["outcome"].clone();
     assert_eq!(report["verified"], Value::Bool(true), "{}", report["after_speeds"][0]["failures"]);
@@ -129,6 +130,7 @@ fn paper_design_report_states_its_load_margin_and_strict_band() {
     let mut cmd = bin();
     cmd.arg("design").arg(problem_path("design-widest-band.toml")).arg("--quiet");
     with_sets(&mut cmd, &["design.starts=1", "design.max_iterations=3"]);
+    with_sets(&mut cmd, &common::COARSE_CHARTS);
     run_ok(cmd.arg("--out").arg(&dir));
     let report = json(&dir.join("report.json"))["outcome"].clone();
     let d = &report["after_speeds"][0];

@@ -39,7 +39,7 @@ fn every_point_of_the_front_is_verified_and_the_front_is_monotone() {
     let dir = tmp("pareto");
     let mut cmd = bin();
     cmd.arg("design").arg(problem_path("design-min-peak.toml"));
-    for o in OVERRIDES {
+    for o in OVERRIDES.iter().chain(&common::COARSE_CHARTS) {
         cmd.args(["--set", o]);
     }
     let out = cmd.args(["--pareto", "3", "--quiet", "--out"]).arg(&dir).output().unwrap();

@@ -45,7 +45,7 @@ fn design(file: &str, name: &str, starts: usize) -> (std::path::PathBuf, Value) 
     let dir = tmp(name);
     let mut cmd = bin();
     cmd.arg("design").arg(problem_path(file)).args(["--set", &format!("design.starts={starts}")]);
-    for s in SETS {
+    for s in SETS.iter().chain(&common::COARSE_CHARTS) {
         cmd.args(["--set", s]);
     }
     let text = run_ok(cmd.arg("--out").arg(&dir).arg("--quiet"));

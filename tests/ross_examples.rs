@@ -229,6 +229,7 @@ fn the_compressor_with_a_ring_ends_its_design_verified() {
         .arg(&out)
         .args(["--set", "design.starts=1", "--set", "design.max_iterations=4"])
         .args(["--set", "design.phi_range=[800.0, 1600.0]", "--quiet"])
+        .args(common::COARSE_CHART_ARGS)
         .current_dir(common::root())
         .output()
         .unwrap();

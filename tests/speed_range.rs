@@ -61,7 +61,9 @@ fn a_violation_inside_the_speed_range_only_is_found_and_fixed() {
             .arg("design")
             .arg(&input)
             .args(["--set", "design.starts=1", "--set", "design.max_iterations=6"])
-            .args(["--set", "design.phi_range=[900.0, 1700.0]", "--out"])
+            .args(["--set", "design.phi_range=[900.0, 1700.0]"])
+            .args(common::COARSE_CHART_ARGS)
+            .arg("--out")
             .arg(&dir)
             .arg("--quiet"),
     );

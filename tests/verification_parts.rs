@@ -33,7 +33,7 @@ fn parts_with_nothing_to_check_are_not_applicable_and_the_peak_is_found_again() 
     let dir = tmp("verification-parts");
     let mut cmd = bin();
     cmd.arg("design").arg(problem_path("design-min-peak-stepped.toml"));
-    for o in OVERRIDES {
+    for o in OVERRIDES.iter().chain(&common::COARSE_CHARTS) {
         cmd.args(["--set", o]);
     }
     let text = run_ok(cmd.arg("--out").arg(&dir).arg("--quiet"));

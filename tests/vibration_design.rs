@@ -103,7 +103,13 @@ fn band_constraint_is_true_and_costs_response() {
     // around the band: the constraints are checked on whatever design the run returns.
     let short = ["--set", "design.max_iterations=10", "--set", "design.phi_range=[200.0, 1000.0]"];
     let text = run_ok(
-        bin().args(["design", &problem_path("design-min-peak.toml")]).args(short).arg("--out").arg(&dir).arg("--quiet"),
+        bin()
+            .args(["design", &problem_path("design-min-peak.toml")])
+            .args(short)
+            .args(common::COARSE_CHART_ARGS)
+            .arg("--out")
+            .arg(&dir)
+            .arg("--quiet"),
     );
     assert!(text.starts_with("design: improved"), "{text}");
     let report = json(&dir.join("report.json"));

@@ -26,13 +26,20 @@ def interrupted_after(seconds, call):
         sent["at"] = time.monotonic()
         os.kill(os.getpid(), signal.SIGINT)
 
-    timer = threading.Timer(seconds, interrupt)
-    start = time.monotonic()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        call()
-    stopped = time.monotonic()
-    timer.join()
+    # Python's own Ctrl-C handler, as at a terminal or in a notebook: a process started in
+    # the background by a non-interactive shell (as `.ci/run &`) inherits SIGINT ignored,
+    # and Python then installs no handler.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        timer = threading.Timer(seconds, interrupt)
+        start = time.monotonic()
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            call()
+        stopped = time.monotonic()
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return stopped - sent["at"], stopped - start
 
 

@@ -12,9 +12,6 @@ use crate::analysis::chart::{chart, ChartResult};
 use crate::analysis::Interval;
 use crate::progress::Progress;
 
-/// Grid of the before/after charts: φ points and β points (400 × 31 resolves a
-/// 1 rad/s-wide tongue in a window of a few hundred rad/s, in about a second per chart).
-pub const CHART_GRID: (usize, usize) = (400, 31);
 /// Whirls tracked in the tuned design's Campbell diagram.
 pub const CAMPBELL_WHIRLS: usize = 6;
 /// Speeds of the tuned design's Campbell diagram (0 to 1.5 × the largest operating speed).
@@ -170,7 +167,8 @@ fn band_window(bands: &[Band]) -> (f64, f64) {
     (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))
 }
 
-/// The charts' grid: [`CHART_GRID`] points over the window in φ (rad/s), and over β from
+/// The charts' grid: the spec's [`DesignSpec::chart_grid`] points over the window in φ
+/// (rad/s), and over β from
 /// 0 to twice β_op (at most β_max, at least β_op). The window is [`chart_window`]; the
 /// report's is [`drawn_window`] (the same number of points).
 pub fn chart_grid(spec: &DesignSpec) -> (Vec<f64>, Vec<f64>) {
@@ -178,9 +176,10 @@ pub fn chart_grid(spec: &DesignSpec) -> (Vec<f64>, Vec<f64>) {
 }
 
 fn grid_over(spec: &DesignSpec, w: Interval) -> (Vec<f64>, Vec<f64>) {
-    let phis = (0..CHART_GRID.0).map(|i| w.lo + w.width() * i as f64 / (CHART_GRID.0 - 1) as f64).collect();
+    let (n_phi, n_beta) = spec.chart_grid;
+    let phis = (0..n_phi).map(|i| w.lo + w.width() * i as f64 / (n_phi - 1) as f64).collect();
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
-    let betas = (0..CHART_GRID.1).map(|i| top * i as f64 / (CHART_GRID.1 - 1) as f64).collect();
+    let betas = (0..n_beta).map(|i| top * i as f64 / (n_beta - 1) as f64).collect();
     (phis, betas)
 }
 
@@ -193,7 +192,7 @@ pub fn campbell_speeds(spec: &DesignSpec) -> Vec<f64> {
 /// Rows of the charts (φ points × speeds × 2 designs) plus the Campbell speeds: the
 /// progress steps [`content`] reports.
 pub fn content_steps(spec: &DesignSpec) -> usize {
-    2 * spec.speeds.len() * CHART_GRID.0 + CAMPBELL_SPEEDS
+    2 * spec.speeds.len() * spec.chart_grid.0 + CAMPBELL_SPEEDS
 }
 
 /// The charts of `before` and `after` at every operating speed over [`drawn_window`] of

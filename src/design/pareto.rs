@@ -398,6 +398,7 @@ mod tests {
             speed_range: None,
             tolerances: None,
             speed_unit: Default::default(),
+            chart_grid: crate::design::spec::CHART_GRID,
         }
     }
 

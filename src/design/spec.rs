@@ -273,7 +273,22 @@ pub struct DesignSpec {
     /// The unit the operating speeds are shown in (rpm when the file gave them in rpm,
     /// [`crate::problem::Problem::speed_unit`]); display only, not in the JSON.
     pub speed_unit: crate::numbers::SpeedUnit,
+    /// The report's before/after charts: φ points and β points
+    /// (`design.chart_phi_points`, `design.chart_beta_points`; [`CHART_GRID`] by default).
+    /// They draw what the design is; the design and its verification do not read them.
+    pub chart_grid: (usize, usize),
 }
+
+/// The report charts' default grid: φ points and β points (400 × 31 resolves a
+/// 1 rad/s-wide tongue in a window of a few hundred rad/s, in about a second per chart).
+pub const CHART_GRID: (usize, usize) = (400, 31);
+/// Most φ points of a report chart (`design.chart_phi_points`): ten times the default.
+pub const MAX_CHART_PHI_POINTS: u64 = 4000;
+/// Most β points of a report chart (`design.chart_beta_points`): β in steps of 0.5 % of
+/// the chart's top.
+pub const MAX_CHART_BETA_POINTS: u64 = 401;
+/// Fewest points of a report chart in φ or β: both ends.
+pub const MIN_CHART_POINTS: u64 = 2;
 
 /// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys
 /// (`phi_op`, `bands`), the shape reports have always had.
@@ -297,6 +312,10 @@ struct SpecJson<'a> {
     speed_range: Option<Interval>,
     #[serde(skip_serializing_if = "Option::is_none")]
     tolerances: Option<&'a Tolerances>,
+    /// Written only when not [`CHART_GRID`] (the JSON of a file without the keys is as
+    /// it was).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    chart_grid: Option<(usize, usize)>,
 }
 
 impl Serialize for DesignSpec {
@@ -316,6 +335,7 @@ impl Serialize for DesignSpec {
             constraints: &self.constraints,
             speed_range: self.speed_range,
             tolerances: self.tolerances.as_ref(),
+            chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
         }
         .serialize(serializer)
     }
@@ -444,6 +464,10 @@ impl DesignSpec {
         }
         limits::count(self.starts as u64, 1, MAX_STARTS).map_err(at("starts"))?;
         limits::count(self.max_iterations as u64, 1, MAX_ITERATIONS).map_err(at("max_iterations"))?;
+        limits::count(self.chart_grid.0 as u64, MIN_CHART_POINTS, MAX_CHART_PHI_POINTS)
+            .map_err(at("chart_phi_points"))?;
+        limits::count(self.chart_grid.1 as u64, MIN_CHART_POINTS, MAX_CHART_BETA_POINTS)
+            .map_err(at("chart_beta_points"))?;
         limits::count(self.variables.len() as u64, 1, u64::MAX).map_err(at("variables"))?;
         for (i, v) in self.variables.iter().enumerate() {
             let key = format!("variables[{i}]");

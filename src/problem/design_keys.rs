@@ -9,7 +9,8 @@ use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use crate::design::spec::{
     Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Objective, ObjectiveKind, Parameter, Response,
-    Variable, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_RESPONSE_POINTS,
+    Variable, CHART_GRID, MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS,
+    MIN_CHART_POINTS, MIN_RESPONSE_POINTS,
 };
 use crate::design::tolerance::Tolerances;
 use crate::model::{CircuitState, Model};
@@ -324,6 +325,22 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         response,
         constraints,
         speed_unit: Default::default(),
+        chart_grid: (
+            count_from(
+                "design.chart_phi_points",
+                d.chart_phi_points,
+                CHART_GRID.0 as i64,
+                MIN_CHART_POINTS,
+                MAX_CHART_PHI_POINTS,
+            )?,
+            count_from(
+                "design.chart_beta_points",
+                d.chart_beta_points,
+                CHART_GRID.1 as i64,
+                MIN_CHART_POINTS,
+                MAX_CHART_BETA_POINTS,
+            )?,
+        ),
     }))
 }
 
@@ -367,9 +384,14 @@ fn tolerances(t: &TolerancesFile, objective: &Objective) -> Result<Tolerances, F
 
 /// A whole number at `key` from 1 to `hi`, `default` when absent.
 fn count(key: &str, v: Option<i64>, default: i64, hi: u64) -> Result<usize, Failure> {
+    count_from(key, v, default, 1, hi)
+}
+
+/// A whole number at `key` from `lo` to `hi`, `default` when absent.
+fn count_from(key: &str, v: Option<i64>, default: i64, lo: u64, hi: u64) -> Result<usize, Failure> {
     let v = v.unwrap_or(default);
     let n = u64::try_from(v).unwrap_or(0);
-    rule(key, limits::count(n, 1, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
+    rule(key, limits::count(n, lo, hi).map_err(|e| ParamError { value: v as f64, ..e })).map(|n| n as usize)
 }
 
 /// A speed range [lo, hi] (rad/s) at `key`: two speeds, each by `speed_rule` at its own

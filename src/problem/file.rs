@@ -102,6 +102,12 @@ pub struct DesignFile {
     /// Iterations per start (Nelder–Mead) or sequential convex steps; default 40.
     #[serde(default)]
     pub max_iterations: Option<i64>,
+    /// φ points of each before/after chart of the design report (2–4000); default 400.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chart_phi_points: Option<i64>,
+    /// β points of each before/after chart of the design report (2–401); default 31.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chart_beta_points: Option<i64>,
     /// `[design.response]`: the unbalance response of the min-peak-response objective and
     /// the peak constraint.
     #[serde(default, skip_serializing_if = "Option::is_none")]
