@@ -1,6 +1,7 @@
 //! `Progress::cancelled`: a chart and a region catalogue asked to stop skip the steps not
-//! begun (an incomplete result, for the caller to discard), and a progress that never
-//! asks changes nothing (the Python bindings' Ctrl-C, docs/python.md).
+//! begun (an incomplete result, for the caller to discard), a design ends with
+//! `DesignError::Stopped`, and a progress that never asks changes nothing (the Python
+//! bindings' Ctrl-C, docs/python.md).
 
 use rotorshunt::analysis::chart::chart;
 use rotorshunt::analysis::regions::catalogue_with;
@@ -56,4 +57,26 @@ fn a_catalogue_asked_to_stop_returns_early() {
     assert!(!full.regions.is_empty());
     let stopped = catalogue_with(&op.floquet, &op.modes, &op.regions, &req, &stop_after(0)).unwrap();
     assert!(stopped.regions.is_empty(), "{} regions", stopped.regions.len());
+}
+
+#[test]
+fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
+    use rotorshunt::design::{self, DesignError};
+    let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
+    let problem = Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap();
+    let spec = problem.design.as_ref().unwrap();
+    let machine = problem.machine();
+    // Never asked: the same outcome as without a progress.
+    let full = design::run(&machine, spec, &Silent).unwrap();
+    let never = design::run(&machine, spec, &stop_after(u64::MAX)).unwrap();
+    assert_eq!((never.after.clone(), never.candidates), (full.after.clone(), full.candidates));
+    assert!(full.candidates > 4, "{} candidates", full.candidates);
+    // Asked after 2 candidates (a step of the optimise phase is a candidate built): the
+    // run ends with the error, having built at most a candidate per thread more.
+    let progress = stop_after(2);
+    let e = design::run(&machine, spec, &progress).expect_err("stopped");
+    assert!(matches!(e, DesignError::Stopped), "{e}");
+    assert_eq!(e.kind(), "Stopped");
+    let built = progress.done.load(Ordering::Relaxed);
+    assert!(built <= 2 + rayon::current_num_threads() as u64, "{built} candidates built");
 }

@@ -143,6 +143,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::Design(DesignError::Qp(s())),
         Error::Design(DesignError::NoResponse),
         Error::Design(DesignError::FrontPoints(0)),
+        Error::Design(DesignError::Stopped),
         Error::Design(DesignError::Candidate {
             variable: 0,
             name: s(),

@@ -135,3 +135,16 @@ def test_long_calls_release_the_gil(root):
     assert ticks > chart / 0.05 * 2
     if load < 0.5 and (os.cpu_count() or 1) >= 2:
         assert ratio < 1.6
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_during_a_design_raises_keyboard_interrupt_within_a_second(tmp_path):
+    # The widest-band design as the file asks it (4 starts of 25 iterations, about 20 s
+    # here); stopped after 1 s, in its optimisation. With `out`, no folder is left.
+    p = rs.Problem.from_file("problems/design-widest-band.toml")
+    out = tmp_path / "design"
+    latency, _ = interrupted_after(1.0, lambda: p.design(out=out))
+    print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT (design)")
+    assert latency < 1.0
+    assert not out.exists()
+    assert list(tmp_path.iterdir()) == []

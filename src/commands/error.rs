@@ -338,7 +338,8 @@ impl Error {
                 | D::NoResponse
                 | D::NoTradeOff(_)
                 | D::FrontPoints(_)
-                | D::UnknownMode { .. } => FAILED,
+                | D::UnknownMode { .. }
+                | D::Stopped => FAILED,
             },
         }
     }

@@ -110,6 +110,11 @@ pub enum DesignError {
         /// The model's tags there, forward then backward, lowest first.
         available: Vec<String>,
     },
+    /// The caller asked the run to stop ([`crate::progress::Progress::cancelled`]; the
+    /// Python bindings on Ctrl-C): no candidate is built after that, and what was begun
+    /// is dropped. The command line never asks (Ctrl-C ends it, removing its folder).
+    #[error("the design was stopped by its caller before it ended; nothing was kept")]
+    Stopped,
 }
 
 impl DesignError {
@@ -127,6 +132,7 @@ impl DesignError {
             DesignError::NoTradeOff(_) => "NoTradeOff",
             DesignError::FrontPoints(_) => "FrontPoints",
             DesignError::UnknownMode { .. } => "UnknownMode",
+            DesignError::Stopped => "Stopped",
             DesignError::Spec { error, .. } => error.rule.kind(),
         }
     }

@@ -223,6 +223,9 @@ impl Progress for Relay<'_> {
     fn notice(&self, line: &str) {
         self.0.notice(line);
     }
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
 }
 
 /// Run one point: the design of [`point_spec`] with the caller's `options`, and its

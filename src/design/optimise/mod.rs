@@ -97,7 +97,13 @@ impl Context<'_> {
         self.spec.variables.iter().zip(u).map(|(v, &x)| v.from_unit(x.clamp(0.0, 1.0))).collect()
     }
 
+    /// The candidate at `u` (scaled), counted; none once the caller asks to stop (the
+    /// objectives take it as failed, so the optimisers run out at once, and the run then
+    /// ends with [`DesignError::Stopped`]).
     fn candidate(&self, u: &[f64]) -> Result<Candidate, DesignError> {
+        if self.progress.cancelled() {
+            return Err(DesignError::Stopped);
+        }
         self.candidates.fetch_add(1, Ordering::Relaxed);
         self.progress.advance(1);
         let c = Candidate::new(self.base, self.spec, &self.values(u));
@@ -291,6 +297,7 @@ pub fn run_with(
     out.first_failure = ctx.first_failure.lock().unwrap_or_else(|p| p.into_inner()).clone();
     out.floquet_evaluations = ctx.floquet.get();
     out.seconds = started.elapsed().as_secs_f64();
+    stopped(progress)?;
     // Verification, from scratch: the reference and the tuned design rebuilt, their full
     // catalogues, and the checks on the tuned one.
     let checked = Instant::now();
@@ -468,7 +475,17 @@ pub fn run_with(
         out.status = if failed == ["tolerances"] { Status::NotRobust } else { Status::NotVerified };
     }
     out.verification_cost = Cost { evaluations: count.get(), seconds: checked.elapsed().as_secs_f64() };
+    // A stop asked during the verification leaves its searches incomplete: no verdict.
+    stopped(progress)?;
     Ok(out)
+}
+
+/// [`DesignError::Stopped`] once the caller has asked the run to stop.
+fn stopped(progress: &dyn Progress) -> Result<(), DesignError> {
+    if progress.cancelled() {
+        return Err(DesignError::Stopped);
+    }
+    Ok(())
 }
 
 /// (onset, left, right) of a tongue at the level.
