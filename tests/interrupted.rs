@@ -29,15 +29,19 @@ fn write_study(dir: &Path) -> PathBuf {
     common::coarse_study(
         dir,
         "study.toml",
-        r#"[[cases]]
+        &format!(
+            r#"[[cases]]
 name = "design"
 kind = "design"
-set = ["design.starts=1", "design.max_iterations=3", "design.phi_range=[1000.0, 1500.0]"]
+set = ["design.starts=1", "design.max_iterations=3", "design.phi_range=[1000.0, 1500.0]", "{}", "{}"]
 
 [sweep]
 speed = [1000.0, 2000.0, 3000.0]
 "circuit.branches[0].resistance" = [0.0, 10.0, 50.0, 100.0, 200.0]
 "#,
+            common::COARSE_CHARTS[0],
+            common::COARSE_CHARTS[1]
+        ),
     )
 }
 

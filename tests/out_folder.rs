@@ -137,6 +137,7 @@ fn cases() -> Vec<Case> {
         v.extend(strings(&coarse));
         v.extend(strings(&["--set", "design.starts=2", "--set", &format!("design.max_iterations={iterations}")]));
         v.extend(strings(&["--set", "design.phi_range=[1000.0, 1500.0]"]));
+        v.extend(strings(&common::COARSE_CHART_ARGS));
         v
     };
     vec![
