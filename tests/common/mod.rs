@@ -9,9 +9,8 @@ use rotorshunt::problem::Problem;
 /// `--set` values that draw a design report's before/after charts on a 40 × 7 grid instead
 /// of the default 400 × 31 (`design.chart_phi_points`, `design.chart_beta_points`): for
 /// the tests that check a design, its verification and its files, not its charts' detail
-/// (tests/design.rs's widest-band report, report_html.rs, progress.rs and
-/// reproducibility.rs draw the default grid). The design and its verification do not read
-/// these keys.
+/// (tests/design.rs's widest-band report, report_html.rs and progress.rs draw the default
+/// grid). The design and its verification do not read these keys.
 pub const COARSE_CHARTS: [&str; 2] = ["design.chart_phi_points=40", "design.chart_beta_points=7"];
 /// [`COARSE_CHARTS`] as command-line arguments.
 pub const COARSE_CHART_ARGS: [&str; 4] = ["--set", COARSE_CHARTS[0], "--set", COARSE_CHARTS[1]];
