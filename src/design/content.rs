@@ -168,9 +168,8 @@ fn band_window(bands: &[Band]) -> (f64, f64) {
 }
 
 /// The charts' grid: the spec's [`DesignSpec::chart_grid`] points over the window in φ
-/// (rad/s), and over β from
-/// 0 to twice β_op (at most β_max, at least β_op). The window is [`chart_window`]; the
-/// report's is [`drawn_window`] (the same number of points).
+/// (rad/s), and over β from 0 to twice β_op (at most β_max, at least β_op). The window is
+/// [`chart_window`]; the report's is [`drawn_window`] (the same number of points).
 pub fn chart_grid(spec: &DesignSpec) -> (Vec<f64>, Vec<f64>) {
     grid_over(spec, chart_window(spec))
 }
