@@ -4,7 +4,8 @@
 //!
 //! A command's `--out` folder ([`OutDir::create`], [`OutDir::with_inputs`]) is written
 //! through a staging folder beside it, `PARENT/.rotorshunt-tmp.NAME.TOKEN` (TOKEN unique
-//! to the run, [`files::token`]; the tool's one hidden-name scheme, [`files::staging_name`]): every file goes first into the staging folder, and only
+//! to the run, [`files::token`]; the tool's one hidden-name scheme,
+//! [`files::staging_name`]): every file goes first into the staging folder, and only
 //! [`OutDir::commit`], after the last file, puts the whole set in place in one step.
 //! So a reader, and a run that fails or is killed at any point, sees the old folder or
 //! the new one, never a mix:
@@ -197,12 +198,6 @@ fn stager(token: &str) -> Stager {
 /// is kept).
 fn manifest_temporary(name: &str, entry: &std::fs::DirEntry) -> bool {
     files::temporary_target(name).is_some_and(|t| t == MANIFEST) && entry.file_type().is_ok_and(|t| t.is_file())
-}
-
-/// The folder a staging folder named `name` stands for, by name only: whether it is the
-/// tool's is proved by its record before anything removes it.
-pub(crate) fn staging_of(name: &str) -> Option<&str> {
-    files::staging_parts(name).map(|(entry, _, _)| entry)
 }
 
 impl Staging {

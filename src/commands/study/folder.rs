@@ -297,7 +297,7 @@ pub(crate) fn inspect_as(
             || name == LOCK
             || recorded.contains(&name)
             || temporary_target(&name).is_some_and(|t| t == MANIFEST || recorded.contains(t))
-            || crate::commands::out::staging_of(&name).is_some_and(|e| recorded.contains(e));
+            || crate::files::staging_parts(&name).is_some_and(|(e, _, _)| recorded.contains(e));
         if !ours {
             foreign.push(name);
         }

@@ -101,9 +101,7 @@ impl Context<'_> {
     /// objectives take it as failed, so the optimisers run out at once, and the run then
     /// ends with [`DesignError::Stopped`]).
     fn candidate(&self, u: &[f64]) -> Result<Candidate, DesignError> {
-        if self.progress.cancelled() {
-            return Err(DesignError::Stopped);
-        }
+        stopped(self.progress)?;
         self.candidates.fetch_add(1, Ordering::Relaxed);
         self.progress.advance(1);
         let c = Candidate::new(self.base, self.spec, &self.values(u));
