@@ -102,6 +102,7 @@ fn widest_band_design_reports_the_band_of_tuned_toml_and_verifies_it() {
     let report = json(&dir.join("report.json"));
     let outcome = &report["outcome"];
     assert_eq!(outcome["verified"], true);
+    assert!(common::outcome_round_trips(outcome).status.is_result());
     let after = &outcome["after_bands"][0]["band"]["band"];
     let (lo, hi) = (after["lo"].as_f64().unwrap(), after["hi"].as_f64().unwrap());
     let before = &outcome["before_bands"][0]["band"]["band"];
@@ -137,6 +138,8 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let text =
         run_ok(bin().arg("design").arg(&input).args(short).args(common::COARSE_CHART_ARGS).arg("--out").arg(&dir));
     assert!(text.contains("design: feasible") && text.contains("verification: passed"), "{text}");
+    let outcome = common::outcome_round_trips(&json(&dir.join("report.json"))["outcome"]);
+    assert!(outcome.after_intrusions().is_empty() && !outcome.convex_steps.is_empty());
     let layout = common::check_design_report(&dir);
     eprintln!(
         "clear bands report: page one {} lines, {} region rows near the bands",
@@ -180,6 +183,7 @@ fn impossible_bounds_are_reported_infeasible_with_exit_3_and_no_tuned_toml() {
     assert!(text.contains("violated: band [1150, 1210]"), "{text}");
     let report = json(&dir.join("report.json"));
     assert_eq!(report["outcome"]["status"], "infeasible");
+    assert!(!common::outcome_round_trips(&report["outcome"]).after_intrusions().is_empty());
     assert!(!report["outcome"]["after_intrusions"].as_array().unwrap().is_empty());
     assert!(!dir.join("tuned.toml").exists(), "an infeasible design must not write tuned.toml");
     let best = std::fs::read_to_string(dir.join("best-effort.toml")).unwrap();

@@ -75,6 +75,7 @@ fn design_with_margins_holds_them_by_the_catalogue_of_tuned_toml() {
     run_ok(cmd.arg("--out").arg(&dir));
     let report = json(&dir.join("report.json"))["outcome"].clone();
     assert_eq!(report["verified"], Value::Bool(true), "{}", report["after_speeds"][0]["failures"]);
+    assert!(common::outcome_round_trips(&report).after_speeds.iter().all(|s| s.margin_check.is_some()));
     let tuned = dir.join("tuned.toml");
 
     // At the margin level: φ_op at least 50 rad/s from each edge of its band, and no

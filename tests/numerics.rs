@@ -86,7 +86,10 @@ fn beta_zero_check_flags_a_path_whose_unloaded_multipliers_drift() {
     assert!(json.status.success());
     let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
     assert_eq!(v["status"], "inaccurate");
-    assert!(v["reason"].as_str().unwrap().starts_with("beta = 0 check: the multipliers at beta = 0 deviate"), "{v}");
+    assert!(
+        v["reason"]["message"].as_str().unwrap().starts_with("beta = 0 check: the multipliers at beta = 0 deviate"),
+        "{v}"
+    );
     let text = run(&["floquet", &problem_path("fig11-closed-2000.toml")], &args);
     assert!(String::from_utf8_lossy(&text.stdout).contains("\nreason: beta = 0 check"));
 }
@@ -109,7 +112,7 @@ fn huge_beta_chart_never_calls_a_wrong_verdict_ok() {
     assert_eq!(points.len(), 11);
     for p in points {
         assert_eq!(p["status"], "inaccurate", "{p}");
-        assert!(p["reason"].as_str().unwrap().contains("parametric coupling"), "{p}");
+        assert!(p["reason"]["message"].as_str().unwrap().contains("parametric coupling"), "{p}");
     }
     // The same φ at the paper's loads is sound, and β = 0 stable with |μ| = 1.
     let fs = system(&load("fig11-closed-2000.toml", &[]));
@@ -181,10 +184,14 @@ fn garbage_modes_are_flagged_and_no_whirl_is_an_error() {
     assert!(out.status.success());
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let modes = v["modes"].as_array().unwrap();
-    assert!(modes.iter().any(|m| m["flag"].as_str().is_some_and(|f| f.starts_with("QEP residual"))), "{v}");
+    assert!(modes.iter().any(|m| m["flag"]["message"].as_str().is_some_and(|f| f.starts_with("QEP residual"))), "{v}");
     for m in modes {
         let residual = m["residual"].as_f64().unwrap();
-        assert_eq!(residual > 1e-6, m["flag"].as_str().is_some_and(|f| f.starts_with("QEP residual")), "{m}");
+        assert_eq!(
+            residual > 1e-6,
+            m["flag"]["message"].as_str().is_some_and(|f| f.starts_with("QEP residual")),
+            "{m}"
+        );
     }
     let text = run(&["modes", &problem_path("fig11-closed-2000.toml")], &["--set", "speed=1e300"]);
     assert!(String::from_utf8_lossy(&text.stdout).contains("note: mode "));

@@ -57,6 +57,7 @@ fn every_point_of_the_front_is_verified_and_the_front_is_monotone() {
     for (k, p) in points.iter().enumerate() {
         // The verifier's own verdict, part by part: nothing passes on nothing.
         assert_eq!(p["verified"], true, "point {}: {}", k + 1, p["verdict"]);
+        assert!(common::outcome_round_trips(&p["outcome"]).verified());
         for part in p["outcome"]["verification"]["parts"].as_array().unwrap() {
             assert_ne!(part["status"], "failed", "{part}");
             if part["checked"].as_u64() == Some(0) {

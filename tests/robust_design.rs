@@ -51,6 +51,7 @@ fn design(file: &str, name: &str, starts: usize) -> (std::path::PathBuf, Value) 
     let text = run_ok(cmd.arg("--out").arg(&dir).arg("--quiet"));
     eprintln!("{file}:\n{text}");
     let report = json(&dir.join("report.json"));
+    common::outcome_round_trips(&report["outcome"]);
     (dir, report)
 }
 

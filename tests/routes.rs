@@ -431,7 +431,8 @@ fn settings_built_in_code_are_validated() {
 
 /// A catalogue and a band read back from their JSON are the results written: the library's
 /// results of the region search are Serialize and Deserialize, and round-trip exactly
-/// (serde_json's `float_roundtrip`: every f64 bit for bit).
+/// (serde_json's `float_roundtrip`: every f64 bit for bit). The other results round-trip
+/// in tests/round_trip.rs.
 #[test]
 fn catalogue_and_band_round_trip_through_json() {
     use rotorshunt::{Band, BandRequest, Catalogue, CatalogueRequest, Interval};

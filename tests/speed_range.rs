@@ -70,6 +70,7 @@ fn a_violation_inside_the_speed_range_only_is_found_and_fixed() {
     eprintln!("{text}");
     let outcome = json(&dir.join("report.json"))["outcome"].clone();
     assert_eq!(outcome["status"], "improved");
+    assert!(common::outcome_round_trips(&outcome).speed_check.is_some());
     // Found: the report's check of the reference names failing interior speeds.
     let before = outcome["speed_check_before"]["failing"].as_array().unwrap();
     assert!(!before.is_empty(), "the design's check of the reference finds the interior violation");

@@ -70,6 +70,7 @@ mod ross_aniso;
 mod ross_examples;
 mod ross_import;
 mod ross_reference;
+mod round_trip;
 mod sensitivity;
 mod singular_mass;
 mod slurm;

@@ -113,6 +113,7 @@ fn band_constraint_is_true_and_costs_response() {
     );
     assert!(text.starts_with("design: improved"), "{text}");
     let report = json(&dir.join("report.json"));
+    assert!(common::outcome_round_trips(&report["outcome"]).peak_findings().is_some());
     let f = &report["outcome"]["min_peak"];
     let after = f["after"]["peak"]["amplitude"].as_f64().unwrap();
     let free = f["unconstrained"]["peak"]["amplitude"].as_f64().unwrap();

@@ -6,10 +6,10 @@ use super::{AnalysisError, Rotor, Settings};
 use crate::progress::Progress;
 use faer::{c64, ColRef};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One point of a tracked mode.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrackPoint {
     /// Speed Ω (rad/s).
     pub speed: f64,
@@ -28,7 +28,7 @@ pub struct TrackPoint {
 }
 
 /// One mode followed over the speed range.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Track {
     /// Tag at the track's first point (e.g. `f1`, `br2`): the mode's identity, which the
     /// track keeps over the whole range whatever its rank among the whirls.
@@ -52,7 +52,7 @@ pub struct Track {
 }
 
 /// A Campbell diagram.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct CampbellResult {
     /// Speeds Ω (rad/s).
     pub speeds: Vec<f64>,

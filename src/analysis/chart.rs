@@ -6,13 +6,13 @@ use super::floquet::{FloquetSystem, PointStatus, PointSummary};
 use super::reduction::ReductionInfo;
 use crate::progress::Progress;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One chart point: the summary of a Floquet point, without its multiplier list.
 pub type ChartPoint = PointSummary;
 
 /// A stability chart.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ChartResult {
     /// Speed Ω (rad/s).
     pub speed: f64,

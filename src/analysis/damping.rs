@@ -8,10 +8,10 @@ use super::campbell::{campbell, Track};
 use super::modes::{whirl_modes_of, Whirl};
 use super::unbalance::check_speeds;
 use super::{AnalysisError, Rotor, Settings};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// ζ of one tracked mode over the speeds.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModeDamping {
     /// The mode's tag at the first speed, e.g. `f1`, `br1`.
     pub tag: String,

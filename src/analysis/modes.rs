@@ -11,7 +11,7 @@ use crate::assembly::DofKind;
 use crate::linalg::{qep_residual_with, solve_qep, solve_qep_definite, QepNorms};
 use crate::model::Model;
 use faer::{c64, Mat, MatRef, Par};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Shift σ of Eq. (18) in 1/s. A passive system has no eigenvalue with Re λ > 0, so a
 /// positive real shift never hits one; 1 s⁻¹ is far below every whirl frequency yet
@@ -29,7 +29,8 @@ pub const MODE_RESIDUAL_LIMIT: f64 = 1e-6;
 /// (shift-invert on a model it cannot hold in the first-order form).
 pub const NEGATIVE_DAMPING_LIMIT: f64 = 1e-9;
 
-/// Why a mode's numbers are not to be trusted (JSON `flag`, a note under the table).
+/// Why a mode's numbers are not to be trusted (JSON `flag`: its name, number and message;
+/// a note under the table).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ModeFlag {
     /// The relative QEP residual is above [`MODE_RESIDUAL_LIMIT`].
@@ -59,14 +60,53 @@ impl std::fmt::Display for ModeFlag {
     }
 }
 
+/// The JSON form of a [`ModeFlag`]: the flag's name (`flag`), its number and the text of
+/// its `Display` (`message`).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FlagJson {
+    flag: FlagName,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    residual: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    damping_ratio: Option<f64>,
+    message: String,
+}
+
+/// The names of [`ModeFlag`]'s variants in JSON.
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum FlagName {
+    Residual,
+    NegativeDamping,
+}
+
 impl Serialize for ModeFlag {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.collect_str(self)
+        let (flag, residual, damping_ratio) = match *self {
+            ModeFlag::Residual { residual } => (FlagName::Residual, Some(residual), None),
+            ModeFlag::NegativeDamping { damping_ratio } => (FlagName::NegativeDamping, None, Some(damping_ratio)),
+        };
+        FlagJson { flag, residual, damping_ratio, message: self.to_string() }.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for ModeFlag {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let json = FlagJson::deserialize(deserializer)?;
+        Ok(match json.flag {
+            FlagName::Residual => ModeFlag::Residual {
+                residual: json.residual.ok_or_else(|| serde::de::Error::missing_field("residual"))?,
+            },
+            FlagName::NegativeDamping => ModeFlag::NegativeDamping {
+                damping_ratio: json.damping_ratio.ok_or_else(|| serde::de::Error::missing_field("damping_ratio"))?,
+            },
+        })
     }
 }
 
 /// Direction of a whirl relative to the spin.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Whirl {
     /// Im λ > 0 (complex coordinates), or every node's orbit forward (real coordinates):
@@ -97,7 +137,7 @@ impl Whirl {
 }
 
 /// Mechanical (rotor) or electrical (shunt) mode.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ModeKind {
     /// Most kinetic energy in the rotor and rings.
@@ -107,7 +147,7 @@ pub enum ModeKind {
 }
 
 /// One whirl mode at one speed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WhirlMode {
     /// Whirl frequency |Im λ| (rad/s).
     pub frequency: f64,
@@ -143,8 +183,9 @@ impl WhirlMode {
     }
 }
 
-/// Whirl modes of the model at one speed.
-#[derive(Debug, Clone, Serialize)]
+/// Whirl modes of the model at one speed. Serialised without its mode shapes, which a
+/// result read back does not have (`shapes` is then 0 × 0).
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ModesResult {
     /// Rotating speed Ω (rad/s).
     pub speed: f64,
@@ -155,12 +196,16 @@ pub struct ModesResult {
     /// All whirl modes, sorted by frequency.
     pub modes: Vec<WhirlMode>,
     /// Mode shapes (unit 2-norm columns, same order as `modes`); not serialised.
-    #[serde(skip)]
+    #[serde(skip, default = "no_shapes")]
     pub shapes: Mat<c64>,
     /// Whether the modes are those of the real coordinates (the general path), where
     /// [`ModesResult::lowest`] takes its whirls from a window ([`WHIRL_WINDOW`]).
-    #[serde(skip)]
     pub real: bool,
+}
+
+/// The shapes of a [`ModesResult`] read back: none.
+fn no_shapes() -> Mat<c64> {
+    Mat::new()
 }
 
 impl ModesResult {

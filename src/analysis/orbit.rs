@@ -10,10 +10,10 @@
 //! the spin) when |F| > |B|, backward when |F| < |B|, and is a line when they are equal.
 
 use faer::c64;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The ellipse of one node.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Orbit {
     /// Radius |F| of the forward circular component (m, or the mode's units).
     pub forward: f64,

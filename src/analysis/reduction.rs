@@ -5,7 +5,7 @@
 use super::{AnalysisError, Rotor};
 use crate::linalg::definite_eigen;
 use faer::{c64, Mat};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest deviation of ΦᵀMΦ from I (any entry) accepted from the (K, M) eigenvectors
 /// as they come. The Cholesky-of-K solve keeps the low modes M-orthonormal to ~1e-15 but
@@ -75,7 +75,7 @@ impl PeriodicSystem {
 }
 
 /// Summary of a reduced model for outputs.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReductionInfo {
     /// Number of retained modes M.
     pub modes: usize,

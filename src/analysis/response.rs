@@ -6,7 +6,7 @@ use super::floquet::FloquetSystem;
 use super::AnalysisError;
 use crate::progress::{Progress, Silent};
 use faer::c64;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// RK4 steps per period of the fastest basis mode: h·ω_max ≤ 2π/64 ≈ 0.1 keeps the
 /// RK4 phase error per step ~1e-7.
@@ -30,7 +30,7 @@ pub fn response_steps(fs: &FloquetSystem, phi: f64, periods: usize) -> u64 {
 }
 
 /// A sampled response.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResponseResult {
     /// φ (rad/s).
     pub phi: f64,

@@ -43,7 +43,7 @@ pub struct Settings {
     /// `auto` (the complex coordinates u = v + jw where the supports are isotropic, the
     /// real coordinates (v, w) otherwise) or `real` (the real coordinates always: the
     /// general path, e.g. to check it against the complex one).
-    #[serde(skip_serializing_if = "is_auto")]
+    #[serde(default, skip_serializing_if = "is_auto")]
     pub coordinates: crate::model::Coordinates,
 }
 

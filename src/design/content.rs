@@ -41,7 +41,7 @@ pub struct DesignContent {
 }
 
 /// The tuned design's whirls at one operating speed, each paired with the reference's.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct SpeedWhirls {
     /// Ω (rad/s).
     pub speed: f64,
@@ -53,7 +53,7 @@ pub struct SpeedWhirls {
 /// same mode by identity (MAC), whatever the labels, which follow frequency order and
 /// change when a mode moves past another (the third rotor mode is `f3` before and may be
 /// `f4` after, an electrical mode taking its place).
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct WhirlPair {
     /// The tuned design's tag (`f1`, `fr1@impeller`, …).
     pub after: String,

@@ -11,7 +11,7 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
 use crate::model::BranchError;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The machine with the design variables set to `values` (SI units) on its model
 /// ([`crate::model::Model::set_branch`]: each variable's branch in the rings the file
@@ -152,7 +152,7 @@ impl Candidate {
 }
 
 /// The operating band at one speed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OperatingBand {
     /// Speed Ω (rad/s).
     pub speed: f64,
@@ -245,7 +245,7 @@ pub fn margin_shortfall(bands: &[OperatingBand], margins: &super::spec::MarginSp
 
 /// A counted tongue at β_op that reaches into an operating band widened by its clearance
 /// (`inside`), or lies next to it (within [`NEIGHBOURHOOD`] of the band's centre).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Intrusion {
     /// Whether it reaches into the widened band.
     pub inside: bool,
@@ -256,7 +256,7 @@ pub struct Intrusion {
     /// Label and order of the seed whose pair collides in it, or `unlabelled`.
     pub label: String,
     /// The pair (i, j) and order k of that seed, which identify the tongue in a nearby
-    /// design; None when unlabelled.
+    /// design; None when unlabelled. Not serialised: None when read back.
     #[serde(skip)]
     pub identity: Option<((usize, usize), usize)>,
     /// A counted point inside it at β_op (rad/s).

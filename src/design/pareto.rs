@@ -28,7 +28,7 @@ use super::vibration::{peak_recheck, Baseline, PeakValue};
 use super::{DesignError, DesignOutcome, Status};
 use crate::analysis::Interval;
 use crate::progress::Progress;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// Fewest points of a front: its two ends.
@@ -120,7 +120,7 @@ pub fn point_spec(spec: &DesignSpec, t: &TradeOff, width: Option<f64>) -> Design
 }
 
 /// Where a point lies on the front.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Role {
     /// The least peak with φ_op stable ([`FLOOR_WIDTH`]).
@@ -132,7 +132,7 @@ pub enum Role {
 }
 
 /// One point of the front, with the verifier's figures.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct FrontPoint {
     /// 1 (best damping) to K (widest band).
     pub index: usize,
@@ -169,7 +169,7 @@ pub struct FrontPoint {
 }
 
 /// A traced front.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Front {
     /// φ_op (rad/s).
     pub phi_op: f64,

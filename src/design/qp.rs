@@ -11,10 +11,10 @@
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One linear constraint g · d ≤ h.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Linear {
     /// Gradient g of the constraint in scaled variables (its unit per scaled unit).
     pub g: Vec<f64>,

@@ -20,10 +20,10 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{Counter, RegionSettings};
 use crate::analysis::Interval;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One build of the tuned design, judged.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Build {
     /// The factors on the components.
     pub perturbation: Perturbation,
@@ -40,7 +40,7 @@ pub struct Build {
 }
 
 /// The tuned design over its tolerance box.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Robustness {
     /// The tolerances judged.
     pub tolerances: Tolerances,
@@ -388,7 +388,7 @@ pub fn guaranteed_text(r: &Robustness) -> String {
 }
 
 /// The tuned design over its speed range, on the verification's fine grid.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SpeedCheck {
     /// The range (rad/s).
     pub range: Interval,

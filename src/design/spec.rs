@@ -5,6 +5,7 @@ use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 pub use crate::design::tolerance::Tolerances;
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// The kind of objective, as `design.objective` names it in a problem file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -69,7 +70,7 @@ impl Objective {
 }
 
 /// Where and over which speeds an unbalance response is judged (`[design.response]`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Response {
     /// The shaft node whose amplitude counts (0 to the number of shaft elements).
     pub node: usize,
@@ -89,7 +90,7 @@ impl Response {
 }
 
 /// A stable band around φ_op at β_op at least `width` wide at every operating speed.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BandWidth {
     /// φ_op (rad/s).
     pub phi_op: f64,
@@ -100,7 +101,7 @@ pub struct BandWidth {
 /// A damping-ratio floor: ζ = −Re λ/|λ| of the whirl tagged `mode` (as `rotorshunt modes`
 /// and `damping` tag it at the first operating speed) at least `min` at every operating
 /// speed.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DampingFloor {
     /// The whirl's tag, e.g. `f1`, `br1`.
     pub mode: String,
@@ -113,7 +114,7 @@ pub struct DampingFloor {
 /// point 1). Judged on the band around φ_op at the margin level (1 + `beta`)·β_op: a
 /// tongue whose onset lies below that load is in the unstable set there, so a band at
 /// the margin level has no counted tongue with a lower onset reaching into it.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct MarginSpec {
     /// The load margin m (−, relative to β_op), ≥ 0.
     pub beta: f64,
@@ -130,10 +131,10 @@ impl MarginSpec {
 
 /// Constraints a design of any objective must meet (`[design.constraints]`, and
 /// `[[design.bands]]` for the objectives other than clear-bands).
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Constraints {
     /// Operating bands kept clear at β_op by their clearance (the true unstable set).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bands: Vec<Band>,
     /// A stable band around φ_op of at least a width.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -143,7 +144,7 @@ pub struct Constraints {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_peak: Option<f64>,
     /// Damping-ratio floors of named whirls.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub damping: Vec<DampingFloor>,
     /// Load and frequency margins of the band around φ_op (`[design.margins]`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -172,7 +173,7 @@ impl Constraints {
 pub use crate::model::Parameter;
 
 /// One design variable: a parameter of one branch with bounds.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Variable {
     /// The ring (model order) whose branch this is; `None`: the branch of every ring
     /// (their circuits are identical, as in the shorthand).
@@ -221,7 +222,7 @@ impl Variable {
 
 /// An operating band [lo, hi] (rad/s) that must be free of instability at β_op, with
 /// `clearance` (rad/s) on each side.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Band {
     /// Lower end (rad/s).
     pub lo: f64,
@@ -291,30 +292,31 @@ pub const MAX_CHART_BETA_POINTS: u64 = 401;
 pub const MIN_CHART_POINTS: u64 = 2;
 
 /// The JSON form of a [`DesignSpec`]: the objective's kind with its data as flat keys
-/// (`phi_op`, `bands`), the shape reports have always had.
-#[derive(Serialize)]
+/// (`phi_op`, `bands`), the shape reports have always had. Written from borrowed parts,
+/// read into owned ones.
+#[derive(Serialize, Deserialize)]
 struct SpecJson<'a> {
     objective: ObjectiveKind,
     level: f64,
     phi_op: Option<f64>,
     phi_range: (f64, f64),
     beta_max: f64,
-    speeds: &'a [f64],
-    bands: &'a [Band],
-    variables: &'a [Variable],
+    speeds: Cow<'a, [f64]>,
+    bands: Cow<'a, [Band]>,
+    variables: Cow<'a, [Variable]>,
     starts: usize,
     max_iterations: usize,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    response: Option<&'a Response>,
-    #[serde(skip_serializing_if = "Constraints::is_empty")]
-    constraints: &'a Constraints,
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    response: Option<Cow<'a, Response>>,
+    #[serde(default, skip_serializing_if = "Constraints::is_empty")]
+    constraints: Cow<'a, Constraints>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     speed_range: Option<Interval>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    tolerances: Option<&'a Tolerances>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tolerances: Option<Cow<'a, Tolerances>>,
     /// Written only when not [`CHART_GRID`] (the JSON of a file without the keys is as
     /// it was).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     chart_grid: Option<(usize, usize)>,
 }
 
@@ -326,18 +328,53 @@ impl Serialize for DesignSpec {
             phi_op: self.objective.phi_op(),
             phi_range: self.phi_range,
             beta_max: self.beta_max,
-            speeds: &self.speeds,
-            bands: self.objective.bands(),
-            variables: &self.variables,
+            speeds: Cow::Borrowed(&self.speeds),
+            bands: Cow::Borrowed(self.objective.bands()),
+            variables: Cow::Borrowed(&self.variables),
             starts: self.starts,
             max_iterations: self.max_iterations,
-            response: self.response(),
-            constraints: &self.constraints,
+            response: self.response().map(Cow::Borrowed),
+            constraints: Cow::Borrowed(&self.constraints),
             speed_range: self.speed_range,
-            tolerances: self.tolerances.as_ref(),
+            tolerances: self.tolerances.as_ref().map(Cow::Borrowed),
             chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
         }
         .serialize(serializer)
+    }
+}
+
+/// A spec read back from its JSON (a report's `spec`): the objective rebuilt from its kind
+/// and flat keys. The speed unit, display only, is not in the JSON and reads back as rad/s.
+/// What is read is not validated again: [`DesignSpec::check`] does that.
+impl<'de> Deserialize<'de> for DesignSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let json = SpecJson::deserialize(deserializer)?;
+        let mut response = json.response.map(Cow::into_owned);
+        let objective = match json.objective {
+            ObjectiveKind::WidestStableBand => Objective::WidestStableBand {
+                phi_op: json.phi_op.ok_or_else(|| serde::de::Error::missing_field("phi_op"))?,
+            },
+            ObjectiveKind::ClearBands => Objective::ClearBands { bands: json.bands.into_owned() },
+            ObjectiveKind::MinPeakResponse => Objective::MinPeakResponse {
+                response: response.take().ok_or_else(|| serde::de::Error::missing_field("response"))?,
+            },
+        };
+        Ok(DesignSpec {
+            objective,
+            level: json.level,
+            phi_range: json.phi_range,
+            beta_max: json.beta_max,
+            speeds: json.speeds.into_owned(),
+            variables: json.variables.into_owned(),
+            starts: json.starts,
+            max_iterations: json.max_iterations,
+            response,
+            constraints: json.constraints.into_owned(),
+            speed_range: json.speed_range,
+            tolerances: json.tolerances.map(Cow::into_owned),
+            speed_unit: crate::numbers::SpeedUnit::RadPerS,
+            chart_grid: json.chart_grid.unwrap_or(CHART_GRID),
+        })
     }
 }
 

@@ -19,14 +19,14 @@
 use crate::model::Model;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The seed of the Monte Carlo check's generator: fixed, so a report is reproducible.
 pub const SAMPLE_SEED: u64 = 0x0051_0ad5_e7ee_d127;
 
 /// Relative tolerances of the shunt's components (−, each in [0, 1)), and the Monte Carlo
 /// sample count of the check.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Tolerances {
     /// Of every inductance L.
     pub inductance: f64,
@@ -41,7 +41,7 @@ pub struct Tolerances {
 }
 
 /// One build of the circuit: a factor (−) on every component of each kind.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Perturbation {
     /// `nominal`, a corner like `L+ R-`, or `sample k`.
     pub name: String,

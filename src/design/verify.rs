@@ -32,7 +32,7 @@ use crate::analysis::regions::{
 use crate::analysis::{Criterion, Interval};
 use crate::progress::Progress;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Spacing of the verification grid (rad/s): a twentieth of the 1 rad/s charts of the
 /// paper's figures, fine enough to see the 0.1 rad/s tongues of order 3–5 at β = 0.3.
@@ -48,7 +48,7 @@ pub const NEAR: f64 = 0.1;
 pub const SAME_EDGE: f64 = crate::analysis::regions::SAME_EDGE;
 
 /// How one part of the verification ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum PartStatus {
     /// It checked at least one thing, and everything it checked held.
@@ -60,7 +60,7 @@ pub enum PartStatus {
 }
 
 /// One part of the verification, over every operating speed.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VerificationPart {
     /// `catalogue`, `centres`, `grid`, `constraints` or `peak`.
     pub part: String,
@@ -91,7 +91,7 @@ impl VerificationPart {
 /// The min-peak design's peak found again: on a response grid [`PEAK_GRID_FACTOR`] times
 /// finer than the optimiser's, its local maxima refined by successive parabolic steps
 /// ([`crate::design::vibration::peak_recheck`]), against the optimiser's peak.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct PeakRecheck {
     /// The optimiser's peak of the tuned design (its grid, golden-section refinement).
     pub optimiser: crate::design::vibration::PeakValue,
@@ -112,7 +112,7 @@ pub const PEAK_GRID_FACTOR: usize = 10;
 pub const PEAK_AGREEMENT: f64 = 5e-3;
 
 /// The verdict over the parts.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Verification {
     /// Every part, in order.
     pub parts: Vec<VerificationPart>,
@@ -149,7 +149,7 @@ impl Verification {
 }
 
 /// A whirl frequency, for the report.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct WhirlRow {
     /// `f1`, `b1`, `fr1`, …
     pub tag: String,
@@ -158,7 +158,7 @@ pub struct WhirlRow {
 }
 
 /// The Floquet point at a catalogued tongue's centre by the reference path.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CentreCheck {
     /// The tongue's label (or `unlabelled`).
     pub label: String,
@@ -173,7 +173,7 @@ pub struct CentreCheck {
 }
 
 /// The grid chart over one window.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct GridCheck {
     /// The window (rad/s).
     pub window: Interval,
@@ -186,7 +186,7 @@ pub struct GridCheck {
 }
 
 /// A design at one operating speed: whirls, catalogue and, for the result, its checks.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DesignAtSpeed {
     /// Ω (rad/s).
     pub speed: f64,
@@ -216,7 +216,7 @@ pub struct DesignAtSpeed {
 /// `[design.margins]` checked on the result at one speed, by routes the optimiser does
 /// not take: the full catalogue at the margin level (its stable band containing φ_op and
 /// its counted tongues), and a grid at that level over the catalogue's band.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct MarginCheck {
     /// The margin level (1 + beta)·β_op (−).
     pub level: f64,

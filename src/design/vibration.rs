@@ -46,7 +46,7 @@ use crate::analysis::unbalance::{node_probe, peak_at_node, unbalance_response, U
 use crate::analysis::{Rotor, Settings};
 use crate::model::{CircuitState, Model};
 use crate::progress::Silent;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Fixed-point iterations Ω ← ω(Ω) of a synchronous critical speed at most; the
 /// gyroscopic slope dω/dΩ of a rotor whirl is well below 1, so the error shrinks by that
@@ -59,7 +59,7 @@ const CRITICAL_TOLERANCE: f64 = 1e-10;
 const TARGET_CANDIDATES: usize = 4;
 
 /// The largest amplitude at the response node over its speeds.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PeakValue {
     /// Speed of the largest amplitude (rad/s).
     pub speed: f64,
@@ -186,7 +186,7 @@ pub fn response_of(rotor: &Rotor, r: &Response) -> Result<UnbalanceResult, Desig
 }
 
 /// What a constraint is about.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ConstraintKind {
     /// The operating bands clear at β_op: value = total intrusion (rad/s), limit 0.
@@ -212,7 +212,7 @@ pub enum ConstraintKind {
 pub const MARGIN_SCALE: f64 = 10.0;
 
 /// One constraint judged on one design.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ConstraintCheck {
     /// What it is about.
     pub kind: ConstraintKind,
@@ -331,7 +331,7 @@ pub fn ascending(speeds: &[f64]) -> Vec<f64> {
 }
 
 /// The classic tuning of the target mode (module docs) and the design it seeds.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ClassicTuning {
     /// The target mode's tag (a forward rotor whirl, `f1`, `f2`, …): the lowest whose
     /// open-branch critical speed lies in the response range (else the nearest to it).
@@ -517,7 +517,7 @@ pub fn rotor_at(base: &Machine, spec: &DesignSpec, values: &[f64]) -> Result<(Ma
 
 /// One design the tuned shunt is compared with in a min-peak report (issue 27, point 6):
 /// its largest response at the objective's node and the amplification factor of that peak.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Baseline {
     /// `open circuit` (every ring's electrodes open: the machine without the shunt's
     /// resonance), `reference circuit`, `classic tuning` or `tuned`.

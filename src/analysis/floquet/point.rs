@@ -3,14 +3,14 @@
 
 use super::product::ScaledProduct;
 use super::{fast, ZERO_LOAD_TOLERANCE};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest |ln max|μ|| reported as a plain `max_multiplier`; beyond it the value is
 /// saturated to f64::MAX and only the logarithm is exact.
 const LN_F64_MAX: f64 = 709.0;
 
 /// Outcome of one (φ, β) point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PointStatus {
     /// Multipliers computed.
@@ -22,8 +22,9 @@ pub enum PointStatus {
     Failed,
 }
 
-/// Why a point is `inaccurate` or `failed`: serialised as the text of its `Display`
-/// (JSON `reason`), printed by the CLI next to the status.
+/// Why a point is `inaccurate` or `failed`: serialised (JSON `reason`) as its name, its
+/// numbers and the text of its `Display` (`message`), which the CLI prints next to the
+/// status.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PointIssue {
     /// The fast path's per-φ Chebyshev interpolant did not reach its tolerance with
@@ -90,14 +91,88 @@ impl std::fmt::Display for PointIssue {
     }
 }
 
+/// The JSON form of a [`PointIssue`]: the issue's name (`issue`), its numbers and the
+/// text of its `Display` (`message`). An infinite `deviation` is `null`.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct IssueJson {
+    issue: IssueName,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    terms: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    coupling: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    steps: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "crate::numbers::infinite_as_null::option")]
+    deviation: Option<f64>,
+    message: String,
+}
+
+/// The names of [`PointIssue`]'s variants in JSON.
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum IssueName {
+    Interpolant,
+    Coupling,
+    ZeroLoad,
+    NoZeroLoadReference,
+    Eigenvalues,
+    NotFinite,
+}
+
 impl Serialize for PointIssue {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.collect_str(self)
+        let mut json = IssueJson {
+            issue: IssueName::Eigenvalues,
+            terms: None,
+            coupling: None,
+            steps: None,
+            deviation: None,
+            message: self.to_string(),
+        };
+        json.issue = match *self {
+            PointIssue::Interpolant { terms } => {
+                json.terms = Some(terms);
+                IssueName::Interpolant
+            }
+            PointIssue::Coupling { coupling, steps } => {
+                (json.coupling, json.steps) = (Some(coupling), Some(steps));
+                IssueName::Coupling
+            }
+            PointIssue::ZeroLoad { deviation } => {
+                json.deviation = Some(deviation);
+                IssueName::ZeroLoad
+            }
+            PointIssue::NoZeroLoadReference => IssueName::NoZeroLoadReference,
+            PointIssue::Eigenvalues => IssueName::Eigenvalues,
+            PointIssue::NotFinite => IssueName::NotFinite,
+        };
+        json.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for PointIssue {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let json = IssueJson::deserialize(deserializer)?;
+        let missing = |key: &'static str| serde::de::Error::missing_field(key);
+        Ok(match json.issue {
+            IssueName::Interpolant => PointIssue::Interpolant { terms: json.terms.ok_or_else(|| missing("terms"))? },
+            IssueName::Coupling => PointIssue::Coupling {
+                coupling: json.coupling.ok_or_else(|| missing("coupling"))?,
+                steps: json.steps.ok_or_else(|| missing("steps"))?,
+            },
+            IssueName::ZeroLoad => {
+                PointIssue::ZeroLoad { deviation: json.deviation.ok_or_else(|| missing("deviation"))? }
+            }
+            IssueName::NoZeroLoadReference => PointIssue::NoZeroLoadReference,
+            IssueName::Eigenvalues => PointIssue::Eigenvalues,
+            IssueName::NotFinite => PointIssue::NotFinite,
+        })
     }
 }
 
 /// The scalar outcome of one (φ, β) point: what a chart stores.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PointSummary {
     /// Excitation frequency φ (rad/s).
     pub phi: f64,
@@ -129,7 +204,7 @@ impl PointSummary {
 }
 
 /// Floquet result at one point: the summary and all multipliers.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FloquetPoint {
     /// φ, β, max|μ|, growth rate, verdict, status.
     #[serde(flatten)]

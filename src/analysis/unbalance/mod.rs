@@ -35,7 +35,7 @@ use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{c64, Conj, MatMut, MatRef, Par};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 mod peaks;
 use peaks::refine_peaks;
@@ -43,7 +43,7 @@ use peaks::refine_peaks;
 pub use peaks::{Peak, PEAK_SPEED_TOLERANCE, SOLVES_PER_PEAK, UNBOUNDED_BANDWIDTH};
 
 /// What a probe of the response is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ProbeKind {
     /// A disk's deflection (its node).
@@ -57,7 +57,7 @@ pub enum ProbeKind {
 }
 
 /// A DOF whose response is reported.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Probe {
     /// Name for tables and legends, e.g. `disk 1 (node 16)`, `left ring`.
     pub name: String,
@@ -404,7 +404,7 @@ pub struct Workspace {
 }
 
 /// The response at one probe over the speed grid.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProbeResponse {
     /// The DOF this response is of: its name, kind, node and global index (flattened into
     /// the JSON object).
@@ -431,7 +431,7 @@ pub struct ProbeResponse {
 
 /// The synchronous orbit of a probe over the speeds, in real coordinates: x = v and y = w
 /// as x(t) = |X|·cos(Ωt + arg X), and the ellipse they trace ([`crate::analysis::orbit`]).
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OrbitResponse {
     /// |X| (m).
     pub x_amplitude: Vec<f64>,
@@ -499,7 +499,7 @@ impl ProbeResponse {
 }
 
 /// The unbalance response over a speed grid.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct UnbalanceResult {
     /// Speeds Ω (rad/s), ascending.
     pub speeds: Vec<f64>,

@@ -4,7 +4,7 @@
 
 use super::{DynamicStiffness, Workspace};
 use crate::analysis::AnalysisError;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Relative width (of Ω_peak) of the bracket at which the golden-section search of a peak
 /// stops: 1e-10 is a thousand times below [`UNBOUNDED_BANDWIDTH`], so every peak counted
@@ -33,7 +33,7 @@ const GOLDEN_STEPS: usize = 120;
 pub const SOLVES_PER_PEAK: usize = GOLDEN_STEPS + 2 * HALF_POWER_STEPS;
 
 /// A peak of a probe's amplitude.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Peak {
     /// Speed of the refined maximum Ω_peak (rad/s).
     pub speed: f64,

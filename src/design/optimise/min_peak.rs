@@ -8,6 +8,7 @@ use super::*;
 use crate::design::vibration::{
     check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck, PeakValue,
 };
+use serde::Deserialize;
 
 /// Nelder–Mead stops when the simplex's costs (ln of the peak in m) differ by less than
 /// this: 1e-4 is 0.01 % of the peak, far below what distinguishes two designs.
@@ -58,7 +59,7 @@ impl Judged {
 }
 
 /// The design with its peak and constraints, for reports.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct JudgedDesign {
     /// Variable values (SI units).
     pub values: Vec<f64>,
@@ -71,7 +72,7 @@ pub struct JudgedDesign {
 }
 
 /// One sequential convex step of the constrained run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PeakStep {
     /// Step number, from 1.
     pub iteration: usize,
@@ -95,7 +96,7 @@ pub struct PeakStep {
 }
 
 /// What the price of the stability constraints is in response.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Price {
     /// Constrained peak − unconstrained peak (m).
     pub metres: f64,
@@ -104,7 +105,7 @@ pub struct Price {
 }
 
 /// The min-peak-response findings.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PeakFindings {
     /// The reference design.
     pub before: JudgedDesign,

@@ -3,12 +3,15 @@
 
 use super::min_peak::PeakFindings;
 use crate::design::evaluate::{Intrusion, OperatingBand};
-use crate::design::spec::DesignSpec;
-use crate::design::verify::DesignAtSpeed;
-use serde::Serialize;
+use crate::design::robust::{Robustness, SpeedCheck};
+use crate::design::spec::{DesignSpec, ObjectiveKind};
+use crate::design::verify::{DesignAtSpeed, Verification};
+use crate::design::vibration::ConstraintCheck;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// How the run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Status {
     /// Widest band: the tuned band is wider than the reference's, and verified.
@@ -37,7 +40,7 @@ impl Status {
 }
 
 /// One Nelder–Mead start.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StartReport {
     /// `reference`, `physics seed` or `halton k`.
     pub origin: String,
@@ -56,20 +59,23 @@ pub struct StartReport {
 }
 
 /// One entry of the optimiser history.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct HistoryPoint {
     /// Start index (widest band) or 0 (clear bands).
     pub start: usize,
     /// Candidate evaluation count within the start / iteration of the convex steps.
     pub step: usize,
-    /// Objective (rad/s: signed band width) or total intrusion (rad/s).
+    /// Objective (rad/s: signed band width), total intrusion (rad/s) or peak amplitude
+    /// with its penalty (m); +∞ (JSON `null`) where a penalty overflows.
+    #[serde(with = "crate::numbers::infinite_as_null")]
     pub value: f64,
     /// Best value so far in this start (same unit as `value`).
+    #[serde(with = "crate::numbers::infinite_as_null")]
     pub best: f64,
 }
 
 /// One sequential convex step.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ConvexStep {
     /// Iteration of the sequential convex run, from 1.
     pub iteration: usize,
@@ -116,7 +122,7 @@ pub enum Findings {
 
 /// The unbalance response of a design with a `[design.response]`, before and after, and
 /// the damping ratios of its lowest whirls: report content.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VibrationReport {
     /// The response node and speeds.
     pub response: crate::design::spec::Response,
@@ -236,83 +242,135 @@ impl DesignOutcome {
 }
 
 /// The JSON form of a [`DesignOutcome`]: every objective's keys present (empty for the
-/// other objective), the shape `report.json` has always had.
-#[derive(Serialize)]
+/// other objective), the shape `report.json` has always had. Written from borrowed parts,
+/// read into owned ones.
+#[derive(Serialize, Deserialize)]
 struct OutcomeJson<'a> {
-    spec: &'a DesignSpec,
+    spec: Cow<'a, DesignSpec>,
     status: Status,
-    before: &'a [f64],
-    after: &'a [f64],
-    before_bands: &'a [OperatingBand],
-    after_bands: &'a [OperatingBand],
-    before_intrusions: &'a [Intrusion],
-    after_intrusions: &'a [Intrusion],
-    before_speeds: &'a [DesignAtSpeed],
-    after_speeds: &'a [DesignAtSpeed],
+    before: Cow<'a, [f64]>,
+    after: Cow<'a, [f64]>,
+    before_bands: Cow<'a, [OperatingBand]>,
+    after_bands: Cow<'a, [OperatingBand]>,
+    before_intrusions: Cow<'a, [Intrusion]>,
+    after_intrusions: Cow<'a, [Intrusion]>,
+    before_speeds: Cow<'a, [DesignAtSpeed]>,
+    after_speeds: Cow<'a, [DesignAtSpeed]>,
+    /// The verification's verdict, repeated at the top: read back, it must agree.
     verified: bool,
-    verification: &'a crate::design::verify::Verification,
-    starts: &'a [StartReport],
-    history: &'a [HistoryPoint],
-    convex_steps: &'a [ConvexStep],
+    verification: Cow<'a, Verification>,
+    starts: Cow<'a, [StartReport]>,
+    history: Cow<'a, [HistoryPoint]>,
+    convex_steps: Cow<'a, [ConvexStep]>,
     linear_infeasible: bool,
     candidates: usize,
     failed_candidates: usize,
-    first_failure: &'a Option<String>,
+    first_failure: Option<String>,
     floquet_evaluations: usize,
     seconds: f64,
     verification_cost: Cost,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    min_peak: Option<&'a PeakFindings>,
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    constraints_after: &'a [crate::design::vibration::ConstraintCheck],
-    #[serde(skip_serializing_if = "Option::is_none")]
-    vibration: Option<&'a VibrationReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    robustness: Option<&'a crate::design::robust::Robustness>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    speed_check: Option<&'a crate::design::robust::SpeedCheck>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    speed_check_before: Option<&'a crate::design::robust::SpeedCheck>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    min_peak: Option<Cow<'a, PeakFindings>>,
+    #[serde(default, skip_serializing_if = "<[_]>::is_empty")]
+    constraints_after: Cow<'a, [ConstraintCheck]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    vibration: Option<Cow<'a, VibrationReport>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    robustness: Option<Cow<'a, Robustness>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    speed_check: Option<Cow<'a, SpeedCheck>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    speed_check_before: Option<Cow<'a, SpeedCheck>>,
 }
 
 impl Serialize for DesignOutcome {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         OutcomeJson {
-            spec: &self.spec,
+            spec: Cow::Borrowed(&self.spec),
             status: self.status,
-            before: &self.before,
-            after: &self.after,
-            before_bands: self.before_bands(),
-            after_bands: self.after_bands(),
-            before_intrusions: self.before_intrusions(),
-            after_intrusions: self.after_intrusions(),
-            before_speeds: &self.before_speeds,
-            after_speeds: &self.after_speeds,
+            before: Cow::Borrowed(&self.before),
+            after: Cow::Borrowed(&self.after),
+            before_bands: Cow::Borrowed(self.before_bands()),
+            after_bands: Cow::Borrowed(self.after_bands()),
+            before_intrusions: Cow::Borrowed(self.before_intrusions()),
+            after_intrusions: Cow::Borrowed(self.after_intrusions()),
+            before_speeds: Cow::Borrowed(&self.before_speeds),
+            after_speeds: Cow::Borrowed(&self.after_speeds),
             verified: self.verified(),
-            verification: &self.verification,
-            starts: &self.starts,
-            history: &self.history,
-            convex_steps: &self.convex_steps,
+            verification: Cow::Borrowed(&self.verification),
+            starts: Cow::Borrowed(&self.starts),
+            history: Cow::Borrowed(&self.history),
+            convex_steps: Cow::Borrowed(&self.convex_steps),
             linear_infeasible: self.linear_infeasible(),
             candidates: self.candidates,
             failed_candidates: self.failed_candidates,
-            first_failure: &self.first_failure,
+            first_failure: self.first_failure.clone(),
             floquet_evaluations: self.floquet_evaluations,
             seconds: self.seconds,
             verification_cost: self.verification_cost,
-            min_peak: self.peak_findings(),
-            constraints_after: &self.constraints_after,
-            vibration: self.vibration.as_ref(),
-            robustness: self.robustness.as_ref(),
-            speed_check: self.speed_check.as_ref(),
-            speed_check_before: self.speed_check_before.as_ref(),
+            min_peak: self.peak_findings().map(Cow::Borrowed),
+            constraints_after: Cow::Borrowed(&self.constraints_after),
+            vibration: self.vibration.as_ref().map(Cow::Borrowed),
+            robustness: self.robustness.as_ref().map(Cow::Borrowed),
+            speed_check: self.speed_check.as_ref().map(Cow::Borrowed),
+            speed_check_before: self.speed_check_before.as_ref().map(Cow::Borrowed),
         }
         .serialize(serializer)
     }
 }
 
+/// An outcome read back from its JSON (`report.json`): the objective's findings rebuilt
+/// from the spec's objective and the flat keys. Refused when the top-level `verified`
+/// disagrees with the verification's verdict, or the objective's keys are missing.
+impl<'de> Deserialize<'de> for DesignOutcome {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let json = OutcomeJson::deserialize(deserializer)?;
+        if json.verified != json.verification.passed {
+            return Err(D::Error::custom("`verified` disagrees with `verification.passed`"));
+        }
+        let findings = match json.spec.objective.kind() {
+            ObjectiveKind::WidestStableBand => {
+                Findings::WidestBand { before: json.before_bands.into_owned(), after: json.after_bands.into_owned() }
+            }
+            ObjectiveKind::ClearBands => Findings::ClearBands {
+                before: json.before_intrusions.into_owned(),
+                after: json.after_intrusions.into_owned(),
+                linear_infeasible: json.linear_infeasible,
+            },
+            ObjectiveKind::MinPeakResponse => Findings::MinPeak(Box::new(
+                json.min_peak.ok_or_else(|| D::Error::missing_field("min_peak"))?.into_owned(),
+            )),
+        };
+        Ok(DesignOutcome {
+            spec: json.spec.into_owned(),
+            status: json.status,
+            before: json.before.into_owned(),
+            after: json.after.into_owned(),
+            findings,
+            before_speeds: json.before_speeds.into_owned(),
+            after_speeds: json.after_speeds.into_owned(),
+            verification: json.verification.into_owned(),
+            starts: json.starts.into_owned(),
+            history: json.history.into_owned(),
+            convex_steps: json.convex_steps.into_owned(),
+            candidates: json.candidates,
+            failed_candidates: json.failed_candidates,
+            first_failure: json.first_failure,
+            floquet_evaluations: json.floquet_evaluations,
+            seconds: json.seconds,
+            verification_cost: json.verification_cost,
+            constraints_after: json.constraints_after.into_owned(),
+            vibration: json.vibration.map(Cow::into_owned),
+            robustness: json.robustness.map(Cow::into_owned),
+            speed_check: json.speed_check.map(Cow::into_owned),
+            speed_check_before: json.speed_check_before.map(Cow::into_owned),
+        })
+    }
+}
+
 /// The cost of a phase of the run.
-#[derive(Debug, Clone, Copy, Default, Serialize)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
 pub struct Cost {
     /// Candidate designs evaluated by this start.
     pub evaluations: usize,
