@@ -20,7 +20,7 @@ fn bench(c: &mut Criterion) {
     let at = probes(&rotor, &[]).unwrap();
     // The whole library call: 1 000 solves, the disk's and supports' peaks refined.
     g.bench_function("fig13-r10 1000 speeds, peaks refined", |b| {
-        b.iter(|| unbalance_response(&rotor, &speeds, &at, &|| {}).unwrap())
+        b.iter(|| unbalance_response(&rotor, &speeds, &at, &rotorshunt::progress::Silent).unwrap())
     });
     // One speed: one numeric sparse LU and solve.
     let a = DynamicStiffness::of(&rotor).unwrap();

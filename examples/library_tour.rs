@@ -48,7 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let rotor = problem.rotor()?;
     let disk = unbalance::node_probe(&rotor.system.dofs, 16)?;
     let speeds: Vec<f64> = (200..=600).map(f64::from).collect();
-    let response = unbalance::unbalance_response(&rotor, &speeds, &[disk], &|| {})?;
+    let response = unbalance::unbalance_response(&rotor, &speeds, &[disk], &rotorshunt::progress::Silent)?;
     match response.probes[0].largest(&speeds) {
         (speed, _, true) => println!("unbalance at node 16: unbounded at {speed:.1} rad/s"),
         (speed, amplitude, false) => println!("unbalance at node 16: largest {amplitude:.3e} m at {speed:.1} rad/s"),

@@ -154,7 +154,7 @@ fn anisotropic_jeffcott_orbit_is_backward_between_the_critical_speeds() {
     let (wx, wy) = ((kx / 10.0).sqrt(), (ky / 10.0).sqrt());
     let speeds = [0.5 * wx, 0.9 * wx, 1.1 * wx, 0.5 * (wx + wy), 0.9 * wy, 1.1 * wy, 2.0 * wy];
     let probe = node_probe(&rotor.system.dofs, 2).unwrap();
-    let r = unbalance_response(&rotor, &speeds, &[probe], &|| {}).unwrap();
+    let r = unbalance_response(&rotor, &speeds, &[probe], &rotorshunt::progress::Silent).unwrap();
     let o = r.probes[0].orbit.as_ref().expect("real coordinates: an orbit");
     let me = 10.0 * 1.0e-4;
     for (i, &w) in speeds.iter().enumerate() {
@@ -193,8 +193,8 @@ fn real_coordinates_reproduce_the_complex_unbalance_response() {
         let (a, b) = (Rotor::new(&complex.model).unwrap(), Rotor::new(&real.model).unwrap());
         let speeds: Vec<f64> = (1..=40).map(|i| 37.3 * i as f64).collect();
         let pa = probes(&a, &[]).unwrap();
-        let ra = unbalance_response(&a, &speeds, &pa, &|| {}).unwrap();
-        let rb = unbalance_response(&b, &speeds, &probes(&b, &[]).unwrap(), &|| {}).unwrap();
+        let ra = unbalance_response(&a, &speeds, &pa, &rotorshunt::progress::Silent).unwrap();
+        let rb = unbalance_response(&b, &speeds, &probes(&b, &[]).unwrap(), &rotorshunt::progress::Silent).unwrap();
         for (x, y) in ra.probes.iter().zip(&rb.probes) {
             let o = y.orbit.as_ref().unwrap();
             for (i, speed) in speeds.iter().enumerate() {

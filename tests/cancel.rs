@@ -1,5 +1,6 @@
-//! `Progress::cancelled`: a chart and a region catalogue asked to stop skip the steps not
-//! begun (an incomplete result, for the caller to discard), a design ends with
+//! `Progress::cancelled`: a chart, a region catalogue and an unbalance response asked to
+//! stop skip the steps not begun (an incomplete result, for the caller to discard), a
+//! design ends with
 //! `DesignError::Stopped`, and a progress that never asks changes nothing (the Python
 //! bindings' Ctrl-C, docs/python.md).
 
@@ -57,6 +58,28 @@ fn a_catalogue_asked_to_stop_returns_early() {
     assert!(!full.regions.is_empty());
     let stopped = catalogue_with(&op.floquet, &op.modes, &op.regions, &req, &stop_after(0)).unwrap();
     assert!(stopped.regions.is_empty(), "{} regions", stopped.regions.len());
+}
+
+#[test]
+fn an_unbalance_response_asked_to_stop_solves_no_more_speeds_and_comes_back_empty() {
+    use rotorshunt::analysis::unbalance::{node_probe, unbalance_response};
+    let problem = Problem::from_path("problems/fig11-closed-2000.toml", &[]).unwrap();
+    let rotor = problem.rotor().unwrap();
+    let probe = [node_probe(&rotor.system.dofs, 16).unwrap()];
+    let speeds: Vec<f64> = (0..400).map(|k| 200.0 + f64::from(k)).collect();
+    let full = unbalance_response(&rotor, &speeds, &probe, &Silent).unwrap();
+    assert_eq!((full.speeds.len(), full.probes.len()), (400, 1));
+    // Never asked: the same response; a step is a speed solved.
+    let never = stop_after(u64::MAX);
+    assert_eq!(unbalance_response(&rotor, &speeds, &probe, &never).unwrap(), full);
+    assert_eq!(never.done.load(Ordering::Relaxed), 400);
+    // Asked after 10 speeds: at most a speed per thread more is solved, and the result
+    // has no speeds and no probes.
+    let progress = stop_after(10);
+    let stopped = unbalance_response(&rotor, &speeds, &probe, &progress).unwrap();
+    assert!(stopped.speeds.is_empty() && stopped.probes.is_empty());
+    let solved = progress.done.load(Ordering::Relaxed);
+    assert!((10..=10 + rayon::current_num_threads() as u64).contains(&solved), "{solved} speeds solved");
 }
 
 #[test]

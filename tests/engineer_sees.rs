@@ -26,7 +26,7 @@ fn bode_curve_passes_through_every_refined_peak_the_grid_misses() {
     let p = common::load("design-compressor.toml", &[]);
     let rotor = p.rotor().unwrap();
     let speeds = coarse_grid();
-    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &|| {}).unwrap();
+    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &rotorshunt::progress::Silent).unwrap();
     let plot = BodePlot {
         title: "bode".into(),
         layers: vec![BodeLayer { name: String::new(), dashed: false, result: &r }],

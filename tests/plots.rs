@@ -179,7 +179,7 @@ fn stability_and_bode_legends_sit_beside_the_plot() {
     assert!(svg.contains("operating band") && svg.contains("β_op = 0.3"));
 
     let speeds: Vec<f64> = (0..50).map(|i| 300.0 + 4.0 * i as f64).collect();
-    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &|| {}).unwrap();
+    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &rotorshunt::progress::Silent).unwrap();
     let bode = BodePlot {
         title: "bode".into(),
         layers: vec![BodeLayer { name: String::new(), dashed: false, result: &r }],

@@ -92,7 +92,7 @@ fn unbalance_orbits_match_ross_run_unbalance_response() {
     let speeds = numbers(&u["speeds"]);
     let nodes: Vec<usize> = [0, 2, 4].to_vec();
     let probes: Vec<_> = nodes.iter().map(|&n| node_probe(&rotor.system.dofs, n).unwrap()).collect();
-    let r = unbalance_response(&rotor, &speeds, &probes, &|| {}).unwrap();
+    let r = unbalance_response(&rotor, &speeds, &probes, &rotorshunt::progress::Silent).unwrap();
     let mut worst = 0.0f64;
     for (k, n) in nodes.iter().enumerate() {
         let ross = &u["probes"][n.to_string()];

@@ -143,7 +143,7 @@ fn compare_unbalance(rotor: &str) -> f64 {
     let records = u["nodes"].as_array().unwrap();
     let probes: Vec<_> =
         records.iter().map(|n| node_probe(&r.system.dofs, n["node"].as_u64().unwrap() as usize).unwrap()).collect();
-    let ours = unbalance_response(&r, &speeds, &probes, &|| {}).unwrap();
+    let ours = unbalance_response(&r, &speeds, &probes, &rotorshunt::progress::Silent).unwrap();
     let mut worst = 0.0f64;
     for (n, response) in records.iter().zip(&ours.probes) {
         let orbit = response.orbit.as_ref().expect("real coordinates give orbits");

@@ -219,7 +219,7 @@ fn timoshenko_unbalance_response_matches_ross() {
     let records = fixture_json["nodes"].as_array().unwrap();
     let probes: Vec<_> =
         records.iter().map(|r| node_probe(&rotor.system.dofs, r["node"].as_u64().unwrap() as usize).unwrap()).collect();
-    let ours = unbalance_response(&rotor, &speeds, &probes, &|| {}).unwrap();
+    let ours = unbalance_response(&rotor, &speeds, &probes, &rotorshunt::progress::Silent).unwrap();
     let wrap = |a: f64| (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI;
     for (r, response) in records.iter().zip(&ours.probes) {
         let (mut amplitude, mut phase) = (0.0_f64, 0.0_f64);

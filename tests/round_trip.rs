@@ -130,7 +130,7 @@ fn unbalance_and_time_responses_round_trip() {
         let node = p.model.disks[0].node;
         let probe = node_probe(&rotor.system.dofs, node).unwrap();
         let speeds: Vec<f64> = (1..=40).map(|i| f64::from(i) * 20.0).collect();
-        let mut r = unbalance_response(&rotor, &speeds, &[probe], &|| {}).unwrap();
+        let mut r = unbalance_response(&rotor, &speeds, &[probe], &rotorshunt::progress::Silent).unwrap();
         assert_eq!(r.probes[0].orbit.is_some(), rotor.real, "{name}");
         let read: UnbalanceResult = back(&r);
         // The refined peaks' extra samples are for plots, not the JSON.

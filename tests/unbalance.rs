@@ -55,7 +55,7 @@ fn time_response_reaches_the_frequency_domain_amplitude() {
     // The resonance of the first modal coordinate on a 0.5 rad/s grid, refined.
     let q1 = Probe { name: "q1".into(), kind: ProbeKind::Node, node: None, dof: 0 };
     let near = grid(300.0, 420.0, 0.5);
-    let r = response_with(&a, &near, std::slice::from_ref(&q1), &|| {}).unwrap();
+    let r = response_with(&a, &near, std::slice::from_ref(&q1), &rotorshunt::progress::Silent).unwrap();
     let (resonance, _, unbounded) = r[0].largest(&near);
     assert!(!unbounded && resonance > 300.0 && resonance < 420.0, "resonance {resonance}");
     let mut work = Default::default();
@@ -95,7 +95,7 @@ fn one_dof_rotor_matches_the_closed_form_with_its_peak_and_amplification_factor(
     let exact = |w: f64| m * e * w * w / c64::new(k - m * w * w, c * w).norm();
     let speeds = grid(100.0, 3000.0, 10.0);
     let probe = Probe { name: "disk".into(), kind: ProbeKind::Disk, node: None, dof: 0 };
-    let r = &response_with(&a, &speeds, std::slice::from_ref(&probe), &|| {}).unwrap()[0];
+    let r = &response_with(&a, &speeds, std::slice::from_ref(&probe), &rotorshunt::progress::Silent).unwrap()[0];
     for (w, amp) in speeds.iter().zip(&r.amplitude) {
         assert!((amp / exact(*w) - 1.0).abs() < 1e-12, "{w}: {amp} vs {}", exact(*w));
     }
@@ -136,7 +136,7 @@ fn one_dof_rotor_matches_the_closed_form_with_its_peak_and_amplification_factor(
     let a = DynamicStiffness::new(system, 0.0).unwrap();
     assert_eq!(a.solve(wn, &mut Default::default()), Err(AnalysisError::SingularAtSpeed { speed: wn }));
     let speeds = grid(100.0, 2998.0, 7.0);
-    let r = &response_with(&a, &speeds, std::slice::from_ref(&probe), &|| {}).unwrap()[0];
+    let r = &response_with(&a, &speeds, std::slice::from_ref(&probe), &rotorshunt::progress::Silent).unwrap()[0];
     assert_eq!(r.peaks.len(), 1);
     assert!(r.peaks[0].unbounded, "{:?}", r.peaks[0]);
     assert!((r.peaks[0].speed / wn - 1.0).abs() < 1e-8);
@@ -150,7 +150,7 @@ fn the_shunt_tuned_to_the_first_critical_speed_lowers_its_peak() {
     // open circuit's first critical speed, found here from its response.
     let speeds = grid(250.0, 500.0, 0.5);
     let (open, _) = rotor("fig8-eta200.toml", &[]);
-    let r = unbalance_response(&open, &speeds, &probes(&open, &[]).unwrap(), &|| {}).unwrap();
+    let r = unbalance_response(&open, &speeds, &probes(&open, &[]).unwrap(), &rotorshunt::progress::Silent).unwrap();
     let (critical, open_peak, unbounded) = disk(&r).largest(&speeds);
     assert!(!unbounded);
     println!("open circuit: disk peak {open_peak:.4e} m at {critical:.3} rad/s");
@@ -163,7 +163,8 @@ fn the_shunt_tuned_to_the_first_critical_speed_lowers_its_peak() {
         ];
         let set: Vec<&str> = set.iter().map(String::as_str).collect();
         let (closed, _) = rotor("fig8-eta200.toml", &set);
-        let r = unbalance_response(&closed, &speeds, &probes(&closed, &[]).unwrap(), &|| {}).unwrap();
+        let r = unbalance_response(&closed, &speeds, &probes(&closed, &[]).unwrap(), &rotorshunt::progress::Silent)
+            .unwrap();
         let d = disk(&r);
         let (speed, peak, _) = d.largest(&speeds);
         let near: Vec<_> = d.peaks.iter().filter(|k| (k.speed / critical - 1.0).abs() < 0.1).collect();
@@ -187,7 +188,8 @@ fn peak_at_a_node_is_the_largest_of_its_response() {
     let (rotor, _) = rotor("fig8-eta4000.toml", &DAMPED);
     let speeds = grid(200.0, 600.0, 2.0);
     let (w, a, unbounded) = peak_at_node(&rotor, 16, &speeds).unwrap();
-    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[16]).unwrap(), &|| {}).unwrap();
+    let r =
+        unbalance_response(&rotor, &speeds, &probes(&rotor, &[16]).unwrap(), &rotorshunt::progress::Silent).unwrap();
     let node = r.probes.last().unwrap();
     assert_eq!(node.probe.node, Some(16));
     assert_eq!(node.largest(&speeds), (w, a, unbounded));
@@ -202,7 +204,10 @@ fn results_are_identical_for_any_thread_count() {
     let speeds = grid(0.0, 3000.0, 3.0);
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| unbalance_response(&rotor, &speeds, &probes(&rotor, &[5, 40]).unwrap(), &|| {}).unwrap())
+        pool.install(|| {
+            unbalance_response(&rotor, &speeds, &probes(&rotor, &[5, 40]).unwrap(), &rotorshunt::progress::Silent)
+                .unwrap()
+        })
     };
     let one = run(1);
     assert_eq!(one, run(2));
@@ -221,7 +226,7 @@ fn bad_requests_are_typed_errors() {
     let a = DynamicStiffness::of(&rotor).unwrap();
     let off = Probe { name: "x".into(), kind: ProbeKind::Node, node: None, dof: a.size() };
     assert_eq!(
-        response_with(&a, &[1.0], &[off], &|| {}),
+        response_with(&a, &[1.0], &[off], &rotorshunt::progress::Silent),
         Err(AnalysisError::ProbeOffSystem { dof: a.size(), dofs: a.size() })
     );
 }
@@ -381,7 +386,7 @@ fn jeffcott_rotor_on_plain_bearings_matches_the_closed_form() {
     let rotor = Rotor::new(&p.model).unwrap();
     let (m, k, c, e) = (10.0, 1e7, 2000.0, 1e-4);
     let speeds = grid(100.0, 3000.0, 5.0);
-    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &|| {}).unwrap();
+    let r = unbalance_response(&rotor, &speeds, &probes(&rotor, &[]).unwrap(), &rotorshunt::progress::Silent).unwrap();
     let d = disk(&r);
     let mut worst: f64 = 0.0;
     for (w, amp) in speeds.iter().zip(&d.amplitude) {

@@ -65,6 +65,17 @@ def test_ctrl_c_during_a_long_campbell_raises_keyboard_interrupt_within_a_second
     assert len(p.campbell([0.0, 1000.0]).speeds) == 2
 
 
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_during_a_long_unbalance_response_raises_keyboard_interrupt_within_a_second():
+    # 240 000 speeds at node 16 and the default probes (within the memory bound of the
+    # results and their text): about 3 s here; stopped after 1 s, between speeds.
+    p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+    latency, _ = interrupted_after(1.0, lambda: p.unbalance(np.linspace(100.0, 3000.0, 240_000), [16]))
+    print(f"\nKeyboardInterrupt {latency * 1000:.0f} ms after SIGINT (unbalance)")
+    assert latency < 1.0
+    assert len(p.unbalance([300.0, 400.0, 500.0], [16]).speeds) == 3
+
+
 def test_a_progress_callback_sees_the_rows_and_can_stop_the_run():
     p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
     seen = []

@@ -90,7 +90,7 @@ fn respond(
     let rotor = Rotor::new(&problem.model)?;
     let probes = probes(&rotor, nodes).map_err(|e| about("--nodes", e))?;
     progress.phase(what, speeds.len() as u64);
-    let r = unbalance_response(&rotor, speeds, &probes, &|| progress.advance(1));
+    let r = unbalance_response(&rotor, speeds, &probes, progress);
     Ok(r?)
 }
 

@@ -182,7 +182,7 @@ pub fn peak_recheck(rotor: &Rotor, r: &Response, factor: usize) -> Result<(PeakV
 /// The response at `r`'s node over its grid, with its peaks (for reports).
 pub fn response_of(rotor: &Rotor, r: &Response) -> Result<UnbalanceResult, DesignError> {
     let probe = node_probe(&rotor.system.dofs, r.node)?;
-    Ok(unbalance_response(rotor, &r.grid(), std::slice::from_ref(&probe), &|| {})?)
+    Ok(unbalance_response(rotor, &r.grid(), std::slice::from_ref(&probe), &crate::progress::Silent)?)
 }
 
 /// What a constraint is about.

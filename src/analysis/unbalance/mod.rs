@@ -30,6 +30,7 @@
 use super::{AnalysisError, Rotor};
 use crate::assembly::{DofMap, SystemMatrices};
 use crate::linalg::LinalgError;
+use crate::progress::{Progress, Silent};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{factorize_symbolic_lu, NumericLu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
@@ -550,26 +551,31 @@ pub fn check_speeds(speeds: &[f64]) -> Result<(), AnalysisError> {
 }
 
 /// The response at `probes` over `speeds` (rad/s, ascending), with every probe's peaks
-/// refined. `tick` is called once per speed of the grid.
+/// refined, advancing `progress` by one per speed of the grid.
+///
+/// A speed not begun when [`Progress::cancelled`] turns true is skipped and the result
+/// comes back without speeds or probes, to be discarded (as a Campbell diagram's).
 pub fn unbalance_response(
     rotor: &Rotor,
     speeds: &[f64],
     probes: &[Probe],
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<UnbalanceResult, AnalysisError> {
     let a = DynamicStiffness::of(rotor)?;
-    let probes = response_with(&a, speeds, probes, tick)?;
-    Ok(UnbalanceResult { speeds: speeds.to_vec(), static_load: rotor.static_load(), probes })
+    let probes = response_with(&a, speeds, probes, progress)?;
+    let speeds = if probes.is_empty() { Vec::new() } else { speeds.to_vec() };
+    Ok(UnbalanceResult { speeds, static_load: rotor.static_load(), probes })
 }
 
 /// The response of any system `a` at `probes` over `speeds` (rad/s, ascending), with
-/// every probe's peaks refined: [`unbalance_response`] without the model. A probe whose
-/// DOF is not in the system is [`AnalysisError::ProbeOffSystem`].
+/// every probe's peaks refined: [`unbalance_response`] without the model (stopped when
+/// asked, it returns no probes). A probe whose DOF is not in the system is
+/// [`AnalysisError::ProbeOffSystem`].
 pub fn response_with(
     a: &DynamicStiffness,
     speeds: &[f64],
     probes: &[Probe],
-    tick: &(dyn Fn() + Sync),
+    progress: &dyn Progress,
 ) -> Result<Vec<ProbeResponse>, AnalysisError> {
     check_speeds(speeds)?;
     // The unbalance force grows like Ω²: a response's speeds are bounded.
@@ -584,7 +590,9 @@ pub fn response_with(
     if let Some(n) = a.half() {
         dofs.extend(probes.iter().map(|p| n + p.dof));
     }
-    let grid = at_speeds(a, speeds, &dofs, tick)?;
+    let Some(grid) = at_speeds(a, speeds, &dofs, progress)? else {
+        return Ok(Vec::new());
+    };
     let count = probes.len();
     probes
         .par_iter()
@@ -611,23 +619,28 @@ pub fn response_with(
 /// peaks are refined.
 pub fn peak_at_node(rotor: &Rotor, node: usize, speeds: &[f64]) -> Result<(f64, f64, bool), AnalysisError> {
     let probe = node_probe(&rotor.system.dofs, node)?;
-    let r = unbalance_response(rotor, speeds, std::slice::from_ref(&probe), &|| {})?;
+    let r = unbalance_response(rotor, speeds, std::slice::from_ref(&probe), &Silent)?;
     Ok(r.probes[0].largest(speeds))
 }
 
-/// U at `dofs` for each speed, in parallel over speeds.
+/// U at `dofs` for each speed, in parallel over speeds; None when asked to stop (a speed
+/// not begun then is skipped).
 fn at_speeds(
     a: &DynamicStiffness,
     speeds: &[f64],
     dofs: &[usize],
-    tick: &(dyn Fn() + Sync),
-) -> Result<Vec<Vec<c64>>, AnalysisError> {
-    speeds
+    progress: &dyn Progress,
+) -> Result<Option<Vec<Vec<c64>>>, AnalysisError> {
+    let rows: Vec<Option<Vec<c64>>> = speeds
         .par_iter()
         .map_init(Workspace::default, |work, &w| {
+            if progress.cancelled() {
+                return Ok(None);
+            }
             let u = a.solve(w, work)?;
-            tick();
-            Ok(dofs.iter().map(|&d| u[d]).collect())
+            progress.advance(1);
+            Ok(Some(dofs.iter().map(|&d| u[d]).collect()))
         })
-        .collect()
+        .collect::<Result<_, AnalysisError>>()?;
+    Ok(rows.into_iter().collect())
 }
