@@ -2,6 +2,7 @@
 //! φ values they visit.
 
 use super::*;
+use crate::analysis::regions::level::guard_lattice;
 
 /// Evaluations of a tip climb: three to bracket, doubling steps across the start window
 /// (2e-5 to 3e-3 of φ: 8) and the refinement (`tip_iterations`).
@@ -18,17 +19,6 @@ const TRACK_EVALUATIONS: f64 = 40.0;
 /// Evaluations a widest-band design spends per candidate and speed on its band: the
 /// bundled problem takes 105 on average (21 711 over 207 candidates); five times that.
 pub const DESIGN_BAND_EVALUATIONS: f64 = 500.0;
-
-/// The points (1 + g)^k of the guard lattice inside `window` ([`crate::analysis::regions::Level::lattice`]).
-fn lattice(g: f64, window: Interval) -> impl Iterator<Item = f64> {
-    let base = g.ln_1p();
-    let (first, last) = if g > 0.0 && window.lo > 0.0 {
-        ((window.lo.ln() / base).ceil() as i64, (window.hi.ln() / base).floor() as i64)
-    } else {
-        (1, 0)
-    };
-    (first..=last).map(move |k| (k as f64 * base).exp())
-}
 
 /// The φ values an edge march may step through across `window` (steps of the largest
 /// edge-march step, [`RegionSettings::max_edge_step`]): where a tongue as wide as the
@@ -67,7 +57,7 @@ fn level_search(
         seconds += per_seed * pc.point(phi, level);
         count += 1;
     }
-    seconds += lattice(s.guard_step, window).map(|p| pc.point(p, level)).sum::<f64>();
+    seconds += guard_lattice(s.guard_step, window).into_iter().map(|p| pc.point(p, level)).sum::<f64>();
     seconds += 2.0 * march(s, window).map(|p| pc.point(p, level)).sum::<f64>();
     (seconds, count)
 }

@@ -175,15 +175,21 @@ impl<'p> Level<'p> {
 
     /// The guard lattice points (1 + g)^n inside `window`, ascending.
     pub fn lattice(&self, window: Interval) -> Vec<f64> {
-        let g = self.probe.settings().guard_step;
-        if g <= 0.0 || window.lo <= 0.0 {
-            return Vec::new();
-        }
-        let base = g.ln_1p();
-        let first = (window.lo.ln() / base).ceil() as i64;
-        let last = (window.hi.ln() / base).floor() as i64;
-        (first..=last).map(|n| lattice_point(g, n)).filter(|p| window.contains(*p)).collect()
+        guard_lattice(self.probe.settings().guard_step, window)
     }
+}
+
+/// The guard lattice points (1 + g)^n inside `window`, ascending (g = `guard_step`): the
+/// points a search visits, and the ones its cost estimate counts
+/// ([`crate::analysis::cost`]).
+pub fn guard_lattice(g: f64, window: Interval) -> Vec<f64> {
+    if g <= 0.0 || window.lo <= 0.0 {
+        return Vec::new();
+    }
+    let base = g.ln_1p();
+    let first = (window.lo.ln() / base).ceil() as i64;
+    let last = (window.hi.ln() / base).floor() as i64;
+    (first..=last).map(|n| lattice_point(g, n)).filter(|p| window.contains(*p)).collect()
 }
 
 /// (1 + g)^n, computed the same way wherever it is asked for.
