@@ -101,36 +101,22 @@ impl SpeedUnit {
 /// A value that may be +∞ in JSON, which has no infinity: a non-finite value is written
 /// `null` and `null` reads back as +∞. For numbers such as a penalised cost in a design's
 /// history (`exp` of a penalty overflows) or the β = 0 deviation of a monodromy without
-/// finite multipliers ([`infinite_as_null::option`] for an optional one).
+/// finite multipliers.
 pub mod infinite_as_null {
     use serde::{Deserialize, Deserializer, Serializer};
 
     /// A finite value as the number, a non-finite one as `null`.
     pub fn serialize<S: Serializer>(value: &f64, serializer: S) -> Result<S::Ok, S::Error> {
-        option::serialize(&Some(*value), serializer)
+        if value.is_finite() {
+            serializer.serialize_f64(*value)
+        } else {
+            serializer.serialize_none()
+        }
     }
 
     /// A number as itself, `null` as +∞.
     pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<f64, D::Error> {
         Ok(Option::<f64>::deserialize(deserializer)?.unwrap_or(f64::INFINITY))
-    }
-
-    /// The same for an optional value (a missing key is `None`, with `#[serde(default)]`).
-    pub mod option {
-        use serde::{Deserializer, Serializer};
-
-        /// `Some(finite)` as the number, `Some(non-finite)` as `null`.
-        pub fn serialize<S: Serializer>(value: &Option<f64>, serializer: S) -> Result<S::Ok, S::Error> {
-            match value {
-                Some(x) if x.is_finite() => serializer.serialize_f64(*x),
-                _ => serializer.serialize_none(),
-            }
-        }
-
-        /// A number as itself, `null` as +∞.
-        pub fn deserialize<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Option<f64>, D::Error> {
-            super::deserialize(deserializer).map(Some)
-        }
     }
 }
 

@@ -69,6 +69,8 @@ fn an_unbalance_response_asked_to_stop_solves_no_more_speeds_and_comes_back_empt
     let speeds: Vec<f64> = (0..400).map(|k| 200.0 + f64::from(k)).collect();
     let full = unbalance_response(&rotor, &speeds, &probe, &Silent).unwrap();
     assert_eq!((full.speeds.len(), full.probes.len()), (400, 1));
+    // No probes asked is not a stop: the speeds are kept.
+    assert_eq!(unbalance_response(&rotor, &speeds, &[], &Silent).unwrap().speeds.len(), 400);
     // Never asked: the same response; a step is a speed solved.
     let never = stop_after(u64::MAX);
     assert_eq!(unbalance_response(&rotor, &speeds, &probe, &never).unwrap(), full);

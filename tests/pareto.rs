@@ -50,9 +50,8 @@ fn every_point_of_the_front_is_verified_and_the_front_is_monotone() {
     let points = report["front"]["points"].as_array().expect("front.points");
     assert_eq!(points.len(), 3);
     // The front reads back as the library's and writes the same JSON (results round-trip).
-    let front: rotorshunt::design::pareto::Front = serde_json::from_value(report["front"].clone()).unwrap();
+    let front: rotorshunt::design::pareto::Front = common::reads_back(&report["front"]);
     assert_eq!(front.points.len(), 3);
-    assert!(serde_json::to_value(&front).unwrap() == report["front"], "the front read back writes other JSON");
     let roles: Vec<&str> = points.iter().map(|p| p["role"].as_str().unwrap()).collect();
     assert_eq!(roles, ["best-damping", "between", "widest-band"]);
     let n = (POINTS - 1) * TEST_GRID_FACTOR + 1;

@@ -61,47 +61,32 @@ impl std::fmt::Display for ModeFlag {
 }
 
 /// The JSON form of a [`ModeFlag`]: the flag's name (`flag`), its number and the text of
-/// its `Display` (`message`).
+/// its `Display` (`message`, not read back).
 #[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct FlagJson {
-    flag: FlagName,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    residual: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    damping_ratio: Option<f64>,
+    #[serde(flatten, with = "FlagData")]
+    flag: ModeFlag,
+    #[serde(default, skip_deserializing)]
     message: String,
 }
 
-/// The names of [`ModeFlag`]'s variants in JSON.
+/// [`ModeFlag`]'s variants as JSON names them (serde's mirror of the enum).
 #[derive(Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-enum FlagName {
-    Residual,
-    NegativeDamping,
+#[serde(remote = "ModeFlag", tag = "flag", rename_all = "kebab-case")]
+enum FlagData {
+    Residual { residual: f64 },
+    NegativeDamping { damping_ratio: f64 },
 }
 
 impl Serialize for ModeFlag {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let (flag, residual, damping_ratio) = match *self {
-            ModeFlag::Residual { residual } => (FlagName::Residual, Some(residual), None),
-            ModeFlag::NegativeDamping { damping_ratio } => (FlagName::NegativeDamping, None, Some(damping_ratio)),
-        };
-        FlagJson { flag, residual, damping_ratio, message: self.to_string() }.serialize(serializer)
+        FlagJson { flag: *self, message: self.to_string() }.serialize(serializer)
     }
 }
 
 impl<'de> Deserialize<'de> for ModeFlag {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let json = FlagJson::deserialize(deserializer)?;
-        Ok(match json.flag {
-            FlagName::Residual => ModeFlag::Residual {
-                residual: json.residual.ok_or_else(|| serde::de::Error::missing_field("residual"))?,
-            },
-            FlagName::NegativeDamping => ModeFlag::NegativeDamping {
-                damping_ratio: json.damping_ratio.ok_or_else(|| serde::de::Error::missing_field("damping_ratio"))?,
-            },
-        })
+        Ok(FlagJson::deserialize(deserializer)?.flag)
     }
 }
 
@@ -196,16 +181,11 @@ pub struct ModesResult {
     /// All whirl modes, sorted by frequency.
     pub modes: Vec<WhirlMode>,
     /// Mode shapes (unit 2-norm columns, same order as `modes`); not serialised.
-    #[serde(skip, default = "no_shapes")]
+    #[serde(skip, default = "Mat::new")]
     pub shapes: Mat<c64>,
     /// Whether the modes are those of the real coordinates (the general path), where
     /// [`ModesResult::lowest`] takes its whirls from a window ([`WHIRL_WINDOW`]).
     pub real: bool,
-}
-
-/// The shapes of a [`ModesResult`] read back: none.
-fn no_shapes() -> Mat<c64> {
-    Mat::new()
 }
 
 impl ModesResult {

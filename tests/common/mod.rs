@@ -277,14 +277,24 @@ pub fn json(path: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
-/// A design report's `outcome` read back as the library's [`rotorshunt::DesignOutcome`]
-/// writes the same JSON, every number bit for bit (issue 30: results round-trip; serde_json's
-/// `float_roundtrip` reads each f64 back exactly). Returns the outcome read.
-pub fn outcome_round_trips(outcome: &serde_json::Value) -> rotorshunt::DesignOutcome {
-    let read: rotorshunt::DesignOutcome = serde_path_to_error::deserialize(outcome.clone())
-        .unwrap_or_else(|e| panic!("the outcome does not read back: {e}"));
-    assert!(&serde_json::to_value(&read).unwrap() == outcome, "the outcome read back writes other JSON");
+/// `json` read back as the library's `T` writes the same JSON, every number bit for bit
+/// (issue 30: results round-trip; serde_json's `float_roundtrip` reads each f64 back
+/// exactly). Returns the value read.
+pub fn reads_back<T: serde::Serialize + serde::de::DeserializeOwned>(json: &serde_json::Value) -> T {
+    let read: T = serde_path_to_error::deserialize(json.clone())
+        .unwrap_or_else(|e| panic!("{} does not read back: {e}", std::any::type_name::<T>()));
+    assert!(
+        &serde_json::to_value(&read).unwrap() == json,
+        "{} read back writes other JSON",
+        std::any::type_name::<T>()
+    );
     read
+}
+
+/// A design report's `outcome` read back as the library's [`rotorshunt::DesignOutcome`]
+/// ([`reads_back`]).
+pub fn outcome_round_trips(outcome: &serde_json::Value) -> rotorshunt::DesignOutcome {
+    reads_back(outcome)
 }
 
 /// A design report's text (report.md or report.html) without the wall time that ends its

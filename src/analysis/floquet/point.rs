@@ -92,29 +92,30 @@ impl std::fmt::Display for PointIssue {
 }
 
 /// The JSON form of a [`PointIssue`]: the issue's name (`issue`), its numbers and the
-/// text of its `Display` (`message`). An infinite `deviation` is `null`.
+/// text of its `Display` (`message`, not read back). An infinite `deviation` is `null`.
 #[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 struct IssueJson {
-    issue: IssueName,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    terms: Option<usize>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    coupling: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    steps: Option<usize>,
-    #[serde(default, skip_serializing_if = "Option::is_none", with = "crate::numbers::infinite_as_null::option")]
-    deviation: Option<f64>,
+    #[serde(flatten, with = "IssueData")]
+    issue: PointIssue,
+    #[serde(default, skip_deserializing)]
     message: String,
 }
 
-/// The names of [`PointIssue`]'s variants in JSON.
+/// [`PointIssue`]'s variants as JSON names them (serde's mirror of the enum).
 #[derive(Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-enum IssueName {
-    Interpolant,
-    Coupling,
-    ZeroLoad,
+#[serde(remote = "PointIssue", tag = "issue", rename_all = "kebab-case")]
+enum IssueData {
+    Interpolant {
+        terms: usize,
+    },
+    Coupling {
+        coupling: f64,
+        steps: usize,
+    },
+    ZeroLoad {
+        #[serde(with = "crate::numbers::infinite_as_null")]
+        deviation: f64,
+    },
     NoZeroLoadReference,
     Eigenvalues,
     NotFinite,
@@ -122,52 +123,13 @@ enum IssueName {
 
 impl Serialize for PointIssue {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let mut json = IssueJson {
-            issue: IssueName::Eigenvalues,
-            terms: None,
-            coupling: None,
-            steps: None,
-            deviation: None,
-            message: self.to_string(),
-        };
-        json.issue = match *self {
-            PointIssue::Interpolant { terms } => {
-                json.terms = Some(terms);
-                IssueName::Interpolant
-            }
-            PointIssue::Coupling { coupling, steps } => {
-                (json.coupling, json.steps) = (Some(coupling), Some(steps));
-                IssueName::Coupling
-            }
-            PointIssue::ZeroLoad { deviation } => {
-                json.deviation = Some(deviation);
-                IssueName::ZeroLoad
-            }
-            PointIssue::NoZeroLoadReference => IssueName::NoZeroLoadReference,
-            PointIssue::Eigenvalues => IssueName::Eigenvalues,
-            PointIssue::NotFinite => IssueName::NotFinite,
-        };
-        json.serialize(serializer)
+        IssueJson { issue: *self, message: self.to_string() }.serialize(serializer)
     }
 }
 
 impl<'de> Deserialize<'de> for PointIssue {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        let json = IssueJson::deserialize(deserializer)?;
-        let missing = |key: &'static str| serde::de::Error::missing_field(key);
-        Ok(match json.issue {
-            IssueName::Interpolant => PointIssue::Interpolant { terms: json.terms.ok_or_else(|| missing("terms"))? },
-            IssueName::Coupling => PointIssue::Coupling {
-                coupling: json.coupling.ok_or_else(|| missing("coupling"))?,
-                steps: json.steps.ok_or_else(|| missing("steps"))?,
-            },
-            IssueName::ZeroLoad => {
-                PointIssue::ZeroLoad { deviation: json.deviation.ok_or_else(|| missing("deviation"))? }
-            }
-            IssueName::NoZeroLoadReference => PointIssue::NoZeroLoadReference,
-            IssueName::Eigenvalues => PointIssue::Eigenvalues,
-            IssueName::NotFinite => PointIssue::NotFinite,
-        })
+        Ok(IssueJson::deserialize(deserializer)?.issue)
     }
 }
 

@@ -562,8 +562,10 @@ pub fn unbalance_response(
     progress: &dyn Progress,
 ) -> Result<UnbalanceResult, AnalysisError> {
     let a = DynamicStiffness::of(rotor)?;
-    let probes = response_with(&a, speeds, probes, progress)?;
-    let speeds = if probes.is_empty() { Vec::new() } else { speeds.to_vec() };
+    let (speeds, probes) = match responses(&a, speeds, probes, progress)? {
+        Some(probes) => (speeds.to_vec(), probes),
+        None => (Vec::new(), Vec::new()),
+    };
     Ok(UnbalanceResult { speeds, static_load: rotor.static_load(), probes })
 }
 
@@ -577,6 +579,16 @@ pub fn response_with(
     probes: &[Probe],
     progress: &dyn Progress,
 ) -> Result<Vec<ProbeResponse>, AnalysisError> {
+    Ok(responses(a, speeds, probes, progress)?.unwrap_or_default())
+}
+
+/// [`response_with`]; None when stopped.
+fn responses(
+    a: &DynamicStiffness,
+    speeds: &[f64],
+    probes: &[Probe],
+    progress: &dyn Progress,
+) -> Result<Option<Vec<ProbeResponse>>, AnalysisError> {
     check_speeds(speeds)?;
     // The unbalance force grows like Ω²: a response's speeds are bounded.
     for &w in speeds {
@@ -591,7 +603,7 @@ pub fn response_with(
         dofs.extend(probes.iter().map(|p| n + p.dof));
     }
     let Some(grid) = at_speeds(a, speeds, &dofs, progress)? else {
-        return Ok(Vec::new());
+        return Ok(None);
     };
     let count = probes.len();
     probes
@@ -610,7 +622,8 @@ pub fn response_with(
             let (peaks, refined) = refine_peaks(a, probe.dof, speeds, &amplitude, work)?;
             Ok(ProbeResponse { probe: probe.clone(), amplitude, phase, peaks, refined, orbit })
         })
-        .collect()
+        .collect::<Result<_, AnalysisError>>()
+        .map(Some)
 }
 
 /// The largest amplitude (m) at shaft node `node` over `speeds` (rad/s, ascending), its
