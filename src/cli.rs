@@ -15,6 +15,12 @@ pub(crate) struct Cli {
     /// cost against before it starts (docs/errors.md, `Cost`).
     #[arg(long = "max-cost", value_name = "FACTOR", global = true, default_value_t = 1.0)]
     pub(crate) max_cost: f64,
+    /// Stop a run still computing after SECONDS of wall time, at its next step (a chart
+    /// row, a search, a speed, a design candidate), writing nothing: exit 7
+    /// (docs/errors.md, `TimeLimit`). Measured on the machine that runs it; each case of a
+    /// study has its own. Default: the time limit of --max-cost (FACTOR × 3600 s).
+    #[arg(long = "time-limit", value_name = "SECONDS", global = true)]
+    pub(crate) time_limit: Option<f64>,
     /// Report no progress on standard error (by default: a bar on a terminal; otherwise,
     /// from a run's fifth second on, a line every 5 s and at each phase).
     #[arg(long, global = true)]

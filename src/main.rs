@@ -223,6 +223,12 @@ mod exit {
 fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
     let plain = |r: Result<String, rotorshunt::commands::Error>| r.map(|t| (t, 0));
     let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::commands::Error::parameter("--max-cost", &e))?;
+    let budget = match cli.time_limit {
+        Some(seconds) => {
+            budget.with_time_limit(seconds).map_err(|e| rotorshunt::commands::Error::parameter("--time-limit", &e))?
+        }
+        None => budget,
+    };
     match cli.command {
         Command::Check { input } => plain(commands::check(&load(&input)?, budget)),
         Command::Modes { input, speed, count, json } => {

@@ -30,7 +30,7 @@ pub trait Progress: Sync {
     /// leftover it could not prove its own): one line, starting `warning: `.
     fn notice(&self, _line: &str) {}
     /// Whether the caller asks the computation to stop (the Python bindings: Ctrl-C, a
-    /// progress callback that raised). The loops that take long ask it before each step
+    /// progress callback that raised; a command's time limit, [`Deadline`]). The loops that take long ask it before each step
     /// (a chart before each φ row, the region catalogue and the band search before each
     /// seed's search and each boundary's tracking) and, once it is true, skip the steps
     /// not yet begun and return early: the result is then incomplete, and the caller that
@@ -38,6 +38,78 @@ pub trait Progress: Sync {
     /// Default: never.
     fn cancelled(&self) -> bool {
         false
+    }
+}
+
+/// A progress that also asks the work to stop once a time limit has passed since it was
+/// made: the running bound of a command, measured while it runs on whatever machine it
+/// runs (`--time-limit`, docs/errors.md `TimeLimit`). Every report goes on to `inner`, and
+/// the work stops as `inner` asks too (Ctrl-C in the Python bindings).
+///
+/// [`Deadline::tripped`] tells whether the limit stopped a step: the work skipped what it
+/// had not begun, and its result is incomplete. A computation that never asks
+/// [`Progress::cancelled`] is never stopped, and never tripped.
+pub struct Deadline<'a> {
+    inner: &'a dyn Progress,
+    started: std::time::Instant,
+    /// The limit (`None`: no limit, e.g. an infinite one).
+    limit: Option<std::time::Duration>,
+    tripped: std::sync::atomic::AtomicBool,
+}
+
+impl<'a> Deadline<'a> {
+    /// Progress reported to `inner`, and a stop asked once `seconds` (s of wall time) have
+    /// passed from now. A limit that is not a positive finite duration never stops.
+    pub fn new(inner: &'a dyn Progress, seconds: f64) -> Deadline<'a> {
+        let limit = std::time::Duration::try_from_secs_f64(seconds).ok().filter(|d| !d.is_zero());
+        Deadline { inner, started: std::time::Instant::now(), limit, tripped: Default::default() }
+    }
+
+    /// Whether the limit has stopped a step (the work asked and was told to stop).
+    pub fn tripped(&self) -> bool {
+        self.tripped.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Seconds since the deadline was made.
+    pub fn elapsed(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+}
+
+impl std::fmt::Debug for Deadline<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Deadline").field("limit", &self.limit).field("tripped", &self.tripped()).finish_non_exhaustive()
+    }
+}
+
+impl Progress for Deadline<'_> {
+    fn phase(&self, name: &str, steps: u64) {
+        self.inner.phase(name, steps)
+    }
+    fn extend(&self, steps: u64) {
+        self.inner.extend(steps)
+    }
+    fn advance(&self, steps: u64) {
+        self.inner.advance(steps)
+    }
+    fn warning(&self, warning: &dyn std::fmt::Display) {
+        self.inner.warning(warning)
+    }
+    fn notice(&self, line: &str) {
+        self.inner.notice(line)
+    }
+    fn cancelled(&self) -> bool {
+        if self.inner.cancelled() {
+            return true;
+        }
+        if self.tripped() {
+            return true;
+        }
+        let over = self.limit.is_some_and(|limit| self.started.elapsed() > limit);
+        if over {
+            self.tripped.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        over
     }
 }
 
@@ -76,5 +148,38 @@ mod tests {
         p.advance(2);
         assert_eq!(calls.load(Ordering::Relaxed), 5);
         Silent.advance(7);
+    }
+
+    /// A stop asked by the caller.
+    struct Stop;
+    impl Progress for Stop {
+        fn cancelled(&self) -> bool {
+            true
+        }
+    }
+
+    #[test]
+    fn a_deadline_stops_once_its_limit_has_passed_and_says_so() {
+        // A limit of one nanosecond has passed by the first question.
+        let d = Deadline::new(&Silent, 1e-9);
+        std::thread::sleep(std::time::Duration::from_millis(1));
+        assert!(!d.tripped(), "not tripped before the work asks");
+        assert!(d.cancelled());
+        assert!(d.tripped());
+        // No limit, or one that is not a positive duration: never stops.
+        for seconds in [f64::INFINITY, f64::NAN, 0.0, -1.0, 1e300] {
+            let d = Deadline::new(&Silent, seconds);
+            assert!(!d.cancelled() && !d.tripped(), "{seconds}");
+        }
+        // The caller's own stop passes through and is not the limit's.
+        let d = Deadline::new(&Stop, 1e300);
+        assert!(d.cancelled() && !d.tripped());
+        // Reports go on to the inner progress.
+        let calls = AtomicU64::new(0);
+        let tick = || {
+            calls.fetch_add(1, Ordering::Relaxed);
+        };
+        Deadline::new(&tick, 1.0).advance(3);
+        assert_eq!(calls.load(Ordering::Relaxed), 3);
     }
 }

@@ -5,7 +5,7 @@
 //! documented.
 
 use crate::common;
-use rotorshunt::analysis::cost::{CostError, Resource};
+use rotorshunt::analysis::cost::{CostError, Resource, TimeLimitError};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::commands::Error;
 use rotorshunt::design::DesignError;
@@ -112,6 +112,7 @@ fn every_kind() -> Vec<&'static str> {
             parameter: s(),
             detail: s(),
         }),
+        Error::TimeLimit(TimeLimitError { what: s(), limit: 1.0, elapsed: 1.0, explicit: true }),
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
         Error::OutputIsInput { path: s(), input: s() },
@@ -295,6 +296,8 @@ fn documented_messages_are_what_the_binary_prints() {
                 0
             } else if EXIT_1.contains(&kind.as_str()) {
                 1
+            } else if kind == "TimeLimit" {
+                7
             } else {
                 2
             };

@@ -78,6 +78,7 @@ mod speed_range;
 mod study;
 mod study_safety;
 mod study_shards;
+mod time_limit;
 mod timoshenko;
 mod unbalance;
 mod verification_parts;

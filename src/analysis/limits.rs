@@ -70,6 +70,8 @@ pub enum Quantity {
     Count,
     /// The `--max-cost` factor (−).
     CostFactor,
+    /// The `--time-limit` of a run (s of wall time).
+    TimeLimit,
     /// A design constraint's limit, in its own unit (m, rad/s or −).
     Limit,
 }
@@ -338,6 +340,11 @@ pub fn count(n: u64, min: u64, max: u64) -> Result<u64, ParamError> {
 /// finite and > 0 (below 1 tightens them).
 pub fn cost_factor(factor: f64) -> Result<f64, ParamError> {
     positive(Quantity::CostFactor, factor)
+}
+
+/// The `--time-limit` of a run, measured while it runs (s of wall time): finite, > 0.
+pub fn time_limit(seconds: f64) -> Result<f64, ParamError> {
+    positive(Quantity::TimeLimit, seconds)
 }
 
 #[cfg(test)]

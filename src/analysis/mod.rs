@@ -249,6 +249,7 @@ fn quantity_name(q: limits::Quantity) -> &'static str {
         Q::Speed => "speed",
         Q::Count => "count",
         Q::CostFactor => "cost factor",
+        Q::TimeLimit => "time limit",
         Q::Limit => "limit",
     }
 }

@@ -141,7 +141,7 @@ pub fn design_cmd(
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
     modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let outcome = design_report(problem, &dir, progress)?;
+    let outcome = design_report(problem, &dir, progress, &budget)?;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
@@ -153,7 +153,10 @@ pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) ->
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
     modes_exist(problem, None, spec)?;
-    Ok(design::run(&problem.machine(), spec, progress)?)
+    let deadline = budget.deadline(progress);
+    let outcome = design::run(&problem.machine(), spec, &deadline);
+    budget.stopped(&deadline, "the design")?;
+    Ok(outcome?)
 }
 
 /// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),
@@ -182,11 +185,20 @@ pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &Desig
     }
 }
 
-/// Run the design and write the report files to `dir`; the outcome.
-pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -> Result<DesignOutcome, Error> {
+/// Run the design and write the report files to `dir`; the outcome. A design or report
+/// stopped at `budget`'s time limit is an error, its files left uncommitted.
+pub fn design_report(
+    problem: &Problem,
+    dir: &OutDir,
+    progress: &dyn Progress,
+    budget: &Budget,
+) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     let machine = problem.machine();
-    let outcome = design::run(&machine, spec, progress)?;
+    let deadline = budget.deadline(progress);
+    let outcome = design::run(&machine, spec, &deadline);
+    budget.stopped(&deadline, "the design")?;
+    let outcome = outcome?;
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(&machine, spec, &outcome.before)?;
     let after = Candidate::new(&machine, spec, &outcome.after)?;
@@ -202,7 +214,9 @@ pub fn design_report(problem: &Problem, dir: &OutDir, progress: &dyn Progress) -
         .filter_map(|b| b.band.band)
         .chain(spec.kept_clear().iter().map(|b| b.guarded()))
         .collect();
-    let mut content = content(spec, &before, &after, &bands, progress)?;
+    let content = content(spec, &before, &after, &bands, &deadline);
+    budget.stopped(&deadline, "the design's report")?;
+    let mut content = content?;
     let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
@@ -389,7 +403,10 @@ pub fn pareto_cmd(
     bounds::admit(&budget, "the Pareto front", &one.times(runs, Driver::Candidates, "design runs"), &DESIGN)?;
     modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let front = design::pareto::front(&problem.machine(), spec, points, progress)?;
+    let deadline = budget.deadline(progress);
+    let front = design::pareto::front(&problem.machine(), spec, points, &deadline);
+    budget.stopped(&deadline, "the Pareto front")?;
+    let front = front?;
     progress.phase("report", (front.points.len() + 4) as u64);
     let design_files: Vec<String> = front.points.iter().map(point_file).collect();
     let mut files: Vec<String> =

@@ -52,6 +52,10 @@ pub enum Error {
     /// ([`crate::analysis::cost`]).
     #[error(transparent)]
     Cost(#[from] crate::analysis::cost::CostError),
+    /// A run stopped at its time limit while it ran ([`crate::progress::Deadline`]); nothing
+    /// was written.
+    #[error(transparent)]
+    TimeLimit(#[from] crate::analysis::cost::TimeLimitError),
     /// Writing an output failed (including a read-only file, which is not replaced).
     #[error("cannot write {path}: {message}")]
     Output {
@@ -262,6 +266,7 @@ impl Error {
             Error::Study { .. } => "Study",
             Error::Argument { .. } => "Argument",
             Error::Cost(_) => "Cost",
+            Error::TimeLimit(_) => "TimeLimit",
             Error::Output { .. } => "Output",
             Error::OutputIsInput { .. } => "OutputIsInput",
             Error::OutIsNotAFolder { .. } => "OutIsNotAFolder",
@@ -283,13 +288,16 @@ impl Error {
 
     /// The exit code of a run that failed with this error (docs/errors.md): 2 for bad
     /// input (the problem or study file, arguments, a refused cost or output folder, a
-    /// request or design that breaks a rule), 1 for a failure on valid input.
+    /// request or design that breaks a rule), 1 for a failure on valid input, 7 for a run
+    /// stopped at its time limit.
     pub fn exit_code(&self) -> u8 {
         use crate::analysis::AnalysisError as A;
         use crate::design::DesignError as D;
         const BAD_INPUT: u8 = 2;
         const FAILED: u8 = 1;
+        const STOPPED: u8 = 7;
         match self {
+            Error::TimeLimit(_) => STOPPED,
             Error::Problem(_)
             | Error::Ross(_)
             | Error::OutputExists { .. }

@@ -276,18 +276,20 @@ pub fn chart_cmd(
     }
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&CHART_FILES)?;
+    let deadline = budget.deadline(progress);
     let start = Instant::now();
-    let main = run_chart(&main_fs, &phis, &betas, progress, "chart");
+    let main = run_chart(&main_fs, &phis, &betas, &deadline, "chart");
     let elapsed = start.elapsed().as_secs_f64();
     // Both layers are named alike: by their file and overrides when a second file is
     // compared, by circuit state and overrides when the same file is.
     let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
     let compared = match (compare, &other_fs) {
         (Compare::Problem(name, other), Some(fs)) => {
-            Some((name, other, run_chart(fs, &phis, &betas, progress, "compare")))
+            Some((name, other, run_chart(fs, &phis, &betas, &deadline, "compare")))
         }
         _ => None,
     };
+    budget.stopped(&deadline, "the chart")?;
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main_warnings, &main)?;
     let label = super::plot_title(problem);

@@ -200,7 +200,10 @@ pub fn campbell_json(
     bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.phase("whirls", speeds.len() as u64);
-    let result = campbell(&rotor, &problem.settings, speeds, count, progress)?;
+    let deadline = budget.deadline(progress);
+    let result = campbell(&rotor, &problem.settings, speeds, count, &deadline);
+    budget.stopped(&deadline, "the Campbell diagram")?;
+    let result = result?;
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);
     campbell_json_text(problem, &result, &operating, &critical)
@@ -246,7 +249,10 @@ pub fn campbell_cmd(
     let dir = OutDir::create(out, &problem.file)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.phase("whirls", speeds.len() as u64);
-    let result = campbell(&rotor, &problem.settings, &speeds, count, progress)?;
+    let deadline = budget.deadline(progress);
+    let result = campbell(&rotor, &problem.settings, &speeds, count, &deadline);
+    budget.stopped(&deadline, "the Campbell diagram")?;
+    let result = result?;
     progress.phase("files", 4);
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);

@@ -196,10 +196,13 @@ pub fn regions_cmd(
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
+    let deadline = budget.deadline(progress);
     let start = Instant::now();
     progress.phase("catalogue", 0);
-    let cat = catalogue_with(&fs, &full, &settings, &req, progress)?;
+    let cat = catalogue_with(&fs, &full, &settings, &req, &deadline);
     let seconds = start.elapsed().as_secs_f64();
+    budget.stopped(&deadline, "the region catalogue")?;
+    let cat = cat?;
     let doc = RegionsJson {
         provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
@@ -214,7 +217,8 @@ pub fn regions_cmd(
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
     if let Some(dir) = dir {
-        let plot = boundary_plot(problem, &fs, &cat, progress);
+        let plot = boundary_plot(problem, &fs, &cat, &deadline);
+        budget.stopped(&deadline, "the region catalogue's boundary plot")?;
         let written = files_phase(progress, 3);
         dir.write("regions.json", json_text.as_bytes())?;
         written();
@@ -364,12 +368,17 @@ pub fn band_cmd(
     let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
     let warnings = super::range_warning(problem, &fs, window, key, progress);
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
+    let deadline = budget.deadline(progress);
     let start = Instant::now();
     progress.phase("band", 0);
-    let b = band_with(&fs, &full, &settings, window, phi_op, level, progress)?;
+    let b = band_with(&fs, &full, &settings, window, phi_op, level, &deadline);
+    budget.stopped(&deadline, "the band search")?;
+    let b = b?;
     progress.phase("margins", 0);
     let labelled = seeds_for(&fs, Some(&full), window, criterion.max_order)?;
-    let margins = band_margins(&fs, &full, &settings, &labelled, &b, window, progress)?;
+    let margins = band_margins(&fs, &full, &settings, &labelled, &b, window, &deadline);
+    budget.stopped(&deadline, "the band's margins")?;
+    let margins = margins?;
     let out = BandOutput {
         margins,
         provenance: Provenance::of(problem).with(&warnings),

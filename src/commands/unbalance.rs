@@ -11,6 +11,7 @@ use crate::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
 use crate::analysis::{AnalysisError, Rotor};
 use crate::commands::Error;
 use crate::problem::Problem;
+use crate::progress::Deadline;
 use crate::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
 use serde::Serialize;
 use std::path::Path;
@@ -84,13 +85,15 @@ fn respond(
     problem: &Problem,
     speeds: &[f64],
     nodes: &[usize],
-    progress: &dyn Progress,
+    deadline: &Deadline<'_>,
+    budget: &Budget,
     what: &str,
 ) -> Result<UnbalanceResult, Error> {
     let rotor = Rotor::new(&problem.model)?;
     let probes = probes(&rotor, nodes).map_err(|e| about("--nodes", e))?;
-    progress.phase(what, speeds.len() as u64);
-    let r = unbalance_response(&rotor, speeds, &probes, progress);
+    deadline.phase(what, speeds.len() as u64);
+    let r = unbalance_response(&rotor, speeds, &probes, deadline);
+    budget.stopped(deadline, "the unbalance response")?;
     Ok(r?)
 }
 
@@ -157,7 +160,7 @@ pub fn unbalance_json(
         &cost::unbalance(&problem.model, speeds.len(), nodes.len()),
         &MODEL_ONLY,
     )?;
-    let r = respond(problem, speeds, nodes, progress, "unbalance")?;
+    let r = respond(problem, speeds, nodes, &budget.deadline(progress), &budget, "unbalance")?;
     let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
     json_pretty(&UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: &r }, "the JSON output")
 }
@@ -212,12 +215,15 @@ pub fn unbalance_cmd(
     }
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&UNBALANCE_FILES)?;
-    let main = respond(problem, &speeds, &nodes, progress, "unbalance")?;
+    let deadline = budget.deadline(progress);
+    let main = respond(problem, &speeds, &nodes, &deadline, &budget, "unbalance")?;
     // Both layers are named alike: by file and overrides when a second file is compared,
     // by circuit state and overrides when the same file is.
     let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
     let compared = match compare {
-        Compare::Problem(name, other) => Some((name, other, respond(other, &speeds, &nodes, progress, "compare")?)),
+        Compare::Problem(name, other) => {
+            Some((name, other, respond(other, &speeds, &nodes, &deadline, &budget, "compare")?))
+        }
         Compare::None => None,
     };
     let main_json = write_layer(&dir, "unbalance", problem, &main)?;
@@ -298,11 +304,13 @@ pub fn damping_cmd(
     bounds::admit(&budget, "the damping ratios", &estimate, &MODEL_ONLY)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.phase("damping", speeds.len() as u64);
+    let deadline = budget.deadline(progress);
     let result = if tags.is_empty() {
-        lowest_damping(&rotor, &problem.settings, &speeds, count, progress)
+        lowest_damping(&rotor, &problem.settings, &speeds, count, &deadline)
     } else {
-        mode_damping(&rotor, &problem.settings, &speeds, &tags, progress)
+        mode_damping(&rotor, &problem.settings, &speeds, &tags, &deadline)
     };
+    budget.stopped(&deadline, "the damping ratios")?;
     let result = result.map_err(|e| about("--modes", e))?;
     if json {
         let out = DampingJson { provenance: Provenance::of(problem), speeds: &speeds, modes: &result };

@@ -1,5 +1,8 @@
 //! What a run costs, estimated from its inputs before it starts, and the limits beyond
-//! which a command refuses it (written once, here).
+//! which a command refuses it (written once, here). A run admitted is bounded again while
+//! it runs, on whatever machine: [`Budget::deadline`] stops it at its time limit measured
+//! there (by default the same [`MAX_SECONDS`] times the factor; `--time-limit`), and
+//! [`Budget::stopped`] turns the stop into a [`TimeLimitError`] before anything is written.
 //!
 //! Two resources are bounded:
 //! - **time**: seconds of one core of the reference machine (the shared 2-core host the
@@ -271,24 +274,80 @@ fn limit_text(resource: Resource, x: f64) -> String {
     }
 }
 
-/// The limits of a run: [`MAX_SECONDS`] and [`MAX_BYTES`] times a factor (`--max-cost`).
+/// A run stopped while it ran: it passed its time limit, measured on the machine that ran
+/// it ([`crate::progress::Deadline`]). What it had computed is dropped and nothing is
+/// written.
+#[derive(Debug, Clone, PartialEq, Error, Serialize)]
+#[error(
+    "{what} was stopped at its time limit of {} s (after {:.1} s, measured while it ran); nothing was written; allow more time with --time-limit SECONDS{}",
+    compact(*limit),
+    elapsed,
+    if *explicit { "" } else { " (or --max-cost FACTOR, whose time limit is FACTOR times 3600 s)" },
+)]
+pub struct TimeLimitError {
+    /// What was stopped, e.g. `the chart`.
+    pub what: String,
+    /// The limit (s of wall time).
+    pub limit: f64,
+    /// The time the run had taken when it stopped (s).
+    pub elapsed: f64,
+    /// Whether the limit was given (`--time-limit`) rather than the budget's
+    /// [`MAX_SECONDS`] times its factor.
+    pub explicit: bool,
+}
+
+/// The limits of a run: [`MAX_SECONDS`] and [`MAX_BYTES`] times a factor (`--max-cost`)
+/// for its estimate before it starts, and a time limit measured while it runs (by default
+/// the same seconds; `--time-limit`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
     factor: f64,
     /// Runs sharing the memory limit.
     memory_share: f64,
+    /// The time limit given (s of wall time); `None`: [`Budget::seconds`].
+    time_limit: Option<f64>,
 }
 
 impl Default for Budget {
     fn default() -> Budget {
-        Budget { factor: 1.0, memory_share: 1.0 }
+        Budget { factor: 1.0, memory_share: 1.0, time_limit: None }
     }
 }
 
 impl Budget {
     /// The limits times `factor` (finite, > 0).
     pub fn new(factor: f64) -> Result<Budget, ParamError> {
-        Ok(Budget { factor: limits::cost_factor(factor)?, memory_share: 1.0 })
+        Ok(Budget { factor: limits::cost_factor(factor)?, ..Budget::default() })
+    }
+
+    /// This budget with a time limit of `seconds` of wall time (finite, > 0) while a run
+    /// runs, in place of [`Budget::seconds`].
+    pub fn with_time_limit(self, seconds: f64) -> Result<Budget, ParamError> {
+        Ok(Budget { time_limit: Some(limits::time_limit(seconds)?), ..self })
+    }
+
+    /// The time limit while a run runs (s of wall time).
+    pub fn time_limit(&self) -> f64 {
+        self.time_limit.unwrap_or_else(|| self.seconds())
+    }
+
+    /// A deadline of this budget's time limit, from now, reporting to `progress`.
+    pub fn deadline<'a>(&self, progress: &'a dyn crate::progress::Progress) -> crate::progress::Deadline<'a> {
+        crate::progress::Deadline::new(progress, self.time_limit())
+    }
+
+    /// The error of `what` when `deadline` (of this budget) stopped a step of it; what it
+    /// computed is then incomplete and must not be kept.
+    pub fn stopped(&self, deadline: &crate::progress::Deadline<'_>, what: &str) -> Result<(), TimeLimitError> {
+        if !deadline.tripped() {
+            return Ok(());
+        }
+        Err(TimeLimitError {
+            what: what.to_string(),
+            limit: self.time_limit(),
+            elapsed: deadline.elapsed(),
+            explicit: self.time_limit.is_some(),
+        })
     }
 
     /// This budget with its memory limit divided among `parts` runs held at once (the
@@ -356,6 +415,34 @@ mod tests {
             .is_ok());
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(Budget::new(bad).is_err(), "{bad}");
+            assert!(Budget::default().with_time_limit(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn the_time_limit_is_the_budgets_seconds_unless_given() {
+        assert_eq!(Budget::default().time_limit(), MAX_SECONDS);
+        assert_eq!(Budget::new(0.5).unwrap().time_limit(), 0.5 * MAX_SECONDS);
+        let given = Budget::new(0.5).unwrap().with_time_limit(20.0).unwrap();
+        assert_eq!((given.time_limit(), given.seconds()), (20.0, 0.5 * MAX_SECONDS));
+        // A deadline that stopped a step is an error naming the limit; one that did not,
+        // none.
+        let b = Budget::default().with_time_limit(1e-9).unwrap();
+        let d = b.deadline(&crate::progress::Silent);
+        assert!(b.stopped(&d, "the chart").is_ok());
+        std::thread::sleep(std::time::Duration::from_millis(1));
+        assert!(crate::progress::Progress::cancelled(&d));
+        let e = b.stopped(&d, "the chart").unwrap_err();
+        assert!(e.explicit && e.limit == 1e-9 && e.elapsed > e.limit, "{e:?}");
+        assert!(e.to_string().starts_with("the chart was stopped at its time limit of 1e-9 s (after 0.0"), "{e}");
+        assert!(e.to_string().ends_with("--time-limit SECONDS"), "{e}");
+        // The limit of --max-cost names the factor as the other way to allow more.
+        let b = Budget::new(1e-12).unwrap();
+        let d = b.deadline(&crate::progress::Silent);
+        std::thread::sleep(std::time::Duration::from_millis(1));
+        assert!(crate::progress::Progress::cancelled(&d));
+        let e = b.stopped(&d, "the design").unwrap_err();
+        assert!(!e.explicit && e.limit == 3.6e-9, "{e:?}");
+        assert!(e.to_string().ends_with("(or --max-cost FACTOR, whose time limit is FACTOR times 3600 s)"), "{e}");
     }
 }

@@ -31,7 +31,7 @@ use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{band, catalogue, CatalogueRequest};
+use crate::analysis::regions::{band_with, catalogue_with, CatalogueRequest};
 use crate::analysis::Criterion;
 use crate::analysis::Interval;
 use crate::analysis::Rotor;

@@ -67,7 +67,7 @@ pub(super) fn run_case(
     match case.kind {
         CaseKind::Design => {
             admit_case(&problem, CaseKind::Design, study, budget)?;
-            let o = design_report(&problem, dir, &Silent)?;
+            let o = design_report(&problem, dir, &Silent, budget)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified()));
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
@@ -118,17 +118,28 @@ pub(super) fn run_case(
             let speed = problem.model.speed;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = problem.regions.clone();
-            let cat =
-                catalogue(&fs, &full, &s, &CatalogueRequest { range, beta_max: study.beta_max, level, track: false })?;
+            let deadline = budget.deadline(&Silent);
+            let req = CatalogueRequest { range, beta_max: study.beta_max, level, track: false };
+            let cat = catalogue_with(&fs, &full, &s, &req, &deadline);
+            budget.stopped(&deadline, "the case's region catalogue")?;
+            let cat = cat?;
+            // The band before any file, so that a case stopped at its time limit writes none.
+            let found = match study.phi_op {
+                Some(p) => {
+                    let found = band_with(&fs, &full, &s, range, p, level, &deadline);
+                    budget.stopped(&deadline, "the case's band search")?;
+                    Some(found?)
+                }
+                None => None,
+            };
             dir.write("regions.json", (json_pretty(&cat, "the JSON output")? + "\n").as_bytes())?;
             m.insert("regions".into(), metric(cat.regions.len()));
             let lowest = cat.regions.iter().min_by(|a, b| a.onset_beta.total_cmp(&b.onset_beta));
             m.insert("lowest_onset".into(), metric(lowest.map(|r| r.onset_beta)));
             m.insert("lowest_onset_region".into(), metric(lowest.map(|r| r.label.clone())));
             m.insert("floquet_evaluations".into(), metric(cat.evaluations));
-            if let Some(p) = study.phi_op {
-                // The same band as `rotorshunt band` over the study's φ range.
-                let found = band(&fs, &full, &s, range, p, level)?;
+            // The same band as `rotorshunt band` over the study's φ range.
+            if let Some(found) = found {
                 let b = found.band;
                 m.insert("band_lo".into(), metric(b.map(|b| b.lo)));
                 m.insert("band_hi".into(), metric(b.map(|b| b.hi)));
