@@ -81,6 +81,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
                 sbatch,
                 allow_non_empty,
                 binary,
+                budget,
             };
             Ok((commands::slurm_cmd(&file, &out, &options)?, 0))
         }

@@ -130,3 +130,27 @@ fn each_study_case_stops_at_its_own_limit_and_writes_no_result_file() {
     assert!(summary.lines().count() >= 3, "{summary}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_slurm_array_task_runs_under_the_limits_it_was_written_with() {
+    let dir = scratch("time-limit-slurm");
+    let study = common::coarse_study(&dir, "study.toml", "[[cases]]\nname = \"a\"\n");
+    let exec_line = |flags: &[&str], out: &str| {
+        let o = bin()
+            .args(flags)
+            .args(["study", "slurm", study.to_str().unwrap(), "--tasks", "1", "--out"])
+            .arg(dir.join(out))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        let script = std::fs::read_to_string(dir.join(out).join("slurm/study.sbatch")).unwrap();
+        let line = script.lines().find(|l| l.starts_with("exec ")).unwrap().to_string();
+        line.split(" study ").next().unwrap().to_string()
+    };
+    // The default budget passes nothing; a given one passes both flags, read back exactly.
+    let plain = exec_line(&[], "plain");
+    assert!(!plain.contains("--"), "{plain}");
+    let limited = exec_line(&["--max-cost", "2", "--time-limit", "90.5"], "limited");
+    assert!(limited.ends_with(" --max-cost 2.0 --time-limit 90.5"), "{limited}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

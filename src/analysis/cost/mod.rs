@@ -326,6 +326,20 @@ impl Budget {
         Ok(Budget { time_limit: Some(limits::time_limit(seconds)?), ..self })
     }
 
+    /// The global flags that give a command line this budget (`--max-cost`,
+    /// `--time-limit`), none for the default: what a script that runs the tool again (a
+    /// Slurm array task) passes on. Finite positive numbers, written to read back exactly.
+    pub fn flags(&self) -> Vec<String> {
+        let mut flags = Vec::new();
+        if self.factor != 1.0 {
+            flags.extend(["--max-cost".to_string(), format!("{:?}", self.factor)]);
+        }
+        if let Some(t) = self.time_limit {
+            flags.extend(["--time-limit".to_string(), format!("{t:?}")]);
+        }
+        flags
+    }
+
     /// The time limit while a run runs (s of wall time).
     pub fn time_limit(&self) -> f64 {
         self.time_limit.unwrap_or_else(|| self.seconds())
@@ -416,6 +430,25 @@ mod tests {
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(Budget::new(bad).is_err(), "{bad}");
             assert!(Budget::default().with_time_limit(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn a_budget_gives_the_flags_that_make_it() {
+        assert!(Budget::default().flags().is_empty());
+        for b in [
+            Budget::new(10.0).unwrap(),
+            Budget::new(0.1).unwrap().with_time_limit(1e-9).unwrap(),
+            Budget::default().with_time_limit(7200.5).unwrap(),
+        ] {
+            let flags = b.flags();
+            let value = |name: &str| flags.iter().position(|f| f == name).map(|i| flags[i + 1].parse::<f64>().unwrap());
+            let again = Budget::new(value("--max-cost").unwrap_or(1.0)).unwrap();
+            let again = match value("--time-limit") {
+                Some(t) => again.with_time_limit(t).unwrap(),
+                None => again,
+            };
+            assert_eq!(again, b, "{flags:?}");
         }
     }
 

@@ -38,6 +38,9 @@ pub struct SlurmOptions {
     pub allow_non_empty: bool,
     /// The rotorshunt binary the jobs run (this one).
     pub binary: PathBuf,
+    /// The limits each case runs under (`--max-cost`, `--time-limit`), passed on to the
+    /// array tasks.
+    pub budget: crate::analysis::cost::Budget,
 }
 
 fn argument(name: &str, message: impl Into<String>) -> Error {
@@ -325,6 +328,8 @@ pub fn slurm_cmd(file: &Path, out: &Path, o: &SlurmOptions) -> Result<String, Er
     let shown = |p: &Path| quote(&p.display().to_string());
     let (bin, study_q, out_q) = (quote(&binary), quote(&study), quote(abs_text));
     let n = o.tasks;
+    // Numbers the tool wrote (digits, `.`, `e`, `-`): nothing for the shell to expand.
+    let limits: String = o.budget.flags().iter().map(|f| format!(" {f}")).collect();
     let mut array_options = vec![
         ("job-name", "rotorshunt-study".to_string()),
         ("array", format!("0-{}", n - 1)),
@@ -350,7 +355,7 @@ pub fn slurm_cmd(file: &Path, out: &Path, o: &SlurmOptions) -> Result<String, Er
 # submission (a resubmission of some indices changes them); the task reads only
 # SLURM_ARRAY_TASK_ID. Its threads follow SLURM_CPUS_PER_TASK (RAYON_NUM_THREADS wins).
 {}set -eu
-exec {bin} study {study_q} --out {out_q} --shards {n}
+exec {bin}{limits} study {study_q} --out {out_q} --shards {n}
 ",
         &identity.plan[..12],
         plan.len(),
