@@ -5,11 +5,12 @@
 
 Runs, from the repository root, the Fig. 11 chart of the README
 (`chart problems/fig11-closed-2000.toml --set circuit.state=open --compare-set
-circuit.state=closed --phi 100:8000:10 --beta 0:1:0.01`) and the widest-band design
-(`design problems/design-widest-band.toml`) with each binary, alternating the order per
-round (base then head, then head then base, ...), ROUNDS times (default 3). Prints every
+circuit.state=closed --phi 100:8000:10 --beta 0:1:0.01`), the widest-band design
+(`design problems/design-widest-band.toml`) and the catalogue (`regions
+problems/fig11-closed-2000.toml --phi 100:8000 --beta-max 1 --level 0.3 --json`) with
+each binary, alternating the order per round (base then head, then head then base, ...), ROUNDS times (default 3). Prints every
 measurement, then per job the medians and the paired ratios head/base (below 1 is
-faster). Outputs go to a temporary folder, removed at the end. SPEED_JOBS=chart,design
+faster). Outputs go to a temporary folder, removed at the end. SPEED_JOBS=chart,design,catalogue
 (the default) picks the jobs. The host is shared: compare ratios of the same round, and
 run it when nothing else builds. Build the base binary with scripts/speed-compare.sh's
 approach (a git worktree of the revision, `cargo build --release`).
@@ -24,8 +25,10 @@ jobs = {
                            "--compare-set", "circuit.state=closed", "--phi", "100:8000:10", "--beta", "0:1:0.01",
                            "--out", o, "--quiet"],
     "design": lambda b, o: [b, "design", "problems/design-widest-band.toml", "--out", o, "--quiet"],
+    "catalogue": lambda b, o: [b, "regions", "problems/fig11-closed-2000.toml", "--phi", "100:8000", "--beta-max", "1",
+                               "--level", "0.3", "--json", "--quiet"],
 }
-picked = os.environ.get("SPEED_JOBS", "chart,design").split(",")
+picked = os.environ.get("SPEED_JOBS", "chart,design,catalogue").split(",")
 work = tempfile.mkdtemp(prefix="rotorshunt-speed-cli.")
 res = {}
 try:

@@ -228,7 +228,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::comman
         Some(seconds) => {
             budget.with_time_limit(seconds).map_err(|e| rotorshunt::commands::Error::parameter("--time-limit", &e))?
         }
-        None => budget,
+        None => budget.with_estimate_time_limit(),
     };
     match cli.command {
         Command::Check { input } => plain(commands::check(&load(&input)?, budget)),

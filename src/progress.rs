@@ -32,7 +32,8 @@ pub trait Progress: Sync {
     /// Whether the caller asks the computation to stop (the Python bindings: Ctrl-C, a
     /// progress callback that raised; a command's time limit, [`Deadline`]). The loops that take long ask it before each step
     /// (a chart before each φ row, the region catalogue and the band search before each
-    /// seed's search and each boundary's tracking) and, once it is true, skip the steps
+    /// seed's search and each boundary's tracking, a time response ten times a load
+    /// period) and, once it is true, skip the steps
     /// not yet begun and return early: the result is then incomplete, and the caller that
     /// asked to stop discards it. Asking never changes a result that is not stopped.
     /// Default: never.

@@ -105,3 +105,26 @@ fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
     let built = progress.done.load(Ordering::Relaxed);
     assert!(built <= 2 + rayon::current_num_threads() as u64, "{built} candidates built");
 }
+
+#[test]
+fn a_time_response_asked_to_stop_ends_its_integration_early() {
+    use rotorshunt::analysis::response::{response, response_reporting, response_steps};
+    let problem = Problem::from_path("problems/fig11-closed-2000.toml", &[]).unwrap();
+    let fs = problem.operating_point().unwrap().floquet;
+    let (phi, beta, periods) = (1230.0, 0.3, 20);
+    let full = response(&fs, phi, beta, periods);
+    // Never asked: the same response, every progress step reported.
+    let never = stop_after(u64::MAX);
+    assert_eq!(response_reporting(&fs, phi, beta, periods, &never), full);
+    assert_eq!(never.done.load(Ordering::Relaxed), response_steps(&fs, phi, periods));
+    // Asked after 5 of its progress steps (a twentieth of a period each at most, as the
+    // step rule gives ≥ 64 steps a period): the integration ends within a tenth of a
+    // period after, with its samples so far.
+    let progress = stop_after(5);
+    let stopped = response_reporting(&fs, phi, beta, periods, &progress);
+    let done = progress.done.load(Ordering::Relaxed);
+    let per_period = response_steps(&fs, phi, periods) / periods as u64;
+    assert!((5..5 + per_period / 10 + 2).contains(&done), "{done} progress steps of {per_period} a period");
+    assert!(stopped.time.len() < full.time.len() / 10, "{} samples of {}", stopped.time.len(), full.time.len());
+    assert!(stopped.stopped_at.is_none(), "a stop is not a state that ceased to be finite");
+}

@@ -47,7 +47,8 @@ fn stopped(o: &Output, what: &str, dir: &Path) {
 fn every_long_command_stops_at_its_limit_and_writes_nothing() {
     let fig11 = problem_path("fig11-closed-2000.toml");
     let widest = problem_path("design-widest-band.toml");
-    let cases: [(&str, Vec<&str>, bool); 7] = [
+    let cases: [(&str, Vec<&str>, bool); 8] = [
+        ("the response", vec!["response", &fig11, "--phi", "1230", "--beta", "0.3", "--periods", "50"], true),
         ("the chart", vec!["chart", &fig11, "--phi", "1100:1300:10", "--beta", "0:0.4:0.1"], true),
         ("the region catalogue", vec!["regions", &fig11, "--phi", "1150:1250", "--beta-max", "0.4"], true),
         ("the band search", vec!["band", &fig11, "--phi-op", "1230", "--level", "0.3"], false),
@@ -89,8 +90,8 @@ fn a_stopped_rerun_leaves_the_earlier_folder_as_it_was() {
 
 #[test]
 fn a_computation_that_never_asks_is_bounded_by_its_estimate_alone() {
-    // One Floquet point is one step: there is nothing to stop between, and its estimate
-    // admitted it (docs/errors.md, `TimeLimit`).
+    // One Floquet point is one step (its monodromy): there is nothing to stop between,
+    // and its estimate admitted it (docs/errors.md, `TimeLimit`).
     let fig11 = problem_path("fig11-closed-2000.toml");
     let o = run(&["--time-limit", PASSED, "floquet", &fig11, "--phi", "1230", "--beta", "0.3"], None);
     assert!(o.status.success(), "{}", stderr(&o));

@@ -22,6 +22,10 @@ const MAX_SAMPLES: usize = 4000;
 /// Progress steps per load period at most: a long period (a slow load, φ = 0.01 rad/s is
 /// a period of 628 s) still reports an advancing count, never "0/1" for minutes.
 const PROGRESS_PER_PERIOD: usize = 100;
+/// Questions whether to stop ([`Progress::cancelled`]) per load period at most: often
+/// enough that a long period stops within a tenth of it, rarely enough that asking costs
+/// nothing beside the steps.
+const STOP_CHECKS_PER_PERIOD: usize = 10;
 
 /// The progress steps [`checked_response`] reports for `periods` periods at φ: each
 /// period's RK4 steps in up to `PROGRESS_PER_PERIOD` (100) equal parts.
@@ -147,7 +151,9 @@ pub fn response(fs: &FloquetSystem, phi: f64, beta: f64, periods: usize) -> Resp
 }
 
 /// [`response`], advancing `progress` by [`response_steps`] steps over the integration
-/// (up to `PROGRESS_PER_PERIOD` (100) per load period).
+/// (up to `PROGRESS_PER_PERIOD` (100) per load period). Once
+/// [`Progress::cancelled`] is true (asked up to ten times a period) the integration ends
+/// early: the result is then incomplete, for the caller that asked to drop.
 pub fn response_reporting(
     fs: &FloquetSystem,
     phi: f64,
@@ -164,6 +170,9 @@ pub fn response_reporting(
     let total = steps_per_period.saturating_mul(periods);
     let stride = total.div_ceil(MAX_SAMPLES).max(1);
     let parts = steps_per_period.min(PROGRESS_PER_PERIOD);
+    // Asked whether to stop at most `STOP_CHECKS_PER_PERIOD` times a period: a period may
+    // be 10⁸ steps (a low φ), and a step at M = 4 a fraction of a microsecond.
+    let check_every = (steps_per_period / STOP_CHECKS_PER_PERIOD).max(1);
     let force: Vec<c64> = fs.reduced.unbalance.iter().map(|u| u * (fs.speed * fs.speed)).collect();
     let rhs = |t: f64, y: &[c64], out: &mut [c64]| {
         let load = beta * (phi * t).cos();
@@ -189,6 +198,9 @@ pub fn response_reporting(
     let (mut first, mut last) = (0.0f64, 0.0f64);
     let mut stopped_at = None;
     for s in 0..total {
+        if s % check_every == 0 && progress.cancelled() {
+            break;
+        }
         let t = s as f64 * h;
         rhs(t, &y, &mut k1);
         for i in 0..n {

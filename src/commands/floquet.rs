@@ -363,10 +363,13 @@ pub fn response_cmd(
     bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
     // The Floquet point first: a phase without counted steps (time only in the log).
+    let deadline = budget.deadline(progress);
     progress.phase("floquet point", 0);
     let point = fs.point(phi, beta);
     progress.phase("response", response_steps(&fs, phi, periods));
-    let r: ResponseResult = checked_response(&fs, phi, beta, periods, progress)?;
+    let r = checked_response(&fs, phi, beta, periods, &deadline);
+    budget.stopped(&deadline, "the response")?;
+    let r: ResponseResult = r?;
     let written = files_phase(progress, 4);
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]

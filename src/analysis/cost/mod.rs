@@ -1,7 +1,8 @@
 //! What a run costs, estimated from its inputs before it starts, and the limits beyond
 //! which a command refuses it (written once, here). A run admitted is bounded again while
 //! it runs, on whatever machine: [`Budget::deadline`] stops it at its time limit measured
-//! there (by default the same [`MAX_SECONDS`] times the factor; `--time-limit`), and
+//! there (on the command line by default the same [`MAX_SECONDS`] times the factor;
+//! `--time-limit`), and
 //! [`Budget::stopped`] turns the stop into a [`TimeLimitError`] before anything is written.
 //!
 //! Two resources are bounded:
@@ -297,57 +298,82 @@ pub struct TimeLimitError {
 }
 
 /// The limits of a run: [`MAX_SECONDS`] and [`MAX_BYTES`] times a factor (`--max-cost`)
-/// for its estimate before it starts, and a time limit measured while it runs (by default
-/// the same seconds; `--time-limit`).
+/// for its estimate before it starts, and a time limit measured while it runs
+/// ([`RunningLimit`]: none for a library caller, who can stop the run itself; the
+/// command line's `--time-limit`, by default the same seconds).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
     factor: f64,
     /// Runs sharing the memory limit.
     memory_share: f64,
-    /// The time limit given (s of wall time); `None`: [`Budget::seconds`].
-    time_limit: Option<f64>,
+    /// The time limit while a run runs.
+    running: RunningLimit,
+}
+
+/// The time limit of a run while it runs ([`Budget::deadline`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunningLimit {
+    /// None: the caller stops the run ([`crate::progress::Progress::cancelled`]).
+    None,
+    /// The estimate's limit, [`Budget::seconds`] (the command line without `--time-limit`).
+    OfFactor,
+    /// Seconds of wall time given (`--time-limit`).
+    Given(f64),
 }
 
 impl Default for Budget {
     fn default() -> Budget {
-        Budget { factor: 1.0, memory_share: 1.0, time_limit: None }
+        Budget { factor: 1.0, memory_share: 1.0, running: RunningLimit::None }
     }
 }
 
 impl Budget {
-    /// The limits times `factor` (finite, > 0).
+    /// The limits times `factor` (finite, > 0), with no time limit while a run runs.
     pub fn new(factor: f64) -> Result<Budget, ParamError> {
         Ok(Budget { factor: limits::cost_factor(factor)?, ..Budget::default() })
     }
 
     /// This budget with a time limit of `seconds` of wall time (finite, > 0) while a run
-    /// runs, in place of [`Budget::seconds`].
+    /// runs.
     pub fn with_time_limit(self, seconds: f64) -> Result<Budget, ParamError> {
-        Ok(Budget { time_limit: Some(limits::time_limit(seconds)?), ..self })
+        Ok(Budget { running: RunningLimit::Given(limits::time_limit(seconds)?), ..self })
+    }
+
+    /// This budget with the estimate's limit, [`Budget::seconds`], as its time limit
+    /// while a run runs (the command line's default).
+    pub fn with_estimate_time_limit(self) -> Budget {
+        Budget { running: RunningLimit::OfFactor, ..self }
     }
 
     /// The global flags that give a command line this budget (`--max-cost`,
-    /// `--time-limit`), none for the default: what a script that runs the tool again (a
-    /// Slurm array task) passes on. Finite positive numbers, written to read back exactly.
+    /// `--time-limit`), none for the command line's default: what a script that runs the
+    /// tool again (a Slurm array task) passes on. Finite positive numbers, written to read
+    /// back exactly.
     pub fn flags(&self) -> Vec<String> {
         let mut flags = Vec::new();
         if self.factor != 1.0 {
             flags.extend(["--max-cost".to_string(), format!("{:?}", self.factor)]);
         }
-        if let Some(t) = self.time_limit {
+        if let RunningLimit::Given(t) = self.running {
             flags.extend(["--time-limit".to_string(), format!("{t:?}")]);
         }
         flags
     }
 
-    /// The time limit while a run runs (s of wall time).
-    pub fn time_limit(&self) -> f64 {
-        self.time_limit.unwrap_or_else(|| self.seconds())
+    /// The time limit while a run runs (s of wall time), if any.
+    pub fn time_limit(&self) -> Option<f64> {
+        match self.running {
+            RunningLimit::None => None,
+            RunningLimit::OfFactor => Some(self.seconds()),
+            RunningLimit::Given(t) => Some(t),
+        }
     }
 
-    /// A deadline of this budget's time limit, from now, reporting to `progress`.
+    /// A deadline of this budget's time limit, from now, reporting to `progress` (one
+    /// that never passes without a limit).
     pub fn deadline<'a>(&self, progress: &'a dyn crate::progress::Progress) -> crate::progress::Deadline<'a> {
-        crate::progress::Deadline::new(progress, self.time_limit())
+        crate::progress::Deadline::new(progress, self.time_limit().unwrap_or(f64::INFINITY))
     }
 
     /// The error of `what` when `deadline` (of this budget) stopped a step of it; what it
@@ -358,9 +384,9 @@ impl Budget {
         }
         Err(TimeLimitError {
             what: what.to_string(),
-            limit: self.time_limit(),
+            limit: self.time_limit().unwrap_or(f64::INFINITY),
             elapsed: deadline.elapsed(),
-            explicit: self.time_limit.is_some(),
+            explicit: matches!(self.running, RunningLimit::Given(_)),
         })
     }
 
@@ -436,14 +462,15 @@ mod tests {
     #[test]
     fn a_budget_gives_the_flags_that_make_it() {
         assert!(Budget::default().flags().is_empty());
+        assert!(Budget::default().with_estimate_time_limit().flags().is_empty());
         for b in [
-            Budget::new(10.0).unwrap(),
+            Budget::new(10.0).unwrap().with_estimate_time_limit(),
             Budget::new(0.1).unwrap().with_time_limit(1e-9).unwrap(),
             Budget::default().with_time_limit(7200.5).unwrap(),
         ] {
             let flags = b.flags();
             let value = |name: &str| flags.iter().position(|f| f == name).map(|i| flags[i + 1].parse::<f64>().unwrap());
-            let again = Budget::new(value("--max-cost").unwrap_or(1.0)).unwrap();
+            let again = Budget::new(value("--max-cost").unwrap_or(1.0)).unwrap().with_estimate_time_limit();
             let again = match value("--time-limit") {
                 Some(t) => again.with_time_limit(t).unwrap(),
                 None => again,
@@ -453,11 +480,15 @@ mod tests {
     }
 
     #[test]
-    fn the_time_limit_is_the_budgets_seconds_unless_given() {
-        assert_eq!(Budget::default().time_limit(), MAX_SECONDS);
-        assert_eq!(Budget::new(0.5).unwrap().time_limit(), 0.5 * MAX_SECONDS);
+    fn the_time_limit_is_none_the_estimates_or_given() {
+        assert_eq!(Budget::default().time_limit(), None);
+        assert_eq!(Budget::new(0.5).unwrap().time_limit(), None);
+        assert_eq!(Budget::new(0.5).unwrap().with_estimate_time_limit().time_limit(), Some(0.5 * MAX_SECONDS));
         let given = Budget::new(0.5).unwrap().with_time_limit(20.0).unwrap();
-        assert_eq!((given.time_limit(), given.seconds()), (20.0, 0.5 * MAX_SECONDS));
+        assert_eq!((given.time_limit(), given.seconds()), (Some(20.0), 0.5 * MAX_SECONDS));
+        // Without a limit the deadline never passes.
+        let d = Budget::default().deadline(&crate::progress::Silent);
+        assert!(!crate::progress::Progress::cancelled(&d));
         // A deadline that stopped a step is an error naming the limit; one that did not,
         // none.
         let b = Budget::default().with_time_limit(1e-9).unwrap();
@@ -470,7 +501,7 @@ mod tests {
         assert!(e.to_string().starts_with("the chart was stopped at its time limit of 1e-9 s (after 0.0"), "{e}");
         assert!(e.to_string().ends_with("--time-limit SECONDS"), "{e}");
         // The limit of --max-cost names the factor as the other way to allow more.
-        let b = Budget::new(1e-12).unwrap();
+        let b = Budget::new(1e-12).unwrap().with_estimate_time_limit();
         let d = b.deadline(&crate::progress::Silent);
         std::thread::sleep(std::time::Duration::from_millis(1));
         assert!(crate::progress::Progress::cancelled(&d));
