@@ -60,9 +60,10 @@ pub struct Deadline<'a> {
 
 impl<'a> Deadline<'a> {
     /// Progress reported to `inner`, and a stop asked once `seconds` (s of wall time) have
-    /// passed from now. A limit that is not a positive finite duration never stops.
+    /// passed from now. A limit that is not positive, or too large for a duration
+    /// (infinite, NaN), never stops; one below a nanosecond stops at the first question.
     pub fn new(inner: &'a dyn Progress, seconds: f64) -> Deadline<'a> {
-        let limit = std::time::Duration::try_from_secs_f64(seconds).ok().filter(|d| !d.is_zero());
+        let limit = if seconds > 0.0 { std::time::Duration::try_from_secs_f64(seconds).ok() } else { None };
         Deadline { inner, started: std::time::Instant::now(), limit, tripped: Default::default() }
     }
 
@@ -161,12 +162,14 @@ mod tests {
 
     #[test]
     fn a_deadline_stops_once_its_limit_has_passed_and_says_so() {
-        // A limit of one nanosecond has passed by the first question.
-        let d = Deadline::new(&Silent, 1e-9);
-        std::thread::sleep(std::time::Duration::from_millis(1));
-        assert!(!d.tripped(), "not tripped before the work asks");
-        assert!(d.cancelled());
-        assert!(d.tripped());
+        // A limit of one nanosecond, or of less, has passed by the first question.
+        for seconds in [1e-9, 5e-324] {
+            let d = Deadline::new(&Silent, seconds);
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            assert!(!d.tripped(), "not tripped before the work asks");
+            assert!(d.cancelled());
+            assert!(d.tripped());
+        }
         // No limit, or one that is not a positive duration: never stops.
         for seconds in [f64::INFINITY, f64::NAN, 0.0, -1.0, 1e300] {
             let d = Deadline::new(&Silent, seconds);

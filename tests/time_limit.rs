@@ -106,6 +106,18 @@ fn a_time_limit_that_is_not_a_positive_duration_is_refused() {
         assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
         assert!(err.starts_with("error: argument `--time-limit`: must be "), "{bad}: {err}");
     }
+    // The extremes that are valid: below a nanosecond stops at the first step; beyond
+    // any duration never stops.
+    let dir = scratch("time-limit-extremes");
+    let chart = ["chart", &fig11, "--phi", "1200:1260:20", "--beta", "0:0.2:0.1"];
+    for (limit, code) in [("5e-324", STOPPED), ("1e300", 0)] {
+        let mut args = vec!["--time-limit", limit];
+        args.extend(chart);
+        let o = run(&args, Some(&dir.join(limit)));
+        assert_eq!(o.status.code(), Some(code), "{limit}: {}", stderr(&o));
+        assert_eq!(dir.join(limit).exists(), code == 0, "{limit}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
