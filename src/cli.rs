@@ -18,7 +18,8 @@ pub(crate) struct Cli {
     /// Stop a run still computing after SECONDS of wall time, at its next step (a chart
     /// row, a search, a speed, a design candidate), writing nothing: exit 7
     /// (docs/errors.md, `TimeLimit`). Measured on the machine that runs it; each case of a
-    /// study has its own. Default: the time limit of --max-cost (FACTOR × 3600 s).
+    /// study has its own. Default: the time limit of --max-cost (FACTOR × 3600 s); none
+    /// for a study's cases.
     #[arg(long = "time-limit", value_name = "SECONDS", global = true)]
     pub(crate) time_limit: Option<f64>,
     /// Report no progress on standard error (by default: a bar on a terminal; otherwise,

@@ -212,7 +212,9 @@ fn compared(
 
 /// Exit codes (docs/errors.md): 0 a result, 1 an analysis failure, 2 bad input, 3 an
 /// infeasible design, 4 a design that failed its verification, 5 a study with failed
-/// cases (`study status` and `study merge`: a case not done).
+/// cases (`study status` and `study merge`: a case not done), 6 a design that is not
+/// robust; 7, a run stopped at its time limit, is its error's
+/// (`commands::Error::exit_code`).
 mod exit {
     pub const INFEASIBLE: u8 = 3;
     pub const NOT_VERIFIED: u8 = 4;
@@ -224,11 +226,15 @@ mod exit {
 fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
     let plain = |r: Result<String, rotorshunt::commands::Error>| r.map(|t| (t, 0));
     let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::commands::Error::parameter("--max-cost", &e))?;
-    let budget = match cli.time_limit {
-        Some(seconds) => {
+    // A study's cases share the threads: a case's wall time includes the other cases'
+    // work its threads take on while they wait, so only a limit asked for applies to
+    // them (docs/errors.md, `TimeLimit`); every other command has the estimate's.
+    let budget = match (cli.time_limit, &cli.command) {
+        (Some(seconds), _) => {
             budget.with_time_limit(seconds).map_err(|e| rotorshunt::commands::Error::parameter("--time-limit", &e))?
         }
-        None => budget.with_estimate_time_limit(),
+        (None, Command::Study(_)) => budget,
+        (None, _) => budget.with_estimate_time_limit(),
     };
     match cli.command {
         Command::Check { input } => plain(commands::check(&load(&input)?, budget)),

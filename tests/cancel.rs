@@ -128,3 +128,16 @@ fn a_time_response_asked_to_stop_ends_its_integration_early() {
     assert!(stopped.time.len() < full.time.len() / 10, "{} samples of {}", stopped.time.len(), full.time.len());
     assert!(stopped.stopped_at.is_none(), "a stop is not a state that ceased to be finite");
 }
+
+#[test]
+fn a_min_peak_design_asked_to_stop_judges_no_candidate() {
+    use rotorshunt::design::{self, DesignError};
+    let problem = Problem::from_path("problems/design-min-peak.toml", &[]).unwrap();
+    let spec = problem.design.as_ref().unwrap();
+    // Asked from the start: not even the reference design is judged (a step of the
+    // optimise phase is a candidate judged).
+    let progress = stop_after(0);
+    let e = design::run(&problem.machine(), spec, &progress).expect_err("stopped");
+    assert!(matches!(e, DesignError::Stopped), "{e}");
+    assert_eq!(progress.done.load(Ordering::Relaxed), 0);
+}

@@ -47,7 +47,28 @@ fn stopped(o: &Output, what: &str, dir: &Path) {
 fn every_long_command_stops_at_its_limit_and_writes_nothing() {
     let fig11 = problem_path("fig11-closed-2000.toml");
     let widest = problem_path("design-widest-band.toml");
-    let cases: [(&str, Vec<&str>, bool); 8] = [
+    let min_peak = problem_path("design-min-peak.toml");
+    let cases: [(&str, Vec<&str>, bool); 11] = [
+        (
+            "the chart",
+            vec![
+                "chart",
+                &fig11,
+                "--phi",
+                "1100:1300:10",
+                "--beta",
+                "0:0.4:0.2",
+                "--compare-set",
+                "circuit.state=open",
+            ],
+            true,
+        ),
+        (
+            "the unbalance response",
+            vec!["unbalance", &fig11, "--speeds", "100:3000:10", "--compare-set", "circuit.state=open"],
+            true,
+        ),
+        ("the Pareto front", vec!["design", &min_peak, "--pareto", "2"], true),
         ("the response", vec!["response", &fig11, "--phi", "1230", "--beta", "0.3", "--periods", "50"], true),
         ("the chart", vec!["chart", &fig11, "--phi", "1100:1300:10", "--beta", "0:0.4:0.1"], true),
         ("the region catalogue", vec!["regions", &fig11, "--phi", "1150:1250", "--beta-max", "0.4"], true),
@@ -121,7 +142,7 @@ fn a_time_limit_that_is_not_a_positive_duration_is_refused() {
 }
 
 #[test]
-fn each_study_case_stops_at_its_own_limit_and_writes_no_result_file() {
+fn each_study_case_stops_at_its_own_limit_and_records_only_its_failure() {
     let dir = scratch("time-limit-study");
     let study = common::coarse_study(&dir, "study.toml", "[[cases]]\nname = \"a\"\n[[cases]]\nname = \"b\"\n");
     let out = dir.join("out");

@@ -138,6 +138,8 @@ impl Context<'_> {
 
     /// [`Context::judge`] of the design with `values` (SI units) at the scaled point `u`.
     fn judge_values(&self, u: &[f64], values: &[f64], constrained: bool) -> Result<Judged, DesignError> {
+        // None once the caller asks to stop, as for `Context::candidate`.
+        super::stopped(self.progress)?;
         self.candidates.fetch_add(1, Ordering::Relaxed);
         self.progress.advance(1);
         let r = self.judge_quietly(u, values, constrained);
