@@ -11,6 +11,9 @@
 //! of the region search. Steps may be reported from any thread, in any order; reporting
 //! never changes a result.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
 /// Receives the progress of a computation. Every method has an empty default, so an
 /// observer implements only what it shows.
 pub trait Progress: Sync {
@@ -52,10 +55,10 @@ pub trait Progress: Sync {
 /// [`Progress::cancelled`] is never stopped, and never tripped.
 pub struct Deadline<'a> {
     inner: &'a dyn Progress,
-    started: std::time::Instant,
+    started: Instant,
     /// The limit (`None`: no limit, e.g. an infinite one).
-    limit: Option<std::time::Duration>,
-    tripped: std::sync::atomic::AtomicBool,
+    limit: Option<Duration>,
+    tripped: AtomicBool,
 }
 
 impl<'a> Deadline<'a> {
@@ -63,13 +66,13 @@ impl<'a> Deadline<'a> {
     /// passed from now. A limit that is not positive, or too large for a duration
     /// (infinite, NaN), never stops; one below a nanosecond stops at the first question.
     pub fn new(inner: &'a dyn Progress, seconds: f64) -> Deadline<'a> {
-        let limit = if seconds > 0.0 { std::time::Duration::try_from_secs_f64(seconds).ok() } else { None };
-        Deadline { inner, started: std::time::Instant::now(), limit, tripped: Default::default() }
+        let limit = if seconds > 0.0 { Duration::try_from_secs_f64(seconds).ok() } else { None };
+        Deadline { inner, started: Instant::now(), limit, tripped: AtomicBool::new(false) }
     }
 
     /// Whether the limit has stopped a step (the work asked and was told to stop).
     pub fn tripped(&self) -> bool {
-        self.tripped.load(std::sync::atomic::Ordering::Relaxed)
+        self.tripped.load(Ordering::Relaxed)
     }
 
     /// Seconds since the deadline was made.
@@ -109,7 +112,7 @@ impl Progress for Deadline<'_> {
         }
         let over = self.limit.is_some_and(|limit| self.started.elapsed() > limit);
         if over {
-            self.tripped.store(true, std::sync::atomic::Ordering::Relaxed);
+            self.tripped.store(true, Ordering::Relaxed);
         }
         over
     }
@@ -165,7 +168,7 @@ mod tests {
         // A limit of one nanosecond, or of less, has passed by the first question.
         for seconds in [1e-9, 5e-324] {
             let d = Deadline::new(&Silent, seconds);
-            std::thread::sleep(std::time::Duration::from_millis(1));
+            std::thread::sleep(Duration::from_millis(1));
             assert!(!d.tripped(), "not tripped before the work asks");
             assert!(d.cancelled());
             assert!(d.tripped());

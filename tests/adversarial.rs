@@ -102,6 +102,9 @@ fn study(dir: &Path, name: &str, body: &str) -> String {
     name.to_string()
 }
 
+/// A small chart of Fig. 11 (3 × 3 points), which the hostile values of other flags mutate.
+const CHART: [&str; 8] = ["chart", FIG11, "--phi", "1200:1260:30", "--beta", "0:0.4:0.2", "--out", "o"];
+
 fn corpus(dir: &Path, values: &[&str]) -> Vec<Input> {
     let mut out = Vec::new();
     // Flags: (command, base line, slots that carry a number or a range part).
@@ -116,7 +119,7 @@ fn corpus(dir: &Path, values: &[&str]) -> Vec<Input> {
         ("campbell", vec!["campbell", FIG11, "--speeds", "0:2000:1000", "--count", "2", "--out", "o"], vec![5]),
         ("regions", vec!["regions", FIG11, "--phi", "1000:1500", "--beta-max", "0.5", "--level", "0.3"], vec![5, 7]),
         ("band", vec!["band", FIG11, "--phi-op", "1230", "--level", "0.3", "--phi", "1000:1500"], vec![3, 5]),
-        ("chart", vec!["chart", FIG11, "--phi", "1200:1260:30", "--beta", "0:0.4:0.2", "--out", "o"], vec![]),
+        ("chart", CHART.to_vec(), vec![]),
         ("check", vec!["check", FIG11], vec![]),
     ];
     for (command, base, slots) in &flags {
@@ -160,9 +163,8 @@ fn corpus(dir: &Path, values: &[&str]) -> Vec<Input> {
     // its estimate when the factor is tiny and stops between rows at a tiny time limit.
     for flag in ["--max-cost", "--time-limit"] {
         for v in values {
-            let chart = ["chart", FIG11, "--phi", "1200:1260:30", "--beta", "0:0.4:0.2", "--out", "o"];
             let mut a = vec![format!("{flag}={v}")];
-            a.extend(s(&chart));
+            a.extend(s(&CHART));
             out.push(input("chart", &a));
         }
     }
