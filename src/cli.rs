@@ -10,9 +10,10 @@ use std::path::PathBuf;
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub(crate) command: Command,
-    /// Allow FACTOR times the documented limits of computing time (3600 s of one core)
-    /// and memory (400 MiB of dense matrices) that every command checks its estimated
-    /// cost against before it starts (docs/errors.md, `Cost`).
+    /// Allow FACTOR times the documented limits of work (3e13 floating-point operations)
+    /// and memory (400 MiB of dense matrices) that every command checks its counted cost
+    /// against before it starts (docs/errors.md, `Cost`), and FACTOR times the default
+    /// time limit.
     #[arg(long = "max-cost", value_name = "FACTOR", global = true, default_value_t = 1.0)]
     pub(crate) max_cost: f64,
     /// Stop a run still computing after SECONDS of wall time, at its next step (a chart

@@ -14,7 +14,7 @@
 //! starts; the 10 s of issue 14 is a figure measured on the reference host (the printed
 //! worst cases), not a test verdict.
 //!
-//! The design commands run under `--max-cost 0.01` (36 s of estimated work): a valid
+//! The design commands run under `--max-cost 0.01` (3e11 counted operations, 4 MiB): a valid
 //! design takes 10–40 s on the loaded 2-core host; under the tighter limit the same
 //! inputs are either refused by their estimate or finish.
 //! `cargo test --release --test adversarial -- --ignored` runs the exhaustive corpus

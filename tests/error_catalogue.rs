@@ -105,7 +105,7 @@ fn every_kind() -> Vec<&'static str> {
         Error::Argument { argument: s(), message: s() },
         Error::Cost(CostError {
             what: s(),
-            resource: Resource::Time,
+            resource: Resource::Work,
             estimate: 1.0,
             limit: 1.0,
             factor: 1.0,

@@ -30,13 +30,17 @@ const FUZZ_CASES_DEFAULT: u32 = 20_000;
 /// a runaway computation is orders of magnitude beyond it; cases take milliseconds, and a
 /// loaded shared machine must not trip it). Timings belong to the benches.
 const CASE_HANG_TIMEOUT: Duration = Duration::from_secs(30);
-/// A long response's hang timeout adds this many times its cost estimate: the estimate
-/// is of one quiet core, and the four tests of this binary run at once on two shared
-/// cores (four periods at φ = 1 rad/s: 1.3-2.5 s wall on this host at load 2, 8.7 s at
-/// load 8, 10.8 s at load 7 beside two compilers).
-const HANG_ESTIMATE_FACTOR: f64 = 30.0;
-/// Responses estimated beyond this (s) are not run by the flag test.
-const LONG_RESPONSE: f64 = 3.0;
+/// A long response's hang timeout adds this many times its counted operations at
+/// [`SLOW_RATE`]: the four tests of this binary run at once on two shared cores (four
+/// periods at φ = 1 rad/s, counted at 7.4e9 operations: 1.3-2.5 s wall on this host at
+/// load 2, 8.7 s at load 8, 10.8 s at load 7 beside two compilers).
+const HANG_ESTIMATE_FACTOR: f64 = 5.0;
+/// Operations a second a loaded core does at least (the quiet reference host did 3e9 to
+/// 3e10 of the counted operations a second): what turns a count into a hang timeout.
+const SLOW_RATE: f64 = 1.0e9;
+/// Responses counted beyond this (floating-point operations) are not run by the flag
+/// test: a few seconds of RK4 on this host.
+const LONG_RESPONSE: f64 = 2.0e10;
 
 /// Depths of the nesting attacks: within, at and far beyond the parser's own limit.
 const DEPTHS: [usize; 6] = [1, 79, 81, 1000, 10_000, 100_000];
@@ -810,7 +814,7 @@ fn run_flag_case(
     let estimated = match c {
         FlagCase::Response(p, b, n) if *p > 0.0 && p.is_finite() && b.is_finite() => {
             let fs = fs.get_or_init(|| problem.operating_point().expect("fig9 reduces").floquet);
-            rotorshunt::analysis::cost::response_of(fs, *p, *b, *n as usize).time.amount
+            rotorshunt::analysis::cost::response_of(fs, *p, *b, *n as usize).work.amount
         }
         _ => 0.0,
     };
@@ -851,9 +855,10 @@ fn run_flag_case(
         }
     }));
     let elapsed = start.elapsed();
-    let hang_timeout = CASE_HANG_TIMEOUT + Duration::from_secs_f64((HANG_ESTIMATE_FACTOR * estimated).min(3600.0));
+    let hang_timeout =
+        CASE_HANG_TIMEOUT + Duration::from_secs_f64((HANG_ESTIMATE_FACTOR * estimated / SLOW_RATE).min(3600.0));
     if elapsed > hang_timeout {
-        return Err(format!("{c:?}: took {elapsed:?}, a hang (timeout {hang_timeout:?}, estimated {estimated:.3} s)"));
+        return Err(format!("{c:?}: took {elapsed:?}, a hang (timeout {hang_timeout:?}, counted {estimated:.3e} operations)"));
     }
     match result {
         Err(_) => Err(format!("{c:?}: panicked")),
@@ -884,9 +889,9 @@ fn hostile_flags_and_study_fields_are_refused_cleanly() {
     let fs = std::sync::OnceLock::new();
     // Found by this test: four periods at φ = 1 rad/s are 1.6 million admitted RK4 steps.
     let floquet = fs.get_or_init(|| problem.operating_point().expect("fig9 reduces").floquet);
-    let estimate = rotorshunt::analysis::cost::response_of(floquet, 1.0, 1e-308, 4).time.amount;
-    println!("response at phi = 1 rad/s, 4 periods: estimated {estimate:.2} s");
-    assert!(estimate <= LONG_RESPONSE, "the replayed case would not run: {estimate} s");
+    let estimate = rotorshunt::analysis::cost::response_of(floquet, 1.0, 1e-308, 4).work.amount;
+    println!("response at phi = 1 rad/s, 4 periods: counted {estimate:.2e} operations");
+    assert!(estimate <= LONG_RESPONSE, "the replayed case would not run: {estimate:e} operations");
     run_flag_case(&FlagCase::Response(1.0, 1e-308, 4), &problem, &fs, &dir).unwrap_or_else(|e| panic!("{e}"));
     let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
     let result = runner.run(&flag_case(), |c| run_flag_case(&c, &problem, &fs, &dir).map_err(TestCaseError::fail));

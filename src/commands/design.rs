@@ -55,13 +55,13 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
     let verify_dense = cost::dense(model, Dense::ReducedAndWhirls, 1);
     let mut memory = dense.memory.clone();
     memory.amount = (memory.amount * threads as f64).max(verify_dense.memory.amount);
-    let admitted = Estimate { time: dense.time.clone(), memory: memory.clone() };
+    let admitted = Estimate { work: dense.work.clone(), memory: memory.clone() };
     bounds::admit(budget, "the design", &admitted, &DESIGN)?;
     let machine = problem.machine();
     let reference = Candidate::new(&machine, spec, &values_of(&machine, spec))?;
     let s = problem.regions.clone();
     let criterion = reference.criterion();
-    let mut per_candidate = Estimate::time(dense.time.amount * speeds, Driver::Dofs, dense.time.detail.clone());
+    let mut per_candidate = Estimate::work(dense.work.amount * speeds, Driver::Dofs, dense.work.detail.clone());
     let mut verification = Estimate::zero();
     for (k, (_, fs)) in reference.systems.iter().enumerate() {
         let pc = PointCost::of(fs);
@@ -106,7 +106,7 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
             grids = grids.then(cost::points(&pc, n, w.lo, spec.level));
             let near = Interval::new(w.lo * (1.0 - NEAR), w.hi * (1.0 + NEAR));
             let centres = seeds.iter().filter(|x| near.contains(x.phi)).count() as f64;
-            grids = grids.then(Estimate::time(
+            grids = grids.then(Estimate::work(
                 centres * pc.dstm(),
                 Driver::Settings,
                 "DSTM points at tongue centres".into(),

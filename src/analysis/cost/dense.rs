@@ -30,13 +30,13 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
     let n = model_dofs(model) as f64;
     // P_cr is computed on the open-circuit model unless the file gives it.
     let open = DofMap { nodes: model.shaft.nodes(), branches: vec![0; model.rings.len()] }.len() as f64;
-    let buckling = if model.load.critical_load.is_some() { 0.0 } else { DENSE_EIGEN_N3 * open.powi(3) };
-    let eigen = DENSE_EIGEN_N3 * n.powi(3);
-    let qep = QEP_2N3 * (2.0 * n).powi(3);
+    let buckling = if model.load.critical_load.is_some() { 0.0 } else { dense_eigen_ops(open) };
+    let eigen = dense_eigen_ops(n);
+    let qep = qep_ops(n);
     let dofs = format!("{} complex DOFs", n);
     // Without the buckling eigenproblem a rotor is its five assembled matrices.
     let rotor_bytes = if buckling > 0.0 { ROTOR_BYTES_N2 } else { ASSEMBLED_BYTES_N2 } * n * n;
-    let (seconds, bytes, memory_driver, memory_detail) = match stage {
+    let (operations, bytes, memory_driver, memory_detail) = match stage {
         Dense::Rotor => (buckling, rotor_bytes, Driver::Dofs, dofs.clone()),
         Dense::Reduced => (buckling + eigen, ROTOR_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
         Dense::ReducedAndWhirls => (buckling + eigen + qep, QEP_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
@@ -50,16 +50,16 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
             (buckling + qep * s, working + shapes, driver, detail)
         }
     };
-    let time_detail = match stage {
+    let work_detail = match stage {
         Dense::Whirls(s) if s > 1 => format!("{s} whirl eigenproblems of {dofs}"),
         _ => format!("the dense eigenproblems of {dofs}"),
     };
-    let time_driver = match stage {
+    let work_driver = match stage {
         Dense::Whirls(s) if s > 1 && qep * s as f64 > (buckling + qep) * 4.0 => Driver::Grid,
         _ => Driver::Dofs,
     };
     Estimate {
-        time: Part { amount: seconds, driver: time_driver, detail: time_detail },
+        work: Part { amount: operations, driver: work_driver, detail: work_detail },
         memory: Part { amount: bytes, driver: memory_driver, detail: memory_detail },
     }
 }
@@ -83,7 +83,7 @@ pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
         compact_count(solves),
         compact_count(peaks)
     );
-    let mut response = Estimate::time(solves * UNBALANCE_SOLVE_N * n, Driver::Grid, detail);
+    let mut response = Estimate::work(solves * UNBALANCE_SOLVE_OPS_N * n, Driver::Grid, detail);
     response.memory = Part {
         amount: UNBALANCE_BYTES_PER_VALUE * probes * speeds as f64,
         driver: Driver::Grid,

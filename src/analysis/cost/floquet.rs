@@ -12,8 +12,9 @@ const TABLE_STEPS: f64 = 4096.0;
 /// Largest |x| = β·|ξ| per unit β of the CFM4 exponentials: 2(|w₁| + |w₂|) = 2/√3.
 const XI_MAX: f64 = 1.154_700_538_379_251_5;
 
-/// The cost of Floquet evaluations on one reduced model: what a per-φ table, a CFM4 or
-/// DSTM monodromy and an RK4 step cost, from its size, frequencies and coupling.
+/// The cost of Floquet evaluations on one reduced model: the floating-point operations of
+/// a per-φ table, a CFM4 or DSTM monodromy and an RK4 step, from its size, frequencies
+/// and coupling.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointCost {
     /// State dimension n = 2M.
@@ -54,15 +55,15 @@ impl PointCost {
     }
 
     fn step(&self) -> f64 {
-        STEP_N3 * self.n.powi(3) + STEP_FIXED
+        step_ops(self.n)
     }
 
     fn eig(&self) -> f64 {
-        EIG_N3 * self.n.powi(3)
+        eig_ops(self.n)
     }
 
     fn exp(&self) -> f64 {
-        EXP_N3 * self.n.powi(3) + EXP_FIXED
+        exp_ops(self.n)
     }
 
     /// CFM4 steps per period the step rule asks for at φ (rad/s): at least the settings'
@@ -81,7 +82,7 @@ impl PointCost {
         }
     }
 
-    /// A per-φ table for loads up to β: (seconds, steps per period of its monodromies).
+    /// A per-φ table for loads up to β: (operations, steps per period of its monodromies).
     /// Each attempt costs its Chebyshev exponentials; the steps double while the coupling
     /// per exponential exceeds 2 (up to 4096 steps).
     pub fn table(&self, phi: f64, beta: f64) -> (f64, f64) {
@@ -91,19 +92,19 @@ impl PointCost {
         }
         steps = (2.0 * (steps / 2.0).ceil()).max(2.0);
         let per_step = XI_MAX * beta * std::f64::consts::PI / phi * self.coupling;
-        let mut seconds = 0.0;
+        let mut operations = 0.0;
         loop {
             let a = per_step / steps;
-            seconds += chebyshev_points(a) * self.exp();
+            operations += chebyshev_points(a) * self.exp();
             if a <= TABLE_COUPLING || steps >= TABLE_STEPS || !a.is_finite() {
-                return (seconds, steps);
+                return (operations, steps);
             }
             steps *= 2.0;
         }
     }
 
-    /// One monodromy at load β on a table built for `beta_table` ≥ β (s): its steps and
-    /// the eigenvalues; by the DSTM if that is the method.
+    /// One monodromy at load β on a table built for `beta_table` ≥ β (operations): its
+    /// steps and the eigenvalues; by the DSTM if that is the method.
     pub fn monodromy(&self, phi: f64, beta_table: f64) -> f64 {
         match self.method {
             MonodromyMethod::Fast => self.table(phi, beta_table).1 * self.step() + self.eig(),
@@ -111,13 +112,13 @@ impl PointCost {
         }
     }
 
-    /// One monodromy on a table of its own (s): what a search's point costs.
+    /// One monodromy on a table of its own (operations): what a search's point costs.
     pub fn point(&self, phi: f64, beta: f64) -> f64 {
         let (table, steps) = self.table(phi, beta);
         table + steps * self.step() + self.eig()
     }
 
-    /// One point by the configured method (s), as `floquet` computes it.
+    /// One point by the configured method (operations), as `floquet` computes it.
     pub fn point_by_method(&self, phi: f64, beta: f64) -> f64 {
         match self.method {
             MonodromyMethod::Fast => self.point(phi, beta),
@@ -125,14 +126,14 @@ impl PointCost {
         }
     }
 
-    /// One DSTM monodromy with the settings' reference steps (s).
+    /// One DSTM monodromy with the settings' reference steps (operations).
     pub fn dstm(&self) -> f64 {
         self.dstm_with(self.reference_steps)
     }
 
-    /// One DSTM monodromy with `steps` steps (s).
+    /// One DSTM monodromy with `steps` steps (operations).
     pub fn dstm_with(&self, steps: f64) -> f64 {
-        steps * (DSTM_N3 * self.n.powi(3) + 2e-6) + self.eig()
+        steps * dstm_step_ops(self.n) + self.eig()
     }
 
     /// Driver and detail of a point at φ: the low frequency when its steps exceed the
@@ -165,14 +166,14 @@ fn chebyshev_points(a: f64) -> f64 {
 /// One Floquet point by the configured method (`floquet`).
 pub fn floquet_point(pc: &PointCost, phi: f64, beta: f64) -> Estimate {
     let (driver, detail) = pc.point_driver(phi);
-    Estimate::time(pc.point_by_method(phi, beta), driver, detail)
+    Estimate::work(pc.point_by_method(phi, beta), driver, detail)
 }
 
 /// A chart: one table per φ (to the grid's largest β) and a monodromy per point.
 pub fn chart(pc: &PointCost, phis: &[f64], betas: &[f64]) -> Estimate {
     let beta_max = betas.iter().fold(0.0f64, |m, b| m.max(b.abs()));
     let nb = betas.len() as f64;
-    let seconds: f64 = phis
+    let operations: f64 = phis
         .iter()
         .map(|&phi| match pc.method {
             MonodromyMethod::Fast => pc.table(phi, beta_max).0 + nb * pc.monodromy(phi, beta_max),
@@ -184,7 +185,7 @@ pub fn chart(pc: &PointCost, phis: &[f64], betas: &[f64]) -> Estimate {
     let detail = format!("{} points ({} phi × {} beta)", phis.len() * betas.len(), phis.len(), betas.len());
     let driver =
         if driver == Driver::ReducedModel && phis.len() * betas.len() > 10_000 { Driver::Grid } else { driver };
-    Estimate::time(seconds, driver, if why.is_empty() { detail } else { format!("{detail}; {why}") })
+    Estimate::work(operations, driver, if why.is_empty() { detail } else { format!("{detail}; {why}") })
 }
 
 /// RK4 steps per load period of a response at φ (`response`): 64 per period of the
@@ -217,7 +218,7 @@ pub fn response_of(fs: &crate::analysis::floquet::FloquetSystem, phi: f64, beta:
 /// own step rule, [`crate::analysis::response::rk4_steps_per_period`]) and its Floquet point.
 pub fn response(pc: &PointCost, phi: f64, beta: f64, periods: usize, per_period: f64) -> Estimate {
     let steps = per_period * periods as f64;
-    let seconds = steps * (RK4_N2 * pc.n * pc.n + 1e-7) + pc.point_by_method(phi, beta);
+    let operations = steps * rk4_ops(pc.n) + pc.point_by_method(phi, beta);
     // Many steps per period come from a fast rotor (Ω above every mode and φ) or a low φ;
     // otherwise the periods asked for drive the work.
     let driver = if per_period > 64.0 * 16.0 {
@@ -234,7 +235,7 @@ pub fn response(pc: &PointCost, phi: f64, beta: f64, periods: usize, per_period:
         compact_count(per_period),
         compact(phi)
     );
-    Estimate::time(seconds, driver, detail)
+    Estimate::work(operations, driver, detail)
 }
 
 #[cfg(test)]

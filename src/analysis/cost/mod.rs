@@ -1,23 +1,23 @@
-//! What a run costs, estimated from its inputs before it starts, and the limits beyond
+//! What a run costs, counted from its inputs before it starts, and the limits beyond
 //! which a command refuses it (written once, here). A run admitted is bounded again while
 //! it runs, on whatever machine: [`Budget::deadline`] stops it at its time limit measured
-//! there (on the command line by default the same [`MAX_SECONDS`] times the factor;
-//! `--time-limit`), and
-//! [`Budget::stopped`] turns the stop into a [`TimeLimitError`] before anything is written.
+//! there (on the command line by default [`MAX_SECONDS`] times the factor;
+//! `--time-limit`), and [`Budget::stopped`] turns the stop into a [`TimeLimitError`]
+//! before anything is written.
 //!
-//! Two resources are bounded:
-//! - **time**: seconds of one core of the reference machine (the shared 2-core host the
-//!   rates below were measured on; a faster host finishes sooner), at most
-//!   [`MAX_SECONDS`];
+//! Two resources are bounded before a run, both by counts:
+//! - **work**: floating-point operations, at most [`MAX_OPERATIONS`]. A run's count is
+//!   the sum over the kernels it will call of each kernel's operation count, from the
+//!   sizes of its matrices (the model's DOFs before anything is assembled; the reduced
+//!   model's state dimension n = 2M) and the numbers of calls: per-φ tables, CFM4 steps
+//!   (whose number per period grows like 1/φ and like ω_max/φ, and doubles with β), RK4
+//!   steps, β bracket samples (β_max over the bracket step), seeds and the guard lattice
+//!   of a range. The counts are the algorithms' own (leading terms, Golub and Van Loan,
+//!   *Matrix Computations*), not rates measured on a machine: how long they take is
+//!   measured while the run runs, by its time limit;
 //! - **memory**: bytes of the dense matrices a run holds at once, at most [`MAX_BYTES`].
 //!
-//! A [`Budget`] multiplies both limits (`--max-cost FACTOR`). Estimates are sums of counted
-//! operations times measured rates: the dense eigensolvers from the model's DOFs (before
-//! anything is assembled), and the Floquet work from the reduced model a command builds
-//! anyway (its size M, its lowest and highest frequency and the parametric coupling of
-//! B1), summed over the φ values a run visits: per-φ tables, CFM4 steps (whose number per
-//! period grows like 1/φ and like ω_max/φ, and doubles with β), β bracket samples (β_max
-//! over the bracket step), seeds and the guard lattice of a range. They are cheap
+//! A [`Budget`] multiplies both limits (`--max-cost FACTOR`). The counts are cheap
 //! (closed forms and sums over at most a few thousand φ values) and mostly upper bounds:
 //! a search counts every evaluation its bounds allow.
 
@@ -37,14 +37,21 @@ use super::{Criterion, Interval, MonodromyMethod};
 use serde::Serialize;
 use thiserror::Error;
 
-/// Most seconds of computing (one core of the reference machine) a run may be estimated
-/// at: one hour. The estimates are upper bounds (every evaluation a search's bounds allow,
-/// at the largest measured rates), 2 to 200 times the measured time: the Fig. 11
-/// catalogue is estimated at 9 s and takes 1.6 s, with `--beta-max 100` at 385 s and
-/// takes 2.1 s. The bundled problems' largest estimate, the clear-bands design (284 s),
-/// is 12 times below the limit. The runs the limit is for are estimated at 10⁴ s and
-/// far beyond (φ = 1e-3 for 1e3 in a response: 4·10⁴ s; φ near 1e-300: 10³⁰⁰ s): a slip of
-/// units or digits more often than an intent, and `--max-cost` admits them deliberately.
+/// Most floating-point operations a run may be counted at before it starts: 3·10¹³. The
+/// counts are upper bounds (every evaluation a search's bounds allow): the bundled
+/// problems' largest, the robust speed-range design's 8.1e12, is 3.7 times below this
+/// (docs/errors.md, `Cost`). The runs the limit is for are counted at 10¹⁴ and far beyond
+/// (φ = 1e-3 for 1e3 in a response, φ near 1e-300): a slip of units or digits more often
+/// than an intent, and `--max-cost` admits them deliberately. What a count takes is
+/// measured while the run runs ([`MAX_SECONDS`]). On the shared 2-core host this was
+/// written on, one core did 1.2e10 of them a second in the response's RK4 loop (scalar
+/// complex arithmetic), 2.4e10 in a chart (matrix products), so a run counted at the limit
+/// is 20 to 45 minutes of computing there; an unbalance response's small sparse solves
+/// are slower per operation (about 3e9 a second), and the time limit bounds those.
+pub const MAX_OPERATIONS: f64 = 3.0e13;
+
+/// The command line's time limit while a run runs (s of wall time, times the
+/// `--max-cost` factor): one hour, measured on the machine that runs it.
 pub const MAX_SECONDS: f64 = 3600.0;
 
 /// Most bytes of dense matrices a run may hold at once: 400 MiB. With the process's own
@@ -52,31 +59,61 @@ pub const MAX_SECONDS: f64 = 3600.0;
 /// whirl solvers (`modes`, `campbell`, `regions`, `band`) near 440.
 pub const MAX_BYTES: f64 = 400.0 * 1024.0 * 1024.0;
 
-// Rates of the kernels on the reference machine (one thread, release build), n the state
-// dimension 2M of the reduced model or the DOFs of the full one. Measured with the
-// problems' models at M = 4, 8, 16 and 64–800 shaft elements; each rate is the largest
-// seen, so the estimates lean high.
+// Operation counts of the kernels: real floating-point operations (a complex multiply-add
+// is 8), n the state dimension 2M of the reduced model or the DOFs of the full one.
+// Matrices smaller than 8 × 8 count as 8 × 8 (`floored`): below that a call's fixed work
+// (dispatch, bookkeeping, the result's allocation) is no longer small beside its
+// arithmetic.
 
-/// One CFM4 exponential applied (split-form product and its share of the batched
-/// Chebyshev sums): 3.0e-7, 1.2e-6 and 6e-6 s at n = 8, 16, 32.
-const STEP_N3: f64 = 3.0e-10;
-const STEP_FIXED: f64 = 2.0e-7;
-/// Eigenvalues of the n×n monodromy (balanced): 7e-6, 6e-5, 2.9e-4 s at n = 8, 16, 32.
-const EIG_N3: f64 = 1.5e-8;
-/// One exponential at a Chebyshev point (Taylor, split form): 2e-6, 6e-6, 3.6e-5 s.
-const EXP_N3: f64 = 1.5e-9;
-const EXP_FIXED: f64 = 1.5e-6;
-/// One DSTM step (Padé exponential and product): ~22 µs at n = 16.
-const DSTM_N3: f64 = 1.0e-8;
-/// One RK4 step of the response (four dense right-hand sides): 4.6e-7 s at n = 8,
-/// 1.5e-6 s at n = 16.
-const RK4_N2: f64 = 8.0e-9;
-/// The symmetric-definite eigensolution of the full model (buckling load or modal basis):
-/// 0.24 s at 808 DOFs, 1.8 s at 1 608.
-const DENSE_EIGEN_N3: f64 = 4.5e-10;
-/// The quadratic eigenproblem of the full model by shift-invert (complex 2n × 2n): 0.35 s
-/// at 208 DOFs, 24 s at 808, 261 s at 1 608: per (2n)³.
-const QEP_2N3: f64 = 8.0e-9;
+/// The size a kernel's count is taken at: at least [`SMALLEST_COUNTED`].
+fn floored(n: f64) -> f64 {
+    n.max(SMALLEST_COUNTED)
+}
+/// The smallest matrix size counted (module comment above).
+const SMALLEST_COUNTED: f64 = 8.0;
+/// One CFM4 step of the fast path: the step's exponential summed from the per-φ table's
+/// Chebyshev coefficients (a real 2n² × p by p product, 4pn², p ≤ 20 for a converged
+/// table) and its complex product into the monodromy (8n³).
+fn step_ops(n: f64) -> f64 {
+    8.0 * floored(n).powi(3) + 80.0 * n * n
+}
+/// Eigenvalues of the complex n × n monodromy (Hessenberg reduction and shifted QR, about
+/// 10n³ complex operations).
+fn eig_ops(n: f64) -> f64 {
+    40.0 * floored(n).powi(3)
+}
+/// One exponential at a Chebyshev point: a Taylor polynomial by Paterson–Stockmeyer, about
+/// eight complex products.
+fn exp_ops(n: f64) -> f64 {
+    64.0 * floored(n).powi(3)
+}
+/// One DSTM step: a Padé-13 exponential with scaling and squaring (six products, a solve
+/// and about three squarings: some twelve complex products' work) and its product into
+/// the monodromy.
+fn dstm_step_ops(n: f64) -> f64 {
+    104.0 * floored(n).powi(3)
+}
+/// One RK4 step of the response: four right-hand sides, each two complex n × n
+/// matrix-vector products (B0·y and B1·y), and the vector updates.
+fn rk4_ops(n: f64) -> f64 {
+    64.0 * floored(n).powi(2) + 64.0 * n
+}
+/// The symmetric-definite eigensolution of the full model with its vectors (buckling load
+/// or modal basis): Cholesky, reduction to standard form, tridiagonalisation and the
+/// implicit QR with vectors, about 14n³.
+fn dense_eigen_ops(n: f64) -> f64 {
+    14.0 * floored(n).powi(3)
+}
+/// The quadratic eigenproblem of the full model: the complex nonsymmetric eigenproblem of
+/// its 2n × 2n linearisation with vectors, about 25(2n)³ complex operations.
+fn qep_ops(n: f64) -> f64 {
+    100.0 * floored(2.0 * n).powi(3)
+}
+/// One sparse LU factorisation and solve of the dynamic stiffness, per DOF
+/// (`analysis::unbalance`): the shaft's band keeps the factors' fill fixed per DOF, about
+/// 8b² complex operations per row for a half-bandwidth b ≤ 11.
+const UNBALANCE_SOLVE_OPS_N: f64 = 1000.0;
+
 /// Peak bytes per DOF² of a rotor and its symmetric eigensolutions (`check`: 90 MB at 808
 /// DOFs, 334 MB at 1 608).
 const ROTOR_BYTES_N2: f64 = 130.0;
@@ -88,12 +125,6 @@ const QEP_BYTES_N2: f64 = 530.0;
 /// Bytes per DOF² of the mode shapes kept per speed by a Campbell diagram (237 MB for 301
 /// speeds at 132 DOFs).
 const SHAPES_BYTES_N2: f64 = 40.0;
-
-/// One numeric sparse LU factorisation and solve of the dynamic stiffness per DOF
-/// (`analysis::unbalance`; the shaft's band keeps the factors' fill fixed per DOF):
-/// 44–51 µs at 136 DOFs (0.35 µs per DOF, `cargo bench --bench unbalance`, host shared);
-/// 1e-6 s per DOF leans high, as the other rates do.
-const UNBALANCE_SOLVE_N: f64 = 1.0e-6;
 
 /// Peak bytes per probe and speed of an unbalance response: the values, and the JSON, CSV
 /// and SVG text written from them (118 MB above the process's own for 5 probes × 100 001
@@ -127,7 +158,7 @@ pub enum Driver {
 /// One resource of an estimate: the amount, and what drives it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Part {
-    /// Seconds (time) or bytes (memory).
+    /// Floating-point operations (work) or bytes (memory).
     pub amount: f64,
     /// The input that drives it.
     pub driver: Driver,
@@ -135,11 +166,11 @@ pub struct Part {
     pub detail: String,
 }
 
-/// The estimated cost of a run.
+/// The counted cost of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Estimate {
-    /// Seconds of computing on one core of the reference machine.
-    pub time: Part,
+    /// Floating-point operations.
+    pub work: Part,
     /// Bytes of dense matrices held at once.
     pub memory: Part,
 }
@@ -148,39 +179,39 @@ impl Estimate {
     /// Nothing.
     pub fn zero() -> Estimate {
         let part = |driver| Part { amount: 0.0, driver, detail: String::new() };
-        Estimate { time: part(Driver::Grid), memory: part(Driver::Dofs) }
+        Estimate { work: part(Driver::Grid), memory: part(Driver::Dofs) }
     }
 
-    /// A time-only estimate.
-    pub fn time(seconds: f64, driver: Driver, detail: String) -> Estimate {
-        Estimate { time: Part { amount: seconds, driver, detail }, ..Estimate::zero() }
+    /// A work-only estimate of `operations` floating-point operations.
+    pub fn work(operations: f64, driver: Driver, detail: String) -> Estimate {
+        Estimate { work: Part { amount: operations, driver, detail }, ..Estimate::zero() }
     }
 
-    /// This run followed by `other`: times add (the larger part's driver kept), memory is
-    /// the larger peak.
+    /// This run followed by `other`: the work adds (the larger part's driver kept), memory
+    /// is the larger peak.
     pub fn then(self, other: Estimate) -> Estimate {
-        let amount = self.time.amount + other.time.amount;
-        let time = if other.time.amount > self.time.amount || self.time.amount.is_nan() {
-            Part { amount, ..other.time }
+        let amount = self.work.amount + other.work.amount;
+        let work = if other.work.amount > self.work.amount || self.work.amount.is_nan() {
+            Part { amount, ..other.work }
         } else {
-            Part { amount, ..self.time }
+            Part { amount, ..self.work }
         };
         let memory = if other.memory.amount > self.memory.amount { other.memory } else { self.memory };
-        Estimate { time, memory }
+        Estimate { work, memory }
     }
 
     /// `count` runs of this one in sequence (`what` names them). The count becomes the
     /// driver unless one run's own driver is an extreme input (a low frequency, a load).
     pub fn times(mut self, count: f64, driver: Driver, what: &str) -> Estimate {
-        self.time.amount *= count;
+        self.work.amount *= count;
         if count > 1.0 {
-            self.time.detail = if self.time.detail.is_empty() {
+            self.work.detail = if self.work.detail.is_empty() {
                 format!("{} {what}", compact_count(count))
             } else {
-                format!("{} {what}, each: {}", compact_count(count), self.time.detail)
+                format!("{} {what}, each: {}", compact_count(count), self.work.detail)
             };
-            if !matches!(self.time.driver, Driver::LowFrequency | Driver::Load | Driver::Speed) {
-                self.time.driver = driver;
+            if !matches!(self.work.driver, Driver::LowFrequency | Driver::Load | Driver::Speed) {
+                self.work.driver = driver;
             }
         }
         self
@@ -197,16 +228,12 @@ fn compact_count(x: f64) -> String {
     }
 }
 
-/// Seconds as a person reads them.
-fn seconds_text(s: f64) -> String {
-    if !s.is_finite() {
-        "an unbounded time".into()
-    } else if s >= 1e7 {
-        format!("{s:.1e} s")
-    } else if s >= 7200.0 {
-        format!("{:.1} h", s / 3600.0)
+/// Floating-point operations as a person reads them: 1.2e15.
+fn operations_text(x: f64) -> String {
+    if !x.is_finite() {
+        "unboundedly many".into()
     } else {
-        format!("{s:.0} s")
+        format!("{x:.1e}")
     }
 }
 
@@ -228,8 +255,8 @@ fn bytes_text(b: f64) -> String {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Resource {
-    /// Computing time.
-    Time,
+    /// Computing work: floating-point operations.
+    Work,
     /// Memory of dense matrices.
     Memory,
 }
@@ -237,8 +264,7 @@ pub enum Resource {
 /// A run refused before it started: its estimated cost is beyond the limit.
 #[derive(Debug, Clone, PartialEq, Error, Serialize)]
 #[error(
-    "{what} would {} {}, more than the {}{} allowed: {detail}; change {parameter}, or allow FACTOR times more with --max-cost FACTOR",
-    if *resource == Resource::Time { "take" } else { "need" },
+    "{what} would need {}, more than the {}{} allowed: {detail}; change {parameter}, or allow FACTOR times more with --max-cost FACTOR",
     amount_text(*resource, *estimate),
     limit_text(*resource, *limit),
     if *factor == 1.0 { String::new() } else { format!(" (--max-cost {})", compact(*factor)) },
@@ -246,11 +272,11 @@ pub enum Resource {
 pub struct CostError {
     /// What would run, e.g. `the chart`, `check`.
     pub what: String,
-    /// Time or memory: which limit the estimate exceeds.
+    /// Work or memory: which limit the estimate exceeds.
     pub resource: Resource,
-    /// The estimate (s or bytes).
+    /// The estimate (floating-point operations or bytes).
     pub estimate: f64,
-    /// The limit (s or bytes), with the factor applied.
+    /// The limit (floating-point operations or bytes), with the factor applied.
     pub limit: f64,
     /// The `--max-cost` factor in force.
     pub factor: f64,
@@ -262,15 +288,16 @@ pub struct CostError {
 
 fn amount_text(resource: Resource, x: f64) -> String {
     match (resource, x.is_finite()) {
-        (Resource::Time, true) => format!("about {} of computing", seconds_text(x)),
+        (Resource::Work, true) => format!("about {} floating-point operations", operations_text(x)),
         (Resource::Memory, true) => format!("about {} of memory", bytes_text(x)),
-        (_, false) => limit_text(resource, x),
+        (Resource::Work, false) => "unboundedly many floating-point operations".into(),
+        (Resource::Memory, false) => bytes_text(x),
     }
 }
 
 fn limit_text(resource: Resource, x: f64) -> String {
     match resource {
-        Resource::Time => seconds_text(x),
+        Resource::Work => operations_text(x),
         Resource::Memory => bytes_text(x),
     }
 }
@@ -297,10 +324,10 @@ pub struct TimeLimitError {
     pub explicit: bool,
 }
 
-/// The limits of a run: [`MAX_SECONDS`] and [`MAX_BYTES`] times a factor (`--max-cost`)
-/// for its estimate before it starts, and a time limit measured while it runs
-/// ([`RunningLimit`]: none for a library caller, who can stop the run itself; the
-/// command line's `--time-limit`, by default the same seconds).
+/// The limits of a run: [`MAX_OPERATIONS`] and [`MAX_BYTES`] times a factor
+/// (`--max-cost`) for its counts before it starts, and a time limit measured while it
+/// runs ([`RunningLimit`]: none for a library caller, who can stop the run itself; the
+/// command line's `--time-limit`, by default [`MAX_SECONDS`] times the factor).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
     factor: f64,
@@ -316,7 +343,8 @@ pub struct Budget {
 pub enum RunningLimit {
     /// None: the caller stops the run ([`crate::progress::Progress::cancelled`]).
     None,
-    /// The estimate's limit, [`Budget::seconds`] (the command line without `--time-limit`).
+    /// [`Budget::seconds`]: [`MAX_SECONDS`] times the factor (the command line without
+    /// `--time-limit`).
     OfFactor,
     /// Seconds of wall time given (`--time-limit`).
     Given(f64),
@@ -340,8 +368,8 @@ impl Budget {
         Ok(Budget { running: RunningLimit::Given(limits::time_limit(seconds)?), ..self })
     }
 
-    /// This budget with the estimate's limit, [`Budget::seconds`], as its time limit
-    /// while a run runs (the command line's default).
+    /// This budget with [`Budget::seconds`], [`MAX_SECONDS`] times its factor, as its
+    /// time limit while a run runs (the command line's default).
     pub fn with_estimate_time_limit(self) -> Budget {
         Budget { running: RunningLimit::OfFactor, ..self }
     }
@@ -401,9 +429,15 @@ impl Budget {
         self.factor
     }
 
-    /// The time limit (s).
+    /// The command line's default time limit while a run runs: [`MAX_SECONDS`] times the
+    /// factor (s).
     pub fn seconds(&self) -> f64 {
         MAX_SECONDS * self.factor
+    }
+
+    /// The work limit of a run's count before it starts (floating-point operations).
+    pub fn operations(&self) -> f64 {
+        MAX_OPERATIONS * self.factor
     }
 
     /// The memory limit (bytes) of one run.
@@ -427,8 +461,8 @@ impl Budget {
         if estimate.memory.amount.is_nan() || estimate.memory.amount > self.bytes() {
             return Err(refuse(Resource::Memory, &estimate.memory, self.bytes()));
         }
-        if estimate.time.amount.is_nan() || estimate.time.amount > self.seconds() {
-            return Err(refuse(Resource::Time, &estimate.time, self.seconds()));
+        if estimate.work.amount.is_nan() || estimate.work.amount > self.operations() {
+            return Err(refuse(Resource::Work, &estimate.work, self.operations()));
         }
         Ok(())
     }
@@ -441,18 +475,19 @@ mod tests {
     #[test]
     fn budgets_refuse_beyond_the_limits_and_name_the_driver() {
         let b = Budget::default();
-        let cheap = Estimate::time(1.0, Driver::Grid, "x".into());
+        let cheap = Estimate::work(1.0, Driver::Grid, "x".into());
         assert!(b.admit("the chart", &cheap, &|_| "`--phi`".into()).is_ok());
-        let dear = Estimate::time(1e300, Driver::LowFrequency, "91 points".into());
+        let dear = Estimate::work(1e300, Driver::LowFrequency, "91 points".into());
         let e = b.admit("the chart", &dear, &|d| format!("{d:?}")).unwrap_err();
-        assert_eq!((e.resource, e.parameter.as_str()), (Resource::Time, "LowFrequency"));
-        assert!(e.to_string().starts_with("the chart would take about 1.0e300 s of computing, more than the 3600 s allowed: 91 points; change LowFrequency"), "{e}");
-        let nan = Estimate::time(f64::NAN, Driver::Grid, String::new());
+        assert_eq!((e.resource, e.parameter.as_str()), (Resource::Work, "LowFrequency"));
+        assert!(e.to_string().starts_with("the chart would need about 1.0e300 floating-point operations, more than the 3.0e13 allowed: 91 points; change LowFrequency"), "{e}");
+        let nan = Estimate::work(f64::NAN, Driver::Grid, String::new());
         assert!(b.admit("x", &nan, &|_| String::new()).is_err(), "a NaN estimate is refused");
         assert!(Budget::new(2.0)
             .unwrap()
-            .admit("the chart", &Estimate::time(1000.0, Driver::Grid, String::new()), &|_| String::new())
+            .admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new())
             .is_ok());
+        assert!(b.admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new()).is_err());
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(Budget::new(bad).is_err(), "{bad}");
             assert!(Budget::default().with_time_limit(bad).is_err(), "{bad}");

@@ -50,16 +50,16 @@ fn level_search(
 ) -> (f64, usize) {
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
     let per_seed = HIT_FIXED + s.centre_iterations as f64 * 2.0 + 2.0 + s.tip_iterations as f64 + EDGE_EVALUATIONS;
-    let mut seconds = 0.0;
+    let mut operations = 0.0;
     let mut count = 0;
     for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {
         let phi = x.phi.clamp(window.lo, window.hi);
-        seconds += per_seed * pc.point(phi, level);
+        operations += per_seed * pc.point(phi, level);
         count += 1;
     }
-    seconds += guard_lattice(s.guard_step, window).into_iter().map(|p| pc.point(p, level)).sum::<f64>();
-    seconds += 2.0 * march(s, window).map(|p| pc.point(p, level)).sum::<f64>();
-    (seconds, count)
+    operations += guard_lattice(s.guard_step, window).into_iter().map(|p| pc.point(p, level)).sum::<f64>();
+    operations += 2.0 * march(s, window).map(|p| pc.point(p, level)).sum::<f64>();
+    (operations, count)
 }
 
 /// What a catalogue request asks of the search.
@@ -115,9 +115,9 @@ pub fn catalogue(
         .filter(|x| x.order <= criterion.max_order && range.contains(x.phi))
         .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
         .sum();
-    let seconds = starts + brackets + at_level + onsets;
+    let operations = starts + brackets + at_level + onsets;
     let samples = bracket(s, 0.0, beta_max, screen);
-    let (driver, detail) = if brackets > 0.5 * seconds {
+    let (driver, detail) = if brackets > 0.5 * operations {
         (
             Driver::Load,
             format!(
@@ -137,7 +137,7 @@ pub fn catalogue(
         let d = if d == Driver::ReducedModel && searched > 1000 { Driver::Grid } else { d };
         (d, if why.is_empty() { what } else { format!("{what}; {why}") })
     };
-    Estimate::time(seconds, driver, detail)
+    Estimate::work(operations, driver, detail)
 }
 
 /// The stable band around φ_op at `level` in `window` (`band`, a study's band): the
@@ -151,14 +151,14 @@ pub fn band(
     window: Interval,
     level: f64,
 ) -> Estimate {
-    let (seconds, searched) = level_search(pc, s, criterion, seeds, window, level);
+    let (operations, searched) = level_search(pc, s, criterion, seeds, window, level);
     let (d, why) = pc.point_driver(window.lo);
     let what = format!(
         "{searched} seeds and the guard lattice over phi = {}..{} rad/s",
         compact(window.lo),
         compact(window.hi)
     );
-    Estimate::time(seconds, d, if why.is_empty() { what } else { format!("{what}; {why}") })
+    Estimate::work(operations, d, if why.is_empty() { what } else { format!("{what}; {why}") })
 }
 
 /// The search for the tongues at the level over `windows` (a clear-bands candidate's
@@ -171,25 +171,25 @@ pub fn scan(
     windows: &[Interval],
     level: f64,
 ) -> Estimate {
-    let mut seconds = 0.0;
+    let mut operations = 0.0;
     for w in windows {
         let (t, _) = level_search(pc, s, criterion, seeds, *w, level);
-        seconds += t;
+        operations += t;
         let onsets: f64 = seeds
             .iter()
             .filter(|x| x.order <= criterion.max_order && w.contains(x.phi))
             .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
             .sum();
-        seconds += onsets;
+        operations += onsets;
     }
     let lowest = windows.iter().map(|w| w.lo).fold(f64::INFINITY, f64::min);
     let (d, why) = pc.point_driver(lowest);
-    Estimate::time(seconds, d, if why.is_empty() { "the operating bands' tongues".into() } else { why })
+    Estimate::work(operations, d, if why.is_empty() { "the operating bands' tongues".into() } else { why })
 }
 
 /// `count` points on tables of their own at (φ, β) (a verification grid, a design's
 /// band work per candidate).
 pub fn points(pc: &PointCost, count: f64, phi: f64, beta: f64) -> Estimate {
     let (d, why) = pc.point_driver(phi);
-    Estimate::time(count * pc.point(phi, beta), d, why)
+    Estimate::work(count * pc.point(phi, beta), d, why)
 }
