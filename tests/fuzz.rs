@@ -858,7 +858,9 @@ fn run_flag_case(
     let hang_timeout =
         CASE_HANG_TIMEOUT + Duration::from_secs_f64((HANG_ESTIMATE_FACTOR * estimated / SLOW_RATE).min(3600.0));
     if elapsed > hang_timeout {
-        return Err(format!("{c:?}: took {elapsed:?}, a hang (timeout {hang_timeout:?}, counted {estimated:.3e} operations)"));
+        return Err(format!(
+            "{c:?}: took {elapsed:?}, a hang (timeout {hang_timeout:?}, counted {estimated:.3e} operations)"
+        ));
     }
     match result {
         Err(_) => Err(format!("{c:?}: panicked")),

@@ -24,6 +24,7 @@ mod candidates;
 mod cli_floquet;
 mod consistency;
 mod convergence;
+mod cost_counts;
 mod criterion;
 mod design;
 mod early_refusal;

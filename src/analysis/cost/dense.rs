@@ -61,6 +61,7 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
     Estimate {
         work: Part { amount: operations, driver: work_driver, detail: work_detail },
         memory: Part { amount: bytes, driver: memory_driver, detail: memory_detail },
+        evaluations: 0.0,
     }
 }
 

@@ -173,13 +173,17 @@ pub struct Estimate {
     pub work: Part,
     /// Bytes of dense matrices held at once.
     pub memory: Part,
+    /// Monodromy evaluations of the region searches counted in `work` (0 for work that
+    /// is not a region search): what the searches' own count, [`crate::analysis::regions::Catalogue::evaluations`]
+    /// and [`crate::analysis::regions::Band::evaluations`], stays within (tests/cost_counts.rs).
+    pub evaluations: f64,
 }
 
 impl Estimate {
     /// Nothing.
     pub fn zero() -> Estimate {
         let part = |driver| Part { amount: 0.0, driver, detail: String::new() };
-        Estimate { work: part(Driver::Grid), memory: part(Driver::Dofs) }
+        Estimate { work: part(Driver::Grid), memory: part(Driver::Dofs), evaluations: 0.0 }
     }
 
     /// A work-only estimate of `operations` floating-point operations.
@@ -197,13 +201,14 @@ impl Estimate {
             Part { amount, ..self.work }
         };
         let memory = if other.memory.amount > self.memory.amount { other.memory } else { self.memory };
-        Estimate { work, memory }
+        Estimate { work, memory, evaluations: self.evaluations + other.evaluations }
     }
 
     /// `count` runs of this one in sequence (`what` names them). The count becomes the
     /// driver unless one run's own driver is an extreme input (a low frequency, a load).
     pub fn times(mut self, count: f64, driver: Driver, what: &str) -> Estimate {
         self.work.amount *= count;
+        self.evaluations *= count;
         if count > 1.0 {
             self.work.detail = if self.work.detail.is_empty() {
                 format!("{} {what}", compact_count(count))
@@ -487,7 +492,9 @@ mod tests {
             .unwrap()
             .admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new())
             .is_ok());
-        assert!(b.admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new()).is_err());
+        assert!(b
+            .admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new())
+            .is_err());
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(Budget::new(bad).is_err(), "{bad}");
             assert!(Budget::default().with_time_limit(bad).is_err(), "{bad}");

@@ -30,6 +30,50 @@ fn march(s: &RegionSettings, window: Interval) -> impl Iterator<Item = f64> + '_
     })
 }
 
+/// Operations and monodromy evaluations of a region search, counted together.
+#[derive(Debug, Clone, Copy, Default)]
+struct Tally {
+    operations: f64,
+    evaluations: f64,
+}
+
+impl Tally {
+    /// `count` evaluations of `each` operations.
+    fn of(count: f64, each: f64) -> Tally {
+        Tally { operations: count * each, evaluations: count }
+    }
+    /// A per-φ table (no evaluation).
+    fn table(operations: f64) -> Tally {
+        Tally { operations, evaluations: 0.0 }
+    }
+}
+
+impl std::ops::AddAssign for Tally {
+    fn add_assign(&mut self, o: Tally) {
+        self.operations += o.operations;
+        self.evaluations += o.evaluations;
+    }
+}
+
+impl std::ops::Add for Tally {
+    type Output = Tally;
+    fn add(mut self, o: Tally) -> Tally {
+        self += o;
+        self
+    }
+}
+
+impl std::iter::Sum for Tally {
+    fn sum<I: Iterator<Item = Tally>>(iter: I) -> Tally {
+        iter.fold(Tally::default(), |a, b| a + b)
+    }
+}
+
+/// The estimate of a counted search.
+fn estimate(t: Tally, driver: Driver, detail: String) -> Estimate {
+    Estimate { evaluations: t.evaluations, ..Estimate::work(t.operations, driver, detail) }
+}
+
 /// Evaluations of a β bracket from `from` to `to` at the bracket step, and its bisection
 /// to `tolerance`.
 fn bracket(s: &RegionSettings, from: f64, to: f64, tolerance: f64) -> f64 {
@@ -47,19 +91,38 @@ fn level_search(
     seeds: &[Seed],
     window: Interval,
     level: f64,
-) -> (f64, usize) {
+) -> (Tally, usize) {
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
     let per_seed = HIT_FIXED + s.centre_iterations as f64 * 2.0 + 2.0 + s.tip_iterations as f64 + EDGE_EVALUATIONS;
-    let mut operations = 0.0;
+    let mut work = Tally::default();
     let mut count = 0;
     for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {
         let phi = x.phi.clamp(window.lo, window.hi);
-        operations += per_seed * pc.point(phi, level);
+        work += Tally::of(per_seed, pc.point(phi, level));
         count += 1;
     }
-    operations += guard_lattice(s.guard_step, window).into_iter().map(|p| pc.point(p, level)).sum::<f64>();
-    operations += 2.0 * march(s, window).map(|p| pc.point(p, level)).sum::<f64>();
-    (operations, count)
+    work += guard_lattice(s.guard_step, window).into_iter().map(|p| Tally::of(1.0, pc.point(p, level))).sum();
+    work += march(s, window).map(|p| Tally::of(2.0, pc.point(p, level))).sum();
+    (work, count)
+}
+
+/// [`level_search`], and with a growth-rate floor the same search again without it: a
+/// catalogue and a band scan the level a second time for the slow tongues they list as
+/// ignored (`Level::slow_tongues`).
+fn level_search_with_slow(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    window: Interval,
+    level: f64,
+) -> (Tally, usize) {
+    let (mut work, searched) = level_search(pc, s, criterion, seeds, window, level);
+    if criterion.min_growth_rate > 0.0 {
+        let raw = Criterion { min_growth_rate: 0.0, min_tongue_width: 0.0, ..*criterion };
+        work += level_search(pc, s, &raw, seeds, window, level).0;
+    }
+    (work, searched)
 }
 
 /// What a catalogue request asks of the search.
@@ -90,34 +153,36 @@ pub fn catalogue(
     let (range, beta_max, level) = (work.range, work.beta_max, work.level);
     let screen = SCREENING_TOLERANCE.min(s.tip_margin.absolute).max(s.beta_tolerance);
     let climb = CLIMB_BRACKET + s.tip_iterations as f64;
-    let mut starts = 0.0;
-    let mut brackets = 0.0;
+    let mut starts = Tally::default();
+    let mut brackets = Tally::default();
     let mut located = 0usize;
     for x in seeds.iter().filter(|x| x.order <= s.max_order && range.contains(x.phi)) {
         let phi = x.phi;
         located += 1;
         // β_c(seed): to the level on a table built to it, then to β_max on another.
-        brackets += pc.table(phi, level).0 + bracket(s, 0.0, level, screen) * pc.monodromy(phi, level);
-        brackets += pc.table(phi, beta_max).0 + bracket(s, level, beta_max, screen) * pc.monodromy(phi, beta_max);
-        // The onset at the tip, stepping down from up to β_max, and β_c(seed) refined.
         brackets +=
-            pc.table(phi, beta_max).0 + bracket(s, 0.0, beta_max, s.beta_tolerance) * pc.monodromy(phi, beta_max);
-        starts +=
-            climb * pc.point(phi, beta_max) + bracket(s, 0.0, 0.0, s.beta_tolerance) * pc.monodromy(phi, beta_max);
+            Tally::table(pc.table(phi, level).0) + Tally::of(bracket(s, 0.0, level, screen), pc.monodromy(phi, level));
+        brackets += Tally::table(pc.table(phi, beta_max).0)
+            + Tally::of(bracket(s, level, beta_max, screen), pc.monodromy(phi, beta_max));
+        // The onset at the tip, stepping down from up to β_max, and β_c(seed) refined.
+        brackets += Tally::table(pc.table(phi, beta_max).0)
+            + Tally::of(bracket(s, 0.0, beta_max, s.beta_tolerance), pc.monodromy(phi, beta_max));
+        starts += Tally::of(climb, pc.point(phi, beta_max))
+            + Tally::of(bracket(s, 0.0, 0.0, s.beta_tolerance), pc.monodromy(phi, beta_max));
         if work.track {
-            starts += s.tracking_levels as f64 * TRACK_EVALUATIONS * pc.point(phi, beta_max);
+            starts += Tally::of(s.tracking_levels as f64 * TRACK_EVALUATIONS, pc.point(phi, beta_max));
         }
     }
-    let (at_level, searched) = level_search(pc, s, criterion, seeds, range, level);
+    let (at_level, searched) = level_search_with_slow(pc, s, criterion, seeds, range, level);
     // Regions found only at the level: β_c stepped down from the level.
-    let onsets: f64 = seeds
+    let onsets: Tally = seeds
         .iter()
         .filter(|x| x.order <= criterion.max_order && range.contains(x.phi))
-        .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
+        .map(|x| onset_at_level(pc, s, x.phi, level))
         .sum();
-    let operations = starts + brackets + at_level + onsets;
+    let total = starts + brackets + at_level + onsets;
     let samples = bracket(s, 0.0, beta_max, screen);
-    let (driver, detail) = if brackets > 0.5 * operations {
+    let (driver, detail) = if brackets.operations > 0.5 * total.operations {
         (
             Driver::Load,
             format!(
@@ -137,7 +202,12 @@ pub fn catalogue(
         let d = if d == Driver::ReducedModel && searched > 1000 { Driver::Grid } else { d };
         (d, if why.is_empty() { what } else { format!("{what}; {why}") })
     };
-    Estimate::work(operations, driver, detail)
+    estimate(total, driver, detail)
+}
+
+/// A region's onset stepped down from the level: a table to the level and its bracket.
+fn onset_at_level(pc: &PointCost, s: &RegionSettings, phi: f64, level: f64) -> Tally {
+    Tally::table(pc.table(phi, level).0) + Tally::of(bracket(s, 0.0, level, s.beta_tolerance), pc.monodromy(phi, level))
 }
 
 /// The stable band around φ_op at `level` in `window` (`band`, a study's band): the
@@ -151,14 +221,14 @@ pub fn band(
     window: Interval,
     level: f64,
 ) -> Estimate {
-    let (operations, searched) = level_search(pc, s, criterion, seeds, window, level);
+    let (work, searched) = level_search_with_slow(pc, s, criterion, seeds, window, level);
     let (d, why) = pc.point_driver(window.lo);
     let what = format!(
         "{searched} seeds and the guard lattice over phi = {}..{} rad/s",
         compact(window.lo),
         compact(window.hi)
     );
-    Estimate::work(operations, d, if why.is_empty() { what } else { format!("{what}; {why}") })
+    estimate(work, d, if why.is_empty() { what } else { format!("{what}; {why}") })
 }
 
 /// The search for the tongues at the level over `windows` (a clear-bands candidate's
@@ -171,25 +241,23 @@ pub fn scan(
     windows: &[Interval],
     level: f64,
 ) -> Estimate {
-    let mut operations = 0.0;
+    let mut work = Tally::default();
     for w in windows {
-        let (t, _) = level_search(pc, s, criterion, seeds, *w, level);
-        operations += t;
-        let onsets: f64 = seeds
+        work += level_search(pc, s, criterion, seeds, *w, level).0;
+        work += seeds
             .iter()
             .filter(|x| x.order <= criterion.max_order && w.contains(x.phi))
-            .map(|x| pc.table(x.phi, level).0 + bracket(s, 0.0, level, s.beta_tolerance) * pc.monodromy(x.phi, level))
+            .map(|x| onset_at_level(pc, s, x.phi, level))
             .sum();
-        operations += onsets;
     }
     let lowest = windows.iter().map(|w| w.lo).fold(f64::INFINITY, f64::min);
     let (d, why) = pc.point_driver(lowest);
-    Estimate::work(operations, d, if why.is_empty() { "the operating bands' tongues".into() } else { why })
+    estimate(work, d, if why.is_empty() { "the operating bands' tongues".into() } else { why })
 }
 
 /// `count` points on tables of their own at (φ, β) (a verification grid, a design's
 /// band work per candidate).
 pub fn points(pc: &PointCost, count: f64, phi: f64, beta: f64) -> Estimate {
     let (d, why) = pc.point_driver(phi);
-    Estimate::work(count * pc.point(phi, beta), d, why)
+    estimate(Tally::of(count, pc.point(phi, beta)), d, why)
 }
