@@ -83,7 +83,9 @@ fn bracket(s: &RegionSettings, from: f64, to: f64, tolerance: f64) -> f64 {
 /// What a search of the unstable set at `level` over `window` costs (the band, and the
 /// level part of a catalogue): each seed of order up to the criterion's whose window
 /// reaches it (centre search, crest, both edges), every guard lattice point, and a march
-/// across the whole window on both sides (a tongue as wide as the window).
+/// across the whole window on both sides (a tongue as wide as the window). `slow`: with a
+/// growth-rate floor, the same search again without it (a catalogue and a band scan the
+/// level a second time for the slow tongues they list as ignored, `Level::slow_tongues`).
 fn level_search(
     pc: &PointCost,
     s: &RegionSettings,
@@ -91,7 +93,14 @@ fn level_search(
     seeds: &[Seed],
     window: Interval,
     level: f64,
+    slow: bool,
 ) -> (Tally, usize) {
+    if slow && criterion.min_growth_rate > 0.0 {
+        let raw = Criterion { min_growth_rate: 0.0, min_tongue_width: 0.0, ..*criterion };
+        let (again, _) = level_search(pc, s, &raw, seeds, window, level, false);
+        let (once, searched) = level_search(pc, s, criterion, seeds, window, level, false);
+        return (once + again, searched);
+    }
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
     let per_seed = HIT_FIXED + s.centre_iterations as f64 * 2.0 + 2.0 + s.tip_iterations as f64 + EDGE_EVALUATIONS;
     let mut work = Tally::default();
@@ -104,25 +113,6 @@ fn level_search(
     work += guard_lattice(s.guard_step, window).into_iter().map(|p| Tally::of(1.0, pc.point(p, level))).sum();
     work += march(s, window).map(|p| Tally::of(2.0, pc.point(p, level))).sum();
     (work, count)
-}
-
-/// [`level_search`], and with a growth-rate floor the same search again without it: a
-/// catalogue and a band scan the level a second time for the slow tongues they list as
-/// ignored (`Level::slow_tongues`).
-fn level_search_with_slow(
-    pc: &PointCost,
-    s: &RegionSettings,
-    criterion: &Criterion,
-    seeds: &[Seed],
-    window: Interval,
-    level: f64,
-) -> (Tally, usize) {
-    let (mut work, searched) = level_search(pc, s, criterion, seeds, window, level);
-    if criterion.min_growth_rate > 0.0 {
-        let raw = Criterion { min_growth_rate: 0.0, min_tongue_width: 0.0, ..*criterion };
-        work += level_search(pc, s, &raw, seeds, window, level).0;
-    }
-    (work, searched)
 }
 
 /// What a catalogue request asks of the search.
@@ -173,7 +163,7 @@ pub fn catalogue(
             starts += Tally::of(s.tracking_levels as f64 * TRACK_EVALUATIONS, pc.point(phi, beta_max));
         }
     }
-    let (at_level, searched) = level_search_with_slow(pc, s, criterion, seeds, range, level);
+    let (at_level, searched) = level_search(pc, s, criterion, seeds, range, level, true);
     // Regions found only at the level: β_c stepped down from the level.
     let onsets: Tally = seeds
         .iter()
@@ -221,7 +211,7 @@ pub fn band(
     window: Interval,
     level: f64,
 ) -> Estimate {
-    let (work, searched) = level_search_with_slow(pc, s, criterion, seeds, window, level);
+    let (work, searched) = level_search(pc, s, criterion, seeds, window, level, true);
     let (d, why) = pc.point_driver(window.lo);
     let what = format!(
         "{searched} seeds and the guard lattice over phi = {}..{} rad/s",
@@ -243,7 +233,7 @@ pub fn scan(
 ) -> Estimate {
     let mut work = Tally::default();
     for w in windows {
-        work += level_search(pc, s, criterion, seeds, *w, level).0;
+        work += level_search(pc, s, criterion, seeds, *w, level, false).0;
         work += seeds
             .iter()
             .filter(|x| x.order <= criterion.max_order && w.contains(x.phi))
