@@ -426,17 +426,27 @@ fn check_case_folder(dir: &Path) -> Result<(), Error> {
         _ => return Err(crate::files::real_dir(dir).err().map_or_else(not_owned, |e| Error::io(dir, &e))),
     }
     let path = dir.join(CASE_MANIFEST);
+    let parse = |text: String| Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e));
     match crate::files::read_to_string(&path) {
-        Ok(text) => Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e)),
+        Ok(text) => parse(text),
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            let mut entries = Vec::new();
             for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
-                let entry = e.map_err(|e| output_error(dir, e))?.file_name();
-                let ours = entry == CASE_LOCK || entry.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);
-                if !ours {
-                    return Err(not_owned());
-                }
+                entries.push(e.map_err(|e| output_error(dir, e))?.file_name());
             }
-            Ok(())
+            // Another run of the study that created the folder a moment ago may have
+            // written its manifest since it was looked for (two tasks given the same
+            // shard): the folder is then the study's if that manifest is.
+            if entries.iter().any(|e| e == CASE_MANIFEST) {
+                return parse(crate::files::read_to_string(&path).map_err(|e| Error::io(&path, &e))?);
+            }
+            let ours =
+                |e: &std::ffi::OsString| e == CASE_LOCK || e.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);
+            if entries.iter().all(ours) {
+                Ok(())
+            } else {
+                Err(not_owned())
+            }
         }
         Err(e) => Err(Error::io(&path, &e)),
     }
