@@ -55,7 +55,7 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
     let verify_dense = cost::dense(model, Dense::ReducedAndWhirls, 1);
     let mut memory = dense.memory.clone();
     memory.amount = (memory.amount * threads as f64).max(verify_dense.memory.amount);
-    let admitted = Estimate { work: dense.work.clone(), memory: memory.clone(), evaluations: 0.0 };
+    let admitted = Estimate { memory: memory.clone(), ..dense.clone() };
     bounds::admit(budget, "the design", &admitted, &DESIGN)?;
     let machine = problem.machine();
     let reference = Candidate::new(&machine, spec, &values_of(&machine, spec))?;

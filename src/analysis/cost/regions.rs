@@ -149,16 +149,16 @@ pub fn catalogue(
     for x in seeds.iter().filter(|x| x.order <= s.max_order && range.contains(x.phi)) {
         let phi = x.phi;
         located += 1;
+        // A table to β_max and a monodromy on it, as every step below that goes to β_max.
+        let (table_max, monodromy_max) = (Tally::table(pc.table(phi, beta_max).0), pc.monodromy(phi, beta_max));
         // β_c(seed): to the level on a table built to it, then to β_max on another.
         brackets +=
             Tally::table(pc.table(phi, level).0) + Tally::of(bracket(s, 0.0, level, screen), pc.monodromy(phi, level));
-        brackets += Tally::table(pc.table(phi, beta_max).0)
-            + Tally::of(bracket(s, level, beta_max, screen), pc.monodromy(phi, beta_max));
+        brackets += table_max + Tally::of(bracket(s, level, beta_max, screen), monodromy_max);
         // The onset at the tip, stepping down from up to β_max, and β_c(seed) refined.
-        brackets += Tally::table(pc.table(phi, beta_max).0)
-            + Tally::of(bracket(s, 0.0, beta_max, s.beta_tolerance), pc.monodromy(phi, beta_max));
+        brackets += table_max + Tally::of(bracket(s, 0.0, beta_max, s.beta_tolerance), monodromy_max);
         starts += Tally::of(climb, pc.point(phi, beta_max))
-            + Tally::of(bracket(s, 0.0, 0.0, s.beta_tolerance), pc.monodromy(phi, beta_max));
+            + Tally::of(bracket(s, 0.0, 0.0, s.beta_tolerance), monodromy_max);
         if work.track {
             starts += Tally::of(s.tracking_levels as f64 * TRACK_EVALUATIONS, pc.point(phi, beta_max));
         }

@@ -425,29 +425,23 @@ fn check_case_folder(dir: &Path) -> Result<(), Error> {
         crate::files::Standing::Missing => return Err(output_error(dir, "it disappeared while the study opened it")),
         _ => return Err(crate::files::real_dir(dir).err().map_or_else(not_owned, |e| Error::io(dir, &e))),
     }
-    let path = dir.join(CASE_MANIFEST);
-    let parse = |text: String| Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e));
-    match crate::files::read_to_string(&path) {
-        Ok(text) => parse(text),
-        Err(e) if e.kind() == io::ErrorKind::NotFound => {
-            let mut entries = Vec::new();
-            for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
-                entries.push(e.map_err(|e| output_error(dir, e))?.file_name());
-            }
-            // Another run of the study that created the folder a moment ago may have
-            // written its manifest since it was looked for (two tasks given the same
-            // shard): the folder is then the study's if that manifest is.
-            if entries.iter().any(|e| e == CASE_MANIFEST) {
-                return parse(crate::files::read_to_string(&path).map_err(|e| Error::io(&path, &e))?);
-            }
-            let ours =
-                |e: &std::ffi::OsString| e == CASE_LOCK || e.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);
-            if entries.iter().all(ours) {
-                Ok(())
-            } else {
-                Err(not_owned())
-            }
-        }
-        Err(e) => Err(Error::io(&path, &e)),
+    // The folder is listed first and its manifest read only if listed: another run of the
+    // study that created the folder a moment ago (two tasks given the same shard) may
+    // rename its manifest in at any time, and a folder listed before that holds only the
+    // lock and the manifest's temporaries, which are the study's too.
+    let mut entries = Vec::new();
+    for e in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
+        entries.push(e.map_err(|e| output_error(dir, e))?.file_name());
+    }
+    if entries.iter().any(|e| e == CASE_MANIFEST) {
+        let path = dir.join(CASE_MANIFEST);
+        let text = crate::files::read_to_string(&path).map_err(|e| Error::io(&path, &e))?;
+        return Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e));
+    }
+    let ours = |e: &std::ffi::OsString| e == CASE_LOCK || e.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);
+    if entries.iter().all(ours) {
+        Ok(())
+    } else {
+        Err(not_owned())
     }
 }
