@@ -241,11 +241,13 @@ impl Level<'_> {
         let mut out: Vec<Tongue> = Vec::new();
         let mut pending: Vec<Hit> =
             sorted.into_iter().filter(|h| !known.iter().any(|t| t.extent.contains(h.phi))).collect();
-        // Rounds: the extents of hits not yet covered, in parallel; a hit inside a new
-        // extent is that tongue (its label is attached below).
+        // Rounds over the hits not yet covered. In a round, one hit per stretch that no
+        // extent covers: the first, and every later hit that is farther than the largest
+        // edge-march step from the previous chosen one. Their extents are marched in order
+        // of φ (each extent's two edges in parallel), and a chosen hit inside an extent
+        // this round already found is that tongue: one march per tongue, not one per hit
+        // (at β = 1 on the paper's R = 50 Ω rotor, 34 tongues had cost 307 marches).
         while !pending.is_empty() {
-            // One hit per stretch that no extent covers: the first, and every later hit that
-            // is farther than the largest edge-march step from the previous chosen one.
             let mut round: Vec<f64> = Vec::new();
             for h in &pending {
                 if round.last().is_none_or(|&p| h.phi - p > self.probe.settings().edge_step.at(p)) {
@@ -254,18 +256,16 @@ impl Level<'_> {
             }
             let progress = self.probe.progress();
             progress.extend(round.len() as u64);
-            let extents: Vec<(f64, Option<Interval>)> = round
-                .par_iter()
-                .map(|&p| {
-                    let e = self.extent(p);
-                    progress.advance(1);
-                    (p, e)
-                })
-                .collect();
             // Hits beyond the window are done with once their march was made: their
             // tongue's extent is clipped to the window and need not contain them.
             let mut done: Vec<f64> = Vec::new();
-            for (p, e) in extents {
+            for p in round {
+                if out.iter().any(|t| t.extent.contains(p)) {
+                    progress.advance(1);
+                    continue;
+                }
+                let e = self.extent(p);
+                progress.advance(1);
                 if !self.limits.contains(p) {
                     done.push(p);
                 }
