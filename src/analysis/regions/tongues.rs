@@ -246,7 +246,7 @@ impl Level<'_> {
         // edge-march step from the previous chosen one. Their extents are marched in order
         // of φ (each extent's two edges in parallel), and a chosen hit inside an extent
         // this round already found is that tongue: one march per tongue, not one per hit
-        // (at β = 1 on the paper's R = 50 Ω rotor, 34 tongues had cost 307 marches).
+        // (docs/decisions.md, "One march per tongue").
         while !pending.is_empty() {
             let mut round: Vec<f64> = Vec::new();
             for h in &pending {
