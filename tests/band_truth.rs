@@ -29,7 +29,7 @@
 //!
 //! The neighbourhood (issue 30, the same checks for less): the band and the whole of each
 //! tongue bounding it (marched from the tongue's counted point the band reports), widened
-//! by [`NEAR`] = 10 % on each side, as far as the centre search looks for a seed's tongue;
+//! by [`NEAR`](common::scan::NEAR) = 10 % on each side, as far as the centre search looks for a seed's tongue;
 //! overlapping neighbourhoods of one level are merged and catalogued once. Every seed whose
 //! tongue has an edge of the band, or lies inside it, is in the reach of that catalogue,
 //! and the edges it reports are lattice-refined numbers that do not depend on the window
@@ -46,13 +46,11 @@
 
 use crate::common;
 
-use common::scan::{band_points, catalogued_windows, grid, GRID};
+use common::scan::{band_points, catalogued_windows, grid, neighbourhood, GRID};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{
-    band, catalogue, Bound, CatalogueRequest, Level, Probe, RegionSettings, CENTRE_WINDOW,
-};
+use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, Level, Probe, RegionSettings};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 use std::collections::HashMap;
@@ -63,9 +61,6 @@ const LEVELS: [f64; 3] = [0.1, 0.3, 0.6];
 const WINDOW: Interval = Interval::new(100.0, 8000.0);
 /// The reach beyond an edge (rad/s), from the acceptance.
 const BEYOND: f64 = 0.5;
-/// The neighbourhood of a band whose catalogue the checks read: the band widened by this
-/// fraction on each side, as far as the centre search looks for a seed's tongue.
-const NEAR: f64 = CENTRE_WINDOW;
 /// Two routes to the same lattice-refined edge give the same number; only round-off may
 /// separate them (rad/s), as for the band's own naming.
 const SAME_EDGE: f64 = 1e-9;
@@ -135,7 +130,7 @@ fn check_problem(name: &str, p: &Problem) -> Report {
                     }
                 }
             }
-            Some(Interval::new((lo * (1.0 - NEAR)).max(WINDOW.lo), (hi * (1.0 + NEAR)).min(WINDOW.hi)))
+            Some(neighbourhood(lo, hi, WINDOW))
         }));
         let catalogues: Vec<_> = near
             .par_iter()

@@ -34,8 +34,8 @@
 //! The interior points of (a), as in tests/band_truth.rs (issue 30: the same check with
 //! fewer points): a scan every [`SCAN`] = 0.1 rad/s over the whole band however wide (no
 //! sampling), and the 0.05 rad/s grid where the catalogue at β_op of the band's
-//! neighbourhood (the band widened by [`NEAR`] = 10 % each side, as far as the centre
-//! search looks for a seed's tongue, [`CENTRE_WINDOW`]) puts a tongue: within 0.1 rad/s of
+//! neighbourhood (the band widened by [`NEAR`](common::scan::NEAR) = 10 % each side, as far as the centre
+//! search looks for a seed's tongue, `CENTRE_WINDOW`) puts a tongue: within 0.1 rad/s of
 //! every catalogued tongue (each region's extent, the unexplained and the ignored
 //! tongues), within the start window of every region's start (a tongue opens there, thin,
 //! just above its onset), and within 0.1 rad/s inside each edge. A tongue a tenth of a
@@ -50,11 +50,11 @@
 //! Every case prints one summary line; failures are collected and asserted at the end.
 use crate::common;
 
-use common::scan::{band_points, catalogued_windows, grid as grid_indices, GRID, SCAN};
+use common::scan::{band_points, catalogued_windows, grid as grid_indices, neighbourhood, GRID, SCAN};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::{FloquetSystem, PointSummary};
 use rotorshunt::analysis::modes::{whirl_modes_of, ModesResult};
-use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings, CENTRE_WINDOW};
+use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, RegionSettings};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 
@@ -62,9 +62,6 @@ use rotorshunt::problem::Problem;
 const WINDOW: Interval = Interval::new(100.0, 8000.0);
 /// Reach beyond an edge (rad/s), as in tests/band_truth.rs.
 const BEYOND: f64 = 0.5;
-/// The neighbourhood of a band whose catalogue places the fine grid: the band widened by
-/// this fraction each side, as wide as the centre search's window ([`CENTRE_WINDOW`]).
-const NEAR: f64 = CENTRE_WINDOW;
 /// The load levels β_op the rule draws from.
 const LEVELS: [f64; 4] = [0.05, 0.2, 0.4, 0.7];
 /// φ_op range of the rule (rad/s): log-uniform between these.
@@ -248,7 +245,7 @@ fn check_case(index: usize, p: &Problem, fs: &FloquetSystem, full: &ModesResult)
     if !found.contains(phi_op) {
         failures.push(format!("{case}: band [{:.4}, {:.4}] does not contain phi_op", found.lo, found.hi));
     }
-    let near = Interval::new((found.lo * (1.0 - NEAR)).max(WINDOW.lo), (found.hi * (1.0 + NEAR)).min(WINDOW.hi));
+    let near = neighbourhood(found.lo, found.hi, WINDOW);
     let cat = catalogue(fs, full, &s, &CatalogueRequest { range: near, beta_max: level, level, track: false }).unwrap();
     let inside: Vec<f64> =
         band_points(found.lo, found.hi, &catalogued_windows(&cat)).iter().map(|&k| k as f64 * GRID).collect();

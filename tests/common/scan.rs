@@ -2,7 +2,7 @@
 //! inside a band: a scan over the whole band and the acceptance's 0.05 rad/s grid where
 //! the catalogue puts a tongue (docs/decisions.md, "Fewer points after all").
 
-use rotorshunt::analysis::regions::{Catalogue, START_WINDOW};
+use rotorshunt::analysis::regions::{Catalogue, CENTRE_WINDOW, START_WINDOW};
 use rotorshunt::analysis::Interval;
 
 /// Grid spacing (rad/s), from the acceptance.
@@ -11,6 +11,15 @@ pub const GRID: f64 = 0.05;
 pub const SCAN: f64 = 0.1;
 /// Grid steps per scan step.
 pub const SCAN_STEPS: i64 = 2;
+
+/// The neighbourhood of a band whose catalogue the truth tests read: widened by this
+/// fraction each side, as far as the centre search looks for a seed's tongue.
+pub const NEAR: f64 = CENTRE_WINDOW;
+
+/// [lo, hi] widened by [`NEAR`] on each side, clipped to `window` (rad/s).
+pub fn neighbourhood(lo: f64, hi: f64, window: Interval) -> Interval {
+    Interval::new(lo * (1.0 - NEAR), hi * (1.0 + NEAR)).clipped(&window)
+}
 
 /// Grid indices k (points k·GRID) strictly inside (lo, hi).
 pub fn grid(lo: f64, hi: f64) -> Vec<i64> {
