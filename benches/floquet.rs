@@ -5,8 +5,8 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use rotorshunt::analysis::chart::chart;
 use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
-use rotorshunt::commands::parse_range;
 use rotorshunt::problem::Problem;
 use std::time::Instant;
 
@@ -18,8 +18,8 @@ fn system() -> FloquetSystem {
 
 fn bench(c: &mut Criterion) {
     let fs = system();
-    let phis = parse_range("100:14000:25", "phi").unwrap();
-    let betas = parse_range("0:1:0.025", "beta").unwrap();
+    let phis = Interval::new(100.0, 14000.0).stepped(25.0);
+    let betas = Interval::new(0.0, 1.0).stepped(0.025);
     let mut g = c.benchmark_group("floquet");
     g.sample_size(10);
     g.bench_function("fig11 chart 22837 points, fast", |b| b.iter(|| chart(&fs, &phis, &betas, &|| {})));

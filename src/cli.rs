@@ -67,7 +67,7 @@ pub(crate) enum Command {
         #[arg(long)]
         speed: Option<f64>,
         /// Number of forward and of backward whirls.
-        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
+        #[arg(long, default_value_t = crate::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Print JSON instead of a table.
         #[arg(long)]
@@ -81,7 +81,7 @@ pub(crate) enum Command {
         #[arg(long)]
         speeds: String,
         /// Number of forward and of backward whirls to track.
-        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
+        #[arg(long, default_value_t = crate::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Output directory (created if missing).
         #[arg(long)]
@@ -235,7 +235,7 @@ pub(crate) enum Command {
         #[arg(long, default_value = "")]
         modes: String,
         /// Without --modes: the number of forward and of backward whirls.
-        #[arg(long, default_value_t = rotorshunt::commands::DEFAULT_WHIRL_COUNT)]
+        #[arg(long, default_value_t = crate::commands::DEFAULT_WHIRL_COUNT)]
         count: usize,
         /// Print JSON instead of a table.
         #[arg(long)]

@@ -74,13 +74,6 @@
 
 pub mod analysis;
 pub mod assembly;
-// The command line's layer: the binary's subcommands, their argument types and the study
-// folder's records. Not part of the library's API (hidden from the docs, no stability
-// promise); it stays reachable because tests drive it in-process: tests/fuzz.rs runs
-// 20 000 mutated inputs through the command functions in seconds, which as child
-// processes would take minutes, and the study tests build the folder's own records.
-#[doc(hidden)]
-pub mod commands;
 pub mod design;
 pub mod files;
 pub mod import;
@@ -93,6 +86,18 @@ pub mod progress;
 // convert, to and from the command layer and the library.
 #[cfg(feature = "python")]
 mod python;
+// The command layer (src/commands/): the subcommands, their argument types and the study
+// folder's records, shared by the two front ends and public in neither. The binary
+// compiles it as its own module; the Python bindings compile the same files here, as a
+// private module. Its files name the library as `rotorshunt::…`, which resolves in both
+// crates (`extern crate self` below). The binary's build checks the layer for dead code;
+// here, what the binary alone calls is unused, and the arms for error kinds added to the
+// library later (its enums are non-exhaustive to the binary) cannot be reached.
+#[cfg(feature = "python")]
+#[allow(dead_code, unused_imports, unreachable_patterns)]
+mod commands;
+#[cfg(feature = "python")]
+extern crate self as rotorshunt;
 pub mod report;
 
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};

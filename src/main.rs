@@ -19,21 +19,22 @@
 )]
 
 mod cli;
+// The command layer, shared with the Python bindings (see src/lib.rs).
+mod commands;
 mod reporter;
 
 use clap::Parser;
 use cli::{Cli, Command, Input, StudyAction, StudyArgs};
 use reporter::{printable, Reporter};
 use rotorshunt::analysis::cost::Budget;
-use rotorshunt::commands;
 use rotorshunt::problem::Problem;
 use std::process::ExitCode;
 
 /// The shard count of `--shards`/`--tasks`.
-fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::commands::Error> {
+fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, crate::commands::Error> {
     text.map(|t| match t.trim().parse::<u32>() {
         Ok(n) if (1..=commands::MAX_SHARDS).contains(&n) => Ok(n),
-        _ => Err(rotorshunt::commands::Error::Shard {
+        _ => Err(crate::commands::Error::Shard {
             source_name: source.into(),
             value: t.into(),
             message: format!("the number of shards must be a whole number from 1 to {}", commands::MAX_SHARDS),
@@ -42,7 +43,7 @@ fn count(source: &str, text: Option<&str>) -> Result<Option<u32>, rotorshunt::co
     .transpose()
 }
 
-fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
+fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String, u8), crate::commands::Error> {
     let done = |r: &commands::StatusReport| if r.done == r.cases { 0 } else { exit::STUDY_FAILED_CASES };
     match args.action {
         Some(StudyAction::Plan { file, shards, json }) => {
@@ -68,7 +69,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
             allow_non_empty,
         }) => {
             let tasks = count("--tasks", Some(&tasks))?.unwrap_or(1);
-            let binary = std::env::current_exe().map_err(|e| rotorshunt::commands::Error::Argument {
+            let binary = std::env::current_exe().map_err(|e| crate::commands::Error::Argument {
                 argument: "study slurm".into(),
                 message: format!("cannot find this program's own path for the job scripts: {e}"),
             })?;
@@ -88,7 +89,7 @@ fn study(args: StudyArgs, budget: Budget, progress: &Reporter) -> Result<(String
         None => {
             // clap requires both without a subcommand.
             let (Some(file), Some(out)) = (args.file, args.out) else {
-                return Err(rotorshunt::commands::Error::Argument {
+                return Err(crate::commands::Error::Argument {
                     argument: "study".into(),
                     message: "give a study file and --out DIR".into(),
                 });
@@ -182,7 +183,7 @@ fn remove_outputs_on_signals() {
 fn remove_outputs_on_signals() {}
 
 /// Load the problem and print its plausibility warnings on standard error.
-fn load(input: &Input) -> Result<Problem, rotorshunt::commands::Error> {
+fn load(input: &Input) -> Result<Problem, crate::commands::Error> {
     let problem = Problem::from_path(&input.file, &input.set)?;
     warn(&problem);
     Ok(problem)
@@ -202,7 +203,7 @@ fn compared(
     compare: Option<&std::path::Path>,
     compare_set: &[String],
     main: &Problem,
-) -> Result<Option<commands::Compared>, rotorshunt::commands::Error> {
+) -> Result<Option<commands::Compared>, crate::commands::Error> {
     let other = commands::compared(&input.file, &input.set, compare, compare_set)?;
     for w in other.iter().flat_map(|o| o.new_warnings(main)) {
         eprintln!("warning: {}", printable(&w.to_string()));
@@ -223,15 +224,15 @@ mod exit {
 }
 
 /// The text for standard output and the exit code of a run that produced output.
-fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), rotorshunt::commands::Error> {
-    let plain = |r: Result<String, rotorshunt::commands::Error>| r.map(|t| (t, 0));
-    let budget = Budget::new(cli.max_cost).map_err(|e| rotorshunt::commands::Error::parameter("--max-cost", &e))?;
+fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), crate::commands::Error> {
+    let plain = |r: Result<String, crate::commands::Error>| r.map(|t| (t, 0));
+    let budget = Budget::new(cli.max_cost).map_err(|e| crate::commands::Error::parameter("--max-cost", &e))?;
     // A study's cases share the threads: a case's wall time includes the other cases'
     // work its threads take on while they wait, so only a limit asked for applies to
     // them (docs/errors.md, `TimeLimit`); every other command has the estimate's.
     let budget = match (cli.time_limit, &cli.command) {
         (Some(seconds), _) => {
-            budget.with_time_limit(seconds).map_err(|e| rotorshunt::commands::Error::parameter("--time-limit", &e))?
+            budget.with_time_limit(seconds).map_err(|e| crate::commands::Error::parameter("--time-limit", &e))?
         }
         (None, Command::Study(_)) => budget,
         (None, _) => budget.with_estimate_time_limit(),

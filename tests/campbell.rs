@@ -3,15 +3,14 @@
 use crate::common;
 use common::{load, rel};
 use rotorshunt::analysis::campbell::campbell;
+use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
-use rotorshunt::commands::{campbell_cmd, parse_range};
-use rotorshunt::progress::Silent as Quiet;
 
 #[test]
 fn tracks_follow_modes_through_the_table_speeds() {
     let p = load("paper-closed.toml", &[]);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = parse_range("0:2000:250", "speeds").unwrap();
+    let speeds = Interval::new(0.0, 2000.0).stepped(250.0);
     let r = campbell(&rotor, &p.settings, &speeds, 8, &|| {}).unwrap();
     assert_eq!(r.tracks.len(), 16);
     assert_eq!(r.flagged, 0, "no low-MAC step on this range");
@@ -28,7 +27,7 @@ fn tracks_follow_modes_through_the_table_speeds() {
 fn parallel_equals_sequential() {
     let p = load("paper-open.toml", &[]);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = parse_range("0:3000:500", "speeds").unwrap();
+    let speeds = Interval::new(0.0, 3000.0).stepped(500.0);
     let par = campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let seq = pool.install(|| campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap());
@@ -37,9 +36,15 @@ fn parallel_equals_sequential() {
 
 #[test]
 fn command_writes_csv_json_svg_png() {
-    let p = load("paper-open.toml", &[]);
-    let dir = std::env::temp_dir().join(format!("rotorshunt-campbell-{}", std::process::id()));
-    let text = campbell_cmd(&p, "0:2000:1000", 4, &dir, &Quiet, Default::default()).unwrap();
+    let dir = common::tmp("campbell");
+    let text = common::run_ok(common::bin().args(["campbell", &common::problem_path("paper-open.toml")]).args([
+        "--speeds",
+        "0:2000:1000",
+        "--count",
+        "4",
+        "--out",
+        dir.to_str().unwrap(),
+    ]));
     assert!(text.contains("3 speeds"), "{text}");
     let csv = std::fs::read_to_string(dir.join("campbell.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8 * 3);

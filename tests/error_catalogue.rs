@@ -7,7 +7,6 @@
 use crate::common;
 use rotorshunt::analysis::cost::{CostError, Resource, TimeLimitError};
 use rotorshunt::analysis::AnalysisError;
-use rotorshunt::commands::Error;
 use rotorshunt::design::DesignError;
 use rotorshunt::import::ross::{Format, Refusal, RossError, RossErrorKind};
 use rotorshunt::linalg::LinalgError;
@@ -15,6 +14,13 @@ use rotorshunt::problem::{Problem, ProblemErrorKind};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
+
+// The command line's error, compiled here from the binary's own source: its kinds are
+// the CLI's, and the command layer is not part of the library's API.
+#[path = "../src/commands/error.rs"]
+#[allow(dead_code)]
+mod cli_error;
+use cli_error::Error;
 
 const DOC: &str = "docs/errors.md";
 
@@ -139,6 +145,10 @@ fn every_kind() -> Vec<&'static str> {
             file: s(),
             kind: RossErrorKind::Refused { element: None, reason: Box::new(Refusal::NoBearing), more: Box::new([]) },
         }),
+        Error::Import(Box::new(rotorshunt::import::ross::ImportError::Ross(RossError {
+            file: s(),
+            kind: RossErrorKind::Schema { key: s(), line: None, message: s() },
+        }))),
         Error::Design(DesignError::NoDesign),
         Error::Design(DesignError::Optimiser(s())),
         Error::Design(DesignError::Qp(s())),

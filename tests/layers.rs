@@ -35,12 +35,20 @@ fn rank(module: &str) -> Option<u32> {
 /// every layer keeps the order.
 const EXCEPTIONS: &[(&str, &str, &str)] = &[];
 
-/// The `crate::name` paths of one line of code (its comment cut off).
+/// The `crate::name` paths of one line of code (its comment cut off), and its
+/// `rotorshunt::name` paths: the command layer is compiled into the binary too, and
+/// names the library by the crate's name there.
 fn crate_paths(line: &str) -> Vec<String> {
     let code = line.split("//").next().unwrap_or("");
-    code.match_indices("crate::")
-        .map(|(i, _)| code[i + 7..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>())
-        .collect()
+    let mut paths: Vec<(usize, String)> = Vec::new();
+    for prefix in ["crate::", "rotorshunt::"] {
+        paths.extend(code.match_indices(prefix).map(|(i, _)| {
+            let name = code[i + prefix.len()..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_');
+            (i, name.collect())
+        }));
+    }
+    paths.sort();
+    paths.into_iter().map(|(_, name)| name).collect()
 }
 
 #[test]
@@ -56,7 +64,13 @@ fn no_import_runs_back_up_the_chain() {
         let file = format!("src/{}", rel.display());
         for (n, line) in std::fs::read_to_string(f).unwrap().lines().enumerate() {
             // Grouped paths would hide their modules from the scan: the code names each.
-            assert!(!line.contains("crate::{"), "src/{}:{}: a grouped crate:: path", rel.display(), n + 1);
+            let code = line.split("//").next().unwrap_or("");
+            assert!(
+                !code.contains("crate::{") && !code.contains("rotorshunt::{"),
+                "src/{}:{}: a grouped path",
+                rel.display(),
+                n + 1
+            );
             for target in crate_paths(line) {
                 checked += 1;
                 let excepted = EXCEPTIONS.iter().any(|(f, m, _)| *f == file && *m == target);
@@ -76,10 +90,28 @@ fn the_scan_sees_a_path_back_up() {
     // The check itself: a design module naming the report layer is caught, and so is
     // an analysis module naming the file layer.
     assert_eq!(crate_paths("use crate::report::design::x; // crate::commands"), vec!["report".to_string()]);
+    assert_eq!(crate_paths("use rotorshunt::report::x; crate::design::y"), vec!["report", "design"]);
     assert!(rank("report") > rank("design"));
     assert!(rank("problem") > rank("analysis"));
     assert!(rank("model") < rank("problem") && rank("problem") < rank("report"));
     for (file, module, why) in EXCEPTIONS {
         assert!(common::root().join(file).is_file() && rank(module).is_some() && !why.is_empty());
     }
+}
+
+#[test]
+fn the_command_layer_is_not_part_of_the_library() {
+    // The binary and the Python bindings compile src/commands/; the library declares it
+    // only for the bindings, privately (docs/development.md).
+    let lib = std::fs::read_to_string(common::root().join("src/lib.rs")).unwrap();
+    let declared: Vec<(usize, &str)> =
+        lib.lines().enumerate().filter(|(_, l)| l.trim_start().ends_with("mod commands;")).collect();
+    assert_eq!(declared.len(), 1, "{declared:?}");
+    let (at, line) = declared[0];
+    assert_eq!(line.trim(), "mod commands;", "declared public: {line}");
+    let lines: Vec<&str> = lib.lines().collect();
+    let attributes: Vec<&str> = lines[..at].iter().rev().take_while(|l| l.starts_with("#[")).copied().collect();
+    assert!(attributes.contains(&"#[cfg(feature = \"python\")]"), "{attributes:?}");
+    let main = std::fs::read_to_string(common::root().join("src/main.rs")).unwrap();
+    assert!(main.lines().any(|l| l == "mod commands;"), "the binary compiles the layer");
 }

@@ -96,14 +96,13 @@ fn ten_thousand_disks_check_fast() {
     std::fs::write(&file, common::many_disks_text(10_000)).expect("write disks");
     let started = Instant::now();
     let problem = Problem::from_path(&file, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let text = rotorshunt::commands::check(&problem, Default::default()).unwrap_or_else(|e| panic!("{e}"));
-    let took = started.elapsed();
-    println!("check on 10^4 disks (library: load, assemble, P_cr, summary): {:.3} s", took.as_secs_f64());
+    println!("loading 10^4 disks: {:.3} s", started.elapsed().as_secs_f64());
     assert_eq!(problem.model.disks.len(), 10_000);
-    assert!(text.contains("disk 10000: node 63"), "the summary lists every disk");
     let (out, took) = run(&["check", path_str(&file)]);
     println!("rotorshunt check on 10^4 disks: {:.3} s", took.as_secs_f64());
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("disk 10000: node 63"), "the summary lists every disk");
 }
 
 #[test]
@@ -156,15 +155,6 @@ fn dev_zero_is_refused_by_every_route() {
     let study = dir.join("study.toml");
     std::fs::write(&study, "base = \"/dev/zero\"\n[[cases]]\nname = \"a\"\n").expect("write study");
     assert_refused(&["study", path_str(&study), "--out", path_str(&out)], "/dev/zero: the path is a character device");
-    // The library's study command gives the typed error.
-    let options = rotorshunt::commands::StudyOptions::default();
-    match rotorshunt::commands::study_cmd(&study, &out, options, &rotorshunt::progress::Silent) {
-        Err(rotorshunt::commands::Error::Problem(e)) => {
-            assert!(matches!(e.kind, ProblemErrorKind::NotARegularFile { .. }), "{e}");
-            assert_eq!(e.file, "/dev/zero");
-        }
-        other => panic!("study with base /dev/zero: {other:?}"),
-    }
     let paper = common::problem_path("paper-open.toml");
     let chart = dir.join("chart");
     assert_refused(

@@ -5,7 +5,6 @@
 use crate::common;
 use common::{load, rel};
 use rotorshunt::analysis::modes::{whirl_modes, ModeKind};
-use rotorshunt::commands;
 
 /// The acceptance tolerance of the issue: 0.1 %.
 const TABLE_TOLERANCE: f64 = 1e-3;
@@ -92,8 +91,11 @@ fn closed_circuit_labels_electrical_modes() {
 #[test]
 fn the_modes_command_prints_the_tables_as_json() {
     // The same values through the CLI path: `rotorshunt modes FILE --count 8 --json`.
-    let p = load("paper-closed.toml", &[]);
-    let text = commands::modes(&p, Some(2000.0), 8, true, Default::default()).unwrap();
+    let text = common::run_ok(
+        common::bin()
+            .args(["modes", &common::problem_path("paper-closed.toml")])
+            .args(["--speed", "2000", "--count", "8", "--json"]),
+    );
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["speed"], 2000.0);
     assert!(rel(v["critical_load"].as_f64().unwrap(), 1.650e5) < 1e-3);

@@ -6,8 +6,8 @@ use crate::common;
 use common::load;
 use rotorshunt::analysis::campbell::{campbell, CampbellResult};
 use rotorshunt::analysis::modes::{whirl_modes_of, Whirl};
+use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;
-use rotorshunt::commands::{campbell_cmd, chart_cmd, parse_range, ChartArgs, Compare};
 use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::progress::Silent as Quiet;
 use rotorshunt::report::campbell::campbell_plot;
@@ -17,16 +17,10 @@ use rotorshunt::report::plot::{CurvePlot, Drawing, Figure, Layout};
 /// six backward whirls and veers with an electrical mode.
 const TUNED: [&str; 2] = ["circuit.branches[0].tuning_frequency=733.75", "circuit.branches[0].resistance=13.708"];
 
-fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("rotorshunt-plots-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
 fn diagram(count: usize) -> (CampbellResult, Rotor, rotorshunt::problem::Problem) {
     let p = load("design-widest-band.toml", &TUNED);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = parse_range("0:3000:100", "speeds").unwrap();
+    let speeds = Interval::new(0.0, 3000.0).stepped(100.0);
     let r = campbell(&rotor, &p.settings, &speeds, count, &|| {}).unwrap();
     (r, rotor, p)
 }
@@ -124,17 +118,19 @@ fn campbell_tracks_keep_their_identity_when_a_mode_enters_the_window() {
 
 #[test]
 fn set_overrides_and_compare_labels_appear_in_titles_and_legends() {
-    let p = load("fig9-open-2000.toml", &["circuit.state=open"]);
-    let other = load("fig9-open-2000.toml", &["circuit.state=open", "circuit.state=closed"]);
-    let other = rotorshunt::problem::Problem { overrides: vec!["circuit.state=closed".into()], ..other };
-    let dir = scratch("titles");
-    let args = ChartArgs {
-        phi: "600:800:50",
-        beta: "0:0.4:0.2",
-        compare: Compare::Problem("closed circuit", &other),
-        timing: false,
-    };
-    chart_cmd(&p, args, &dir, &Quiet, Default::default()).unwrap();
+    let dir = common::tmp("titles");
+    common::run_ok(common::bin().args(["chart", &common::problem_path("fig9-open-2000.toml")]).args([
+        "--set",
+        "circuit.state=open",
+        "--phi",
+        "600:800:50",
+        "--beta",
+        "0:0.4:0.2",
+        "--compare-set",
+        "circuit.state=closed",
+        "--out",
+        dir.to_str().unwrap(),
+    ]));
     for f in ["chart.svg", "growth.svg"] {
         let svg = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(svg.contains("[circuit.state=open]"), "{f} title names the override");
@@ -144,9 +140,17 @@ fn set_overrides_and_compare_labels_appear_in_titles_and_legends() {
     assert!(svg.contains("unstable: open circuit") && svg.contains("unstable: closed circuit"), "both layers by state");
     std::fs::remove_dir_all(&dir).unwrap();
 
-    let p = load("paper-open.toml", &["load.alpha=0.25"]);
-    let dir = scratch("campbell");
-    campbell_cmd(&p, "0:2000:1000", 2, &dir, &Quiet, Default::default()).unwrap();
+    let dir = common::tmp("campbell-title");
+    common::run_ok(common::bin().args(["campbell", &common::problem_path("paper-open.toml")]).args([
+        "--set",
+        "load.alpha=0.25",
+        "--speeds",
+        "0:2000:1000",
+        "--count",
+        "2",
+        "--out",
+        dir.to_str().unwrap(),
+    ]));
     let svg = std::fs::read_to_string(dir.join("campbell.svg")).unwrap();
     assert!(svg.contains("[load.alpha=0.25]"));
     std::fs::remove_dir_all(&dir).unwrap();

@@ -4,7 +4,6 @@
 //! straight from ROSS's JSON.
 
 use crate::common;
-use rotorshunt::commands::Error;
 use rotorshunt::import::ross::{import_path, ElementRef, ImportError, Options, Refusal, RossErrorKind};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -455,8 +454,13 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     std::fs::write(&source, format!("{}{}", &text[..start], &text[end..])).unwrap();
     let out = dir.join("one_bearing.problem.toml");
     let _ = std::fs::remove_file(&out);
-    let e = rotorshunt::commands::import_ross_cmd(&source, &out, None, false).unwrap_err();
-    let Error::Problem(p) = &e else { panic!("{e}") };
-    assert!(matches!(p.kind, rotorshunt::problem::ProblemErrorKind::RigidBody { .. }), "{e}");
+    let run = crate::common::bin()
+        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    // Exit code 2: bad input (docs/errors.md); the file layer's rigid-body refusal.
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("rigid-body mode(s)"), "{stderr}");
     assert!(!out.exists());
 }

@@ -8,7 +8,6 @@
 
 use crate::common;
 
-use rotorshunt::commands::{planned_inputs, CaseResult, CaseStatus, Manifest, Role, TaskRecord};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::os::unix::process::ExitStatusExt;
@@ -108,6 +107,26 @@ fn summary_csv(out: &Path) -> Vec<Vec<String>> {
     rows
 }
 
+/// The plan's cases as `study plan --json` lists them (index, id, folder, name, kind,
+/// overrides, input hash).
+fn planned(study: &str) -> Vec<Value> {
+    let v: Value = serde_json::from_str(&ok(&run(&["study", "plan", study, "--json"], None))).unwrap();
+    v["list"].as_array().unwrap().clone()
+}
+
+/// Sorted task numbers written as Slurm's `--array` syntax reads them, runs of
+/// consecutive numbers as `A-B` (`sbatch(1)`): `[0, 2, 3, 4]` is `0,2-4`.
+fn slurm_list(numbers: &[u32]) -> String {
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    for &n in numbers {
+        match runs.last_mut() {
+            Some((_, end)) if *end + 1 == n => *end = n,
+            _ => runs.push((n, n)),
+        }
+    }
+    runs.iter().map(|(a, b)| if a == b { a.to_string() } else { format!("{a}-{b}") }).collect::<Vec<_>>().join(",")
+}
+
 /// The unsharded run of a study into `out` (the reference).
 fn reference(study: &str, out: &Path) {
     ok(&run(&["study", study], Some(out)));
@@ -124,6 +143,7 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
     reference(&study, &whole);
     let names: Vec<String> = plan(&study, 1).into_iter().map(|c| c.3).collect();
     assert_eq!(names.len(), 12);
+    let cases = planned(&study);
     for n in [1u32, 2, 3, 7] {
         let p = plan(&study, n);
         // Disjoint and covering: every case in exactly one shard, every shard non-empty.
@@ -147,13 +167,10 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
             assert!(!out.join("summary/summary.json").exists(), "a shard writes no summary");
             // The run records which task ran which case.
             for i in &per[&k] {
-                let folder = planned_inputs(Path::new(&study)).unwrap()[*i as usize].0.slug.clone();
-                let r: CaseResult = serde_json::from_slice(
-                    &std::fs::read(out.join("cases").join(&folder).join("result.json")).unwrap(),
-                )
-                .unwrap();
-                assert_eq!(r.task.shard.as_deref(), Some(format!("{k}/{n}").as_str()));
-                assert!(r.task.pid > 0);
+                let folder = cases[*i as usize]["folder"].as_str().unwrap().to_string();
+                let r = common::json(&out.join("cases").join(&folder).join("result.json"));
+                assert_eq!(r["task"]["shard"].as_str(), Some(format!("{k}/{n}").as_str()));
+                assert!(r["task"]["pid"].as_u64().unwrap() > 0);
                 assert!(ran.insert(folder), "case {i} run by two shards");
             }
         }
@@ -284,7 +301,7 @@ fn a_killed_task_and_a_lost_node_are_recovered_by_rerunning_what_status_prints()
         s["rerun_shards"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()).collect();
     assert!(shards.contains(&"2/3".to_string()) && !shards.contains(&"0/3".to_string()), "{shards:?}");
     let numbers: Vec<u32> = shards.iter().map(|s| s.split('/').next().unwrap().parse().unwrap()).collect();
-    assert_eq!(array, rotorshunt::commands::array_expression(&numbers));
+    assert_eq!(array, slurm_list(&numbers));
     // The text form prints the same rerun lists.
     let t = text(&run(&["study", "status", out.to_str().unwrap()], None).stdout);
     assert!(t.contains(&format!("rerun: --array={array}\n")), "{t}");
@@ -507,13 +524,13 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
     assert!(!out.exists(), "a dry run writes nothing");
     let t = Instant::now();
     let all = ok(&run(&["study", "plan", study.to_str().unwrap(), "--shards", "7"], None));
-    let planned = t.elapsed().as_secs_f64();
+    let plan_seconds = t.elapsed().as_secs_f64();
     assert_eq!(all.lines().count(), 4 + 10_000);
     // Printed, not asserted: durations belong to benches (the listing's counts are above).
-    eprintln!("10 000-case plan: --dry-run of one shard {dry:.3} s, `study plan --shards 7` {planned:.3} s");
+    eprintln!("10 000-case plan: --dry-run of one shard {dry:.3} s, `study plan --shards 7` {plan_seconds:.3} s");
 
     // A folder of 10 000 finished results, as the study writes them.
-    let cases = planned_inputs(&study).unwrap();
+    let cases = planned(study.to_str().unwrap());
     let canonical = std::fs::canonicalize(&study).unwrap().display().to_string();
     let plan_hash = {
         let v: Value =
@@ -521,47 +538,28 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
         v["plan_sha256"].as_str().unwrap().to_string()
     };
     std::fs::create_dir_all(out.join("cases")).unwrap();
-    let manifest = |role: Role, created: &[&str], case: Option<String>| Manifest {
-        format: 1,
-        role,
-        tool: format!("rotorshunt {}", env!("CARGO_PKG_VERSION")),
-        study: canonical.clone(),
-        plan_sha256: (role == Role::Study).then(|| plan_hash.clone()),
-        cases: (role == Role::Study).then_some(10_000),
-        shards: (role == Role::Study).then_some(7),
-        case,
-        created: created.iter().map(|s| s.to_string()).collect(),
-        temporaries: String::new(),
-        ignored: Vec::new(),
-    };
-    std::fs::write(
-        out.join(".rotorshunt-study.json"),
-        serde_json::to_string(&manifest(Role::Study, &["cases"], None)).unwrap(),
-    )
-    .unwrap();
+    // The records as docs/studies.md describes them: the folder's manifest, each case
+    // folder's manifest and its result.
+    let tool = format!("rotorshunt {}", env!("CARGO_PKG_VERSION"));
+    let study_manifest = serde_json::json!({
+        "format": 1, "role": "study", "tool": tool, "study": canonical, "plan_sha256": plan_hash,
+        "cases": 10_000, "shards": 7, "created": ["cases"], "temporaries": "",
+    });
+    std::fs::write(out.join(".rotorshunt-study.json"), study_manifest.to_string()).unwrap();
     let t = Instant::now();
-    for (c, hash) in &cases {
-        let d = out.join("cases").join(&c.slug);
+    for c in &cases {
+        let d = out.join("cases").join(c["folder"].as_str().unwrap());
         std::fs::create_dir(&d).unwrap();
-        std::fs::write(
-            d.join(".rotorshunt-case.json"),
-            serde_json::to_string(&manifest(Role::Case, &["result.json"], Some(c.name.clone()))).unwrap(),
-        )
-        .unwrap();
-        let r = CaseResult {
-            name: c.name.clone(),
-            id: rotorshunt::commands::case_id(c),
-            slug: c.slug.clone(),
-            kind: c.kind,
-            overrides: c.overrides.clone(),
-            input_hash: hash.clone(),
-            status: CaseStatus::Ok,
-            error: None,
-            metrics: [("regions".to_string(), Value::from(3))].into_iter().collect(),
-            seconds: 0.5,
-            task: TaskRecord::default(),
-            tool: format!("rotorshunt {}", env!("CARGO_PKG_VERSION")),
-        };
+        let manifest = serde_json::json!({
+            "format": 1, "role": "case", "tool": tool, "study": canonical, "case": c["name"],
+            "created": ["result.json"], "temporaries": "",
+        });
+        std::fs::write(d.join(".rotorshunt-case.json"), manifest.to_string()).unwrap();
+        let r = serde_json::json!({
+            "name": c["name"], "id": c["id"], "slug": c["folder"], "kind": c["kind"], "overrides": c["overrides"],
+            "input_hash": c["input_sha256"], "status": "ok", "error": null, "metrics": {"regions": 3},
+            "seconds": 0.5, "task": {"host": "", "pid": 0}, "tool": tool,
+        });
         std::fs::write(d.join("result.json"), serde_json::to_string_pretty(&r).unwrap()).unwrap();
     }
     eprintln!("wrote 10 000 results in {:.2} s", t.elapsed().as_secs_f64());

@@ -25,14 +25,15 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
             if *step <= 0.0 || b < a {
                 return Err(bad(format!("`{text}` needs A <= B and STEP > 0")));
             }
-            let n = ((b - a) / step + 1e-9).floor() + 1.0;
+            let grid = rotorshunt::analysis::Interval::new(*a, *b);
+            let n = grid.step_count(*step);
             if n > MAX_RANGE_POINTS as f64 {
                 return Err(bad(format!(
                     "`{text}` expands to {} points, more than {MAX_RANGE_POINTS}",
-                    crate::analysis::limits::number(n)
+                    rotorshunt::analysis::limits::number(n)
                 )));
             }
-            Ok((0..n as usize).map(|i| a + i as f64 * step).collect())
+            Ok(grid.stepped(*step))
         }
         _ => Err(bad(format!("`{text}` is not of the form A:B:STEP"))),
     }
@@ -40,11 +41,11 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
 
 /// Parse a range of rotating speeds: `A:B:STEP` in rad/s, or in rpm with the suffix
 /// `rpm` (`0:30000:500rpm`, `3000 rpm`), each point then converted, Ω = n·π/30 rad/s
-/// ([`crate::problem::units::RAD_PER_S_PER_RPM`]); `rad/s` may be written out. Returns
+/// ([`rotorshunt::problem::units::RAD_PER_S_PER_RPM`]); `rad/s` may be written out. Returns
 /// the speeds (rad/s) and the unit the range was given in (rpm with the suffix), for
 /// echoing the speeds back in it.
-pub fn parse_speeds(text: &str, argument: &str) -> Result<(Vec<f64>, crate::numbers::SpeedUnit), Error> {
-    let unit = crate::numbers::SpeedUnit::of(text.trim().to_ascii_lowercase().ends_with("rpm"));
+pub fn parse_speeds(text: &str, argument: &str) -> Result<(Vec<f64>, rotorshunt::numbers::SpeedUnit), Error> {
+    let unit = rotorshunt::numbers::SpeedUnit::of(text.trim().to_ascii_lowercase().ends_with("rpm"));
     Ok((parse_speed_range_in(text, argument)?, unit))
 }
 
@@ -53,7 +54,7 @@ fn parse_speed_range_in(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
     let lower = t.to_ascii_lowercase();
     if let Some(n) = lower.strip_suffix("rpm") {
         let rpm = parse_range(&t[..n.len()], argument)?;
-        return Ok(rpm.into_iter().map(|n| n * crate::problem::units::RAD_PER_S_PER_RPM).collect());
+        return Ok(rpm.into_iter().map(|n| n * rotorshunt::problem::units::RAD_PER_S_PER_RPM).collect());
     }
     match lower.strip_suffix("rad/s") {
         Some(n) => parse_range(&t[..n.len()], argument),
@@ -102,8 +103,8 @@ mod tests {
 
     #[test]
     fn speed_ranges_in_rpm_are_converted_point_by_point() {
-        assert_eq!(parse_speeds("0:300:100rpm", "x").unwrap().1, crate::numbers::SpeedUnit::Rpm);
-        assert_eq!(parse_speeds("0:300:100", "x").unwrap().1, crate::numbers::SpeedUnit::RadPerS);
+        assert_eq!(parse_speeds("0:300:100rpm", "x").unwrap().1, rotorshunt::numbers::SpeedUnit::Rpm);
+        assert_eq!(parse_speeds("0:300:100", "x").unwrap().1, rotorshunt::numbers::SpeedUnit::RadPerS);
         let rad = parse_speed_range("0:3000:100", "x").unwrap();
         assert_eq!(parse_speed_range("0:3000:100 rad/s", "x").unwrap(), rad);
         let rpm = parse_speed_range("0:30000:1000rpm", "x").unwrap();

@@ -1,11 +1,11 @@
 //! The commands' side of the parameter rules and the cost limits: a flag's value checked
-//! by its rule ([`crate::analysis::limits`]) and named by the flag; an estimate
-//! ([`crate::analysis::cost`]) admitted or refused, naming the key or flag that drives it.
+//! by its rule ([`rotorshunt::analysis::limits`]) and named by the flag; an estimate
+//! ([`rotorshunt::analysis::cost`]) admitted or refused, naming the key or flag that drives it.
 
-use crate::analysis::cost::{self, Budget, Dense, Driver, Estimate};
-use crate::analysis::limits::ParamError;
 use crate::commands::Error;
-use crate::problem::Problem;
+use rotorshunt::analysis::cost::{self, Budget, Dense, Driver, Estimate};
+use rotorshunt::analysis::limits::ParamError;
+use rotorshunt::problem::Problem;
 
 /// A flag's value by its rule: the value, or the error naming the flag.
 pub(crate) fn flag<T>(argument: &str, r: Result<T, ParamError>) -> Result<T, Error> {

@@ -3,7 +3,7 @@
 
 use super::layer_name;
 use crate::commands::Error;
-use crate::problem::{Problem, Warning};
+use rotorshunt::problem::{Problem, Warning};
 use std::path::Path;
 
 /// The compared configuration and its legend name.

@@ -4,19 +4,21 @@
 
 use super::bounds::{self, Names};
 use super::{title, OutDir};
-use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
-use crate::analysis::{Interval, Rotor};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use crate::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
-use crate::design::evaluate::Candidate;
-use crate::design::evaluate::{neighbourhood, values_of};
-use crate::design::spec::{DesignSpec, Objective};
-use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
-use crate::design::{self, DesignError, DesignOutcome, Status};
-use crate::problem::Problem;
-use crate::progress::Progress;
-use crate::report::design::{self as report_design, branch_rows, markdown, DesignReport};
+use rotorshunt::analysis::cost::{
+    self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS,
+};
+use rotorshunt::analysis::{Interval, Rotor};
+use rotorshunt::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
+use rotorshunt::design::evaluate::Candidate;
+use rotorshunt::design::evaluate::{neighbourhood, values_of};
+use rotorshunt::design::spec::{DesignSpec, Objective};
+use rotorshunt::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
+use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::Progress;
+use rotorshunt::report::design::{self as report_design, branch_rows, markdown, DesignReport};
 use std::path::Path;
 
 /// The name of the design file written: `tuned.toml` for a result that can be handed on,
@@ -149,6 +151,7 @@ pub fn design_cmd(
 /// The design of `problem` as `design` runs it (the same checks and admission), without
 /// its report: the outcome, for the Python bindings' `design` (its tuned file is
 /// [`super::tuned_toml`]). Progress: the design's `optimise` and `verification`.
+#[allow(dead_code)] // called by the Python bindings alone
 pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
@@ -178,7 +181,7 @@ pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &Desig
         Err(DesignError::UnknownMode { index, mode, speed, available }) => Err(problem
             .refuse(
                 &format!("design.constraints.damping[{index}].mode"),
-                crate::problem::ProblemErrorKind::UnknownMode { mode, speed, available: available.into() },
+                rotorshunt::problem::ProblemErrorKind::UnknownMode { mode, speed, available: available.into() },
             )
             .into()),
         other => Ok(other?),
@@ -242,7 +245,7 @@ pub fn design_report(
         dir.figure(stem, figure.as_ref())?;
         progress.advance(1);
     }
-    dir.write("report.html", crate::report::html::page(&report.title, &text, dir).as_bytes())?;
+    dir.write("report.html", rotorshunt::report::html::page(&report.title, &text, dir).as_bytes())?;
     progress.advance(1);
     Ok(report.outcome)
 }
@@ -254,15 +257,15 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         spec.variables
             .iter()
             .zip(v)
-            .map(|(var, x)| format!("{} = {} {}", var.name(), crate::numbers::sig(*x, 5), var.parameter.unit()))
+            .map(|(var, x)| format!("{} = {} {}", var.name(), rotorshunt::numbers::sig(*x, 5), var.parameter.unit()))
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let at = |w: f64| crate::report::design::speed_text(spec.speed_unit, w);
+    let at = |w: f64| rotorshunt::report::design::speed_text(spec.speed_unit, w);
     let mut s = format!("design: {}", status_word(o.status));
     match spec.objective {
         Objective::WidestStableBand { .. } => {
-            let w = |v: &[crate::design::evaluate::OperatingBand]| {
+            let w = |v: &[rotorshunt::design::evaluate::OperatingBand]| {
                 v.iter()
                     .map(|b| match b.band.band {
                         Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at {}", x.lo, x.hi, x.width(), at(b.speed)),
@@ -284,11 +287,15 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             if let Some(r) = &o.speed_check {
                 s += &format!(
                     "\nspeed range {}",
-                    crate::design::robust::speed_range_text(o.speed_check_before.as_ref(), r)
+                    rotorshunt::design::robust::speed_range_text(o.speed_check_before.as_ref(), r)
                 );
             }
             if let Some(r) = &o.robustness {
-                s += &format!("\nas built ({}): {}", r.tolerances.text(), crate::design::robust::guaranteed_text(r));
+                s += &format!(
+                    "\nas built ({}): {}",
+                    r.tolerances.text(),
+                    rotorshunt::design::robust::guaranteed_text(r)
+                );
             }
         }
         Objective::ClearBands { .. } => {
@@ -316,7 +323,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         Objective::MinPeakResponse { .. } => {}
     }
     if let Some(f) = o.peak_findings() {
-        let p = |d: &crate::design::optimise::JudgedDesign| {
+        let p = |d: &rotorshunt::design::optimise::JudgedDesign| {
             format!("{:.4e} m at {:.2} rad/s", d.peak.amplitude, d.peak.speed)
         };
         s += &format!(
@@ -354,9 +361,9 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     s += &format!("\nverification: {}", o.verification.verdict);
     for p in &o.verification.parts {
         let status = match p.status {
-            crate::design::verify::PartStatus::Passed => continue,
-            crate::design::verify::PartStatus::Failed => "FAILED",
-            crate::design::verify::PartStatus::NotApplicable => "not applicable",
+            rotorshunt::design::verify::PartStatus::Passed => continue,
+            rotorshunt::design::verify::PartStatus::Failed => "FAILED",
+            rotorshunt::design::verify::PartStatus::NotApplicable => "not applicable",
         };
         s += &format!("\n  {} {status}: {}", p.part, p.summary);
     }
@@ -393,8 +400,8 @@ pub fn pareto_cmd(
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<(String, design::pareto::Front), Error> {
-    use crate::problem::ProblemErrorKind;
-    use crate::report::design::pareto::{front_plot, markdown, point_file, point_line, FrontReport};
+    use rotorshunt::problem::ProblemErrorKind;
+    use rotorshunt::report::design::pareto::{front_plot, markdown, point_file, point_line, FrontReport};
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     design::pareto::trade_off(spec).map_err(|e| problem.refuse(&e.key, ProblemErrorKind::NoTradeOff(e.reason)))?;
     // A front is its points' runs, and a point run again when it is dominated.
@@ -429,7 +436,7 @@ pub fn pareto_cmd(
     let text = markdown(&report);
     dir.write("report.md", text.as_bytes())?;
     dir.figure("pareto", &front_plot(&report))?;
-    dir.write("report.html", crate::report::html::page(&report.title, &text, &dir).as_bytes())?;
+    dir.write("report.html", rotorshunt::report::html::page(&report.title, &text, &dir).as_bytes())?;
     progress.advance(4);
     dir.commit("design", progress)?;
     let f = &report.front;

@@ -3,20 +3,20 @@
 
 use super::bounds::{self, Names};
 use super::{files_phase, parse_range, OutDir, Provenance};
-use crate::analysis::chart::{chart, ChartResult};
-use crate::analysis::cost::{self, Budget, Dense, PointCost};
-use crate::analysis::floquet::{FloquetPoint, FloquetSystem};
-use crate::analysis::limits::{self, Quantity, MAX_PERIODS};
-use crate::analysis::response::{checked_response, response_steps, ResponseResult};
-use crate::analysis::unbalance::Probe;
-use crate::analysis::Rotor;
 use crate::commands::out::{json_compact, json_pretty};
 use crate::commands::Error;
-use crate::problem::Problem;
-use crate::progress::Progress;
-use crate::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
-use crate::report::plot::{envelope, Curve, CurvePlot};
-use crate::report::style;
+use rotorshunt::analysis::chart::{chart, ChartResult};
+use rotorshunt::analysis::cost::{self, Budget, Dense, PointCost};
+use rotorshunt::analysis::floquet::{FloquetPoint, FloquetSystem};
+use rotorshunt::analysis::limits::{self, Quantity, MAX_PERIODS};
+use rotorshunt::analysis::response::{checked_response, response_steps, ResponseResult};
+use rotorshunt::analysis::unbalance::Probe;
+use rotorshunt::analysis::Rotor;
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::Progress;
+use rotorshunt::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
+use rotorshunt::report::plot::{envelope, Curve, CurvePlot};
+use rotorshunt::report::style;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -164,6 +164,7 @@ const CHART: Names<'static> =
 
 /// Admit the chart of one reduced system `fs` over a grid (checked by [`check_grid`])
 /// within `budget`, as `chart` admits it.
+#[allow(dead_code)] // called by the Python bindings alone
 pub fn admit_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], budget: &Budget) -> Result<(), Error> {
     bounds::admit(budget, "the chart", &cost::chart(&PointCost::of(fs), phis, betas), &CHART)
 }
@@ -214,7 +215,7 @@ fn write_chart(
     dir: &OutDir,
     stem: &str,
     problem: &Problem,
-    warnings: &[crate::problem::Warning],
+    warnings: &[rotorshunt::problem::Warning],
     c: &ChartResult,
 ) -> Result<(), Error> {
     let json = ChartJson { provenance: Provenance::of(problem).with(warnings), chart: c };
@@ -261,7 +262,7 @@ pub fn chart_cmd(
         Compare::None => None,
     };
     bounds::admit(&budget, "the chart", &estimate, &names)?;
-    let range = crate::analysis::Interval::new(
+    let range = rotorshunt::analysis::Interval::new(
         phis.iter().copied().fold(f64::INFINITY, f64::min),
         phis.iter().copied().fold(f64::NEG_INFINITY, f64::max),
     );
@@ -381,7 +382,7 @@ pub fn response_cmd(
         /// The disks' and supports' physical displacements (m).
         physical: &'a [PhysicalSeries<'a>],
     }
-    let probes = crate::analysis::unbalance::probes(&rotor, &[])?;
+    let probes = rotorshunt::analysis::unbalance::probes(&rotor, &[])?;
     let physical: Vec<PhysicalSeries<'_>> = probes
         .iter()
         .map(|p| PhysicalSeries { probe: p, displacement_m: r.displacement(fs.reduced.basis.as_ref(), p.dof) })

@@ -1,17 +1,17 @@
 //! `rotorshunt import-ross ROTOR.{toml,json} --out PROBLEM.toml [--speed W] [--force]`.
 
 use super::bounds;
-use crate::analysis::limits;
 use crate::commands::Error;
-use crate::files;
-use crate::import::ross::{self, Options};
+use rotorshunt::analysis::limits;
+use rotorshunt::files;
+use rotorshunt::import::ross::{self, Options};
 use std::io::Write;
 use std::path::Path;
 
 /// Convert a ROSS `Rotor.save` file into a problem file at `out`. An existing `out` is
 /// refused ([`Error::OutputExists`]) unless `force`, and is never the input
 /// ([`Error::OutputIsInput`], even with `force`); nothing is written when the import is
-/// refused, or when the problem it gives does not load (a [`crate::problem::ProblemError`]
+/// refused, or when the problem it gives does not load (a [`rotorshunt::problem::ProblemError`]
 /// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed.
 pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool) -> Result<String, Error> {
     let speed = speed.map(|w| bounds::flag("--speed", limits::speed(w))).transpose()?;
@@ -24,7 +24,7 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
     // What is written must load: the general form's own checks (e.g. a rotor on one
     // bearing keeps a rigid-body mode) refuse it before anything is written.
     let name = format!("{} (as imported from {})", out.display(), file.display());
-    crate::problem::Problem::from_text(&import.text, &name, &[])?;
+    rotorshunt::problem::Problem::from_text(&import.text, &name, &[])?;
     let output = |e: std::io::Error| Error::io(out, &e);
     // What stands at `out` is looked at, not followed: a link, FIFO or device there is
     // refused with or without --force (a rename would replace the node itself).
@@ -52,8 +52,8 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
         elements,
         r.sections.len(),
         r.disks.len(),
-        r.bearings.iter().filter(|b| b.kind == crate::model::SupportKind::Bearing).count(),
-        r.bearings.iter().filter(|b| b.kind == crate::model::SupportKind::Seal).count(),
+        r.bearings.iter().filter(|b| b.kind == rotorshunt::model::SupportKind::Bearing).count(),
+        r.bearings.iter().filter(|b| b.kind == rotorshunt::model::SupportKind::Seal).count(),
         out.display()
     ))
 }

@@ -6,6 +6,8 @@ pub(crate) mod bounds;
 mod compare;
 pub(crate) mod design;
 mod error;
+#[cfg(test)]
+mod flag_fuzz;
 mod floquet;
 mod import;
 mod out;
@@ -14,35 +16,43 @@ mod study;
 mod tuned;
 pub(crate) mod unbalance;
 
-pub use args::parse_range;
+// What the binary calls, and the layer's own modules use.
+pub(crate) use args::parse_range;
 pub use compare::{compared, Compared};
-pub use design::{design_cmd, design_file_name, design_report, design_run, pareto_cmd, status_word, summary_text};
+pub use design::{design_cmd, pareto_cmd};
 pub use error::Error;
-pub use floquet::{
-    admit_chart, chart_cmd, check_grid, floquet_cmd, floquet_point, layer_name, reduced_system, response_cmd,
-    ChartArgs, Compare, MAX_CHART_POINTS,
-};
+pub(crate) use floquet::layer_name;
+pub use floquet::{chart_cmd, floquet_cmd, response_cmd, ChartArgs, Compare};
 pub use import::import_ross_cmd;
-pub use out::{check_folder, remove_unfinished, OutDir};
+pub use out::remove_unfinished;
+pub(crate) use out::{check_folder, OutDir};
 pub use regions::{band_cmd, regions_cmd, RegionsArgs};
 pub use study::{
-    array_expression, case_id, merge_cmd, plan_cmd, planned_inputs, slurm_cmd, status_cmd, study_cmd, Case, CaseKind,
-    CaseResult, CaseState, CaseStatus, Manifest, Role, Shard, ShardRequest, SlurmOptions, StatusReport, StudyOptions,
-    TaskRecord, MAX_SHARDS, MAX_STUDY_CASES,
+    merge_cmd, plan_cmd, slurm_cmd, status_cmd, study_cmd, Shard, ShardRequest, SlurmOptions, StatusReport,
+    StudyOptions, MAX_SHARDS,
 };
+pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
+// What the Python bindings alone call (unused in the binary, whose build checks the rest
+// of this layer for dead code).
+#[allow(unused_imports)]
+pub use design::{design_file_name, design_run, status_word};
+#[allow(unused_imports)]
+pub use floquet::{admit_chart, check_grid, floquet_point, reduced_system};
+#[allow(unused_imports)]
 pub use tuned::tuned_toml;
-pub use unbalance::{damping_cmd, unbalance_cmd, unbalance_json, UnbalanceArgs};
+#[allow(unused_imports)]
+pub use unbalance::unbalance_json;
 
-use crate::analysis::campbell::campbell;
-use crate::analysis::cost::{Budget, Dense};
-use crate::analysis::limits::{self, MAX_COUNT};
-use crate::analysis::modes::{lowest_whirls_of, WhirlMode};
-use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
-use crate::numbers::SpeedUnit;
-use crate::problem::Problem;
-use crate::progress::Progress;
-use crate::report::{campbell as campbell_report, summary};
+use rotorshunt::analysis::campbell::campbell;
+use rotorshunt::analysis::cost::{Budget, Dense};
+use rotorshunt::analysis::limits::{self, MAX_COUNT};
+use rotorshunt::analysis::modes::{lowest_whirls_of, WhirlMode};
+use rotorshunt::analysis::Rotor;
+use rotorshunt::numbers::SpeedUnit;
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::Progress;
+use rotorshunt::report::{campbell as campbell_report, summary};
 use serde::Serialize;
 use std::path::Path;
 
@@ -50,27 +60,27 @@ use std::path::Path;
 /// `campbell`, `damping`, and the Python bindings' `modes` and `campbell`).
 pub const DEFAULT_WHIRL_COUNT: usize = 4;
 
-pub use crate::problem::provenance::{Provenance, TOOL};
+pub use rotorshunt::problem::provenance::{Provenance, TOOL};
 
 /// The warning of a φ range (the flag or key `key`) that no instability region of the
-/// problem's reduced model at its speed can reach ([`crate::analysis::warnings::phi_range`]),
+/// problem's reduced model at its speed can reach ([`rotorshunt::analysis::warnings::phi_range`]),
 /// reported to `progress` (the command line prints it) and returned for the JSON.
 pub(crate) fn range_warning(
     problem: &Problem,
-    fs: &crate::analysis::floquet::FloquetSystem,
-    range: crate::analysis::Interval,
+    fs: &rotorshunt::analysis::floquet::FloquetSystem,
+    range: rotorshunt::analysis::Interval,
     key: &str,
     progress: &dyn Progress,
-) -> Vec<crate::problem::Warning> {
+) -> Vec<rotorshunt::problem::Warning> {
     let Ok((forward, backward)) = fs.whirls() else { return Vec::new() };
     let order = problem.settings.max_tongue_order;
-    crate::analysis::warnings::phi_range(&forward, &backward, range, order, fs.speed)
+    rotorshunt::analysis::warnings::phi_range(&forward, &backward, range, order, fs.speed)
         .map(|kind| {
-            let w = crate::problem::Warning {
+            let w = rotorshunt::problem::Warning {
                 file: problem.file.clone(),
-                location: crate::problem::Location::Unknown,
+                location: rotorshunt::problem::Location::Unknown,
                 key: key.to_string(),
-                kind: crate::problem::WarningKind::Range(kind),
+                kind: rotorshunt::problem::WarningKind::Range(kind),
             };
             progress.warning(&w);
             w
@@ -101,7 +111,7 @@ pub fn plot_title(p: &Problem) -> String {
 
 /// `rotorshunt check FILE`: the model summary. Refused before assembly when the model's
 /// dense matrices are beyond `budget`. A design's damping constraints are checked against
-/// the model's whirls here too, as the design will ([`crate::design::checks::modes_exist`]).
+/// the model's whirls here too, as the design will ([`rotorshunt::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
     let spec = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty());
@@ -171,7 +181,7 @@ fn operating_speeds(problem: &Problem) -> Vec<f64> {
 struct CampbellJson<'a> {
     #[serde(flatten)]
     provenance: Provenance,
-    campbell: &'a crate::analysis::campbell::CampbellResult,
+    campbell: &'a rotorshunt::analysis::campbell::CampbellResult,
     /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
     operating_speeds: &'a [f64],
     /// The crossings of the tracks with the 1× line, by speed.
@@ -181,6 +191,7 @@ struct CampbellJson<'a> {
 /// The Campbell diagram of `problem` over `speeds` (rad/s) as `campbell` computes it (the
 /// same checks and admission), returned as its campbell.json text instead of written:
 /// the Python bindings' `campbell`. Progress: `whirls`, a step per speed.
+#[allow(dead_code)] // called by the Python bindings alone
 pub fn campbell_json(
     problem: &Problem,
     speeds: &[f64],
@@ -190,13 +201,13 @@ pub fn campbell_json(
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
     if speeds.is_empty() {
-        return Err(crate::analysis::AnalysisError::NoSpeeds.into());
+        return Err(rotorshunt::analysis::AnalysisError::NoSpeeds.into());
     }
     for &w in speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }
     let threads = rayon::current_num_threads();
-    let estimate = crate::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
+    let estimate = rotorshunt::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
     bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
     let rotor = Rotor::new(&problem.model)?;
     progress.phase("whirls", speeds.len() as u64);
@@ -213,7 +224,7 @@ pub fn campbell_json(
 /// (rad/s) and the critical speeds.
 fn campbell_json_text(
     problem: &Problem,
-    result: &crate::analysis::campbell::CampbellResult,
+    result: &rotorshunt::analysis::campbell::CampbellResult,
     operating: &[f64],
     critical: &[campbell_report::CriticalSpeed],
 ) -> Result<String, Error> {
@@ -244,7 +255,7 @@ pub fn campbell_cmd(
     // rpm on the axis when the user gave rpm, on the command line or in the file.
     let unit = if given == SpeedUnit::Rpm { given } else { problem.speed_unit() };
     let threads = rayon::current_num_threads();
-    let estimate = crate::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
+    let estimate = rotorshunt::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
     bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
     let dir = OutDir::create(out, &problem.file)?;
     let rotor = Rotor::new(&problem.model)?;

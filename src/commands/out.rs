@@ -31,7 +31,7 @@
 
 use super::study::Ledger;
 use crate::commands::Error;
-use crate::files;
+use rotorshunt::files;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::io;
@@ -624,7 +624,7 @@ impl OutDir {
     }
 
     /// Write a figure as `stem.svg` and `stem.png` (each by [`OutDir::write`]).
-    pub fn figure(&self, stem: &str, figure: &dyn crate::report::plot::Figure) -> Result<(), Error> {
+    pub fn figure(&self, stem: &str, figure: &dyn rotorshunt::report::plot::Figure) -> Result<(), Error> {
         let svg = format!("{stem}.svg");
         self.write(&svg, figure.svg().map_err(|e| self.error(&svg, e))?.as_bytes())?;
         let png = format!("{stem}.png");
@@ -636,7 +636,7 @@ impl OutDir {
     /// could not be removed), one `warning: ` line each. A folder written directly (a
     /// study's) has nothing to do. An `OutDir` dropped without a commit leaves its
     /// folder as it was.
-    pub fn commit(mut self, command: &str, progress: &dyn crate::progress::Progress) -> Result<(), Error> {
+    pub fn commit(mut self, command: &str, progress: &dyn rotorshunt::progress::Progress) -> Result<(), Error> {
         let notes = match self.staging.as_mut() {
             Some(s) => s.commit(command)?,
             None => Vec::new(),
@@ -661,12 +661,12 @@ pub(crate) fn json_compact<T: serde::Serialize + ?Sized>(value: &T, what: &str) 
 }
 
 /// The figures this run wrote into the folder, for a page that embeds them.
-impl crate::report::html::Figures for OutDir {
+impl rotorshunt::report::html::Figures for OutDir {
     fn svg(&self, name: &str) -> Option<String> {
-        let stem = crate::report::html::plain_name(name)?.trim_end_matches(".png");
+        let stem = rotorshunt::report::html::plain_name(name)?.trim_end_matches(".png");
         self.written(&format!("{stem}.svg")).and_then(|b| String::from_utf8(b).ok())
     }
     fn png(&self, name: &str) -> Option<Vec<u8>> {
-        crate::report::html::plain_name(name).filter(|n| n.ends_with(".png")).and_then(|n| self.written(n))
+        rotorshunt::report::html::plain_name(name).filter(|n| n.ends_with(".png")).and_then(|n| self.written(n))
     }
 }

@@ -3,24 +3,24 @@
 
 use super::bounds::{self, Names};
 use super::{files_phase, OutDir, Provenance};
-use crate::analysis::chart::chart;
-use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
-use crate::analysis::floquet::FloquetSystem;
-use crate::analysis::limits::{self, Quantity};
-use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::margins::{band_margins, load_margin};
-use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{
-    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
-};
-use crate::analysis::Criterion;
-use crate::analysis::Interval;
-use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use crate::problem::Problem;
-use crate::progress::Progress;
-use crate::report::chart::{Layer, RegionShape, StabilityPlot};
+use rotorshunt::analysis::chart::chart;
+use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
+use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::limits::{self, Quantity};
+use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::regions::margins::{band_margins, load_margin};
+use rotorshunt::analysis::regions::seeds_for;
+use rotorshunt::analysis::regions::{
+    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
+};
+use rotorshunt::analysis::Criterion;
+use rotorshunt::analysis::Interval;
+use rotorshunt::analysis::Rotor;
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::Progress;
+use rotorshunt::report::chart::{Layer, RegionShape, StabilityPlot};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -146,7 +146,7 @@ struct BandLoadMargin {
     band: Interval,
     /// The lowest onset's tongue and margin; null when none is born inside up to β_max
     /// (the margin is then more than β_max/level − 1).
-    load: Option<crate::analysis::regions::LoadMargin>,
+    load: Option<rotorshunt::analysis::regions::LoadMargin>,
 }
 
 /// What a catalogue is asked on the command line.
@@ -178,8 +178,8 @@ pub fn regions_cmd(
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
     let (rotor, fs) = prepare(problem, &budget)?;
     let settings = problem.regions.clone();
-    let req =
-        CatalogueRequest::new(range, beta_max, level, out.is_some()).map_err(crate::analysis::AnalysisError::from)?;
+    let req = CatalogueRequest::builder().range(range).beta_max(beta_max).level(level).track(out.is_some()).build();
+    let req = req.map_err(rotorshunt::analysis::AnalysisError::from)?;
     // The search's work, from the seeds of the range, before the whirls and the search.
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
@@ -417,7 +417,7 @@ pub fn band_cmd(
     }
     for t in &b.ignored {
         let why = match t.ignored {
-            Some(crate::analysis::regions::Ignored::SlowGrowth) => "growth below min_growth_rate",
+            Some(rotorshunt::analysis::regions::Ignored::SlowGrowth) => "growth below min_growth_rate",
             _ => "narrower than min_tongue_width",
         };
         text += &format!(

@@ -3,9 +3,9 @@
 use super::design::{design_file_name, status_word};
 use super::TOOL;
 use crate::commands::Error;
-use crate::design::DesignOutcome;
-use crate::problem::tuned::{tuned_file, Setting};
-use crate::problem::Problem;
+use rotorshunt::design::DesignOutcome;
+use rotorshunt::problem::tuned::{tuned_file, Setting};
+use rotorshunt::problem::Problem;
 
 /// The tuned problem file: the input (with overrides applied) with the tuned values of
 /// `outcome`'s variables in its branches ([`tuned_file`]), under a header naming where it

@@ -4,15 +4,15 @@
 use super::bounds::{self, MODEL_ONLY};
 use super::out::json_pretty;
 use super::{title, Compare, OutDir, Progress, Provenance};
-use crate::analysis::cost::{self, Budget, Dense};
-use crate::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
-use crate::analysis::limits::{self, MAX_COUNT};
-use crate::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
-use crate::analysis::{AnalysisError, Rotor};
 use crate::commands::Error;
-use crate::problem::Problem;
-use crate::progress::Deadline;
-use crate::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
+use rotorshunt::analysis::cost::{self, Budget, Dense};
+use rotorshunt::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
+use rotorshunt::analysis::limits::{self, MAX_COUNT};
+use rotorshunt::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
+use rotorshunt::analysis::{AnalysisError, Rotor};
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::Deadline;
+use rotorshunt::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
 use serde::Serialize;
 use std::path::Path;
 
@@ -49,7 +49,7 @@ pub struct UnbalanceArgs<'a> {
 fn speed_grid(
     text: &str,
     rule: fn(f64) -> Result<f64, limits::ParamError>,
-) -> Result<(Vec<f64>, crate::numbers::SpeedUnit), Error> {
+) -> Result<(Vec<f64>, rotorshunt::numbers::SpeedUnit), Error> {
     let (speeds, unit) = super::args::parse_speeds(text, "--speeds")?;
     for &w in &speeds {
         bounds::flag("--speeds", rule(w))?;
@@ -137,6 +137,7 @@ const REAL_CONVENTIONS: Conventions = Conventions {
 /// `unbalance` computes it (the same checks and admission), returned as its
 /// unbalance.json text instead of written: the Python bindings' `unbalance`. Progress:
 /// `unbalance`, a step per speed.
+#[allow(dead_code)] // called by the Python bindings alone
 pub fn unbalance_json(
     problem: &Problem,
     speeds: &[f64],

@@ -19,33 +19,34 @@ pub enum CaseKind {
 /// The study file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct StudyFile {
+#[non_exhaustive]
+pub struct StudyFile {
     /// Base problem file, relative to the study file.
-    pub(crate) base: String,
+    pub base: String,
     /// Default kind of the cases.
     #[serde(default = "default_kind")]
-    pub(crate) kind: CaseKind,
+    pub kind: CaseKind,
     /// φ range of regions cases (rad/s).
     #[serde(default = "default_phi")]
-    pub(crate) phi: [f64; 2],
+    pub phi: [f64; 2],
     /// β_max of regions cases.
     #[serde(default = "default_beta_max")]
-    pub(crate) beta_max: f64,
+    pub beta_max: f64,
     /// Level β_op of regions cases (default β_max).
     #[serde(default)]
-    pub(crate) level: Option<f64>,
+    pub level: Option<f64>,
     /// Operating frequency of regions cases: also report its stable band (rad/s).
     #[serde(default)]
-    pub(crate) phi_op: Option<f64>,
+    pub phi_op: Option<f64>,
     /// Overrides for every case.
     #[serde(default)]
-    pub(crate) set: Vec<String>,
+    pub set: Vec<String>,
     /// Listed cases.
     #[serde(default)]
-    pub(crate) cases: Vec<CaseFile>,
+    pub cases: Vec<CaseFile>,
     /// Cartesian sweep: key path → list of values.
     #[serde(default)]
-    pub(crate) sweep: BTreeMap<String, Vec<toml::Value>>,
+    pub sweep: BTreeMap<String, Vec<toml::Value>>,
 }
 
 fn default_kind() -> CaseKind {
@@ -61,13 +62,14 @@ fn default_beta_max() -> f64 {
 /// One listed case of the study file (`[[cases]]`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct CaseFile {
+#[non_exhaustive]
+pub struct CaseFile {
     /// The case's name (its folder name once made safe).
-    pub(crate) name: String,
+    pub name: String,
     /// Its kind, if not the study's.
     #[serde(default)]
-    pub(crate) kind: Option<CaseKind>,
+    pub kind: Option<CaseKind>,
     /// Its overrides, after the study's `set`.
     #[serde(default)]
-    pub(crate) set: Vec<String>,
+    pub set: Vec<String>,
 }

@@ -46,7 +46,7 @@ fn class_of(e: crate::commands::Error) -> PyErr {
     let message = e.to_string();
     match e {
         E::Problem(_) => ProblemError::new_err(message),
-        E::Ross(_) => RossImportError::new_err(message),
+        E::Ross(_) | E::Import(_) => RossImportError::new_err(message),
         E::Analysis(crate::analysis::AnalysisError::Request(_) | crate::analysis::AnalysisError::Settings(_)) => {
             ArgumentError::new_err(message)
         }

@@ -2,7 +2,7 @@
 
 use super::plan::Case;
 use super::{CaseKind, TaskRecord, TOOL};
-use crate::problem::study::StudyFile;
+use rotorshunt::problem::study::StudyFile;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
@@ -168,12 +168,12 @@ impl CaseResult {
 /// special file, too large, not JSON of a result, or failing [`CaseResult::check`]).
 pub(crate) fn read_result(dir: &std::path::Path, case: &Case) -> Option<Result<CaseResult, String>> {
     let path = dir.join("result.json");
-    let bytes = match crate::files::standing(&path) {
-        Ok(crate::files::Standing::Missing) => return None,
-        Ok(crate::files::Standing::File(m)) if m.len() > MAX_RESULT_BYTES => {
+    let bytes = match rotorshunt::files::standing(&path) {
+        Ok(rotorshunt::files::Standing::Missing) => return None,
+        Ok(rotorshunt::files::Standing::File(m)) if m.len() > MAX_RESULT_BYTES => {
             return Some(Err(format!("{} bytes, more than a result holds", m.len())))
         }
-        _ => match crate::files::read(&path) {
+        _ => match rotorshunt::files::read(&path) {
             Ok(b) => b,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
             Err(e) => return Some(Err(e.to_string())),

@@ -21,7 +21,7 @@ pub(crate) use super::lock::{case_running, CaseLock, StudyLock};
 use super::TOOL;
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use crate::files::{remove_temporaries, temporary_target, write_atomic};
+use rotorshunt::files::{remove_temporaries, temporary_target, write_atomic};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 use std::io;
@@ -153,7 +153,7 @@ impl Manifest {
     pub(crate) fn parse(text: &str, role: Role) -> Result<Manifest, String> {
         let mut m: Manifest = serde_json::from_str(text).map_err(|e| e.to_string())?;
         let (plain, ignored): (BTreeSet<String>, BTreeSet<String>) =
-            std::mem::take(&mut m.created).into_iter().partition(|n| crate::files::plain_name(n).is_some());
+            std::mem::take(&mut m.created).into_iter().partition(|n| rotorshunt::files::plain_name(n).is_some());
         m.created = plain;
         m.ignored = ignored.into_iter().collect();
         if m.format != MANIFEST_FORMAT {
@@ -269,7 +269,7 @@ pub(crate) fn inspect_as(
         Err(e) => return Err(output_error(out, e)),
     };
     let other = |owner: String| Error::OtherStudy { dir: out.display().to_string(), owner };
-    let manifest = match crate::files::read_to_string(&out.join(MANIFEST)) {
+    let manifest = match rotorshunt::files::read_to_string(&out.join(MANIFEST)) {
         Ok(text) => {
             let m = Manifest::parse(&text, Role::Study)
                 .map_err(|e| other(format!("a study manifest {MANIFEST} that cannot be read ({e})")))?;
@@ -297,7 +297,7 @@ pub(crate) fn inspect_as(
             || name == LOCK
             || recorded.contains(&name)
             || temporary_target(&name).is_some_and(|t| t == MANIFEST || recorded.contains(t))
-            || crate::files::staging_parts(&name).is_some_and(|(e, _, _)| recorded.contains(e));
+            || rotorshunt::files::staging_parts(&name).is_some_and(|(e, _, _)| recorded.contains(e));
         if !ours {
             foreign.push(name);
         }
@@ -361,7 +361,7 @@ pub(crate) fn open_root_with(
 /// The manifest of a study's `--out` folder as it is, for reading (`status`, `merge`, the
 /// shard count of a Slurm task): `None` without one.
 pub(crate) fn read_manifest(out: &Path) -> Result<Option<Manifest>, String> {
-    match crate::files::read_to_string(&out.join(MANIFEST)) {
+    match rotorshunt::files::read_to_string(&out.join(MANIFEST)) {
         Ok(text) => Manifest::parse(&text, Role::Study).map(Some),
         Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(e.to_string()),
@@ -390,7 +390,7 @@ pub(crate) enum CaseFolder {
 /// written and the temporaries of recorded files removed.
 pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolder, Error> {
     let path = dir.join(CASE_MANIFEST);
-    match crate::files::create_dir(dir) {
+    match rotorshunt::files::create_dir(dir) {
         Ok(()) => {}
         Err(e) if e.kind() == io::ErrorKind::AlreadyExists => check_case_folder(dir)?,
         Err(e) => return Err(output_error(dir, e)),
@@ -399,7 +399,7 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolde
         Ok(lock) => lock,
         Err(holder) => return Ok(CaseFolder::Busy(holder.shown())),
     };
-    let found = match crate::files::read_to_string(&path) {
+    let found = match rotorshunt::files::read_to_string(&path) {
         Ok(text) => Some(Manifest::parse(&text, Role::Case).map_err(|e| output_error(&path, e))?),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
         Err(e) => return Err(Error::io(&path, &e)),
@@ -419,11 +419,13 @@ pub(crate) fn open_case(dir: &Path, study: &str, name: &str) -> Result<CaseFolde
 fn check_case_folder(dir: &Path) -> Result<(), Error> {
     let not_owned = || Error::NotOwned { path: dir.display().to_string() };
     // A file there is the user's; a link or special file is refused (never followed).
-    match crate::files::standing(dir).map_err(|e| Error::io(dir, &e))? {
-        crate::files::Standing::Dir => {}
-        crate::files::Standing::File(_) => return Err(not_owned()),
-        crate::files::Standing::Missing => return Err(output_error(dir, "it disappeared while the study opened it")),
-        _ => return Err(crate::files::real_dir(dir).err().map_or_else(not_owned, |e| Error::io(dir, &e))),
+    match rotorshunt::files::standing(dir).map_err(|e| Error::io(dir, &e))? {
+        rotorshunt::files::Standing::Dir => {}
+        rotorshunt::files::Standing::File(_) => return Err(not_owned()),
+        rotorshunt::files::Standing::Missing => {
+            return Err(output_error(dir, "it disappeared while the study opened it"))
+        }
+        _ => return Err(rotorshunt::files::real_dir(dir).err().map_or_else(not_owned, |e| Error::io(dir, &e))),
     }
     // The folder is listed first and its manifest read only if listed: another run of the
     // study that created the folder a moment ago (two tasks given the same shard) may
@@ -435,7 +437,7 @@ fn check_case_folder(dir: &Path) -> Result<(), Error> {
     }
     if entries.iter().any(|e| e == CASE_MANIFEST) {
         let path = dir.join(CASE_MANIFEST);
-        let text = crate::files::read_to_string(&path).map_err(|e| Error::io(&path, &e))?;
+        let text = rotorshunt::files::read_to_string(&path).map_err(|e| Error::io(&path, &e))?;
         return Manifest::parse(&text, Role::Case).map(|_| ()).map_err(|e| output_error(&path, e));
     }
     let ours = |e: &std::ffi::OsString| e == CASE_LOCK || e.to_str().and_then(temporary_target) == Some(CASE_MANIFEST);

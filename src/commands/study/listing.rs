@@ -6,7 +6,7 @@ use super::folder::Identity;
 use super::plan::Plan;
 use super::shard::{self, kind_cost, Shard};
 use super::state::LISTED_CASES;
-use super::{case_id, load_study, CaseKind, Loaded};
+use super::{case_id, load_study, CaseKind, InputHasher, Loaded};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
 use serde::Serialize;
@@ -34,6 +34,9 @@ struct PlanEntry {
     name: String,
     folder: String,
     overrides: Vec<String>,
+    /// The input hash its finished `result.json` records: a run skips the case when it
+    /// finds this hash there with success (for tools that prepare or check a folder).
+    input_sha256: String,
 }
 
 /// A plan listing in JSON.
@@ -98,15 +101,17 @@ fn listing(plan: &Plan, shard_of: Option<&[u32]>, indices: impl Iterator<Item = 
 /// `rotorshunt study plan STUDY.toml [--shards N] [--json]`: every case with its index,
 /// id, kind and (with `--shards`) shard.
 pub fn plan_cmd(file: &Path, shards: Option<u32>, json: bool) -> Result<String, Error> {
-    let Loaded { plan, identity, .. } = load_study(file)?;
+    let Loaded { plan, identity, base_text, .. } = load_study(file)?;
     if let Some(n) = shards {
         shard::check_count("--shards", n, plan.len())?;
     }
     let shard_of = shards.map(|n| shard::assign(&plan, n));
     if json {
+        let hasher = InputHasher::new(&base_text);
         let list = (0..plan.len())
             .map(|i| {
                 let c = plan.case(i);
+                let input_sha256 = hasher.of(&c, &plan.study);
                 PlanEntry {
                     index: i,
                     id: case_id(&c),
@@ -115,6 +120,7 @@ pub fn plan_cmd(file: &Path, shards: Option<u32>, json: bool) -> Result<String, 
                     name: c.name,
                     folder: c.slug,
                     overrides: c.overrides,
+                    input_sha256,
                 }
             })
             .collect();

@@ -139,7 +139,7 @@ enum Attempt {
 }
 
 /// Try the lock file at `path` once for `study`: create it or open it (never through a
-/// link, only a regular file with one name: [`crate::files::open_lock`]), flock it
+/// link, only a regular file with one name: [`rotorshunt::files::open_lock`]), flock it
 /// without waiting, and write this process into it. A lockable file is stale and taken
 /// over, except, when `other_host_is_live`, one recording another host or one whose
 /// record is invalid (its host cannot be told). A lock held by this very process (two
@@ -147,7 +147,7 @@ enum Attempt {
 fn try_lock(path: &Path, study: &str, other_host_is_live: bool) -> Result<Attempt, Error> {
     let me = host();
     for _ in 0..LOCK_ATTEMPTS {
-        let (mut file, fresh) = match crate::files::open_lock(path) {
+        let (mut file, fresh) = match rotorshunt::files::open_lock(path) {
             Ok(opened) => opened,
             Err(e) if e.kind() == io::ErrorKind::NotFound => continue,
             Err(e) => return Err(Error::io(path, &e)),
@@ -301,7 +301,7 @@ impl CaseLock {
 /// file is not created, and a stale one is left as it is; a link or a file with other
 /// names there is no lock of the study's (`None`).
 pub(crate) fn case_running(dir: &Path) -> Option<Option<String>> {
-    let mut file = crate::files::open_existing(&dir.join(CASE_LOCK)).ok()?;
+    let mut file = rotorshunt::files::open_existing(&dir.join(CASE_LOCK)).ok()?;
     match FileExt::try_lock_shared(&file) {
         Ok(()) => {
             let _ = FileExt::unlock(&file);

@@ -27,34 +27,34 @@ mod state;
 use super::bounds::{self, Names};
 use super::design::{design_estimate, design_report, DESIGN};
 use super::{OutDir, TOOL};
-use crate::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
-use crate::analysis::floquet::FloquetSystem;
-use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::seeds_for;
-use crate::analysis::regions::{band_with, catalogue_with, CatalogueRequest};
-use crate::analysis::Criterion;
-use crate::analysis::Interval;
-use crate::analysis::Rotor;
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-pub use crate::problem::study::CaseKind;
-use crate::problem::study::StudyFile;
-use crate::problem::Problem;
-use crate::progress::{Progress, Silent};
-use crate::report::study::SummaryTable;
 use case::InputHasher;
 pub use case::{case_id, CaseResult, CaseStatus};
 pub(crate) use folder::Ledger;
+pub use folder::Manifest;
 use folder::{CaseFolder, Identity, StudyLock, CASES, LOCK, MANIFEST, ROOT_OUTPUTS};
-pub use folder::{Manifest, Role};
 pub use listing::plan_cmd;
+pub use plan::Case;
 use plan::Plan;
-pub use plan::{Case, MAX_STUDY_CASES};
 use rayon::prelude::*;
+use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
+use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::modes::whirl_modes_of;
+use rotorshunt::analysis::regions::seeds_for;
+use rotorshunt::analysis::regions::{band_with, catalogue_with, CatalogueRequest};
+use rotorshunt::analysis::Criterion;
+use rotorshunt::analysis::Interval;
+use rotorshunt::analysis::Rotor;
+pub use rotorshunt::problem::study::CaseKind;
+use rotorshunt::problem::study::StudyFile;
+use rotorshunt::problem::Problem;
+use rotorshunt::progress::{Progress, Silent};
+use rotorshunt::report::study::SummaryTable;
 use serde::Serialize;
-pub use shard::{array_expression, Shard, TaskRecord, MAX_SHARDS};
+pub use shard::{Shard, TaskRecord, MAX_SHARDS};
 pub use slurm::{slurm_cmd, SlurmOptions};
-pub use state::{merge_cmd, planned_inputs, status_cmd, CaseState, StatusReport};
+pub use state::{merge_cmd, status_cmd, StatusReport};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
@@ -239,12 +239,12 @@ pub(crate) struct Loaded {
 /// sweep value on its own (before any folder is touched), and its identity.
 pub(crate) fn load_study(file: &Path) -> Result<Loaded, Error> {
     let plan = Plan::read(file)?;
-    let base_text = crate::problem::read_input(&plan.base)?;
+    let base_text = rotorshunt::problem::read_input(&plan.base)?;
     // Before the folder is touched: the base with the study's overrides, each sweep value
     // on its own, and the per-case estimate of the base's cases.
     let base_name = plan.base.display().to_string();
     let base = Problem::from_bytes(&base_text, &base_name, &plan.study.set)?;
-    plan.check_sweep(file, crate::problem::input::text_of(&base_text, &base_name)?, &base_name)?;
+    plan.check_sweep(file, rotorshunt::problem::input::text_of(&base_text, &base_name)?, &base_name)?;
     let identity = Identity {
         study: std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf()).display().to_string(),
         plan: plan.survey(file, &base_text)?,
@@ -311,7 +311,7 @@ pub fn study_cmd(
     let root = root.with_ledger(ledger);
     let cases_dir = out.join(CASES);
     // A link, file or special file at `cases` is refused, never followed.
-    crate::files::ensure_dir(&cases_dir).map_err(|e| Error::io(&cases_dir, &e))?;
+    rotorshunt::files::ensure_dir(&cases_dir).map_err(|e| Error::io(&cases_dir, &e))?;
     let lock = if sharded {
         drop(lock);
         None
@@ -506,7 +506,7 @@ fn key_value(r: &CaseResult, key: &str) -> String {
 /// The plot of the study's key figure against its first numeric varied key with at
 /// least two values: one line per combination of the other keys' values. None when the
 /// study has no such key or figure.
-fn sweep_figure(columns: &[String], rows: &[&CaseResult]) -> Option<crate::report::plot::CurvePlot> {
+fn sweep_figure(columns: &[String], rows: &[&CaseResult]) -> Option<rotorshunt::report::plot::CurvePlot> {
     let ok: Vec<&&CaseResult> = rows.iter().filter(|r| r.status == CaseStatus::Ok).collect();
     let x = columns.iter().position(|k| {
         let values: Vec<Option<f64>> = ok.iter().map(|r| key_value(r, k).parse::<f64>().ok()).collect();
@@ -515,7 +515,7 @@ fn sweep_figure(columns: &[String], rows: &[&CaseResult]) -> Option<crate::repor
         distinct.dedup();
         values.iter().all(Option::is_some) && distinct.len() >= 2
     })?;
-    let y = crate::report::study::PLOTTED_FIGURES
+    let y = rotorshunt::report::study::PLOTTED_FIGURES
         .into_iter()
         .find(|f| ok.iter().any(|r| r.metrics.get(*f).and_then(|v| v.as_f64()).is_some()))?;
     let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
@@ -546,7 +546,7 @@ fn sweep_figure(columns: &[String], rows: &[&CaseResult]) -> Option<crate::repor
     let title = format!("Study: {y} against {}", columns[x]);
     let y_label =
         if y.contains("band_width") { format!("{y} (rad/s; 0: phi_op unstable)") } else { format!("{y} (−)") };
-    Some(crate::report::study::sweep_plot(&title, &columns[x], &y_label, series))
+    Some(rotorshunt::report::study::sweep_plot(&title, &columns[x], &y_label, series))
 }
 
 /// `summary/` of the study folder `root`, swapped whole: `summary.json`, `summary.csv` and

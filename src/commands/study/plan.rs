@@ -4,12 +4,12 @@
 //! last key fastest) when it is needed. Case folder names are sanitised and unique.
 
 use super::CaseKind;
-use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::commands::Error;
-use crate::problem::source::LineIndex;
-use crate::problem::study::StudyFile;
-use crate::problem::{Problem, ProblemError, ProblemErrorKind};
 use rayon::prelude::*;
+use rotorshunt::analysis::limits::{self, ParamError, Quantity};
+use rotorshunt::problem::source::LineIndex;
+use rotorshunt::problem::study::StudyFile;
+use rotorshunt::problem::{Problem, ProblemError, ProblemErrorKind};
 use sha2::{Digest, Sha256};
 use std::collections::{BTreeSet, HashMap};
 use std::hash::{Hash, Hasher};
@@ -122,9 +122,9 @@ impl Plan {
     /// Read and check a study file; refuses a plan of more than [`MAX_STUDY_CASES`]
     /// cases from the counts alone.
     pub(crate) fn read(file: &Path) -> Result<Plan, Error> {
-        let text = crate::problem::read_toml(file)?;
+        let text = rotorshunt::problem::read_toml(file)?;
         let de = toml::Deserializer::parse(&text).map_err(|e| {
-            let (location, kind) = crate::problem::syntax_error(&text, &e);
+            let (location, kind) = rotorshunt::problem::syntax_error(&text, &e);
             Error::Problem(ProblemError { file: file.display().to_string(), location, key: String::new(), kind })
         })?;
         let mut study: StudyFile = serde_path_to_error::deserialize(de)
@@ -175,7 +175,7 @@ impl Plan {
         Error::Problem(ProblemError { file: file.display().to_string(), location, key: key.into(), kind })
     }
 
-    /// The parameters of the regions cases by their rules ([`crate::analysis::limits`]): the
+    /// The parameters of the regions cases by their rules ([`rotorshunt::analysis::limits`]): the
     /// same as `rotorshunt regions` and `band` apply to their flags.
     fn check_fields(&self, file: &Path) -> Result<(), Error> {
         let s = &self.study;

@@ -72,7 +72,7 @@ pub(super) fn run_case(
             m.insert("verified".into(), metric(o.verified()));
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
             // the smallest over the speeds.
-            let width = |v: &[crate::design::evaluate::OperatingBand]| {
+            let width = |v: &[rotorshunt::design::evaluate::OperatingBand]| {
                 v.iter().map(|b| b.band.band.map_or(0.0, |x| x.width())).fold(f64::INFINITY, f64::min)
             };
             if !o.before_bands().is_empty() {
@@ -84,10 +84,10 @@ pub(super) fn run_case(
                     m.insert("clipped_after".into(), metric(clipped(&only.band)));
                 }
                 // The tuned band's margins (the smallest over the speeds; docs/studies.md).
-                let after: Vec<&crate::analysis::regions::Margins> =
+                let after: Vec<&rotorshunt::analysis::regions::Margins> =
                     o.after_speeds.iter().filter_map(|d| d.margins.as_ref()).collect();
                 if !after.is_empty() {
-                    let least = |f: &dyn Fn(&crate::analysis::regions::Margins) -> f64| {
+                    let least = |f: &dyn Fn(&rotorshunt::analysis::regions::Margins) -> f64| {
                         after.iter().map(|x| f(x)).fold(f64::INFINITY, f64::min)
                     };
                     m.insert("load_margin_after".into(), metric(least(&|x| x.load_margin())));
@@ -167,7 +167,7 @@ pub(super) fn finished(dir: &OutDir, case: &Case, hash: &str) -> Option<CaseResu
 
 /// Whether a band is bounded by the end of its search window (below or above) rather than
 /// by a tongue: its true extent may be wider than the window shows.
-fn clipped(b: &crate::analysis::regions::Band) -> bool {
-    use crate::analysis::regions::Bound;
+fn clipped(b: &rotorshunt::analysis::regions::Band) -> bool {
+    use rotorshunt::analysis::regions::Bound;
     b.band.is_some() && [&b.left, &b.right].iter().any(|x| matches!(x, Some(Bound::Window)))
 }

@@ -40,7 +40,7 @@ pub struct SlurmOptions {
     pub binary: PathBuf,
     /// The limits each case runs under (`--max-cost`, `--time-limit`), passed on to the
     /// array tasks.
-    pub budget: crate::analysis::cost::Budget,
+    pub budget: rotorshunt::analysis::cost::Budget,
 }
 
 fn argument(name: &str, message: impl Into<String>) -> Error {
@@ -314,7 +314,7 @@ pub fn slurm_cmd(file: &Path, out: &Path, o: &SlurmOptions) -> Result<String, Er
     let root = root.with_ledger(ledger);
     for d in [out.join(CASES), out.join(SLURM_DIR), out.join(SLURM_DIR).join(LOGS)] {
         // A link, file or special file there is refused, never followed.
-        crate::files::ensure_dir(&d).map_err(|e| Error::io(&d, &e))?;
+        rotorshunt::files::ensure_dir(&d).map_err(|e| Error::io(&d, &e))?;
     }
     drop(lock);
     let abs = std::fs::canonicalize(out).map_err(|e| root.error("", e))?;

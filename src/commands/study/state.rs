@@ -120,7 +120,7 @@ fn folder_key(name: &str) -> u64 {
 
 /// Whether the case folder's manifest records that the study wrote its `result.json`.
 fn owns_result(case_dir: &Path) -> bool {
-    crate::files::read_to_string(&case_dir.join(CASE_MANIFEST))
+    rotorshunt::files::read_to_string(&case_dir.join(CASE_MANIFEST))
         .ok()
         .and_then(|t| Manifest::parse(&t, Role::Case).ok())
         .is_some_and(|m| m.created.contains("result.json"))
@@ -355,7 +355,7 @@ pub fn status_cmd(dir: &Path, shards: Option<u32>, json: bool) -> Result<(String
 /// `rotorshunt study merge DIR`: `summary/summary.{csv,json,md}` from every case finished from
 /// the plan's inputs, in plan order, under the folder's lock (waiting for a task's
 /// setup); the text and the report.
-pub fn merge_cmd(dir: &Path, progress: &dyn crate::progress::Progress) -> Result<(String, StatusReport), Error> {
+pub fn merge_cmd(dir: &Path, progress: &dyn rotorshunt::progress::Progress) -> Result<(String, StatusReport), Error> {
     let s = survey(dir, None, true)?;
     let study = Path::new(&s.manifest.study);
     let inputs: [(&Path, &str); 2] =
@@ -383,18 +383,4 @@ pub fn merge_cmd(dir: &Path, progress: &dyn crate::progress::Progress) -> Result
         details(&r, dir)
     );
     Ok((text, r))
-}
-
-/// Every case of a study file's plan, in plan order, with the input hash that its
-/// finished `result.json` records (for tools that prepare or check study folders).
-pub fn planned_inputs(file: &Path) -> Result<Vec<(super::Case, String)>, Error> {
-    let Loaded { plan, base_text, .. } = load_study(file)?;
-    let hasher = InputHasher::new(&base_text);
-    Ok((0..plan.len())
-        .map(|i| {
-            let c = plan.case(i);
-            let h = hasher.of(&c, &plan.study);
-            (c, h)
-        })
-        .collect())
 }
