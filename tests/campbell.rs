@@ -37,14 +37,9 @@ fn parallel_equals_sequential() {
 #[test]
 fn command_writes_csv_json_svg_png() {
     let dir = common::tmp("campbell");
-    let text = common::run_ok(common::bin().args(["campbell", &common::problem_path("paper-open.toml")]).args([
-        "--speeds",
-        "0:2000:1000",
-        "--count",
-        "4",
-        "--out",
-        dir.to_str().unwrap(),
-    ]));
+    let mut campbell = common::bin();
+    campbell.args(["campbell", &common::problem_path("paper-open.toml")]);
+    let text = common::run_ok(campbell.args(["--speeds", "0:2000:1000", "--count", "4", "--out"]).arg(&dir));
     assert!(text.contains("3 speeds"), "{text}");
     let csv = std::fs::read_to_string(dir.join("campbell.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 8 * 3);

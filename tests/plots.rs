@@ -119,18 +119,10 @@ fn campbell_tracks_keep_their_identity_when_a_mode_enters_the_window() {
 #[test]
 fn set_overrides_and_compare_labels_appear_in_titles_and_legends() {
     let dir = common::tmp("titles");
-    common::run_ok(common::bin().args(["chart", &common::problem_path("fig9-open-2000.toml")]).args([
-        "--set",
-        "circuit.state=open",
-        "--phi",
-        "600:800:50",
-        "--beta",
-        "0:0.4:0.2",
-        "--compare-set",
-        "circuit.state=closed",
-        "--out",
-        dir.to_str().unwrap(),
-    ]));
+    let flags = "--set circuit.state=open --phi 600:800:50 --beta 0:0.4:0.2 --compare-set circuit.state=closed";
+    let mut chart = common::bin();
+    chart.args(["chart", &common::problem_path("fig9-open-2000.toml")]).args(flags.split(' '));
+    common::run_ok(chart.arg("--out").arg(&dir));
     for f in ["chart.svg", "growth.svg"] {
         let svg = std::fs::read_to_string(dir.join(f)).unwrap();
         assert!(svg.contains("[circuit.state=open]"), "{f} title names the override");
@@ -141,16 +133,10 @@ fn set_overrides_and_compare_labels_appear_in_titles_and_legends() {
     std::fs::remove_dir_all(&dir).unwrap();
 
     let dir = common::tmp("campbell-title");
-    common::run_ok(common::bin().args(["campbell", &common::problem_path("paper-open.toml")]).args([
-        "--set",
-        "load.alpha=0.25",
-        "--speeds",
-        "0:2000:1000",
-        "--count",
-        "2",
-        "--out",
-        dir.to_str().unwrap(),
-    ]));
+    let flags = "--set load.alpha=0.25 --speeds 0:2000:1000 --count 2";
+    let mut campbell = common::bin();
+    campbell.args(["campbell", &common::problem_path("paper-open.toml")]).args(flags.split(' '));
+    common::run_ok(campbell.arg("--out").arg(&dir));
     let svg = std::fs::read_to_string(dir.join("campbell.svg")).unwrap();
     assert!(svg.contains("[load.alpha=0.25]"));
     std::fs::remove_dir_all(&dir).unwrap();
