@@ -203,6 +203,33 @@ impl AnalysisError {
             AnalysisError::Settings(e) => e.rule.kind(),
         }
     }
+
+    /// Whether the caller asked for something that breaks a rule (a request's or a
+    /// setting's value, a probe off the shaft, speeds missing or out of order, a mode the
+    /// rotor does not have), rather than an analysis failing on valid input: what the
+    /// command line exits 2 for, not 1 (docs/errors.md). Matched here, in the crate, so
+    /// that a new variant is sorted before it compiles.
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            AnalysisError::Request(_)
+            | AnalysisError::Settings(_)
+            | AnalysisError::ProbeNodeOffShaft { .. }
+            | AnalysisError::NoSpeeds
+            | AnalysisError::SpeedsNotAscending { .. }
+            | AnalysisError::UnknownMode { .. } => true,
+            AnalysisError::Linalg(_)
+            | AnalysisError::ReducedModes { .. }
+            | AnalysisError::StaticLoadBuckles { .. }
+            | AnalysisError::OutsideWindow { .. }
+            | AnalysisError::ResponseNotFinite { .. }
+            | AnalysisError::NoWhirlModes { .. }
+            | AnalysisError::ReducedBasis { .. }
+            | AnalysisError::StiffResponse { .. }
+            | AnalysisError::Unreliable { .. }
+            | AnalysisError::ProbeOffSystem { .. }
+            | AnalysisError::SingularAtSpeed { .. } => false,
+        }
+    }
 }
 
 /// The first `TAGS_LISTED` tags of each whirl direction of `tags` (forward tags start

@@ -136,4 +136,23 @@ impl DesignError {
             DesignError::Spec { error, .. } => error.rule.kind(),
         }
     }
+
+    /// Whether the design asked for something that breaks a rule (no `[design]`, a
+    /// candidate value a branch cannot take, a spec value out of its range), rather than
+    /// the run failing: what the command line exits 2 for, not 1 (docs/errors.md). An
+    /// analysis error inside a design counts as the run failing. Matched here, in the
+    /// crate, so that a new variant is sorted before it compiles.
+    pub fn is_bad_input(&self) -> bool {
+        match self {
+            DesignError::NoDesign | DesignError::Candidate { .. } | DesignError::Spec { .. } => true,
+            DesignError::Analysis(_)
+            | DesignError::Optimiser(_)
+            | DesignError::Qp(_)
+            | DesignError::NoResponse
+            | DesignError::NoTradeOff(_)
+            | DesignError::FrontPoints(_)
+            | DesignError::UnknownMode { .. }
+            | DesignError::Stopped => false,
+        }
+    }
 }
