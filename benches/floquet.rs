@@ -18,8 +18,8 @@ fn system() -> FloquetSystem {
 
 fn bench(c: &mut Criterion) {
     let fs = system();
-    let phis = Interval::new(100.0, 14000.0).stepped(25.0);
-    let betas = Interval::new(0.0, 1.0).stepped(0.025);
+    let phis = Interval::new(100.0, 14000.0).stepped(25.0, 1000).unwrap();
+    let betas = Interval::new(0.0, 1.0).stepped(0.025, 1000).unwrap();
     let mut g = c.benchmark_group("floquet");
     g.sample_size(10);
     g.bench_function("fig11 chart 22837 points, fast", |b| b.iter(|| chart(&fs, &phis, &betas, &|| {})));

@@ -10,7 +10,7 @@ use rotorshunt::analysis::Rotor;
 fn tracks_follow_modes_through_the_table_speeds() {
     let p = load("paper-closed.toml", &[]);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = Interval::new(0.0, 2000.0).stepped(250.0);
+    let speeds = Interval::new(0.0, 2000.0).stepped(250.0, 1000).unwrap();
     let r = campbell(&rotor, &p.settings, &speeds, 8, &|| {}).unwrap();
     assert_eq!(r.tracks.len(), 16);
     assert_eq!(r.flagged, 0, "no low-MAC step on this range");
@@ -27,7 +27,7 @@ fn tracks_follow_modes_through_the_table_speeds() {
 fn parallel_equals_sequential() {
     let p = load("paper-open.toml", &[]);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = Interval::new(0.0, 3000.0).stepped(500.0);
+    let speeds = Interval::new(0.0, 3000.0).stepped(500.0, 1000).unwrap();
     let par = campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let seq = pool.install(|| campbell(&rotor, &p.settings, &speeds, 4, &|| {}).unwrap());

@@ -23,8 +23,8 @@ fn default_steps_are_converged_on_the_fig11_grid() {
     fine_settings.steps_per_period *= 4;
     fine_settings.max_step_phase /= 4.0;
     let fine = FloquetSystem::new(&rotor, &fine_settings, p.model.speed).unwrap();
-    let phis = Interval::new(100.0, 14000.0).stepped(25.0);
-    let betas = Interval::new(0.0, 1.0).stepped(0.025);
+    let phis = Interval::new(100.0, 14000.0).stepped(25.0, 1000).unwrap();
+    let betas = Interval::new(0.0, 1.0).stepped(0.025, 1000).unwrap();
     let a = chart(&coarse, &phis, &betas, &|| {});
     let b = chart(&fine, &phis, &betas, &|| {});
     assert_eq!(a.points.len(), 22_837);

@@ -20,7 +20,7 @@ const TUNED: [&str; 2] = ["circuit.branches[0].tuning_frequency=733.75", "circui
 fn diagram(count: usize) -> (CampbellResult, Rotor, rotorshunt::problem::Problem) {
     let p = load("design-widest-band.toml", &TUNED);
     let rotor = Rotor::new(&p.model).unwrap();
-    let speeds = Interval::new(0.0, 3000.0).stepped(100.0);
+    let speeds = Interval::new(0.0, 3000.0).stepped(100.0, 1000).unwrap();
     let r = campbell(&rotor, &p.settings, &speeds, count, &|| {}).unwrap();
     (r, rotor, p)
 }

@@ -38,25 +38,27 @@ impl Interval {
     }
 
     /// The number of points of [`Interval::stepped`] with `step` (> 0; 0 for an empty
-    /// interval or a step that is not positive). A float, as a wide interval of small
-    /// steps has more points than a `usize` counts: compare it with a limit before
-    /// asking for the points.
+    /// interval or a step that is not positive). A float: a wide interval of small steps
+    /// has more points than a `usize` counts.
     pub fn step_count(&self, step: f64) -> f64 {
         if step > 0.0 && self.hi >= self.lo {
-            // A last point within 1e-9 of a step of hi (rounding of decimal steps) is hi.
+            // A last point short of hi by less than the slack (rounding of decimal steps)
+            // counts as the end's.
             ((self.hi - self.lo) / step + STEP_SLACK).floor() + 1.0
         } else {
             0.0
         }
     }
 
-    /// The points lo, lo + step, lo + 2·step, … up to hi (hi itself when it is on the
-    /// grid, to 1e-9 of a step): the grid of an `A:B:STEP` range on the command line, each
-    /// point computed from lo (no accumulated rounding). Empty when
-    /// [`Interval::step_count`] is 0; bound the count first.
-    pub fn stepped(&self, step: f64) -> Vec<f64> {
-        let n = self.step_count(step) as usize;
-        (0..n).map(|i| self.lo + i as f64 * step).collect()
+    /// The points lo, lo + step, lo + 2·step, … up to hi: the grid of an `A:B:STEP` range
+    /// on the command line, each point computed from lo (no accumulated rounding). A last
+    /// point within 1e-9 of a step of hi is kept, as computed: for hi on the grid it may
+    /// differ from hi by a rounding (0:0.3:0.1 ends on 0.30000000000000004). Empty when
+    /// [`Interval::step_count`] is 0; `None` when it is above `most`, the points the
+    /// caller will hold.
+    pub fn stepped(&self, step: f64, most: usize) -> Option<Vec<f64>> {
+        let n = self.step_count(step);
+        (n <= most as f64).then(|| (0..n as usize).map(|i| self.lo + i as f64 * step).collect())
     }
 
     /// The two intervals share at least one point.
@@ -85,14 +87,15 @@ mod tests {
 
     #[test]
     fn a_grid_ends_on_its_end_despite_decimal_steps() {
-        // 0.025 is not exact in binary: 1/0.025 is 39.99999999999999778, yet 1 is the 41st.
-        let g = Interval::new(0.0, 1.0).stepped(0.025);
-        assert_eq!(g.len(), 41);
-        assert_eq!(g[40], 40.0 * 0.025);
+        // 0.3/0.1 is 2.9999999999999996 in f64: without the slack the grid would stop at
+        // 0.2; with it the fourth point is 3·0.1 = 0.30000000000000004.
+        assert_eq!(0.3 / 0.1, 2.999_999_999_999_999_6);
+        let g = Interval::new(0.0, 0.3).stepped(0.1, 10).unwrap();
+        assert_eq!(g, vec![0.0, 0.1, 0.2, 3.0 * 0.1]);
         assert_eq!(Interval::new(100.0, 14000.0).step_count(25.0), 557.0);
         // A point short of the end by more than the slack is not added.
-        assert_eq!(Interval::new(0.0, 1.0).stepped(0.3), vec![0.0, 0.3, 0.6, 0.3 * 3.0]);
-        assert_eq!(Interval::new(2.0, 2.0).stepped(1.0), vec![2.0]);
+        assert_eq!(Interval::new(0.0, 1.0).stepped(0.3, 10).unwrap(), vec![0.0, 0.3, 0.6, 0.3 * 3.0]);
+        assert_eq!(Interval::new(2.0, 2.0).stepped(1.0, 1).unwrap(), vec![2.0]);
     }
 
     #[test]
@@ -100,6 +103,13 @@ mod tests {
         for step in [0.0, -1.0, f64::NAN] {
             assert_eq!(Interval::new(0.0, 1.0).step_count(step), 0.0);
         }
-        assert!(Interval::new(1.0, 0.0).stepped(0.1).is_empty());
+        assert_eq!(Interval::new(1.0, 0.0).stepped(0.1, 10), Some(vec![]));
+    }
+
+    #[test]
+    fn a_grid_beyond_its_bound_is_refused_not_built() {
+        assert_eq!(Interval::new(0.0, 1e300).step_count(1e-300), f64::INFINITY);
+        assert_eq!(Interval::new(0.0, 1e300).stepped(1e-300, 1_000_000), None);
+        assert_eq!(Interval::new(0.0, 1.0).stepped(0.1, 10), None, "11 points");
     }
 }

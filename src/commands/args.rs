@@ -26,14 +26,12 @@ pub fn parse_range(text: &str, argument: &str) -> Result<Vec<f64>, Error> {
                 return Err(bad(format!("`{text}` needs A <= B and STEP > 0")));
             }
             let grid = rotorshunt::analysis::Interval::new(*a, *b);
-            let n = grid.step_count(*step);
-            if n > MAX_RANGE_POINTS as f64 {
-                return Err(bad(format!(
+            grid.stepped(*step, MAX_RANGE_POINTS).ok_or_else(|| {
+                bad(format!(
                     "`{text}` expands to {} points, more than {MAX_RANGE_POINTS}",
-                    rotorshunt::analysis::limits::number(n)
-                )));
-            }
-            Ok(grid.stepped(*step))
+                    rotorshunt::analysis::limits::number(grid.step_count(*step))
+                ))
+            })
         }
         _ => Err(bad(format!("`{text}` is not of the form A:B:STEP"))),
     }
