@@ -112,6 +112,10 @@ fn the_command_layer_is_not_part_of_the_library() {
     let lines: Vec<&str> = lib.lines().collect();
     let attributes: Vec<&str> = lines[..at].iter().rev().take_while(|l| l.starts_with("#[")).copied().collect();
     assert!(attributes.contains(&"#[cfg(feature = \"python\")]"), "{attributes:?}");
+    // Nor are its items re-exported.
+    let exported: Vec<&str> =
+        lines.iter().filter(|l| l.contains("pub use") && l.contains("commands")).copied().collect();
+    assert!(exported.is_empty(), "{exported:?}");
     let main = std::fs::read_to_string(common::root().join("src/main.rs")).unwrap();
     assert!(main.lines().any(|l| l == "mod commands;"), "the binary compiles the layer");
 }

@@ -107,11 +107,10 @@ fn summary_csv(out: &Path) -> Vec<Vec<String>> {
     rows
 }
 
-/// The plan's cases as `study plan --json` lists them (index, id, folder, name, kind,
+/// `study plan --json`: the plan's hash and its cases (index, id, folder, name, kind,
 /// overrides, input hash).
-fn planned(study: &str) -> Vec<Value> {
-    let v: Value = serde_json::from_str(&ok(&run(&["study", "plan", study, "--json"], None))).unwrap();
-    v["list"].as_array().unwrap().clone()
+fn plan_json(study: &str) -> Value {
+    serde_json::from_str(&ok(&run(&["study", "plan", study, "--json"], None))).unwrap()
 }
 
 /// Sorted task numbers written as Slurm's `--array` syntax reads them, runs of
@@ -143,7 +142,7 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
     reference(&study, &whole);
     let names: Vec<String> = plan(&study, 1).into_iter().map(|c| c.3).collect();
     assert_eq!(names.len(), 12);
-    let cases = planned(&study);
+    let cases = plan_json(&study)["list"].clone();
     for n in [1u32, 2, 3, 7] {
         let p = plan(&study, n);
         // Disjoint and covering: every case in exactly one shard, every shard non-empty.
@@ -530,13 +529,9 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
     eprintln!("10 000-case plan: --dry-run of one shard {dry:.3} s, `study plan --shards 7` {plan_seconds:.3} s");
 
     // A folder of 10 000 finished results, as the study writes them.
-    let cases = planned(study.to_str().unwrap());
+    let listed = plan_json(study.to_str().unwrap());
+    let (cases, plan_hash) = (listed["list"].as_array().unwrap(), listed["plan_sha256"].as_str().unwrap());
     let canonical = std::fs::canonicalize(&study).unwrap().display().to_string();
-    let plan_hash = {
-        let v: Value =
-            serde_json::from_str(&ok(&run(&["study", "plan", study.to_str().unwrap(), "--json"], None))).unwrap();
-        v["plan_sha256"].as_str().unwrap().to_string()
-    };
     std::fs::create_dir_all(out.join("cases")).unwrap();
     // The records as docs/studies.md describes them: the folder's manifest, each case
     // folder's manifest and its result.
@@ -547,7 +542,7 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
     });
     std::fs::write(out.join(".rotorshunt-study.json"), study_manifest.to_string()).unwrap();
     let t = Instant::now();
-    for c in &cases {
+    for c in cases {
         let d = out.join("cases").join(c["folder"].as_str().unwrap());
         std::fs::create_dir(&d).unwrap();
         let manifest = serde_json::json!({
@@ -557,7 +552,7 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
         std::fs::write(d.join(".rotorshunt-case.json"), manifest.to_string()).unwrap();
         let r = serde_json::json!({
             "name": c["name"], "id": c["id"], "slug": c["folder"], "kind": c["kind"], "overrides": c["overrides"],
-            "input_hash": c["input_sha256"], "status": "ok", "error": null, "metrics": {"regions": 3},
+            "input_hash": c["input_hash"], "status": "ok", "error": null, "metrics": {"regions": 3},
             "seconds": 0.5, "task": {"host": "", "pid": 0}, "tool": tool,
         });
         std::fs::write(d.join("result.json"), serde_json::to_string_pretty(&r).unwrap()).unwrap();

@@ -33,7 +33,7 @@ const LONG_RESPONSE: f64 = 2.0e10;
 
 /// Hostile flag values: non-finite, signed zeros, negative, tiny and huge, subnormal, and
 /// integers at and beyond 2⁶³ and 2⁶⁴ as f64.
-const HOSTILE: [f64; 18] = [
+const HOSTILE: [f64; 19] = [
     f64::NAN,
     f64::INFINITY,
     f64::NEG_INFINITY,
@@ -51,6 +51,7 @@ const HOSTILE: [f64; 18] = [
     1e-308,
     5e-324,
     9.223_372_036_854_776e18,
+    -9.223_372_036_854_776e18,
     1.844_674_407_370_955_2e19,
 ];
 

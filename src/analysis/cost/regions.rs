@@ -21,7 +21,7 @@ const TRACK_EVALUATIONS: f64 = 40.0;
 pub const DESIGN_BAND_EVALUATIONS: f64 = 500.0;
 
 /// The φ values an edge march may step through across `window` (steps of the largest
-/// edge-march step, [`RegionSettings::max_edge_step`]): where a tongue as wide as the
+/// edge-march step, [`RegionSettings::edge_step`]): where a tongue as wide as the
 /// window is marched over.
 fn march(s: &RegionSettings, window: Interval) -> impl Iterator<Item = f64> + '_ {
     std::iter::successors(Some(window.lo), move |&p| {

@@ -117,7 +117,7 @@ const FLAG_METRICS: [&str; 3] = ["verified", "clipped", "clipped_after"];
 /// The metric that lists warnings (texts).
 const WARNINGS_METRIC: &str = "warnings";
 
-/// Why one metric value is not of the kind [`super::run_case`] writes for its key:
+/// Why one metric value is not of the kind [`super::run_case::run_case()`] writes for its key:
 /// counts, texts, flags and the warning list by name, every other key a number (or
 /// null where there is none).
 fn metric_fault(key: &str, v: &serde_json::Value) -> Option<&'static str> {

@@ -34,9 +34,11 @@ struct PlanEntry {
     name: String,
     folder: String,
     overrides: Vec<String>,
-    /// The input hash its finished `result.json` records: a run skips the case when it
-    /// finds this hash there with success (for tools that prepare or check a folder).
-    input_sha256: String,
+    /// The input hash its finished `result.json` records as `input_hash`: a run skips the
+    /// case when it finds this hash there with success (for tools that prepare or check a
+    /// folder). Not the provenance's `input_sha256` of a JSON output, which hashes the
+    /// problem file alone.
+    input_hash: String,
 }
 
 /// A plan listing in JSON.
@@ -111,7 +113,7 @@ pub fn plan_cmd(file: &Path, shards: Option<u32>, json: bool) -> Result<String, 
         let list = (0..plan.len())
             .map(|i| {
                 let c = plan.case(i);
-                let input_sha256 = hasher.of(&c, &plan.study);
+                let input_hash = hasher.of(&c, &plan.study);
                 PlanEntry {
                     index: i,
                     id: case_id(&c),
@@ -120,7 +122,7 @@ pub fn plan_cmd(file: &Path, shards: Option<u32>, json: bool) -> Result<String, 
                     name: c.name,
                     folder: c.slug,
                     overrides: c.overrides,
-                    input_sha256,
+                    input_hash,
                 }
             })
             .collect();

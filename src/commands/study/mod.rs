@@ -87,7 +87,7 @@ pub struct StudyOptions {
     /// Print the cases the run would do and touch nothing (`--dry-run`).
     pub dry_run: bool,
     /// The limits of each case's estimated cost (`--max-cost`); the number of cases is
-    /// bounded by [`MAX_STUDY_CASES`] instead.
+    /// bounded by [`plan::MAX_STUDY_CASES`] instead.
     pub budget: Budget,
 }
 

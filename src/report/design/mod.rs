@@ -1,6 +1,6 @@
 //! The tuned-parameter report of a design run: the content (serialised as report.json),
 //! its Markdown rendering (report.md: page one, then the details) and its figures
-//! ([`figures`]). Rendering only: no file I/O here.
+//! ([`figures()`]). Rendering only: no file I/O here.
 
 mod details;
 mod figures;
