@@ -3,15 +3,17 @@
 
 use super::*;
 use crate::analysis::regions::level::guard_lattice;
+use crate::analysis::regions::maximise::most_climb_evaluations;
+use crate::analysis::regions::tongues::CREST_SPAN;
+use crate::analysis::regions::START_WINDOW;
 
-/// Evaluations of a tip climb: three to bracket, doubling steps across the start window
-/// (2e-5 to 3e-3 of φ: 8) and the refinement (`tip_iterations`).
-const CLIMB_BRACKET: f64 = 3.0 + 8.0;
-/// Evaluations of one seed's search at the level: the centre search (1 + its iterations,
-/// each with eigenvectors: counted twice), the lock test (2), the crest climb and its
-/// check; and of its tongue's two edges (the first growing march steps and the lattice
-/// refinement: 13 each).
-const HIT_FIXED: f64 = 2.0 + CLIMB_BRACKET + 1.0;
+/// Evaluations of one seed's search at the level besides its crest climb
+/// ([`most_climb_evaluations`] over the crest span) and its centre search (1 + its
+/// iterations, each with eigenvectors: counted twice): the lock test (2) and the crest's
+/// check (1).
+const LOCK_AND_CHECK: f64 = 2.0 + 1.0;
+/// Evaluations of a tongue's two edges: the first growing march steps and the lattice
+/// refinement, 13 each.
 const EDGE_EVALUATIONS: f64 = 26.0;
 /// Evaluations of one tracked level of a boundary: the inside point (up to 10 tries) and
 /// both edges.
@@ -102,7 +104,8 @@ fn level_search(
         return (once + again, searched);
     }
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
-    let per_seed = HIT_FIXED + s.centre_iterations as f64 * 2.0 + 2.0 + s.tip_iterations as f64 + EDGE_EVALUATIONS;
+    let centre = 2.0 * (1.0 + s.centre_iterations as f64);
+    let per_seed = LOCK_AND_CHECK + most_climb_evaluations(s, CREST_SPAN) + centre + EDGE_EVALUATIONS;
     let mut work = Tally::default();
     let mut count = 0;
     for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {
@@ -142,7 +145,7 @@ pub fn catalogue(
 ) -> Estimate {
     let (range, beta_max, level) = (work.range, work.beta_max, work.level);
     let screen = SCREENING_TOLERANCE.min(s.tip_margin.absolute).max(s.beta_tolerance);
-    let climb = CLIMB_BRACKET + s.tip_iterations as f64;
+    let climb = most_climb_evaluations(s, START_WINDOW);
     let mut starts = Tally::default();
     let mut brackets = Tally::default();
     let mut located = 0usize;

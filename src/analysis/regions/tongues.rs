@@ -32,7 +32,7 @@ const LOCK_STEP: f64 = 0.05;
 const LOCKED: f64 = 1e-7;
 /// Half-width of that crest search, relative to φ (9 rad/s at 1800 rad/s): the collided
 /// interval of a damped order-2 tongue at β = 0.3 on the paper's rotor is 6 rad/s wide.
-const CREST_SPAN: f64 = 5e-3;
+pub const CREST_SPAN: f64 = 5e-3;
 
 /// Key of a group search: (forward group, backward group, order).
 pub(super) type GroupKey = (usize, usize, usize);
