@@ -66,9 +66,7 @@ const SWEEP_12: &str =
 
 /// The plan as `study plan --shards N --json` gives it: (index, kind, shard, name).
 fn plan(study: &str, shards: u32) -> Vec<(u64, String, u32, String)> {
-    let o = run(&["study", "plan", study, "--shards", &shards.to_string(), "--json"], None);
-    let v: Value = serde_json::from_str(&ok(&o)).unwrap();
-    v["list"]
+    plan_json(study, Some(shards))["list"]
         .as_array()
         .unwrap()
         .iter()
@@ -108,9 +106,14 @@ fn summary_csv(out: &Path) -> Vec<Vec<String>> {
 }
 
 /// `study plan --json`: the plan's hash and its cases (index, id, folder, name, kind,
-/// overrides, input hash).
-fn plan_json(study: &str) -> Value {
-    serde_json::from_str(&ok(&run(&["study", "plan", study, "--json"], None))).unwrap()
+/// overrides, input hash; with `shards`, its shard).
+fn plan_json(study: &str, shards: Option<u32>) -> Value {
+    let shards = shards.map(|n| n.to_string());
+    let mut args = vec!["study", "plan", study, "--json"];
+    if let Some(n) = &shards {
+        args.extend(["--shards", n]);
+    }
+    serde_json::from_str(&ok(&run(&args, None))).unwrap()
 }
 
 /// Sorted task numbers written as Slurm's `--array` syntax reads them, runs of
@@ -142,7 +145,7 @@ fn shards_are_disjoint_cover_the_plan_and_merge_to_the_unsharded_summary() {
     reference(&study, &whole);
     let names: Vec<String> = plan(&study, 1).into_iter().map(|c| c.3).collect();
     assert_eq!(names.len(), 12);
-    let cases = plan_json(&study)["list"].clone();
+    let cases = plan_json(&study, None)["list"].clone();
     for n in [1u32, 2, 3, 7] {
         let p = plan(&study, n);
         // Disjoint and covering: every case in exactly one shard, every shard non-empty.
@@ -529,7 +532,7 @@ fn a_10000_case_plan_and_its_status_list_every_case() {
     eprintln!("10 000-case plan: --dry-run of one shard {dry:.3} s, `study plan --shards 7` {plan_seconds:.3} s");
 
     // A folder of 10 000 finished results, as the study writes them.
-    let listed = plan_json(study.to_str().unwrap());
+    let listed = plan_json(study.to_str().unwrap(), None);
     let (cases, plan_hash) = (listed["list"].as_array().unwrap(), listed["plan_sha256"].as_str().unwrap());
     let canonical = std::fs::canonicalize(&study).unwrap().display().to_string();
     std::fs::create_dir_all(out.join("cases")).unwrap();

@@ -121,9 +121,10 @@ impl ChartGrid {
         let beta_max = limits::beta_max(self.beta_max)?;
         let beta_step = limits::positive(Quantity::Load, self.beta_step)?;
         let axis = |lo: f64, hi: f64, step: f64| -> Result<Vec<f64>, ParamError> {
-            let n = ((hi - lo) / step + 1e-9).floor() + 1.0;
-            let n = limits::count(n as u64, 1, MAX_CHART_AXIS as u64)? as usize;
-            Ok((0..n).map(|i| lo + step * i as f64).collect())
+            let grid = Interval::new(lo, hi);
+            limits::count(grid.step_count(step) as u64, 1, MAX_CHART_AXIS as u64)?;
+            // Within the bound just checked: never the empty default.
+            Ok(grid.stepped(step, MAX_CHART_AXIS).unwrap_or_default())
         };
         Ok((axis(phi.lo, phi.hi, phi_step)?, axis(0.0, beta_max, beta_step)?))
     }

@@ -123,7 +123,7 @@ mod tests {
             let bound = most_climb_evaluations(&s, over_phi) - s.tip_iterations as f64;
             assert!(calls as f64 <= bound, "{calls} evaluations, bound {bound} at {over_phi}");
         }
-        // The bound the region searches count: the start window's and the crest span's.
+        // The bound the region searches count for a start climb (the literal 3 + 8 before).
         assert_eq!(most_climb_evaluations(&s, crate::analysis::regions::START_WINDOW), 11.0 + s.tip_iterations as f64);
     }
 }
