@@ -11,7 +11,7 @@
 //! of the region search. Steps may be reported from any thread, in any order; reporting
 //! never changes a result.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// Receives the progress of a computation. Every method has an empty default, so an
@@ -32,6 +32,11 @@ pub trait Progress: Sync {
     /// A command found something on disk it ignored or left alone (a tampered record, a
     /// leftover it could not prove its own): one line, starting `warning: `.
     fn notice(&self, _line: &str) {}
+    /// `count` more monodromy evaluations were made (the region search's unit of work,
+    /// counted where it is made: the search's probe, the design's counters). A
+    /// [`Deadline`] with an allowance stops the work once the count passes it; a wrapper
+    /// that passes reports on must pass this one too.
+    fn evaluated(&self, _count: u64) {}
     /// Whether the caller asks the computation to stop (the Python bindings: Ctrl-C, a
     /// progress callback that raised; a command's time limit, [`Deadline`]). The loops that take long ask it before each step
     /// (a chart before each φ row, the region catalogue and the band search before each
@@ -50,15 +55,27 @@ pub trait Progress: Sync {
 /// runs (`--time-limit`, docs/errors.md `TimeLimit`). Every report goes on to `inner`, and
 /// the work stops as `inner` asks too (Ctrl-C in the Python bindings).
 ///
-/// [`Deadline::tripped`] tells whether the limit stopped a step: the work skipped what it
-/// had not begun, and its result is incomplete. A computation that never asks
-/// [`Progress::cancelled`] is never stopped, and never tripped.
+/// A deadline may also carry an allowance of monodromy evaluations
+/// ([`Deadline::with_allowance`]): the work's own count, reported as it is made
+/// ([`Progress::evaluated`]), stops it once it passes the allowance, whatever the machine.
+///
+/// [`Deadline::tripped`] tells whether a limit stopped a step ([`Deadline::counted_out`]:
+/// the allowance): the work skipped what it had not begun, and its result is incomplete.
+/// A computation that never asks [`Progress::cancelled`] is never stopped, and never
+/// tripped.
 pub struct Deadline<'a> {
     inner: &'a dyn Progress,
     started: Instant,
     /// The limit (`None`: no limit, e.g. an infinite one).
     limit: Option<Duration>,
     tripped: AtomicBool,
+    /// Most monodromy evaluations allowed ([`Deadline::with_allowance`]; `None`: no
+    /// count limit).
+    allowance: Option<u64>,
+    /// Monodromy evaluations reported so far ([`Progress::evaluated`]).
+    evaluations: AtomicU64,
+    /// Whether the allowance (not the time) stopped a step.
+    counted_out: AtomicBool,
 }
 
 impl<'a> Deadline<'a> {
@@ -67,7 +84,36 @@ impl<'a> Deadline<'a> {
     /// (infinite, NaN), never stops; one below a nanosecond stops at the first question.
     pub fn new(inner: &'a dyn Progress, seconds: f64) -> Deadline<'a> {
         let limit = if seconds > 0.0 { Duration::try_from_secs_f64(seconds).ok() } else { None };
-        Deadline { inner, started: Instant::now(), limit, tripped: AtomicBool::new(false) }
+        Deadline {
+            inner,
+            started: Instant::now(),
+            limit,
+            tripped: AtomicBool::new(false),
+            allowance: None,
+            evaluations: AtomicU64::new(0),
+            counted_out: AtomicBool::new(false),
+        }
+    }
+
+    /// This deadline with at most `most` monodromy evaluations (`None`: no count limit):
+    /// the first question after the reported count has passed it stops the work.
+    pub fn with_allowance(self, most: Option<u64>) -> Deadline<'a> {
+        Deadline { allowance: most, ..self }
+    }
+
+    /// The allowance of monodromy evaluations, if any.
+    pub fn allowance(&self) -> Option<u64> {
+        self.allowance
+    }
+
+    /// Monodromy evaluations reported so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+
+    /// Whether the allowance of evaluations (rather than the time) stopped a step.
+    pub fn counted_out(&self) -> bool {
+        self.counted_out.load(Ordering::Relaxed)
     }
 
     /// Whether the limit has stopped a step (the work asked and was told to stop).
@@ -83,7 +129,12 @@ impl<'a> Deadline<'a> {
 
 impl std::fmt::Debug for Deadline<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Deadline").field("limit", &self.limit).field("tripped", &self.tripped()).finish_non_exhaustive()
+        f.debug_struct("Deadline")
+            .field("limit", &self.limit)
+            .field("allowance", &self.allowance)
+            .field("evaluations", &self.evaluations())
+            .field("tripped", &self.tripped())
+            .finish_non_exhaustive()
     }
 }
 
@@ -103,11 +154,20 @@ impl Progress for Deadline<'_> {
     fn notice(&self, line: &str) {
         self.inner.notice(line)
     }
+    fn evaluated(&self, count: u64) {
+        self.evaluations.fetch_add(count, Ordering::Relaxed);
+        self.inner.evaluated(count)
+    }
     fn cancelled(&self) -> bool {
         if self.inner.cancelled() {
             return true;
         }
         if self.tripped() {
+            return true;
+        }
+        if self.allowance.is_some_and(|most| self.evaluations() > most) {
+            self.counted_out.store(true, Ordering::Relaxed);
+            self.tripped.store(true, Ordering::Relaxed);
             return true;
         }
         let over = self.limit.is_some_and(|limit| self.started.elapsed() > limit);
@@ -188,5 +248,30 @@ mod tests {
         };
         Deadline::new(&tick, 1.0).advance(3);
         assert_eq!(calls.load(Ordering::Relaxed), 3);
+    }
+
+    #[test]
+    fn an_allowance_stops_the_first_question_after_the_count_passes_it() {
+        let d = Deadline::new(&Silent, f64::INFINITY).with_allowance(Some(5));
+        d.evaluated(3);
+        d.evaluated(2);
+        assert!(!d.cancelled() && !d.tripped(), "5 of 5 is within the allowance");
+        d.evaluated(1);
+        assert!(!d.tripped(), "not tripped before the work asks");
+        assert!(d.cancelled() && d.tripped() && d.counted_out());
+        assert_eq!(d.evaluations(), 6);
+        // Without an allowance the count never stops the work; a time stop is not a count's.
+        let d = Deadline::new(&Silent, f64::INFINITY);
+        d.evaluated(u64::MAX / 2);
+        assert!(!d.cancelled() && !d.counted_out());
+        let d = Deadline::new(&Silent, 1e-9).with_allowance(Some(5));
+        std::thread::sleep(Duration::from_millis(1));
+        assert!(d.cancelled() && d.tripped() && !d.counted_out());
+        // Counts go on to the inner progress (a deadline inside another).
+        let outer = Deadline::new(&Silent, f64::INFINITY).with_allowance(Some(1));
+        let inner = Deadline::new(&outer, f64::INFINITY);
+        inner.evaluated(2);
+        assert_eq!(outer.evaluations(), 2);
+        assert!(inner.cancelled() && !inner.tripped() && outer.counted_out());
     }
 }

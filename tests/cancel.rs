@@ -1,8 +1,8 @@
 //! `Progress::cancelled`: a chart, a region catalogue and an unbalance response asked to
 //! stop skip the steps not begun (an incomplete result, for the caller to discard), a
-//! design ends with
-//! `DesignError::Stopped`, and a progress that never asks changes nothing (the Python
-//! bindings' Ctrl-C, docs/python.md).
+//! design ends with `DesignError::Stopped` (also when its allowance of evaluations is
+//! spent, `Progress::evaluated`), and a progress that never asks changes nothing (the
+//! Python bindings' Ctrl-C, docs/python.md).
 
 use rotorshunt::analysis::chart::chart;
 use rotorshunt::analysis::regions::catalogue_with;
@@ -104,6 +104,29 @@ fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
     assert_eq!(e.kind(), "Stopped");
     let built = progress.done.load(Ordering::Relaxed);
     assert!(built <= 2 + rayon::current_num_threads() as u64, "{built} candidates built");
+}
+
+#[test]
+fn a_design_reports_its_evaluations_and_stops_at_its_allowance() {
+    use rotorshunt::design::{self, DesignError};
+    use rotorshunt::progress::Deadline;
+    let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
+    let problem = Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap();
+    let spec = problem.design.as_ref().unwrap();
+    let machine = problem.machine();
+    // Every candidate's evaluations are reported (the optimiser's count), and the
+    // verification's catalogues beside them (its grid points are not region searches).
+    let watch = Deadline::new(&Silent, f64::INFINITY);
+    let full = design::run(&machine, spec, &watch).unwrap();
+    let (optimiser, verification) = (full.floquet_evaluations as u64, full.verification_cost.evaluations as u64);
+    let reported = watch.evaluations();
+    assert!(optimiser > 100, "{optimiser} evaluations");
+    assert!((optimiser..=optimiser + verification).contains(&reported), "{reported} of {optimiser} + {verification}");
+    // An allowance of half the optimiser's count stops the run on its own count.
+    let half = Deadline::new(&Silent, f64::INFINITY).with_allowance(Some(optimiser / 2));
+    let e = design::run(&machine, spec, &half).expect_err("stopped");
+    assert!(matches!(e, DesignError::Stopped), "{e}");
+    assert!(half.counted_out() && half.evaluations() < optimiser, "{half:?}");
 }
 
 #[test]

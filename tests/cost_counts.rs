@@ -15,14 +15,21 @@
 //! (every problem), the README's tracked catalogue (Fig. 11, 1000–1500 rad/s, β_max 0.5,
 //! level 0.3, boundaries tracked), and the band at φ_op = 1230 rad/s, level 0.3, in its
 //! default window (every problem). Ratios count/used are printed.
+//!
+//! The count is also enforced while a search runs: every evaluation is reported as it is
+//! made ([`Progress::evaluated`]), and a command's running bound stops the search once
+//! the count passes its allowance ([`Budget::allowance`], at least the count before). The
+//! searches here run under a [`Deadline`] that checks the report is whole (its count
+//! equals the search's), and the last test stops a band at half its own count.
 
 use crate::common;
 
 use rayon::prelude::*;
-use rotorshunt::analysis::cost::{self, CatalogueWork, PointCost};
+use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, PointCost, Stopped};
 use rotorshunt::analysis::regions::{self, seeds_for, CatalogueRequest};
 use rotorshunt::analysis::{Criterion, Interval};
 use rotorshunt::problem::Problem;
+use rotorshunt::progress::{Deadline, Progress, Silent};
 
 /// The catalogue every problem is searched over: φ (rad/s), β_max and the level (−).
 const RANGE: Interval = Interval::new(500.0, 3000.0);
@@ -32,10 +39,19 @@ const LEVEL: f64 = 0.3;
 /// `rotorshunt band` takes it).
 const PHI_OP: f64 = 1230.0;
 
-/// One search's count before and evaluations used: a failure when the search used more
-/// than counted.
-fn check(name: &str, what: &str, counted: f64, used: usize) -> Option<String> {
+/// A running bound with neither a time limit nor an allowance: it only counts.
+fn watching() -> Deadline<'static> {
+    Deadline::new(&Silent, f64::INFINITY)
+}
+
+/// One search's count before and evaluations used (and reported to `watch` while it
+/// ran): a failure when the search used more than counted, or reported other than it
+/// used.
+fn check(name: &str, what: &str, counted: f64, used: usize, watch: &Deadline<'_>) -> Option<String> {
     println!("{name}: {what}: counted {counted:.0}, used {used} ({:.1}×)", counted / used.max(1) as f64);
+    if watch.evaluations() != used as u64 {
+        return Some(format!("{name}: {what} used {used} evaluations, reported {}", watch.evaluations()));
+    }
     (used as f64 > counted).then(|| format!("{name}: {what} used {used} evaluations, counted {counted:.0}"))
 }
 
@@ -47,7 +63,8 @@ fn catalogue(name: &str, problem: &Problem, req: &CatalogueRequest) -> Option<St
     let seeds = seeds_for(fs, None, req.range, criterion.max_order).expect("seeds");
     let work = CatalogueWork { range: req.range, beta_max: req.beta_max, level: req.level, track: req.track };
     let counted = cost::catalogue(&PointCost::of(fs), &op.regions, &criterion, &seeds, &work).evaluations;
-    let cat = regions::catalogue(fs, &op.modes, &op.regions, req).expect("the catalogue");
+    let watch = watching();
+    let cat = regions::catalogue_with(fs, &op.modes, &op.regions, req, &watch).expect("the catalogue");
     let what = format!(
         "catalogue {}..{} rad/s, beta_max {}, level {}{}",
         req.range.lo,
@@ -56,7 +73,7 @@ fn catalogue(name: &str, problem: &Problem, req: &CatalogueRequest) -> Option<St
         req.level,
         if req.track { ", tracked" } else { "" }
     );
-    check(name, &what, counted, cat.evaluations)
+    check(name, &what, counted, cat.evaluations, &watch)
 }
 
 /// The band at [`PHI_OP`] on `problem`: its count and the search's own.
@@ -67,8 +84,9 @@ fn band(name: &str, problem: &Problem) -> Option<String> {
     let window = Interval::new(PHI_OP / 20.0, PHI_OP * 20.0);
     let seeds = seeds_for(fs, None, window, criterion.max_order).expect("seeds");
     let counted = cost::band(&PointCost::of(fs), &op.regions, &criterion, &seeds, window, LEVEL).evaluations;
-    let b = regions::band(fs, &op.modes, &op.regions, window, PHI_OP, LEVEL).expect("the band");
-    check(name, &format!("band at phi_op = {PHI_OP} rad/s, level {LEVEL}"), counted, b.evaluations)
+    let watch = watching();
+    let b = regions::band_with(fs, &op.modes, &op.regions, window, PHI_OP, LEVEL, &watch).expect("the band");
+    check(name, &format!("band at phi_op = {PHI_OP} rad/s, level {LEVEL}"), counted, b.evaluations, &watch)
 }
 
 #[test]
@@ -101,4 +119,36 @@ fn region_searches_stay_within_their_counted_evaluations() {
         .expect("request");
     failures.extend(catalogue("fig11-closed-2000.toml", &fig11, &tracked));
     assert!(failures.is_empty(), "searches beyond their count:\n{}", failures.join("\n"));
+}
+
+#[test]
+fn a_search_past_its_allowance_stops_on_its_own_count() {
+    let problem = Problem::from_path(common::root().join("problems/fig11-closed-2000.toml"), &[]).expect("loads");
+    let op = problem.operating_point().expect("the problem reduces");
+    let (fs, window) = (&op.floquet, Interval::new(PHI_OP / 20.0, PHI_OP * 20.0));
+    let band =
+        |progress: &dyn Progress| regions::band_with(fs, &op.modes, &op.regions, window, PHI_OP, LEVEL, progress);
+    let used = band(&Silent).expect("the band").evaluations as u64;
+    assert!(used > 20, "a band of {used} evaluations");
+    // An allowance of its own count: not stopped.
+    let whole = watching().with_allowance(Some(used));
+    let again = band(&whole);
+    assert!(!whole.tripped(), "stopped at its own count: {whole:?}");
+    assert_eq!(again.expect("the band").evaluations as u64, used);
+    // Half of it: stopped by the count, before the search's end, and the command's error says so.
+    let half = watching().with_allowance(Some(used / 2));
+    let _incomplete = band(&half);
+    assert!(half.tripped() && half.counted_out(), "{half:?}");
+    assert!(half.evaluations() > used / 2 && half.evaluations() < used, "{} of {used}", half.evaluations());
+    match Budget::default().stopped(&half, "the band search") {
+        Err(Stopped::Count(e)) => {
+            assert_eq!((e.allowed, e.used), (used / 2, half.evaluations()));
+            let text = e.to_string();
+            assert!(
+                text.starts_with(&format!("the band search was stopped at its allowance of {} monodromy", used / 2)),
+                "{text}"
+            );
+        }
+        other => panic!("not a count stop: {other:?}"),
+    }
 }

@@ -5,7 +5,7 @@
 //! documented.
 
 use crate::common;
-use rotorshunt::analysis::cost::{CostError, Resource, TimeLimitError};
+use rotorshunt::analysis::cost::{CostError, CountLimitError, Resource, TimeLimitError};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::design::DesignError;
 use rotorshunt::import::ross::{Format, Refusal, RossError, RossErrorKind};
@@ -119,6 +119,7 @@ fn every_kind() -> Vec<&'static str> {
             detail: s(),
         }),
         Error::TimeLimit(TimeLimitError { what: s(), limit: 1.0, elapsed: 1.0, explicit: true }),
+        Error::CountLimit(CountLimitError { what: s(), allowed: 1, used: 2 }),
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
         Error::OutputIsInput { path: s(), input: s() },

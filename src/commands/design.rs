@@ -140,10 +140,11 @@ pub fn design_cmd(
 ) -> Result<(String, DesignOutcome), Error> {
     // No folder is created for a file without a [design] table.
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
+    let estimate = design_estimate(problem, spec, &budget)?;
+    bounds::admit(&budget, "the design", &estimate, &DESIGN)?;
     modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let outcome = design_report(problem, &dir, progress, &budget)?;
+    let outcome = design_report(problem, &dir, progress, &budget, &estimate)?;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
@@ -154,9 +155,10 @@ pub fn design_cmd(
 #[allow(dead_code)] // called by the Python bindings alone
 pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    bounds::admit(&budget, "the design", &design_estimate(problem, spec, &budget)?, &DESIGN)?;
+    let estimate = design_estimate(problem, spec, &budget)?;
+    bounds::admit(&budget, "the design", &estimate, &DESIGN)?;
     modes_exist(problem, None, spec)?;
-    let deadline = budget.deadline(progress);
+    let deadline = budget.running(progress, &estimate);
     let outcome = design::run(&problem.machine(), spec, &deadline);
     budget.stopped(&deadline, "the design")?;
     Ok(outcome?)
@@ -188,17 +190,19 @@ pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &Desig
     }
 }
 
-/// Run the design and write the report files to `dir`; the outcome. A design or report
-/// stopped at `budget`'s time limit is an error, its files left uncommitted.
+/// Run the design admitted at `estimate` and write the report files to `dir`; the
+/// outcome. A design or report stopped at `budget`'s time limit or at the estimate's
+/// allowance of evaluations is an error, its files left uncommitted.
 pub fn design_report(
     problem: &Problem,
     dir: &OutDir,
     progress: &dyn Progress,
     budget: &Budget,
+    estimate: &Estimate,
 ) -> Result<DesignOutcome, Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     let machine = problem.machine();
-    let deadline = budget.deadline(progress);
+    let deadline = budget.running(progress, estimate);
     let outcome = design::run(&machine, spec, &deadline);
     budget.stopped(&deadline, "the design")?;
     let outcome = outcome?;
@@ -407,10 +411,11 @@ pub fn pareto_cmd(
     // A front is its points' runs, and a point run again when it is dominated.
     let one = design_estimate(problem, spec, &budget)?;
     let runs = (2 * points) as f64;
-    bounds::admit(&budget, "the Pareto front", &one.times(runs, Driver::Candidates, "design runs"), &DESIGN)?;
+    let estimate = one.times(runs, Driver::Candidates, "design runs");
+    bounds::admit(&budget, "the Pareto front", &estimate, &DESIGN)?;
     modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let deadline = budget.deadline(progress);
+    let deadline = budget.running(progress, &estimate);
     let front = design::pareto::front(&problem.machine(), spec, points, &deadline);
     budget.stopped(&deadline, "the Pareto front")?;
     let front = front?;

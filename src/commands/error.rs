@@ -60,6 +60,11 @@ pub enum Error {
     /// was written.
     #[error(transparent)]
     TimeLimit(#[from] rotorshunt::analysis::cost::TimeLimitError),
+    /// A run stopped at its allowance of monodromy evaluations while it ran, counted as
+    /// the searches made them ([`rotorshunt::analysis::cost::Budget::allowance`]); nothing
+    /// was written.
+    #[error(transparent)]
+    CountLimit(#[from] rotorshunt::analysis::cost::CountLimitError),
     /// Writing an output failed (including a read-only file, which is not replaced).
     #[error("cannot write {path}: {message}")]
     Output {
@@ -243,6 +248,15 @@ impl From<rotorshunt::import::ross::ImportError> for Error {
     }
 }
 
+impl From<rotorshunt::analysis::cost::Stopped> for Error {
+    fn from(e: rotorshunt::analysis::cost::Stopped) -> Error {
+        match e {
+            rotorshunt::analysis::cost::Stopped::Time(e) => Error::TimeLimit(e),
+            rotorshunt::analysis::cost::Stopped::Count(e) => Error::CountLimit(e),
+        }
+    }
+}
+
 impl From<rotorshunt::import::ross::RossError> for Error {
     fn from(e: rotorshunt::import::ross::RossError) -> Error {
         Error::Ross(Box::new(e))
@@ -274,6 +288,7 @@ impl Error {
             Error::Argument { .. } => "Argument",
             Error::Cost(_) => "Cost",
             Error::TimeLimit(_) => "TimeLimit",
+            Error::CountLimit(_) => "CountLimit",
             Error::Output { .. } => "Output",
             Error::OutputIsInput { .. } => "OutputIsInput",
             Error::OutIsNotAFolder { .. } => "OutIsNotAFolder",
@@ -302,7 +317,7 @@ impl Error {
         const FAILED: u8 = 1;
         const STOPPED: u8 = 7;
         match self {
-            Error::TimeLimit(_) => STOPPED,
+            Error::TimeLimit(_) | Error::CountLimit(_) => STOPPED,
             Error::Problem(_)
             | Error::Ross(_)
             | Error::OutputExists { .. }

@@ -196,7 +196,7 @@ pub fn regions_cmd(
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
-    let deadline = budget.deadline(progress);
+    let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("catalogue", 0);
     let cat = catalogue_with(&fs, &full, &settings, &req, &deadline);
@@ -368,7 +368,7 @@ pub fn band_cmd(
     let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
     let warnings = super::range_warning(problem, &fs, window, key, progress);
     let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
-    let deadline = budget.deadline(progress);
+    let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("band", 0);
     let b = band_with(&fs, &full, &settings, window, phi_op, level, &deadline);

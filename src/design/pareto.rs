@@ -223,6 +223,9 @@ impl Progress for Relay<'_> {
     fn notice(&self, line: &str) {
         self.0.notice(line);
     }
+    fn evaluated(&self, count: u64) {
+        self.0.evaluated(count);
+    }
     fn cancelled(&self) -> bool {
         self.0.cancelled()
     }

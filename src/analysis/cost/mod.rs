@@ -329,6 +329,37 @@ pub struct TimeLimitError {
     pub explicit: bool,
 }
 
+/// A run stopped while it ran: its region searches passed their allowance of monodromy
+/// evaluations ([`Budget::allowance`]), counted as they were made
+/// ([`crate::progress::Deadline::with_allowance`]). The count before the run is an upper
+/// bound of the searches' own (tests/cost_counts.rs), so a run stopped here shows that
+/// count wrong for its input. What it had computed is dropped and nothing is written.
+#[derive(Debug, Clone, PartialEq, Error, Serialize)]
+#[error(
+    "{what} was stopped at its allowance of {allowed} monodromy evaluations ({used} made, counted while it ran: the work limit in the search's own count); nothing was written; allow FACTOR times more with --max-cost FACTOR"
+)]
+pub struct CountLimitError {
+    /// What was stopped, e.g. `the band search`.
+    pub what: String,
+    /// The allowance (evaluations).
+    pub allowed: u64,
+    /// The evaluations made when it stopped.
+    pub used: u64,
+}
+
+/// Why a run was stopped while it ran ([`Budget::stopped`]): one of a budget's two
+/// running limits. Exhaustive on purpose: a caller maps each to its own error, and a
+/// third limit must reach every such map before it compiles.
+#[derive(Debug, Clone, PartialEq, Error, Serialize)]
+pub enum Stopped {
+    /// At its time limit.
+    #[error(transparent)]
+    Time(#[from] TimeLimitError),
+    /// At its allowance of evaluations.
+    #[error(transparent)]
+    Count(#[from] CountLimitError),
+}
+
 /// The limits of a run: [`MAX_OPERATIONS`] and [`MAX_BYTES`] times a factor
 /// (`--max-cost`) for its counts before it starts, and a time limit measured while it
 /// runs ([`RunningLimit`]: none for a library caller, who can stop the run itself; the
@@ -404,23 +435,55 @@ impl Budget {
     }
 
     /// A deadline of this budget's time limit, from now, reporting to `progress` (one
-    /// that never passes without a limit).
+    /// that never passes without a limit), without an allowance of evaluations.
     pub fn deadline<'a>(&self, progress: &'a dyn crate::progress::Progress) -> crate::progress::Deadline<'a> {
         crate::progress::Deadline::new(progress, self.time_limit().unwrap_or(f64::INFINITY))
     }
 
-    /// The error of `what` when `deadline` (of this budget) stopped a step of it; what it
-    /// computed is then incomplete and must not be kept.
-    pub fn stopped(&self, deadline: &crate::progress::Deadline<'_>, what: &str) -> Result<(), TimeLimitError> {
+    /// The running bounds of a run admitted with `estimate`, from now, reporting to
+    /// `progress`: this budget's time limit and the allowance of evaluations of
+    /// `estimate` ([`Budget::allowance`]).
+    pub fn running<'a>(
+        &self,
+        progress: &'a dyn crate::progress::Progress,
+        estimate: &Estimate,
+    ) -> crate::progress::Deadline<'a> {
+        self.deadline(progress).with_allowance(self.allowance(estimate))
+    }
+
+    /// The monodromy evaluations a run counted at `estimate` may make while it runs: its
+    /// counted evaluations times the room its work leaves under the limit of operations,
+    /// at least its count. The limit of work, that is, in the unit the searches count
+    /// themselves, at the estimate's operations per evaluation. None for work without a
+    /// region search (no evaluations counted).
+    pub fn allowance(&self, estimate: &Estimate) -> Option<u64> {
+        let (count, work) = (estimate.evaluations, estimate.work.amount);
+        (count >= 1.0 && work > 0.0).then(|| {
+            // An `as` cast saturates: an allowance beyond u64 is u64::MAX.
+            (count * (self.operations() / work).max(1.0)).floor() as u64
+        })
+    }
+
+    /// The error of `what` when `deadline` (of this budget) stopped a step of it, at its
+    /// time limit or at its allowance; what it computed is then incomplete and must not be
+    /// kept.
+    pub fn stopped(&self, deadline: &crate::progress::Deadline<'_>, what: &str) -> Result<(), Stopped> {
         if !deadline.tripped() {
             return Ok(());
         }
-        Err(TimeLimitError {
+        if deadline.counted_out() {
+            return Err(Stopped::Count(CountLimitError {
+                what: what.to_string(),
+                allowed: deadline.allowance().unwrap_or(u64::MAX),
+                used: deadline.evaluations(),
+            }));
+        }
+        Err(Stopped::Time(TimeLimitError {
             what: what.to_string(),
             limit: self.time_limit().unwrap_or(f64::INFINITY),
             elapsed: deadline.elapsed(),
             explicit: matches!(self.running, RunningLimit::Given(_)),
-        })
+        }))
     }
 
     /// This budget with its memory limit divided among `parts` runs held at once (the
@@ -538,7 +601,7 @@ mod tests {
         assert!(b.stopped(&d, "the chart").is_ok());
         std::thread::sleep(std::time::Duration::from_millis(1));
         assert!(crate::progress::Progress::cancelled(&d));
-        let e = b.stopped(&d, "the chart").unwrap_err();
+        let Err(Stopped::Time(e)) = b.stopped(&d, "the chart") else { panic!("not a time stop") };
         assert!(e.explicit && e.limit == 1e-9 && e.elapsed > e.limit, "{e:?}");
         assert!(e.to_string().starts_with("the chart was stopped at its time limit of 1e-9 s (after "), "{e}");
         assert!(e.to_string().contains(" s, measured while it ran); nothing was written; "), "{e}");
@@ -548,8 +611,37 @@ mod tests {
         let d = b.deadline(&crate::progress::Silent);
         std::thread::sleep(std::time::Duration::from_millis(1));
         assert!(crate::progress::Progress::cancelled(&d));
-        let e = b.stopped(&d, "the design").unwrap_err();
+        let Err(Stopped::Time(e)) = b.stopped(&d, "the design") else { panic!("not a time stop") };
         assert!(!e.explicit && e.limit == 3.6e-9, "{e:?}");
         assert!(e.to_string().ends_with("(or --max-cost FACTOR, whose time limit is FACTOR times 3600 s)"), "{e}");
+    }
+
+    #[test]
+    fn the_allowance_is_the_work_limit_in_evaluations_and_never_below_the_count() {
+        let of = |evaluations: f64, operations: f64| Estimate {
+            evaluations,
+            ..Estimate::work(operations, Driver::Grid, String::new())
+        };
+        let b = Budget::default();
+        // 1000 evaluations counted at 3e12 operations: ten times the count fits the limit.
+        assert_eq!(b.allowance(&of(1000.0, 3.0e12)), Some(10_000));
+        assert_eq!(Budget::new(2.0).unwrap().allowance(&of(1000.0, 3.0e12)), Some(20_000));
+        // A count at or beyond the limit is allowed no less than itself.
+        assert_eq!(b.allowance(&of(1000.0, 6.0e13)), Some(1000));
+        // No region search, or no work: no allowance.
+        assert_eq!(b.allowance(&of(0.0, 1.0e12)), None);
+        assert_eq!(b.allowance(&of(10.0, 0.0)), None);
+        // A huge allowance saturates.
+        assert_eq!(Budget::new(1e300).unwrap().allowance(&of(1e10, 1.0)), Some(u64::MAX));
+        // The running bound carries it; a stop at it is a count stop naming both numbers.
+        let d = b.running(&crate::progress::Silent, &of(3.0, 3.0e13));
+        assert_eq!(d.allowance(), Some(3));
+        crate::progress::Progress::evaluated(&d, 4);
+        assert!(crate::progress::Progress::cancelled(&d));
+        let Err(Stopped::Count(e)) = b.stopped(&d, "the catalogue") else { panic!("not a count stop") };
+        assert_eq!((e.allowed, e.used), (3, 4));
+        assert!(e
+            .to_string()
+            .starts_with("the catalogue was stopped at its allowance of 3 monodromy evaluations (4 made"));
     }
 }

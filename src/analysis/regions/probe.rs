@@ -14,7 +14,9 @@
 //!
 //! A probe also carries the search's [`Progress`]: the searches report their steps (a
 //! seed's start or hits, a tongue's extent, a guard-lattice point, a tracked boundary)
-//! to it as they learn of them and finish them.
+//! to it as they learn of them and finish them, and the probe reports each evaluation
+//! ([`Progress::evaluated`]): a run's allowance of evaluations stops the search on its
+//! own count ([`crate::progress::Deadline::with_allowance`]).
 
 use super::RegionSettings;
 use crate::analysis::floquet::fast::PhiTable;
@@ -22,18 +24,40 @@ use crate::analysis::floquet::{FloquetSystem, PointSummary};
 use crate::progress::{Progress, Silent};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Counts monodromy evaluations (shared across threads).
-#[derive(Debug, Default)]
-pub struct Counter(AtomicUsize);
+/// Counts monodromy evaluations (shared across threads), and reports each addition to a
+/// [`Progress`] ([`Progress::evaluated`]: the unit of a run's allowance,
+/// [`crate::progress::Deadline::with_allowance`]).
+pub struct Counter<'a> {
+    count: AtomicUsize,
+    progress: &'a dyn Progress,
+}
 
-impl Counter {
+impl Default for Counter<'_> {
+    /// A counter whose count nobody watches.
+    fn default() -> Self {
+        Counter::reporting(&Silent)
+    }
+}
+
+impl std::fmt::Debug for Counter<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("Counter").field(&self.get()).finish()
+    }
+}
+
+impl<'a> Counter<'a> {
+    /// A counter at 0 that reports its additions to `progress`.
+    pub fn reporting(progress: &'a dyn Progress) -> Counter<'a> {
+        Counter { count: AtomicUsize::new(0), progress }
+    }
     /// Add `n` evaluations.
     pub fn add(&self, n: usize) {
-        self.0.fetch_add(n, Ordering::Relaxed);
+        self.count.fetch_add(n, Ordering::Relaxed);
+        self.progress.evaluated(n as u64);
     }
     /// Evaluations so far.
     pub fn get(&self) -> usize {
-        self.0.load(Ordering::Relaxed)
+        self.count.load(Ordering::Relaxed)
     }
 }
 
@@ -42,7 +66,7 @@ impl Counter {
 pub struct Probe<'a> {
     fs: &'a FloquetSystem,
     settings: &'a RegionSettings,
-    evaluations: Counter,
+    evaluations: Counter<'a>,
     progress: &'a dyn Progress,
 }
 
@@ -63,9 +87,10 @@ impl<'a> Probe<'a> {
         Probe::reporting(fs, settings, &Silent)
     }
 
-    /// A probe whose searches report their steps to `progress` (module docs).
+    /// A probe whose searches report their steps, and its count of evaluations, to
+    /// `progress` (module docs).
     pub fn reporting(fs: &'a FloquetSystem, settings: &'a RegionSettings, progress: &'a dyn Progress) -> Probe<'a> {
-        Probe { fs, settings, evaluations: Counter::default(), progress }
+        Probe { fs, settings, evaluations: Counter::reporting(progress), progress }
     }
 
     /// The progress the searches report to.

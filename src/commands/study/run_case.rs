@@ -2,6 +2,7 @@
 //! catalogue (and band) or the design, and the key results recorded as metrics.
 
 use super::*;
+use rotorshunt::analysis::cost::Estimate;
 
 fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
@@ -23,7 +24,11 @@ pub(super) fn case_budget(budget: &Budget) -> Budget {
 /// The rotor and reduced system of a regions case, its work admitted within `budget`
 /// before the whirls and the search: the catalogue of the study's range and, with
 /// `phi_op`, the band.
-fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+fn regions_case_system(
+    problem: &Problem,
+    study: &StudyFile,
+    budget: &Budget,
+) -> Result<(Rotor, FloquetSystem, Estimate), Error> {
     bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
     let rotor = Rotor::new(&problem.model)?;
     let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
@@ -37,17 +42,27 @@ fn regions_case_system(problem: &Problem, study: &StudyFile, budget: &Budget) ->
         estimate = estimate.then(cost::band(&pc, &s, &criterion, &seeds, range, level));
     }
     bounds::admit(budget, "a regions case", &estimate, &STUDY)?;
-    Ok((rotor, fs))
+    Ok((rotor, fs, estimate))
 }
 
-/// Admit a case of `kind` on `problem` (the study's per-case estimate).
-pub(super) fn admit_case(problem: &Problem, kind: CaseKind, study: &StudyFile, budget: &Budget) -> Result<(), Error> {
+/// Admit a case of `kind` on `problem` (the study's per-case estimate); the estimate
+/// admitted (none for a design case without a design, which the case itself reports).
+pub(super) fn admit_case(
+    problem: &Problem,
+    kind: CaseKind,
+    study: &StudyFile,
+    budget: &Budget,
+) -> Result<Option<Estimate>, Error> {
     match kind {
-        CaseKind::Regions => regions_case_system(problem, study, budget).map(|_| ()),
+        CaseKind::Regions => regions_case_system(problem, study, budget).map(|(_, _, e)| Some(e)),
         CaseKind::Design => match problem.design.as_ref() {
-            Some(spec) => bounds::admit(budget, "a design case", &design_estimate(problem, spec, budget)?, &DESIGN),
+            Some(spec) => {
+                let estimate = design_estimate(problem, spec, budget)?;
+                bounds::admit(budget, "a design case", &estimate, &DESIGN)?;
+                Ok(Some(estimate))
+            }
             // Reported by the case itself (NoDesign).
-            None => Ok(()),
+            None => Ok(None),
         },
     }
 }
@@ -66,8 +81,8 @@ pub(super) fn run_case(
     let mut warnings: Vec<String> = problem.warnings.iter().map(|w| format!("key `{}`: {}", w.key, w.kind)).collect();
     match case.kind {
         CaseKind::Design => {
-            admit_case(&problem, CaseKind::Design, study, budget)?;
-            let o = design_report(&problem, dir, &Silent, budget)?;
+            let estimate = admit_case(&problem, CaseKind::Design, study, budget)?.unwrap_or_else(Estimate::zero);
+            let o = design_report(&problem, dir, &Silent, budget, &estimate)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified()));
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
@@ -110,7 +125,7 @@ pub(super) fn run_case(
         }
         CaseKind::Regions => {
             let level = study.level.unwrap_or(study.beta_max);
-            let (rotor, fs) = regions_case_system(&problem, study, budget)?;
+            let (rotor, fs, estimate) = regions_case_system(&problem, study, budget)?;
             let range = Interval::new(study.phi[0], study.phi[1]);
             for w in crate::commands::range_warning(&problem, &fs, range, "phi", &Silent) {
                 warnings.push(format!("key `{}`: {}", w.key, w.kind));
@@ -118,7 +133,7 @@ pub(super) fn run_case(
             let speed = problem.model.speed;
             let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
             let s = problem.regions.clone();
-            let deadline = budget.deadline(&Silent);
+            let deadline = budget.running(&Silent, &estimate);
             let req = CatalogueRequest { range, beta_max: study.beta_max, level, track: false };
             let cat = catalogue_with(&fs, &full, &s, &req, &deadline);
             budget.stopped(&deadline, "the case's region catalogue")?;
