@@ -2,9 +2,10 @@
 //! φ values they visit.
 
 use super::*;
-use crate::analysis::regions::level::guard_lattice;
+use crate::analysis::regions::level::{guard_lattice, most_edge_evaluations};
 use crate::analysis::regions::maximise::most_climb_evaluations;
 use crate::analysis::regions::tongues::CREST_SPAN;
+use crate::analysis::regions::track::most_level_evaluations;
 use crate::analysis::regions::START_WINDOW;
 
 /// Evaluations of one seed's search at the level besides its crest climb
@@ -12,14 +13,12 @@ use crate::analysis::regions::START_WINDOW;
 /// iterations, each with eigenvectors: counted twice): the lock test (2) and the crest's
 /// check (1).
 const LOCK_AND_CHECK: f64 = 2.0 + 1.0;
-/// Evaluations of a tongue's two edges: the first growing march steps and the lattice
-/// refinement, 13 each.
-const EDGE_EVALUATIONS: f64 = 26.0;
-/// Evaluations of one tracked level of a boundary: the inside point (up to 10 tries) and
-/// both edges.
-const TRACK_EVALUATIONS: f64 = 40.0;
-/// Evaluations a widest-band design spends per candidate and speed on its band: the
-/// bundled problem takes 105 on average (21 711 over 207 candidates); five times that.
+/// Evaluations a widest-band design is expected to spend per candidate and speed on its
+/// band: the bundled problem takes 105 on average (21 711 over 207 candidates); five times
+/// that. Not a bound: the band around φ_op ends at the nearest tongues of each candidate,
+/// which are not known before the run, and a bound over the whole range (`band`) is some
+/// 60 times this. What a design makes is bounded while it runs, by its allowance of
+/// evaluations ([`super::Budget::allowance`]).
 pub const DESIGN_BAND_EVALUATIONS: f64 = 500.0;
 
 /// The φ values an edge march may step through across `window` (steps of the largest
@@ -105,12 +104,13 @@ fn level_search(
     }
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
     let centre = 2.0 * (1.0 + s.centre_iterations as f64);
-    let per_seed = LOCK_AND_CHECK + most_climb_evaluations(s, CREST_SPAN) + centre + EDGE_EVALUATIONS;
+    let per_seed = LOCK_AND_CHECK + most_climb_evaluations(s, CREST_SPAN) + centre;
     let mut work = Tally::default();
     let mut count = 0;
     for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {
         let phi = x.phi.clamp(window.lo, window.hi);
-        work += Tally::of(per_seed, pc.point(phi, level));
+        let edges = 2.0 * most_edge_evaluations(s, phi, window);
+        work += Tally::of(per_seed + edges, pc.point(phi, level));
         count += 1;
     }
     work += guard_lattice(s.guard_step, window).into_iter().map(|p| Tally::of(1.0, pc.point(p, level))).sum();
@@ -163,7 +163,7 @@ pub fn catalogue(
         starts += Tally::of(climb, pc.point(phi, beta_max))
             + Tally::of(bracket(s, 0.0, 0.0, s.beta_tolerance), monodromy_max);
         if work.track {
-            starts += Tally::of(s.tracking_levels as f64 * TRACK_EVALUATIONS, pc.point(phi, beta_max));
+            starts += Tally::of(s.tracking_levels as f64 * most_level_evaluations(s, phi), pc.point(phi, beta_max));
         }
     }
     let (at_level, searched) = level_search(pc, s, criterion, seeds, range, level, true);

@@ -73,13 +73,60 @@ pub enum March {
     Limit(f64),
 }
 
+/// The march's first step relative to φ (−), and its floor in `phi_tolerance`s.
+const FIRST_STEP_RELATIVE: f64 = 2e-4;
+const FIRST_STEP_TOLERANCES: f64 = 4.0;
+/// Each step of a march is this many times the last, up to the edge step.
+const STEP_GROWTH: f64 = 1.6;
+
+/// The first step of a march from φ = `inside` (rad/s).
+fn first_step(s: &RegionSettings, inside: f64) -> f64 {
+    (inside * FIRST_STEP_RELATIVE).max(FIRST_STEP_TOLERANCES * s.phi_tolerance)
+}
+
+/// The step after `step` once the march has reached φ = `lo` (rad/s).
+fn next_step(s: &RegionSettings, step: f64, lo: f64) -> f64 {
+    (step * STEP_GROWTH).min(s.edge_step.at(lo))
+}
+
+/// Most steps a march from φ = `inside` takes before its step reaches the edge step: the
+/// march's own steps, walked upward (where the edge step grows with φ, the longest ramp),
+/// without a test. The steps at the full edge step are the march across the width it
+/// goes (what a cost counts across a window).
+pub fn ramp_steps(s: &RegionSettings, inside: f64) -> usize {
+    let (mut lo, mut step, mut n) = (inside, first_step(s, inside), 0);
+    while step < s.edge_step.at(lo) {
+        lo += step;
+        let next = next_step(s, step, lo);
+        // A step that no longer grows (φ beyond f64's resolution) ends the ramp.
+        if next.partial_cmp(&step) != Some(std::cmp::Ordering::Greater) {
+            break;
+        }
+        step = next;
+        n += 1;
+    }
+    n
+}
+
+/// Most tests [`bisect`] makes on a bracket `width` wide (rad/s, or −): halving to a
+/// tolerance takes ⌈log₂(width/tolerance)⌉; a lattice split halves the largest spacing
+/// inside the bracket at least at every test (the bracket holds no multiple of twice the
+/// spacing it is split at), from at most ⌈log₂(width/cell)⌉ doublings of the cell down to
+/// the cell, one more.
+pub fn most_splits(width: f64, split: Split) -> f64 {
+    match split {
+        Split::Halves(tolerance) => (width / tolerance).log2().ceil().max(0.0),
+        Split::Lattice(cell) => (width / cell).log2().ceil().max(0.0) + 1.0,
+    }
+}
+
 /// March from `inside` (where `test` holds) in the direction `dir` (−1 or +1) to the first
 /// point where it fails: steps growing from max(2e-4·φ, 4·`phi_tolerance`) by 1.6 up to
 /// [`RegionSettings::edge_step`] at the point reached, so a stable gap that wide is never
 /// stepped over. Stops before a step that reaches `limit` (rad/s).
 pub fn march(s: &RegionSettings, inside: f64, dir: f64, limit: f64, mut test: impl FnMut(f64) -> bool) -> March {
     let mut lo = inside;
-    let mut step = (inside * 2e-4).max(4.0 * s.phi_tolerance);
+    let mut step = first_step(s, inside);
     loop {
         let hi = lo + dir * step;
         if (hi - limit) * dir >= 0.0 {
@@ -89,7 +136,7 @@ pub fn march(s: &RegionSettings, inside: f64, dir: f64, limit: f64, mut test: im
             return March::Crossed(Bracket { inside: lo, outside: hi });
         }
         lo = hi;
-        step = (step * 1.6).min(s.edge_step.at(lo));
+        step = next_step(s, step, lo);
     }
 }
 
@@ -112,7 +159,52 @@ fn lattice_split(a: f64, b: f64, cell: f64) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::{bisect, Bracket, Split};
+    use super::{bisect, march, most_splits, ramp_steps, Bracket, Split};
+    use crate::analysis::regions::RegionSettings;
+
+    #[test]
+    fn bisections_stay_within_their_most_splits() {
+        // Brackets of many widths and offsets, crossings anywhere inside: the tests made
+        // never pass the bound, and the bound is reached (it is not slack by a factor).
+        let mut worst = [0.0f64; 2];
+        for k in 0..400 {
+            let x = f64::from(k);
+            let (a, width) = (1000.0 + 7.31 * x, 0.05 + 0.37 * x);
+            let cross = a + width * (0.5 + 0.49 * (1.7 * x).sin());
+            for (i, split) in [Split::Halves(1e-3), Split::Lattice(0.125)].into_iter().enumerate() {
+                let mut tests = 0.0;
+                bisect(Bracket { inside: a, outside: a + width }, split, |m| {
+                    tests += 1.0;
+                    m < cross
+                });
+                let most = most_splits(width, split);
+                assert!(tests <= most, "{split:?} on [{a}, {}]: {tests} tests, at most {most}", a + width);
+                worst[i] = worst[i].max(tests / most.max(1.0));
+            }
+        }
+        assert!(worst.iter().all(|w| *w >= 0.75), "{worst:?}");
+    }
+
+    #[test]
+    fn a_march_reaches_the_edge_step_within_its_ramp() {
+        // From any start, the march's steps that are below the edge step number at most
+        // the ramp: marching up or down through a long unstable stretch.
+        let s = RegionSettings::default();
+        for inside in [0.5, 37.0, 1230.0, 2.5e4, 3.0e6] {
+            for dir in [-1.0, 1.0] {
+                let (mut last, mut short) = (inside, 0);
+                march(&s, inside, dir, if dir < 0.0 { 0.0 } else { f64::INFINITY }, |phi| {
+                    let step = (phi - last).abs();
+                    if step < s.edge_step.at(last) * (1.0 - 1e-12) {
+                        short += 1;
+                    }
+                    last = phi;
+                    (phi - inside).abs() < 400.0 * s.edge_step.at(inside)
+                });
+                assert!(short <= ramp_steps(&s, inside), "from {inside} ({dir}): {short} short steps");
+            }
+        }
+    }
 
     #[test]
     fn lattice_refinement_ends_in_the_crossing_cell_from_any_bracket() {

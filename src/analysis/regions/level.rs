@@ -20,10 +20,10 @@
 //! (1 + g)^n, n ∈ ℤ (g = `RegionSettings::guard_step`): fixed in φ, so the band's march
 //! from φ_op and the catalogue's scan of a range visit the same points.
 
-use super::bisect::{bisect, march, Bracket, March, Split};
+use super::bisect::{bisect, march, most_splits, ramp_steps, Bracket, March, Split};
 use super::centre::{twin_groups, ModeBasis};
 use super::tongues::{GroupHit, GroupKey};
-use super::Probe;
+use super::{Probe, RegionSettings};
 use crate::analysis::floquet::PointSummary;
 use crate::analysis::{Criterion, Interval};
 use std::collections::HashMap;
@@ -123,7 +123,7 @@ impl<'p> Level<'p> {
     /// The dyadic cell of the edges (rad/s): the largest power of two not above
     /// `phi_tolerance`.
     pub fn cell(&self) -> f64 {
-        2f64.powi(self.probe.settings().phi_tolerance.log2().floor() as i32)
+        lattice_cell(self.probe.settings())
     }
 
     /// The edge of the tongue containing the counted point `inside`, on the side `dir`
@@ -177,6 +177,21 @@ impl<'p> Level<'p> {
     pub fn lattice(&self, window: Interval) -> Vec<f64> {
         guard_lattice(self.probe.settings().guard_step, window)
     }
+}
+
+/// The dyadic cell of the edges at the level (rad/s): the largest power of two not above
+/// `phi_tolerance` ([`Level::cell`]).
+pub fn lattice_cell(s: &RegionSettings) -> f64 {
+    2f64.powi(s.phi_tolerance.log2().floor() as i32)
+}
+
+/// Most evaluations of one edge at the level from a point at φ (rad/s) inside `window`,
+/// besides its steps at the full edge step (which a cost counts across the window): the
+/// march's ramp ([`ramp_steps`]), its crossing or the window end's test, and the lattice
+/// refinement of a bracket at most one edge step wide (the largest inside the window).
+pub fn most_edge_evaluations(s: &RegionSettings, phi: f64, window: Interval) -> f64 {
+    let widest = s.edge_step.at(window.hi.max(phi));
+    ramp_steps(s, phi) as f64 + 1.0 + most_splits(widest, Split::Lattice(lattice_cell(s)))
 }
 
 /// The guard lattice points (1 + g)^n inside `window`, ascending (g = `guard_step`): the

@@ -1,8 +1,8 @@
 //! Region boundaries at a load β other than the catalogue's level, by marching and
 //! bisection, and their continuation from the onset upward.
 
-use super::bisect::{bisect, march, March, Split};
-use super::Probe;
+use super::bisect::{bisect, march, most_splits, ramp_steps, March, Split};
+use super::{Probe, RegionSettings};
 use crate::analysis::Interval;
 use serde::Serialize;
 
@@ -30,6 +30,21 @@ impl From<Edges> for EdgesRecord {
     fn from(e: Edges) -> EdgesRecord {
         EdgesRecord { beta: e.beta, left: e.phi.lo, right: e.phi.hi }
     }
+}
+
+/// Where a tracked level looks for its inside point when the predicted centre is not
+/// inside: at these multiples of the last width, on both sides.
+const BESIDE: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
+
+/// Most evaluations of one tracked level from a region at φ (rad/s), besides its edges'
+/// steps at the full edge step (the region's width at that load, not known before the
+/// search): the inside point (the prediction, [`BESIDE`] on both sides, the start) and
+/// both edges ([`ramp_steps`], the crossing, the halving of a bracket one edge step wide
+/// to `phi_tolerance`).
+pub fn most_level_evaluations(s: &RegionSettings, phi: f64) -> f64 {
+    let tries = 2 + 2 * BESIDE.len();
+    let edge = ramp_steps(s, phi) as f64 + 1.0 + most_splits(s.edge_step.at(phi), Split::Halves(s.phi_tolerance));
+    tries as f64 + 2.0 * edge
 }
 
 impl Probe<'_> {
@@ -75,7 +90,7 @@ impl Probe<'_> {
             // tilts can slip past a linear prediction) at ±¼, ½, 1 and 2 of the last width,
             // then fall back to the start, then give up.
             let width = out.last().map_or(4.0 * s.phi_tolerance, |e| e.phi.width().max(4.0 * s.phi_tolerance));
-            let beside = [0.25, 0.5, 1.0, 2.0].into_iter().flat_map(|f| [centre - f * width, centre + f * width]);
+            let beside = BESIDE.into_iter().flat_map(|f| [centre - f * width, centre + f * width]);
             let inside = std::iter::once(centre).chain(beside).chain([start]).find(|&phi| self.unstable(phi, beta));
             match inside {
                 Some(phi) => out.push(Edges { beta, phi: self.edges(phi, beta) }),
