@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 pyo3::create_exception!(_rotorshunt, Error, pyo3::exceptions::PyException, "Any rotorshunt failure.");
 pyo3::create_exception!(_rotorshunt, ProblemError, Error, "A problem file that is unreadable or invalid.");
 pyo3::create_exception!(_rotorshunt, ArgumentError, Error, "An argument that breaks its rule.");
-pyo3::create_exception!(_rotorshunt, CostError, Error, "A run refused before it started: beyond the cost limit.");
+pyo3::create_exception!(_rotorshunt, CostError, Error, "A run beyond the cost limit: refused before it started, or stopped at its time limit or its allowance of evaluations.");
 pyo3::create_exception!(_rotorshunt, AnalysisError, Error, "An analysis that failed on valid input.");
 pyo3::create_exception!(_rotorshunt, DesignError, Error, "A design run that failed.");
 pyo3::create_exception!(_rotorshunt, RossImportError, Error, "A ROSS rotor that cannot be imported.");

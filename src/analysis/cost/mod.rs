@@ -1,9 +1,13 @@
 //! What a run costs, counted from its inputs before it starts, and the limits beyond
 //! which a command refuses it (written once, here). A run admitted is bounded again while
-//! it runs, on whatever machine: [`Budget::deadline`] stops it at its time limit measured
-//! there (on the command line by default [`MAX_SECONDS`] times the factor;
-//! `--time-limit`), and [`Budget::stopped`] turns the stop into a [`TimeLimitError`]
-//! before anything is written.
+//! it runs, on whatever machine ([`Budget::running`]): at its time limit measured there
+//! (on the command line by default [`MAX_SECONDS`] times the factor; `--time-limit`), and,
+//! for the region searches, at its allowance of monodromy evaluations
+//! ([`Budget::allowance`]), counted by the searches as they make them. The count before
+//! a search is a model of it (an upper bound built from the search's own loop bounds,
+//! checked by tests/cost_counts.rs); the allowance holds the limit even where that model
+//! is wrong. [`Budget::stopped`] turns either stop into an error ([`Stopped`]) before
+//! anything is written.
 //!
 //! Two resources are bounded before a run, both by counts:
 //! - **work**: floating-point operations, at most [`MAX_OPERATIONS`]. A run's count is

@@ -38,7 +38,7 @@ const BESIDE: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
 
 /// Most evaluations of one tracked level from a region at φ (rad/s), besides its edges'
 /// steps at the full edge step (the region's width at that load, not known before the
-/// search): the inside point (the prediction, [`BESIDE`] on both sides, the start) and
+/// search): the inside point (the prediction, four offsets on both sides, the start) and
 /// both edges ([`ramp_steps`], the crossing, the halving of a bracket one edge step wide
 /// to `phi_tolerance`).
 pub fn most_level_evaluations(s: &RegionSettings, phi: f64) -> f64 {
