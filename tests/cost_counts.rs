@@ -152,3 +152,38 @@ fn a_search_past_its_allowance_stops_on_its_own_count() {
         other => panic!("not a count stop: {other:?}"),
     }
 }
+
+#[test]
+fn a_crossing_in_beta_stays_within_its_own_bound() {
+    // The β crossings the catalogue's count is built from (`most_crossing_evaluations`),
+    // at points across the Fig. 11 rotor's range, inside regions and between them, over
+    // spans from 0 and from a level, to the screening and the final tolerance.
+    use rotorshunt::analysis::regions::critical::most_crossing_evaluations;
+    use rotorshunt::analysis::regions::Probe;
+    let problem = Problem::from_path(common::root().join("problems/fig11-closed-2000.toml"), &[]).expect("loads");
+    let op = problem.operating_point().expect("the problem reduces");
+    let (fs, s) = (&op.floquet, &op.regions);
+    let mut reached = 0;
+    for phi in [520.0, 799.5, 1191.0, 1230.0, 1240.0, 1851.6, 2400.0, 2890.0] {
+        for (span, tolerance) in [
+            (Interval::new(0.0, 0.6), 1e-3),
+            (Interval::new(0.0, 0.6), s.beta_tolerance),
+            (Interval::new(0.3, 0.6), 1e-3),
+            (Interval::new(0.0, 0.3), s.beta_tolerance),
+            // Just above the onset of r2+b3 (k = 2) near 1851.6 rad/s, β ≈ 0.3095: the
+            // crossing in the last bracket step, the longest a crossing can take.
+            (Interval::new(0.0, 0.31), 1e-3),
+        ] {
+            let probe = Probe::new(fs, s);
+            let crossing = probe.crossing(&fs.table(phi, span.hi), span, tolerance);
+            let (used, most) = (probe.evaluations() as f64, most_crossing_evaluations(s, span, tolerance));
+            assert!(used <= most, "phi {phi}, {span:?} to {tolerance}: {used} evaluations, bound {most}");
+            if used == most {
+                reached += 1;
+            }
+            println!("phi {phi}, {span:?}: {crossing:?}, {used} of {most}");
+        }
+    }
+    // The bound is what a crossing in the last step of its span takes, not a loose guess.
+    assert!(reached > 0, "no crossing reached its bound");
+}

@@ -2,17 +2,14 @@
 //! φ values they visit.
 
 use super::*;
+use crate::analysis::regions::centre::most_centre_evaluations;
+use crate::analysis::regions::critical::most_crossing_evaluations;
 use crate::analysis::regions::level::{guard_lattice, most_edge_evaluations};
 use crate::analysis::regions::maximise::most_climb_evaluations;
-use crate::analysis::regions::tongues::CREST_SPAN;
+use crate::analysis::regions::tongues::{CREST_SPAN, LOCK_AND_CREST_CHECK};
 use crate::analysis::regions::track::most_level_evaluations;
 use crate::analysis::regions::START_WINDOW;
 
-/// Evaluations of one seed's search at the level besides its crest climb
-/// ([`most_climb_evaluations`] over the crest span) and its centre search (1 + its
-/// iterations, each with eigenvectors: counted twice): the lock test (2) and the crest's
-/// check (1).
-const LOCK_AND_CHECK: f64 = 2.0 + 1.0;
 /// Evaluations a widest-band design is expected to spend per candidate and speed on its
 /// band: the bundled problem takes 105 on average (21 711 over 207 candidates); five times
 /// that. Not a bound: the band around φ_op ends at the nearest tongues of each candidate,
@@ -75,10 +72,10 @@ fn estimate(t: Tally, driver: Driver, detail: String) -> Estimate {
     Estimate { evaluations: t.evaluations, ..Estimate::work(t.operations, driver, detail) }
 }
 
-/// Evaluations of a β bracket from `from` to `to` at the bracket step, and its bisection
-/// to `tolerance`.
+/// Evaluations of a crossing in β from `from` to `to` bisected to `tolerance`: the
+/// search's own bound ([`most_crossing_evaluations`]).
 fn bracket(s: &RegionSettings, from: f64, to: f64, tolerance: f64) -> f64 {
-    ((to - from).max(0.0) / s.beta_bracket).ceil() + 1.0 + (s.beta_bracket / tolerance).log2().ceil().max(0.0)
+    most_crossing_evaluations(s, Interval::new(from, to), tolerance)
 }
 
 /// What a search of the unstable set at `level` over `window` costs (the band, and the
@@ -103,8 +100,10 @@ fn level_search(
         return (once + again, searched);
     }
     let reach = |x: &Seed| Interval::new(x.phi * (1.0 - CENTRE_WINDOW), x.phi * (1.0 + CENTRE_WINDOW));
-    let centre = 2.0 * (1.0 + s.centre_iterations as f64);
-    let per_seed = LOCK_AND_CHECK + most_climb_evaluations(s, CREST_SPAN) + centre;
+    // A seed's search at the level: its centre search (each evaluation with eigenvectors,
+    // weighed twice), the lock test and the crest's check, and the crest climb.
+    let centre = 2.0 * most_centre_evaluations(s);
+    let per_seed = LOCK_AND_CREST_CHECK as f64 + most_climb_evaluations(s, CREST_SPAN) + centre;
     let mut work = Tally::default();
     let mut count = 0;
     for x in seeds.iter().filter(|x| x.order <= criterion.max_order && reach(x).overlaps(&window)) {

@@ -28,6 +28,11 @@ const SPLIT_TRIGGER: f64 = 1e-7;
 /// 8e-6 rad at φ ≤ 8000 rad/s). Locked on one side suffices: the search can converge on
 /// the edge of the collided interval.
 const LOCK_STEP: f64 = 0.05;
+/// The sides the lock test looks at, in [`LOCK_STEP`]s of `phi_tolerance`.
+const LOCK_SIDES: [f64; 2] = [-1.0, 1.0];
+/// Most evaluations of a collided pair's search besides its crest climb: the lock test's
+/// sides and the crest's own check.
+pub const LOCK_AND_CREST_CHECK: usize = LOCK_SIDES.len() + 1;
 /// |δ| (rad) below which a pair is phase-locked: round-off inside a collided interval.
 const LOCKED: f64 = 1e-7;
 /// Half-width of that crest search, relative to φ (9 rad/s at 1800 rad/s): the collided
@@ -160,7 +165,7 @@ impl Level<'_> {
                 // at the edge of the collided interval) rather than passing through 0;
                 // with damping every pair is split, locked or not.
                 let locked = || {
-                    [x - LOCK_STEP * tolerance, x + LOCK_STEP * tolerance].iter().any(|&phi| {
+                    LOCK_SIDES.iter().map(|side| x + side * LOCK_STEP * tolerance).any(|phi| {
                         self.probe.detuning(basis, &group, phi, self.beta).is_some_and(|d| d.deltas[a].abs() < LOCKED)
                     })
                 };
