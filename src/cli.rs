@@ -17,8 +17,8 @@ pub(crate) struct Cli {
     /// Allow FACTOR times the documented limits of work (3e13 floating-point operations)
     /// and memory (400 MiB of dense matrices) that every command checks its counted cost
     /// against before it starts (docs/errors.md, `Cost`), FACTOR times the default time
-    /// limit, and FACTOR times the Floquet evaluations the region searches may make while
-    /// they run (`CountLimit`).
+    /// limit, and the Floquet evaluations the region searches may make while they run
+    /// (`CountLimit`), which scale with it.
     #[arg(long = "max-cost", value_name = "FACTOR", global = true, default_value_t = 1.0)]
     pub(crate) max_cost: f64,
     /// Stop a run still computing after SECONDS of wall time, at its next step (a chart

@@ -3,9 +3,9 @@
 //! search runs, the monodromy evaluations its bounds allow (seeds × the evaluations of a
 //! seed's searches, the guard lattice, a march across the window, β brackets); the search
 //! counts what it evaluates in its probe (`Catalogue::evaluations`, `Band::evaluations`).
-//! The first is written beside the search, by hand: a change to the search that spends
-//! more than the count allows fails here, on every problem of the catalogue, instead of
-//! making the refusal quietly too lax.
+//! The first is a model of the second, built from functions next to the search's loops
+//! (`most_…`): a change to the search that spends more than the count allows fails here,
+//! on every problem of the catalogue, instead of making the refusal quietly too lax.
 //!
 //! The compressor's catalogue once spent more than its count: its level scan marched a
 //! wide tongue once per hit inside it. The scan now marches each tongue once
@@ -86,7 +86,20 @@ fn band(name: &str, problem: &Problem) -> Option<String> {
     let counted = cost::band(&PointCost::of(fs), &op.regions, &criterion, &seeds, window, LEVEL).evaluations;
     let watch = watching();
     let b = regions::band_with(fs, &op.modes, &op.regions, window, PHI_OP, LEVEL, &watch).expect("the band");
-    check(name, &format!("band at phi_op = {PHI_OP} rad/s, level {LEVEL}"), counted, b.evaluations, &watch)
+    let what = format!("band at phi_op = {PHI_OP} rad/s, level {LEVEL}");
+    let failure = check(name, &what, counted, b.evaluations, &watch);
+    // The `band` command's work under one running bound: the band, then its margins (the
+    // strict band, not reported, and the load margin's catalogue), within their count.
+    let pc = PointCost::of(fs);
+    let counted = cost::band_and_margins(&pc, &op.regions, &criterion, &seeds, window, LEVEL).evaluations;
+    let labelled = seeds_for(fs, Some(&op.modes), window, criterion.max_order).expect("seeds");
+    regions::margins::band_margins(fs, &op.modes, &op.regions, &labelled, &b, window, &watch).expect("margins");
+    let reported = watch.evaluations();
+    println!("{name}: {what} and its margins: counted {counted:.0}, reported {reported}");
+    failure.or_else(|| {
+        (reported as f64 > counted)
+            .then(|| format!("{name}: {what} and its margins reported {reported}, counted {counted:.0}"))
+    })
 }
 
 #[test]

@@ -361,7 +361,7 @@ pub fn band_cmd(
     let settings = problem.regions.clone();
     let criterion = Criterion::of(&fs.settings);
     let seeds = seeds_for(&fs, None, window, criterion.max_order)?;
-    let estimate = cost::band(&PointCost::of(&fs), &settings, &criterion, &seeds, window, level);
+    let estimate = cost::band_and_margins(&PointCost::of(&fs), &settings, &criterion, &seeds, window, level);
     let names =
         Names { phi: "`--phi` (the window)", grid: "`--phi` (the window)", load: "`--level`", periods: "`--phi`" };
     bounds::admit(&budget, "the band search", &estimate, &names)?;

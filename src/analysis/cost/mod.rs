@@ -4,9 +4,12 @@
 //! (on the command line by default [`MAX_SECONDS`] times the factor; `--time-limit`), and,
 //! for the region searches, at its allowance of monodromy evaluations
 //! ([`Budget::allowance`]), counted by the searches as they make them. The count before
-//! a search is a model of it (an upper bound built from the search's own loop bounds,
-//! checked by tests/cost_counts.rs); the allowance holds the limit even where that model
-//! is wrong. [`Budget::stopped`] turns either stop into an error ([`Stopped`]) before
+//! a search is a model of it, built from the search's own loop bounds (`most_…` next to
+//! each loop) and checked on every bundled problem by tests/cost_counts.rs. It bounds
+//! every loop whose length is known before the search; two are not (a tracked region's
+//! width at each load, a design's band around φ_op in each candidate: counted at an
+//! expected length). The allowance holds the limit there, and wherever the model is
+//! wrong. [`Budget::stopped`] turns either stop into an error ([`Stopped`]) before
 //! anything is written.
 //!
 //! Two resources are bounded before a run, both by counts:
@@ -31,7 +34,7 @@ mod regions;
 
 pub use dense::{dense, model_dofs, unbalance, Dense};
 pub use floquet::{chart, floquet_point, response, response_of, response_steps, PointCost};
-pub use regions::{band, catalogue, points, scan, CatalogueWork, DESIGN_BAND_EVALUATIONS};
+pub use regions::{band, band_and_margins, catalogue, points, scan, CatalogueWork, DESIGN_BAND_EVALUATIONS};
 
 use super::floquet::{FloquetSystem, ALIAS_MARGIN, ALIAS_ORDERS};
 use super::limits::{self, compact, ParamError};
@@ -335,9 +338,10 @@ pub struct TimeLimitError {
 
 /// A run stopped while it ran: its region searches passed their allowance of monodromy
 /// evaluations ([`Budget::allowance`]), counted as they were made
-/// ([`crate::progress::Deadline::with_allowance`]). The count before the run is an upper
-/// bound of the searches' own (tests/cost_counts.rs), so a run stopped here shows that
-/// count wrong for its input. What it had computed is dropped and nothing is written.
+/// ([`crate::progress::Deadline::with_allowance`]): its work, at its counted cost per
+/// evaluation, reached the limit. The parts of the count that bound their loops cannot
+/// get here; the ones whose length the search finds as it goes (a tracked region's
+/// width, a design's bands) can. What it had computed is dropped and nothing is written.
 #[derive(Debug, Clone, PartialEq, Error, Serialize)]
 #[error(
     "{what} was stopped at its allowance of {allowed} monodromy evaluations ({used} made, counted while it ran: the work limit in the search's own count); nothing was written; allow FACTOR times more with --max-cost FACTOR"
@@ -365,9 +369,11 @@ pub enum Stopped {
 }
 
 /// The limits of a run: [`MAX_OPERATIONS`] and [`MAX_BYTES`] times a factor
-/// (`--max-cost`) for its counts before it starts, and a time limit measured while it
-/// runs ([`RunningLimit`]: none for a library caller, who can stop the run itself; the
-/// command line's `--time-limit`, by default [`MAX_SECONDS`] times the factor).
+/// (`--max-cost`) for its counts before it starts, and two limits while it runs
+/// ([`Budget::running`]): a time measured there ([`RunningLimit`]: none for a library
+/// caller, who can stop the run itself; the command line's `--time-limit`, by default
+/// [`MAX_SECONDS`] times the factor), and the allowance of evaluations of the estimate
+/// it was admitted with ([`Budget::allowance`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Budget {
     factor: f64,

@@ -2,9 +2,11 @@
 //! φ values they visit.
 
 use super::*;
+use crate::analysis::limits::MAX_BETA;
 use crate::analysis::regions::centre::most_centre_evaluations;
 use crate::analysis::regions::critical::most_crossing_evaluations;
 use crate::analysis::regions::level::{guard_lattice, most_edge_evaluations};
+use crate::analysis::regions::margins::LOAD_MARGIN_REACH;
 use crate::analysis::regions::maximise::most_climb_evaluations;
 use crate::analysis::regions::tongues::{CREST_SPAN, LOCK_AND_CREST_CHECK};
 use crate::analysis::regions::track::most_level_evaluations;
@@ -221,6 +223,25 @@ pub fn band(
         compact(window.hi)
     );
     estimate(work, d, if why.is_empty() { what } else { format!("{what}; {why}") })
+}
+
+/// The `band` command's work around φ_op at `level` in `window`: the band search
+/// ([`band`]), its strict band (the same search under the strict criterion,
+/// [`crate::analysis::regions::margins::strict_band`]) and its load margin's catalogue
+/// (over the band, at most the window, up to (1 + [`LOAD_MARGIN_REACH`])·`level`).
+pub fn band_and_margins(
+    pc: &PointCost,
+    s: &RegionSettings,
+    criterion: &Criterion,
+    seeds: &[Seed],
+    window: Interval,
+    level: f64,
+) -> Estimate {
+    let searched_to = ((1.0 + LOAD_MARGIN_REACH) * level).min(MAX_BETA);
+    let margins = CatalogueWork { range: window, beta_max: searched_to, level, track: false };
+    band(pc, s, criterion, seeds, window, level)
+        .then(band(pc, s, &criterion.strict(), seeds, window, level))
+        .then(catalogue(pc, s, criterion, seeds, &margins))
 }
 
 /// The search for the tongues at the level over `windows` (a clear-bands candidate's

@@ -80,7 +80,7 @@ const FIRST_STEP_TOLERANCES: f64 = 4.0;
 const STEP_GROWTH: f64 = 1.6;
 
 /// The first step of a march from φ = `inside` (rad/s).
-fn first_step(s: &RegionSettings, inside: f64) -> f64 {
+pub(super) fn first_step(s: &RegionSettings, inside: f64) -> f64 {
     (inside * FIRST_STEP_RELATIVE).max(FIRST_STEP_TOLERANCES * s.phi_tolerance)
 }
 
@@ -89,7 +89,14 @@ fn next_step(s: &RegionSettings, step: f64, lo: f64) -> f64 {
     (step * STEP_GROWTH).min(s.edge_step.at(lo))
 }
 
-/// Most steps a march from φ = `inside` takes before its step reaches the edge step: the
+/// The widest step (rad/s) a march that stays at or below φ = `reach` (rad/s) takes: its
+/// first step, or the edge step there, whichever is larger. The bracket a march ends with
+/// is at most this wide.
+pub fn widest_step(s: &RegionSettings, reach: f64) -> f64 {
+    first_step(s, reach).max(s.edge_step.at(reach))
+}
+
+/// Most steps a march from φ = `inside` (rad/s) takes before its step reaches the edge step: the
 /// march's own steps, walked upward (where the edge step grows with φ, the longest ramp),
 /// without a test. The steps at the full edge step are the march across the width it
 /// goes (what a cost counts across a window).
@@ -201,7 +208,12 @@ mod tests {
                     last = phi;
                     (phi - inside).abs() < 400.0 * s.edge_step.at(inside)
                 });
-                assert!(short <= ramp_steps(&s, inside), "from {inside} ({dir}): {short} short steps");
+                let ramp = ramp_steps(&s, inside);
+                assert!(short <= ramp, "from {inside} ({dir}): {short} short steps, ramp {ramp}");
+                // Upward, where the edge step grows with φ, the ramp is what the march takes.
+                if dir > 0.0 {
+                    assert_eq!(short, ramp, "from {inside}");
+                }
             }
         }
     }

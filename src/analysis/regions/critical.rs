@@ -80,17 +80,18 @@ impl Probe<'_> {
         if !self.unstable_on(&table, beta_hi) {
             return CriticalLoad { phi, beta: None };
         }
+        // ⌈β_hi/step⌉ samples down to 0, the last at 0 itself: counted, not subtracted, so
+        // round-off leaves no sliver sample above 0 (`most_crossing_evaluations`).
+        let samples = (beta_hi / s.beta_bracket).ceil().max(1.0) as usize;
         let mut hi = beta_hi;
-        loop {
-            let lo = (hi - s.beta_bracket).max(0.0);
+        for k in 1..=samples {
+            let lo = if k == samples { 0.0 } else { (hi - s.beta_bracket).max(0.0) };
             if !self.unstable_on(&table, lo) {
                 let beta = self.narrowed(&table, Interval::new(lo, hi), s.beta_tolerance).hi;
                 return CriticalLoad { phi, beta: Some(beta) };
             }
-            if lo == 0.0 {
-                return CriticalLoad { phi, beta: Some(0.0) };
-            }
             hi = lo;
         }
+        CriticalLoad { phi, beta: Some(0.0) }
     }
 }

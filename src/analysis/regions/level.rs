@@ -20,7 +20,7 @@
 //! (1 + g)^n, n ∈ ℤ (g = `RegionSettings::guard_step`): fixed in φ, so the band's march
 //! from φ_op and the catalogue's scan of a range visit the same points.
 
-use super::bisect::{bisect, march, most_splits, ramp_steps, Bracket, March, Split};
+use super::bisect::{bisect, march, most_splits, ramp_steps, widest_step, Bracket, March, Split};
 use super::centre::{twin_groups, ModeBasis};
 use super::tongues::{GroupHit, GroupKey};
 use super::{Probe, RegionSettings};
@@ -188,9 +188,10 @@ pub fn lattice_cell(s: &RegionSettings) -> f64 {
 /// Most evaluations of one edge at the level from a point at φ (rad/s) inside `window`,
 /// besides its steps at the full edge step (which a cost counts across the window): the
 /// march's ramp ([`ramp_steps`]), its crossing or the window end's test, and the lattice
-/// refinement of a bracket at most one edge step wide (the largest inside the window).
+/// refinement of a bracket at most one march step wide ([`widest_step`] at the window's
+/// top).
 pub fn most_edge_evaluations(s: &RegionSettings, phi: f64, window: Interval) -> f64 {
-    let widest = s.edge_step.at(window.hi.max(phi));
+    let widest = widest_step(s, window.hi.max(phi));
     ramp_steps(s, phi) as f64 + 1.0 + most_splits(widest, Split::Lattice(lattice_cell(s)))
 }
 
