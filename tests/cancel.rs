@@ -84,11 +84,16 @@ fn an_unbalance_response_asked_to_stop_solves_no_more_speeds_and_comes_back_empt
     assert!((10..=10 + rayon::current_num_threads() as u64).contains(&solved), "{solved} speeds solved");
 }
 
+/// The widest-band design cut short: one start of two iterations over 1000–1500 rad/s.
+fn short_design() -> Problem {
+    let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
+    Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap()
+}
+
 #[test]
 fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
     use rotorshunt::design::{self, DesignError};
-    let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
-    let problem = Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap();
+    let problem = short_design();
     let spec = problem.design.as_ref().unwrap();
     let machine = problem.machine();
     // Never asked: the same outcome as without a progress.
@@ -110,8 +115,7 @@ fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
 fn a_design_reports_its_evaluations_and_stops_at_its_allowance() {
     use rotorshunt::design::{self, DesignError};
     use rotorshunt::progress::Deadline;
-    let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
-    let problem = Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap();
+    let problem = short_design();
     let spec = problem.design.as_ref().unwrap();
     let machine = problem.machine();
     // Every candidate's evaluations are reported (the optimiser's count), and the
