@@ -311,7 +311,7 @@ impl Error {
     /// The exit code of a run that failed with this error (docs/errors.md): 2 for bad
     /// input (the problem or study file, arguments, a refused cost or output folder, a
     /// request or design that breaks a rule), 1 for a failure on valid input, 7 for a run
-    /// stopped at its time limit.
+    /// stopped while it ran (its time limit or its allowance of evaluations).
     pub fn exit_code(&self) -> u8 {
         const BAD_INPUT: u8 = 2;
         const FAILED: u8 = 1;

@@ -2,11 +2,10 @@
 //! φ values they visit.
 
 use super::*;
-use crate::analysis::limits::MAX_BETA;
 use crate::analysis::regions::centre::most_centre_evaluations;
 use crate::analysis::regions::critical::most_crossing_evaluations;
 use crate::analysis::regions::level::{guard_lattice, most_edge_evaluations};
-use crate::analysis::regions::margins::LOAD_MARGIN_REACH;
+use crate::analysis::regions::margins::load_margin_reach;
 use crate::analysis::regions::maximise::most_climb_evaluations;
 use crate::analysis::regions::tongues::{CREST_SPAN, LOCK_AND_CREST_CHECK};
 use crate::analysis::regions::track::most_level_evaluations;
@@ -228,7 +227,7 @@ pub fn band(
 /// The `band` command's work around φ_op at `level` in `window`: the band search
 /// ([`band`]), its strict band (the same search under the strict criterion,
 /// [`crate::analysis::regions::margins::strict_band`]) and its load margin's catalogue
-/// (over the band, at most the window, up to (1 + [`LOAD_MARGIN_REACH`])·`level`).
+/// (over the band, at most the window, up to [`load_margin_reach`]).
 pub fn band_and_margins(
     pc: &PointCost,
     s: &RegionSettings,
@@ -237,8 +236,7 @@ pub fn band_and_margins(
     window: Interval,
     level: f64,
 ) -> Estimate {
-    let searched_to = ((1.0 + LOAD_MARGIN_REACH) * level).min(MAX_BETA);
-    let margins = CatalogueWork { range: window, beta_max: searched_to, level, track: false };
+    let margins = CatalogueWork { range: window, beta_max: load_margin_reach(level), level, track: false };
     band(pc, s, criterion, seeds, window, level)
         .then(band(pc, s, &criterion.strict(), seeds, window, level))
         .then(catalogue(pc, s, criterion, seeds, &margins))

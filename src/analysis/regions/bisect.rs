@@ -92,7 +92,7 @@ fn next_step(s: &RegionSettings, step: f64, lo: f64) -> f64 {
 /// The widest step (rad/s) a march that stays at or below φ = `reach` (rad/s) takes: its
 /// first step, or the edge step there, whichever is larger. The bracket a march ends with
 /// is at most this wide.
-pub fn widest_step(s: &RegionSettings, reach: f64) -> f64 {
+fn widest_step(s: &RegionSettings, reach: f64) -> f64 {
     first_step(s, reach).max(s.edge_step.at(reach))
 }
 
@@ -100,7 +100,7 @@ pub fn widest_step(s: &RegionSettings, reach: f64) -> f64 {
 /// march's own steps, walked upward (where the edge step grows with φ, the longest ramp),
 /// without a test. The steps at the full edge step are the march across the width it
 /// goes (what a cost counts across a window).
-pub fn ramp_steps(s: &RegionSettings, inside: f64) -> usize {
+fn ramp_steps(s: &RegionSettings, inside: f64) -> usize {
     let (mut lo, mut step, mut n) = (inside, first_step(s, inside), 0);
     while step < s.edge_step.at(lo) {
         lo += step;
@@ -125,6 +125,15 @@ pub fn most_splits(width: f64, split: Split) -> f64 {
         Split::Halves(tolerance) => (width / tolerance).log2().ceil().max(0.0),
         Split::Lattice(cell) => (width / cell).log2().ceil().max(0.0) + 1.0,
     }
+}
+
+/// Most tests of an edge: a [`march`] from φ = `inside` that stays at or below φ =
+/// `reach` (rad/s), besides its steps at the full edge step (the width it crosses, which a
+/// cost counts on its own), and the bisection of its bracket by `split`: the ramp
+/// (`ramp_steps`), the crossing (or the limit's test), and [`most_splits`] of a bracket
+/// as wide as the widest step (`widest_step`).
+pub fn most_edge_tests(s: &RegionSettings, inside: f64, reach: f64, split: Split) -> f64 {
+    ramp_steps(s, inside) as f64 + 1.0 + most_splits(widest_step(s, reach), split)
 }
 
 /// March from `inside` (where `test` holds) in the direction `dir` (−1 or +1) to the first

@@ -20,7 +20,7 @@
 //! (1 + g)^n, n ∈ ℤ (g = `RegionSettings::guard_step`): fixed in φ, so the band's march
 //! from φ_op and the catalogue's scan of a range visit the same points.
 
-use super::bisect::{bisect, march, most_splits, ramp_steps, widest_step, Bracket, March, Split};
+use super::bisect::{bisect, march, most_edge_tests, Bracket, March, Split};
 use super::centre::{twin_groups, ModeBasis};
 use super::tongues::{GroupHit, GroupKey};
 use super::{Probe, RegionSettings};
@@ -187,12 +187,9 @@ pub fn lattice_cell(s: &RegionSettings) -> f64 {
 
 /// Most evaluations of one edge at the level from a point at φ (rad/s) inside `window`,
 /// besides its steps at the full edge step (which a cost counts across the window): the
-/// march's ramp ([`ramp_steps`]), its crossing or the window end's test, and the lattice
-/// refinement of a bracket at most one march step wide ([`widest_step`] at the window's
-/// top).
+/// march to the window's top and the lattice refinement ([`most_edge_tests`]).
 pub fn most_edge_evaluations(s: &RegionSettings, phi: f64, window: Interval) -> f64 {
-    let widest = widest_step(s, window.hi.max(phi));
-    ramp_steps(s, phi) as f64 + 1.0 + most_splits(widest, Split::Lattice(lattice_cell(s)))
+    most_edge_tests(s, phi, window.hi.max(phi), Split::Lattice(lattice_cell(s)))
 }
 
 /// The guard lattice points (1 + g)^n inside `window`, ascending (g = `guard_step`): the

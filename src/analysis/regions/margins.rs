@@ -26,6 +26,12 @@ use serde::Serialize;
 /// larger one is reported as "more than" it.
 pub const LOAD_MARGIN_REACH: f64 = 1.0;
 
+/// The load a band's margin searches onsets up to, for a band at `level` (−):
+/// (1 + [`LOAD_MARGIN_REACH`])·`level`, at most the largest load.
+pub fn load_margin_reach(level: f64) -> f64 {
+    ((1.0 + LOAD_MARGIN_REACH) * level).min(limits::MAX_BETA)
+}
+
 /// The lowest onset of a counted tongue born inside a band.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
 pub struct LoadMargin {
@@ -193,7 +199,7 @@ pub fn band_margins(
 ) -> Result<Option<Margins>, AnalysisError> {
     let Some(b) = band.band else { return Ok(None) };
     let strict = strict_band(fs, s, seeds, band, window);
-    let searched_to = ((1.0 + LOAD_MARGIN_REACH) * band.level).min(limits::MAX_BETA);
+    let searched_to = load_margin_reach(band.level);
     let req = CatalogueRequest::new(b, searched_to, band.level, false)?;
     let cat = catalogue_with(fs, full, s, &req, progress)?;
     let tolerance = Criterion::of(&fs.settings).strict().instability_tolerance;

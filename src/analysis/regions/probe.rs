@@ -59,15 +59,18 @@ impl<'a> Counter<'a> {
     pub fn get(&self) -> usize {
         self.count.load(Ordering::Relaxed)
     }
+    /// The progress the additions are reported to.
+    pub fn progress(&self) -> &'a dyn Progress {
+        self.progress
+    }
 }
 
-/// The region search's access to one Floquet system: settings, evaluation count and the
-/// progress the searches report to.
+/// The region search's access to one Floquet system: settings, and the evaluation count
+/// with the progress the searches report to.
 pub struct Probe<'a> {
     fs: &'a FloquetSystem,
     settings: &'a RegionSettings,
     evaluations: Counter<'a>,
-    progress: &'a dyn Progress,
 }
 
 impl std::fmt::Debug for Probe<'_> {
@@ -90,12 +93,12 @@ impl<'a> Probe<'a> {
     /// A probe whose searches report their steps, and its count of evaluations, to
     /// `progress` (module docs).
     pub fn reporting(fs: &'a FloquetSystem, settings: &'a RegionSettings, progress: &'a dyn Progress) -> Probe<'a> {
-        Probe { fs, settings, evaluations: Counter::reporting(progress), progress }
+        Probe { fs, settings, evaluations: Counter::reporting(progress) }
     }
 
     /// The progress the searches report to.
     pub fn progress(&self) -> &'a dyn Progress {
-        self.progress
+        self.evaluations.progress()
     }
 
     /// The Floquet system.

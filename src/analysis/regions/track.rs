@@ -1,7 +1,7 @@
 //! Region boundaries at a load β other than the catalogue's level, by marching and
 //! bisection, and their continuation from the onset upward.
 
-use super::bisect::{bisect, march, most_splits, ramp_steps, widest_step, March, Split};
+use super::bisect::{bisect, march, most_edge_tests, March, Split};
 use super::{Probe, RegionSettings};
 use crate::analysis::Interval;
 use serde::Serialize;
@@ -38,15 +38,13 @@ const BESIDE: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
 
 /// Evaluations of one tracked level from a region at φ (rad/s), besides its edges' steps
 /// at the full edge step: the inside point (the prediction, four offsets on both sides,
-/// the start) and both edges ([`ramp_steps`], the crossing, the halving of a bracket one
-/// march step wide at 2φ to `phi_tolerance`). Not a bound of the level: its edges march
+/// the start) and both edges (a march reaching up to 2φ and the halving of its bracket to
+/// `phi_tolerance`, [`most_edge_tests`]). Not a bound of the level: its edges march
 /// across the region's width at that load, which is not known before the search (the
 /// running allowance of evaluations holds that part, [`crate::analysis::cost::Budget::allowance`]).
 pub fn most_level_evaluations(s: &RegionSettings, phi: f64) -> f64 {
     let tries = 2 + 2 * BESIDE.len();
-    let bracket = widest_step(s, 2.0 * phi);
-    let edge = ramp_steps(s, phi) as f64 + 1.0 + most_splits(bracket, Split::Halves(s.phi_tolerance));
-    tries as f64 + 2.0 * edge
+    tries as f64 + 2.0 * most_edge_tests(s, phi, 2.0 * phi, Split::Halves(s.phi_tolerance))
 }
 
 impl Probe<'_> {
