@@ -26,6 +26,10 @@
 //! and this does not: a tongue 0.05–0.1 rad/s wide that no catalogued tongue or region
 //! start is near. The full grid over every band was 887 018 Floquet points, about 120 of
 //! the binary's 210 CPU-seconds here; the points now checked are printed with that count.
+//! A grid point checked at several levels is one row of the fast path, as in a chart: one
+//! per-φ table, built for the highest of those levels, and a monodromy per level (the
+//! same verdicts as a table per point; 246 000 tables for 451 000 points, about 7 of the
+//! test's 100 CPU-seconds saved).
 //!
 //! The neighbourhood (issue 30, the same checks for less): the band and the whole of each
 //! tongue bounding it (marched from the tongue's counted point the band reports), widened
@@ -49,8 +53,10 @@ use crate::common;
 use common::scan::{band_points, catalogued_windows, grid, neighbourhood, GRID};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{band, catalogue, Bound, CatalogueRequest, Level, Probe, RegionSettings};
+use rotorshunt::analysis::modes::{whirl_modes_of, ModesResult};
+use rotorshunt::analysis::regions::{
+    band, catalogue, Band, Bound, Catalogue, CatalogueRequest, Level, Probe, RegionSettings,
+};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 use std::collections::HashMap;
@@ -91,32 +97,35 @@ struct Report {
     thin: Vec<String>,
     failures: Vec<String>,
     /// Points of the full 0.05 rad/s grid over the bands and beyond their edges, points
-    /// checked (both counted once per band), and Floquet points evaluated (a point shared
-    /// by the bands of several φ_op at one level is evaluated once).
+    /// checked (both counted once per band), Floquet points evaluated (a point shared by
+    /// the bands of several φ_op at one level is evaluated once) and the per-φ tables
+    /// they took (one for the levels that share a grid point).
     full_grid: usize,
     total_points: usize,
     evaluated: usize,
+    tables: usize,
     named: usize,
     unlabelled: usize,
 }
 
-/// The checks of the module's doc on one problem, every φ_op and level (`name` names it
-/// in the messages: the problems of the group that share its model and settings).
-fn check_problem(name: &str, p: &Problem) -> Report {
-    let s = RegionSettings::default();
-    let mut r = Report::default();
-    let rotor = Rotor::new(&p.model).unwrap();
-    let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
-    let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
-    let criterion = Criterion::of(&p.settings);
-    let counts = |phi: f64, beta: f64| criterion.counts(&fs.point_fast(&fs.table(phi, beta), beta).summary);
-    for &level in &LEVELS {
-        // The bands of every φ_op at this level, then the catalogues of their
-        // neighbourhoods (each band widened by NEAR on both sides, overlapping ones merged):
-        // one catalogue per merged neighbourhood, and the windows of check 2 it gives.
-        let bands: Vec<_> =
-            PHI_OPS.iter().map(|&phi_op| band(&fs, &full, &s, WINDOW, phi_op, level).unwrap()).collect();
-        let probe = Probe::new(&fs, &s);
+/// The grid points of check 2 of one band: inside it, and beyond each edge a tongue
+/// bounds, with that edge (rad/s), its direction (−1 below, +1 above) and its bound.
+type BandPoints<'a> = (Vec<i64>, Vec<(Vec<i64>, f64, f64, &'a Bound)>);
+
+/// One level's bands (one per φ_op) and the catalogues of their neighbourhoods (each
+/// band widened by NEAR on both sides, overlapping ones merged): one catalogue per merged
+/// neighbourhood, with the windows of check 2 it gives.
+struct AtLevel {
+    level: f64,
+    bands: Vec<Band>,
+    catalogues: Vec<(Interval, Catalogue, Vec<Interval>)>,
+}
+
+impl AtLevel {
+    fn new(fs: &FloquetSystem, full: &ModesResult, s: &RegionSettings, criterion: Criterion, level: f64) -> AtLevel {
+        let bands: Vec<Band> =
+            PHI_OPS.iter().map(|&phi_op| band(fs, full, s, WINDOW, phi_op, level).unwrap()).collect();
+        let probe = Probe::new(fs, s);
         let at_level = Level::new(&probe, criterion, level, WINDOW);
         let near: Vec<Interval> = merged(bands.iter().filter_map(|b| {
             let f = b.band?;
@@ -132,26 +141,105 @@ fn check_problem(name: &str, p: &Problem) -> Report {
             }
             Some(neighbourhood(lo, hi, WINDOW))
         }));
-        let catalogues: Vec<_> = near
+        let catalogues = near
             .par_iter()
             .map(|&range| {
                 let req = CatalogueRequest { range, beta_max: level, level, track: false };
-                let cat = catalogue(&fs, &full, &s, &req).unwrap();
+                let cat = catalogue(fs, full, s, &req).unwrap();
                 let windows = catalogued_windows(&cat);
                 (range, cat, windows)
             })
             .collect();
-        // The verdict of each grid point at this level, evaluated once: the bands of
-        // different φ_op often share points (the same band, or overlapping neighbourhoods).
-        let mut verdicts: HashMap<i64, bool> = HashMap::new();
-        let mut counted = |ks: &[i64], evaluated: &mut usize| -> Vec<i64> {
-            let new: Vec<i64> = ks.iter().copied().filter(|k| !verdicts.contains_key(k)).collect();
-            *evaluated += new.len();
-            let found: Vec<(i64, bool)> = new.par_iter().map(|&k| (k, counts(k as f64 * GRID, level))).collect();
-            verdicts.extend(found);
-            ks.iter().copied().filter(|k| verdicts[k]).collect()
-        };
-        for (&phi_op, b) in PHI_OPS.iter().zip(&bands) {
+        AtLevel { level, bands, catalogues }
+    }
+
+    /// The catalogue whose neighbourhood holds `band`, and its windows.
+    fn catalogue_of(&self, band: Interval) -> (&Catalogue, &[Interval]) {
+        let (_, cat, windows) =
+            self.catalogues.iter().find(|(range, _, _)| range.lo <= band.lo && band.hi <= range.hi).unwrap();
+        (cat, windows)
+    }
+
+    /// The grid points of check 2 of each band (inside it, then beyond each edge a tongue
+    /// bounds).
+    fn points(&self) -> Vec<BandPoints<'_>> {
+        self.bands
+            .iter()
+            .filter_map(|b| {
+                let found = b.band?;
+                let (_, windows) = self.catalogue_of(found);
+                let beyond = [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)]
+                    .into_iter()
+                    .filter_map(|(bound, edge, dir)| {
+                        let bound = bound.as_ref().filter(|b| matches!(b, Bound::Tongue { .. }))?;
+                        let (lo, hi) =
+                            if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
+                        Some((grid(lo, hi), edge, dir, bound))
+                    })
+                    .collect();
+                Some((band_points(found.lo, found.hi, windows), beyond))
+            })
+            .collect()
+    }
+}
+
+/// Whether each grid point counts at each level that checks it, evaluated once per point
+/// and level, and with one per-φ table for the levels that share a point (a row of the
+/// fast path, as a chart's: the same point as alone, up to the interpolant's 1e-11).
+fn verdicts(fs: &FloquetSystem, criterion: Criterion, wanted: &[Vec<i64>]) -> (HashMap<(i64, usize), bool>, usize) {
+    let mut levels_of: HashMap<i64, Vec<usize>> = HashMap::new();
+    for (i, ks) in wanted.iter().enumerate() {
+        for &k in ks {
+            let at = levels_of.entry(k).or_default();
+            if !at.contains(&i) {
+                at.push(i);
+            }
+        }
+    }
+    let rows: Vec<(i64, Vec<usize>)> = levels_of.into_iter().collect();
+    let found: Vec<Vec<((i64, usize), bool)>> = rows
+        .par_iter()
+        .map(|(k, at)| {
+            let phi = *k as f64 * GRID;
+            let top = at.iter().map(|&i| LEVELS[i]).fold(0.0, f64::max);
+            let table = fs.table(phi, top);
+            at.iter().map(|&i| ((*k, i), criterion.counts(&fs.point_fast(&table, LEVELS[i]).summary))).collect()
+        })
+        .collect();
+    (found.into_iter().flatten().collect(), rows.len())
+}
+
+/// The checks of the module's doc on one problem, every φ_op and level (`name` names it
+/// in the messages: the problems of the group that share its model and settings).
+fn check_problem(name: &str, p: &Problem) -> Report {
+    let s = RegionSettings::default();
+    let mut r = Report::default();
+    let rotor = Rotor::new(&p.model).unwrap();
+    let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
+    let full = whirl_modes_of(&rotor, &p.settings, p.model.speed).unwrap();
+    let criterion = Criterion::of(&p.settings);
+    let counts = |phi: f64, beta: f64| criterion.counts(&fs.point_fast(&fs.table(phi, beta), beta).summary);
+    let at_levels: Vec<AtLevel> = LEVELS.iter().map(|&level| AtLevel::new(&fs, &full, &s, criterion, level)).collect();
+    // The grid points of every band at every level, each evaluated once per level.
+    let points: Vec<_> = at_levels.iter().map(AtLevel::points).collect();
+    let wanted: Vec<Vec<i64>> = points
+        .iter()
+        .map(|bands| {
+            bands
+                .iter()
+                .flat_map(|(inside, beyond)| inside.iter().chain(beyond.iter().flat_map(|b| &b.0)))
+                .copied()
+                .collect()
+        })
+        .collect();
+    let (verdict, tables) = verdicts(&fs, criterion, &wanted);
+    r.evaluated = verdict.len();
+    r.tables = tables;
+    for (i, (at, band_points)) in at_levels.iter().zip(&points).enumerate() {
+        let level = at.level;
+        let counted = |ks: &[i64]| -> Vec<i64> { ks.iter().copied().filter(|&k| verdict[&(k, i)]).collect() };
+        let mut band_points = band_points.iter();
+        for (&phi_op, b) in PHI_OPS.iter().zip(&at.bands) {
             let Some(found) = b.band else {
                 // φ_op unstable: it must count, and lie in the reported tongue.
                 let t = b.containing.unwrap();
@@ -160,8 +248,8 @@ fn check_problem(name: &str, p: &Problem) -> Report {
                 }
                 continue;
             };
-            let (_, cat, windows) =
-                catalogues.iter().find(|(range, _, _)| range.lo <= found.lo && found.hi <= range.hi).unwrap();
+            let (cat, _) = at.catalogue_of(found);
+            let (inside, beyond) = band_points.next().unwrap();
             r.checked += 1;
             // 1. Centres of catalogued tongues inside the band.
             let mut tongues: Vec<Interval> =
@@ -198,10 +286,9 @@ fn check_problem(name: &str, p: &Problem) -> Report {
             }
             // 2. The scan and the grid near catalogued tongues over the band, and the grid
             //    BEYOND on each side.
-            let inside = band_points(found.lo, found.hi, windows);
             r.full_grid += grid(found.lo, found.hi).len();
             r.total_points += inside.len();
-            let bad: Vec<f64> = counted(&inside, &mut r.evaluated).into_iter().map(|k| k as f64 * GRID).collect();
+            let bad: Vec<f64> = counted(inside).into_iter().map(|k| k as f64 * GRID).collect();
             if !bad.is_empty() {
                 r.failures.push(format!(
                     "{name} β {level} φ_op {phi_op}: band {found:?} has {} unstable grid points, first {:?}",
@@ -209,13 +296,11 @@ fn check_problem(name: &str, p: &Problem) -> Report {
                     &bad[..bad.len().min(5)]
                 ));
             }
-            for (bound, edge, dir) in [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)] {
-                let Some(Bound::Tongue { inside: point, label, .. }) = bound else { continue };
-                let (lo, hi) = if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
-                let beyond = grid(lo, hi);
-                r.full_grid += beyond.len();
-                r.total_points += beyond.len();
-                if !counted(&beyond, &mut r.evaluated).is_empty() {
+            for (ks, edge, dir, bound) in beyond {
+                let Bound::Tongue { inside: point, label, .. } = bound else { continue };
+                r.full_grid += ks.len();
+                r.total_points += ks.len();
+                if !counted(ks).is_empty() {
                     continue;
                 }
                 // A tongue thinner than the grid: its own point, by the reference path.
@@ -259,7 +344,13 @@ fn band_is_true_on_every_problem() {
         .par_iter()
         .map(|(names, p)| {
             let r = check_problem(&names.join(" = "), p);
-            eprintln!("  {}: {} bands, {} grid points evaluated", names.join(", "), r.checked, r.evaluated);
+            eprintln!(
+                "  {}: {} bands, {} grid points evaluated on {} per-phi tables",
+                names.join(", "),
+                r.checked,
+                r.evaluated,
+                r.tables
+            );
             r
         })
         .collect();
@@ -271,12 +362,13 @@ fn band_is_true_on_every_problem() {
         all.full_grid += r.full_grid;
         all.total_points += r.total_points;
         all.evaluated += r.evaluated;
+        all.tables += r.tables;
         all.named += r.named;
         all.unlabelled += r.unlabelled;
     }
-    let Report { checked, thin, failures, full_grid, total_points, evaluated, named, unlabelled } = all;
+    let Report { checked, thin, failures, full_grid, total_points, evaluated, tables, named, unlabelled } = all;
     eprintln!(
-        "{checked} bands checked, {total_points} points ({evaluated} evaluated) where the full 0.05 rad/s grid has {full_grid}; bounded by tongues thinner than the grid: {thin:#?}"
+        "{checked} bands checked, {total_points} points ({evaluated} evaluated, on {tables} per-phi tables) where the full 0.05 rad/s grid has {full_grid}; bounded by tongues thinner than the grid: {thin:#?}"
     );
     eprintln!("{named} finite edges named, {unlabelled} of them unlabelled (no catalogued tongue with the edge)");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
