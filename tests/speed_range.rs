@@ -14,7 +14,6 @@ use crate::common;
 use common::{bin, json, problem_path, run_ok, tmp};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::{band_around, seeds_for, Level, Probe};
 use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
@@ -26,18 +25,18 @@ const RANGE: Interval = Interval::new(2500.0, 3000.0);
 /// The test's speed grid: 10 rad/s apart, ends included.
 const TEST_SPEEDS: usize = 51;
 
-/// The band around φ_op at β_op of `p` at speed `w` (the search of `rotorshunt band`).
+/// The band around φ_op at β_op of `p` at speed `w` (the search of `rotorshunt band`,
+/// without the full model's whirls, which name the seeds and do not move an edge).
 fn band_at(p: &Problem, w: f64) -> Option<Interval> {
     let rotor = Rotor::new(&p.model).unwrap();
     let fs = FloquetSystem::new(&rotor, &p.settings, w).unwrap();
-    let full = whirl_modes_of(&rotor, &p.settings, w).unwrap();
     let criterion = Criterion::of(&p.settings);
-    let seeds = seeds_for(&fs, Some(&full), WINDOW, criterion.max_order).unwrap();
+    let seeds = seeds_for(&fs, None, WINDOW, criterion.max_order).unwrap();
     let probe = Probe::new(&fs, &p.regions);
     band_around(&Level::new(&probe, criterion, LEVEL, WINDOW), &seeds, PHI_OP).band
 }
 
-/// The speeds of the test's grid where φ_op is unstable.
+/// The speeds of the test's grid (ends included) where φ_op is unstable.
 fn unstable_speeds(p: &Problem) -> Vec<f64> {
     let grid: Vec<f64> =
         (0..TEST_SPEEDS).map(|i| RANGE.lo + RANGE.width() * i as f64 / (TEST_SPEEDS - 1) as f64).collect();
@@ -51,9 +50,8 @@ fn a_violation_inside_the_speed_range_only_is_found_and_fixed() {
     let reference = Problem::from_path(&input, &[]).unwrap();
     let bad = unstable_speeds(&reference);
     eprintln!("reference: phi_op unstable at {bad:?} rad/s of the test's {TEST_SPEEDS} speeds");
-    assert!(band_at(&reference, RANGE.lo).is_some() && band_at(&reference, RANGE.hi).is_some(), "ends stable");
     assert!(!bad.is_empty(), "the reference is unstable somewhere inside the range");
-    assert!(bad.iter().all(|&w| w > RANGE.lo && w < RANGE.hi));
+    assert!(bad.iter().all(|&w| w > RANGE.lo && w < RANGE.hi), "ends stable: {bad:?}");
 
     let dir = tmp("speed-range");
     let text = run_ok(
