@@ -10,9 +10,8 @@ use crate::common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::{band, RegionSettings};
-use rotorshunt::analysis::{Interval, Rotor};
+use rotorshunt::analysis::regions::{band_around, check_reliable, seeds_for, Level, Probe, RegionSettings};
+use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 
 /// The override that sends an isotropic problem down the general path.
@@ -22,16 +21,23 @@ const REAL: &str = "analysis.coordinates=\"real\"";
 /// so the tuned values of a short design agree far below any tolerance an engineer uses.
 const VALUES_AGREE: f64 = 1e-9;
 
-/// The stable band of `p` around φ_op at β_op at its first operating speed (rad/s).
+/// The stable band of `p` around φ_op at β_op at its first operating speed (rad/s): the
+/// search of [`rotorshunt::analysis::regions::band`], its β = 0 check included, without
+/// the full model's whirls and the catalogues that name the bounds (no edge moves with
+/// them, and the names are not compared).
 fn band_edges(p: &Problem) -> Option<(f64, f64)> {
     let spec = p.design.as_ref().expect("a [design] table");
     let speed = spec.speeds[0];
     let rotor = Rotor::new(&p.model).unwrap();
     let fs = FloquetSystem::new(&rotor, &p.settings, speed).unwrap();
-    let full = whirl_modes_of(&rotor, &p.settings, speed).unwrap();
     let window = Interval::new(spec.phi_range.0, spec.phi_range.1);
     let phi_op = spec.phi_op().expect("an operating frequency");
-    let b = band(&fs, &full, &RegionSettings::default(), window, phi_op, spec.level).unwrap();
+    check_reliable(&fs, window).unwrap();
+    let criterion = Criterion::of(&p.settings);
+    let seeds = seeds_for(&fs, None, window, criterion.max_order).unwrap();
+    let settings = RegionSettings::default();
+    let probe = Probe::new(&fs, &settings);
+    let b = band_around(&Level::new(&probe, criterion, spec.level, window), &seeds, phi_op);
     b.band.map(|i| (i.lo, i.hi))
 }
 
