@@ -108,9 +108,31 @@ struct Report {
     unlabelled: usize,
 }
 
-/// The grid points of check 2 of one band: inside it, and beyond each edge a tongue
-/// bounds, with that edge (rad/s), its direction (−1 below, +1 above) and its bound.
-type BandPoints<'a> = (Vec<i64>, Vec<(Vec<i64>, f64, f64, &'a Bound)>);
+/// What checks 1–3 read of one stable band: the catalogue of its neighbourhood and the
+/// grid points of check 2.
+struct BandPoints<'a> {
+    cat: &'a Catalogue,
+    /// Inside the band: the scan and the grid near the catalogue's tongues.
+    inside: Vec<i64>,
+    /// Beyond each edge a tongue bounds.
+    beyond: Vec<Beyond<'a>>,
+}
+
+/// The grid points within [`BEYOND`] of a band's edge, outside it.
+struct Beyond<'a> {
+    points: Vec<i64>,
+    /// The edge (rad/s) and its direction (−1 below the band, +1 above).
+    edge: f64,
+    dir: f64,
+    bound: &'a Bound,
+}
+
+impl BandPoints<'_> {
+    /// Every grid point of check 2 of the band.
+    fn all(&self) -> impl Iterator<Item = i64> + '_ {
+        self.inside.iter().chain(self.beyond.iter().flat_map(|b| &b.points)).copied()
+    }
+}
 
 /// One level's bands (one per φ_op) and the catalogues of their neighbourhoods (each
 /// band widened by NEAR on both sides, overlapping ones merged): one catalogue per merged
@@ -153,31 +175,25 @@ impl AtLevel {
         AtLevel { level, bands, catalogues }
     }
 
-    /// The catalogue whose neighbourhood holds `band`, and its windows.
-    fn catalogue_of(&self, band: Interval) -> (&Catalogue, &[Interval]) {
-        let (_, cat, windows) =
-            self.catalogues.iter().find(|(range, _, _)| range.lo <= band.lo && band.hi <= range.hi).unwrap();
-        (cat, windows)
-    }
-
-    /// The grid points of check 2 of each band (inside it, then beyond each edge a tongue
-    /// bounds).
-    fn points(&self) -> Vec<BandPoints<'_>> {
+    /// What checks 1–3 read of each band, in the order of `bands` (None where φ_op is
+    /// unstable): the catalogue whose neighbourhood holds the band, and its points.
+    fn points(&self) -> Vec<Option<BandPoints<'_>>> {
         self.bands
             .iter()
-            .filter_map(|b| {
+            .map(|b| {
                 let found = b.band?;
-                let (_, windows) = self.catalogue_of(found);
+                let (_, cat, windows) =
+                    self.catalogues.iter().find(|(range, _, _)| range.lo <= found.lo && found.hi <= range.hi).unwrap();
                 let beyond = [(&b.left, found.lo, -1.0), (&b.right, found.hi, 1.0)]
                     .into_iter()
                     .filter_map(|(bound, edge, dir)| {
                         let bound = bound.as_ref().filter(|b| matches!(b, Bound::Tongue { .. }))?;
                         let (lo, hi) =
                             if dir < 0.0 { (edge - BEYOND, edge + 1e-9) } else { (edge - 1e-9, edge + BEYOND) };
-                        Some((grid(lo, hi), edge, dir, bound))
+                        Some(Beyond { points: grid(lo, hi), edge, dir, bound })
                     })
                     .collect();
-                Some((band_points(found.lo, found.hi, windows), beyond))
+                Some(BandPoints { cat, inside: band_points(found.lo, found.hi, windows), beyond })
             })
             .collect()
     }
@@ -222,25 +238,16 @@ fn check_problem(name: &str, p: &Problem) -> Report {
     let at_levels: Vec<AtLevel> = LEVELS.iter().map(|&level| AtLevel::new(&fs, &full, &s, criterion, level)).collect();
     // The grid points of every band at every level, each evaluated once per level.
     let points: Vec<_> = at_levels.iter().map(AtLevel::points).collect();
-    let wanted: Vec<Vec<i64>> = points
-        .iter()
-        .map(|bands| {
-            bands
-                .iter()
-                .flat_map(|(inside, beyond)| inside.iter().chain(beyond.iter().flat_map(|b| &b.0)))
-                .copied()
-                .collect()
-        })
-        .collect();
+    let wanted: Vec<Vec<i64>> =
+        points.iter().map(|bands| bands.iter().flatten().flat_map(BandPoints::all).collect()).collect();
     let (verdict, tables) = verdicts(&fs, criterion, &wanted);
     r.evaluated = verdict.len();
     r.tables = tables;
     for (i, (at, band_points)) in at_levels.iter().zip(&points).enumerate() {
         let level = at.level;
         let counted = |ks: &[i64]| -> Vec<i64> { ks.iter().copied().filter(|&k| verdict[&(k, i)]).collect() };
-        let mut band_points = band_points.iter();
-        for (&phi_op, b) in PHI_OPS.iter().zip(&at.bands) {
-            let Some(found) = b.band else {
+        for ((&phi_op, b), band_points) in PHI_OPS.iter().zip(&at.bands).zip(band_points) {
+            let (Some(found), Some(BandPoints { cat, inside, beyond })) = (b.band, band_points) else {
                 // φ_op unstable: it must count, and lie in the reported tongue.
                 let t = b.containing.unwrap();
                 if !counts(phi_op, level) || !t.contains(phi_op) {
@@ -248,8 +255,6 @@ fn check_problem(name: &str, p: &Problem) -> Report {
                 }
                 continue;
             };
-            let (cat, _) = at.catalogue_of(found);
-            let (inside, beyond) = band_points.next().unwrap();
             r.checked += 1;
             // 1. Centres of catalogued tongues inside the band.
             let mut tongues: Vec<Interval> =
@@ -296,7 +301,7 @@ fn check_problem(name: &str, p: &Problem) -> Report {
                     &bad[..bad.len().min(5)]
                 ));
             }
-            for (ks, edge, dir, bound) in beyond {
+            for Beyond { points: ks, edge, dir, bound } in beyond {
                 let Bound::Tongue { inside: point, label, .. } = bound else { continue };
                 r.full_grid += ks.len();
                 r.total_points += ks.len();

@@ -10,8 +10,8 @@ use crate::common;
 
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::regions::{band_around, check_reliable, seeds_for, Level, Probe, RegionSettings};
-use rotorshunt::analysis::{Criterion, Interval, Rotor};
+use rotorshunt::analysis::regions::{check_reliable, RegionSettings};
+use rotorshunt::analysis::{Interval, Rotor};
 use rotorshunt::problem::Problem;
 
 /// The override that sends an isotropic problem down the general path.
@@ -23,8 +23,7 @@ const VALUES_AGREE: f64 = 1e-9;
 
 /// The stable band of `p` around φ_op at β_op at its first operating speed (rad/s): the
 /// search of [`rotorshunt::analysis::regions::band`], its β = 0 check included, without
-/// the full model's whirls and the catalogues that name the bounds (no edge moves with
-/// them, and the names are not compared).
+/// what only names the bounds ([`common::unnamed_band`]: the names are not compared).
 fn band_edges(p: &Problem) -> Option<(f64, f64)> {
     let spec = p.design.as_ref().expect("a [design] table");
     let speed = spec.speeds[0];
@@ -33,11 +32,7 @@ fn band_edges(p: &Problem) -> Option<(f64, f64)> {
     let window = Interval::new(spec.phi_range.0, spec.phi_range.1);
     let phi_op = spec.phi_op().expect("an operating frequency");
     check_reliable(&fs, window).unwrap();
-    let criterion = Criterion::of(&p.settings);
-    let seeds = seeds_for(&fs, None, window, criterion.max_order).unwrap();
-    let settings = RegionSettings::default();
-    let probe = Probe::new(&fs, &settings);
-    let b = band_around(&Level::new(&probe, criterion, spec.level, window), &seeds, phi_op);
+    let b = common::unnamed_band(&fs, &RegionSettings::default(), window, phi_op, spec.level);
     b.band.map(|i| (i.lo, i.hi))
 }
 

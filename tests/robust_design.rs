@@ -21,8 +21,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::regions::{band_around, seeds_for, Level, Probe};
-use rotorshunt::analysis::{Criterion, Interval, Rotor};
+use rotorshunt::analysis::{Interval, Rotor};
 use rotorshunt::model::Branch;
 use rotorshunt::problem::Problem;
 use serde_json::Value;
@@ -72,16 +71,12 @@ fn perturbed(tuned: &str, fl: f64, fr: f64) -> String {
     toml::to_string(&t).unwrap()
 }
 
-/// The band around φ_op at β_op of a problem text (the search of `rotorshunt band`,
-/// without the full model's whirls, which name the seeds and do not move an edge).
+/// The band around φ_op at β_op of a problem text ([`common::unnamed_band`]).
 fn band_of(text: &str) -> Option<Interval> {
     let p = Problem::from_bytes(text.as_bytes(), "perturbed tuned.toml", &[]).unwrap();
     let rotor = Rotor::new(&p.model).unwrap();
     let fs = FloquetSystem::new(&rotor, &p.settings, p.model.speed).unwrap();
-    let criterion = Criterion::of(&p.settings);
-    let seeds = seeds_for(&fs, None, WINDOW, criterion.max_order).unwrap();
-    let probe = Probe::new(&fs, &p.regions);
-    band_around(&Level::new(&probe, criterion, LEVEL, WINDOW), &seeds, PHI_OP).band
+    common::unnamed_band(&fs, &p.regions, WINDOW, PHI_OP, LEVEL).band
 }
 
 fn interval(v: &Value) -> Interval {

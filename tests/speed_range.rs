@@ -14,8 +14,7 @@ use crate::common;
 use common::{bin, json, problem_path, run_ok, tmp};
 use rayon::prelude::*;
 use rotorshunt::analysis::floquet::FloquetSystem;
-use rotorshunt::analysis::regions::{band_around, seeds_for, Level, Probe};
-use rotorshunt::analysis::{Criterion, Interval, Rotor};
+use rotorshunt::analysis::{Interval, Rotor};
 use rotorshunt::problem::Problem;
 
 const PHI_OP: f64 = 1230.0;
@@ -25,15 +24,11 @@ const RANGE: Interval = Interval::new(2500.0, 3000.0);
 /// The test's speed grid: 10 rad/s apart, ends included.
 const TEST_SPEEDS: usize = 51;
 
-/// The band around φ_op at β_op of `p` at speed `w` (the search of `rotorshunt band`,
-/// without the full model's whirls, which name the seeds and do not move an edge).
+/// The band around φ_op at β_op of `p` at speed `w` ([`common::unnamed_band`]).
 fn band_at(p: &Problem, w: f64) -> Option<Interval> {
     let rotor = Rotor::new(&p.model).unwrap();
     let fs = FloquetSystem::new(&rotor, &p.settings, w).unwrap();
-    let criterion = Criterion::of(&p.settings);
-    let seeds = seeds_for(&fs, None, WINDOW, criterion.max_order).unwrap();
-    let probe = Probe::new(&fs, &p.regions);
-    band_around(&Level::new(&probe, criterion, LEVEL, WINDOW), &seeds, PHI_OP).band
+    common::unnamed_band(&fs, &p.regions, WINDOW, PHI_OP, LEVEL).band
 }
 
 /// The speeds of the test's grid (ends included) where φ_op is unstable.

@@ -26,6 +26,24 @@ pub fn load(name: &str, overrides: &[&str]) -> Problem {
     Problem::from_path(problem_path(name), &o).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The band around `phi_op` at `level` (−) in `window` (rad/s) by the search of
+/// `rotorshunt band` (the window's seeds, [`band_around`]) without what only names its
+/// bounds: the full model's whirls and the catalogues of the bounding tongues. No edge
+/// moves with them; the design's candidates search the same way.
+pub fn unnamed_band(
+    fs: &rotorshunt::analysis::floquet::FloquetSystem,
+    s: &rotorshunt::analysis::regions::RegionSettings,
+    window: rotorshunt::analysis::Interval,
+    phi_op: f64,
+    level: f64,
+) -> rotorshunt::analysis::regions::Band {
+    use rotorshunt::analysis::regions::{band_around, seeds_for, Level, Probe};
+    let criterion = rotorshunt::analysis::Criterion::of(&fs.settings);
+    let seeds = seeds_for(fs, None, window, criterion.max_order).unwrap();
+    let probe = Probe::new(fs, s);
+    band_around(&Level::new(&probe, criterion, level, window), &seeds, phi_op)
+}
+
 /// Relative difference.
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
