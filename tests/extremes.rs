@@ -241,7 +241,13 @@ fn huge_beta_gives_an_exact_logarithm_beyond_1e300() {
     }
     assert!(pt.multipliers.iter().flatten().all(|x| x.is_finite()));
     let rk = dstm::monodromy_rk4(&fs.system, phi, beta, 200_000);
-    let rk_point = FloquetPoint::from_monodromy(phi, beta, &rk, 1.0001, PointStatus::Ok);
+    let rk_point = FloquetPoint::from_monodromy(
+        phi,
+        beta,
+        &rk,
+        rotorshunt::analysis::criterion::Threshold::Multiplier { tolerance: 1.0001 },
+        PointStatus::Ok,
+    );
     println!("rk4: {:?}", rk_point.summary);
     assert!(rel(s.ln_max_multiplier, rk_point.summary.ln_max_multiplier) < 1e-6);
 }

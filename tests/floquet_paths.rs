@@ -147,7 +147,13 @@ fn mathieu_unstable(delta: f64, eps: f64) -> bool {
     let table = PhiTable::new(&sys, 1.0, eps, 32, false);
     let mono = table.monodromy(&Symmetry::new(&sys), eps);
     // Undamped: stable multipliers lie on the unit circle to round-off (~1e-13).
-    let p = FloquetPoint::from_monodromy(1.0, eps, &mono, 1.0 + 1e-9, PointStatus::Ok);
+    let p = FloquetPoint::from_monodromy(
+        1.0,
+        eps,
+        &mono,
+        rotorshunt::analysis::criterion::Threshold::Multiplier { tolerance: 1.0 + 1e-9 },
+        PointStatus::Ok,
+    );
     !p.summary.stable
 }
 

@@ -22,6 +22,7 @@ mod campbell;
 mod cancel;
 mod candidates;
 mod cli_floquet;
+mod closed_form_onsets;
 mod consistency;
 mod convergence;
 mod cost_counts;

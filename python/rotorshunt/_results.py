@@ -179,6 +179,7 @@ class FloquetResult:
     multipliers: np.ndarray
     scaled_multipliers: np.ndarray = field(repr=False)
     multiplier_log_scale: float = 0.0
+    basis: str = ""
 
     @classmethod
     def _of(cls, d: Dict[str, Any]) -> "FloquetResult":
@@ -198,7 +199,7 @@ class ChartResult:
     stable: np.ndarray
     status: np.ndarray
     status_names: List[str]
-    instability_tolerance: float
+    threshold: str
     failed: int
     inaccurate: int
     unstable: int

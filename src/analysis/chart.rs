@@ -2,6 +2,8 @@
 //! (Fig. 12). Parallel over φ (the outermost loop; each φ row shares its per-φ work),
 //! sequential inside, so results are identical for any thread count.
 
+use super::basis::BasisReport;
+use super::criterion::Threshold;
 use super::floquet::{FloquetSystem, PointStatus, PointSummary};
 use super::reduction::ReductionInfo;
 use crate::progress::Progress;
@@ -22,10 +24,12 @@ pub struct ChartResult {
     pub betas: Vec<f64>,
     /// Points, φ-major: index = i_φ·len(β) + i_β.
     pub points: Vec<ChartPoint>,
-    /// Instability tolerance used: max|μ| above 1 + this counts (−).
-    pub instability_tolerance: f64,
+    /// The rule that made a point unstable.
+    pub threshold: Threshold,
     /// The reduced model the points were computed on (M, frequencies).
     pub reduction: ReductionInfo,
+    /// How its basis was chosen.
+    pub basis: BasisReport,
     /// Points whose monodromy failed (no verdict; counted apart from unstable ones).
     pub failed: usize,
     /// Points flagged less accurate than the path states (each with its `reason`).
@@ -66,7 +70,8 @@ pub fn chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Pro
         failed: points.iter().filter(|p| p.status == PointStatus::Failed).count(),
         inaccurate: points.iter().filter(|p| p.status == PointStatus::Inaccurate).count(),
         points,
-        instability_tolerance: fs.settings.instability_tolerance,
+        threshold: fs.settings.threshold(),
         reduction: fs.info(),
+        basis: fs.basis.clone(),
     }
 }

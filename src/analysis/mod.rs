@@ -1,5 +1,6 @@
 //! Analyses of an assembled model; each returns a serialisable result object.
 
+pub mod basis;
 pub mod buckling;
 pub mod campbell;
 pub mod chart;
@@ -9,6 +10,7 @@ pub mod damping;
 pub mod floquet;
 pub mod interval;
 pub mod limits;
+pub mod ltp;
 pub mod modes;
 mod operating;
 pub mod orbit;
@@ -26,7 +28,7 @@ pub use operating::{
     BandRequest, BandRequestBuilder, ChartGrid, ChartRequest, OperatingPoint, DEFAULT_BAND_RANGE, MAX_CHART_AXIS,
 };
 pub use rotor::Rotor;
-pub use settings::{MonodromyMethod, Settings, SettingsError, SettingsRule};
+pub use settings::{Basis, ModeCount, MonodromyMethod, Settings, SettingsError, SettingsRule};
 
 use crate::linalg::LinalgError;
 use thiserror::Error;
@@ -167,6 +169,10 @@ pub enum AnalysisError {
         /// The tags the model has there.
         available: Vec<String>,
     },
+    /// Matrices given for a linear time-periodic system do not make one
+    /// ([`ltp::LtpSystem`]).
+    #[error(transparent)]
+    Ltp(#[from] ltp::LtpError),
     /// α ≥ 1: the static part of the load alone buckles the shaft.
     #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
     StaticLoadBuckles {
@@ -187,6 +193,7 @@ impl AnalysisError {
             AnalysisError::Linalg(_) => "Linalg",
             AnalysisError::ReducedModes { .. } => "ReducedModes",
             AnalysisError::StaticLoadBuckles { .. } => "StaticLoadBuckles",
+            AnalysisError::Ltp(_) => "Ltp",
             AnalysisError::OutsideWindow { .. } => "OutsideWindow",
             AnalysisError::ResponseNotFinite { .. } => "ResponseNotFinite",
             AnalysisError::NoWhirlModes { .. } => "NoWhirlModes",
@@ -216,7 +223,8 @@ impl AnalysisError {
             | AnalysisError::ProbeNodeOffShaft { .. }
             | AnalysisError::NoSpeeds
             | AnalysisError::SpeedsNotAscending { .. }
-            | AnalysisError::UnknownMode { .. } => true,
+            | AnalysisError::UnknownMode { .. }
+            | AnalysisError::Ltp(_) => true,
             AnalysisError::Linalg(_)
             | AnalysisError::ReducedModes { .. }
             | AnalysisError::StaticLoadBuckles { .. }

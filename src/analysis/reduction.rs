@@ -2,6 +2,7 @@
 //! without axial load (electrical modes included when the circuit is closed), and the
 //! periodic state matrix of Eq. (24)–(25), B(t) = B0 + β·cos(φt)·B1.
 
+use super::settings::Basis;
 use super::{AnalysisError, Rotor};
 use crate::linalg::definite_eigen;
 use faer::{c64, Mat};
@@ -113,47 +114,80 @@ fn project_general(phi: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
     crate::linalg::seq::product(phi.transpose(), ap.as_ref())
 }
 
+/// Mass-normalised modes of (K_b, M), the `count` lowest, from a symmetric-definite solve,
+/// re-orthonormalised when the solve leaves them beyond [`MASS_ORTHONORMALITY_TOLERANCE`]:
+/// the basis and its frequencies √(φᵀK_bφ) (rad/s). `planes` is 2 on the general path,
+/// whose basis holds `planes`·M real modes for M complex ones (an error names M).
+fn modes_of(k_b: &Mat<f64>, m: &Mat<f64>, modes: usize, planes: usize) -> Result<(Mat<f64>, Vec<f64>), AnalysisError> {
+    // M x = θ K x: θ = 1/ω², massless DOFs give θ = 0 (ω = ∞) and are never selected.
+    let eig = definite_eigen(k_b.as_ref(), m.as_ref())?;
+    let available = eig.values.iter().filter(|t| **t > 0.0).count();
+    let count = planes * modes;
+    if count == 0 || count > available {
+        return Err(AnalysisError::ReducedModes { requested: modes, available: available / planes });
+    }
+    let n = m.nrows();
+    let theta = &eig.values[..count];
+    // x with xᵀKx = 1 → mass-normalise: x/√θ has xᵀMx = 1.
+    let mut basis = Mat::from_fn(n, count, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
+    let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
+    let mass = project(&basis, m);
+    let drift = (0..count)
+        .flat_map(|j| (0..count).map(move |i| (i, j)))
+        .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
+        .fold(0.0, f64::max);
+    if drift.is_nan() || drift > UNRESOLVED_BASIS {
+        return Err(AnalysisError::ReducedBasis { modes: count, drift });
+    }
+    if drift > MASS_ORTHONORMALITY_TOLERANCE {
+        // Φ ← Φ·R⁻ᵀ with ΦᵀMΦ = R·Rᵀ (Cholesky; ≈ I, so well conditioned): exactly
+        // M-orthonormal, the same span. K̃ is then no longer exactly diagonal; B0 takes
+        // it whole, and the basis frequencies become its Rayleigh quotients √K̃_jj.
+        let l = crate::linalg::seq::cholesky(mass.as_ref())
+            .map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
+        let mut rt = basis.transpose().to_owned();
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
+        basis = rt.transpose().to_owned();
+        let k = project(&basis, k_b);
+        frequencies = (0..count).map(|j| k[(j, j)].sqrt()).collect();
+    }
+    Ok((basis, frequencies))
+}
+
+/// The stiffness whose modes make the basis: K itself ([`Basis::Unloaded`]), or
+/// K − αP_cr·S ([`Basis::Loaded`]), which must then be positive definite (the static
+/// load below the buckling load of the model as assembled).
+fn basis_stiffness(k: &Mat<f64>, s: &Mat<f64>, rotor: &Rotor, basis: Basis) -> Result<Mat<f64>, AnalysisError> {
+    match basis {
+        Basis::Unloaded => Ok(k.clone()),
+        Basis::Loaded => {
+            let p = rotor.static_load();
+            let k_b = Mat::from_fn(k.nrows(), k.ncols(), |i, j| k[(i, j)] - p * s[(i, j)]);
+            match crate::linalg::seq::cholesky(k_b.as_ref()) {
+                Ok(_) => Ok(k_b),
+                Err(_) => Err(AnalysisError::StaticLoadBuckles {
+                    alpha: rotor.model.load.alpha,
+                    critical_load: rotor.critical_load,
+                }),
+            }
+        }
+    }
+}
+
 impl ReducedModel {
-    /// Reduce a prepared rotor to its first `count` modes; on the general path
-    /// ([`Rotor::real`]) to the first 2·`count` undamped modes of the symmetric part of the
-    /// real-coordinate (K, M) at speed Ω (rad/s), the supports' coefficients taken there:
-    /// both planes of the complex basis, the electrical modes included.
-    pub fn new(rotor: &Rotor, count: usize, speed: f64) -> Result<ReducedModel, AnalysisError> {
+    /// Reduce a prepared rotor to its first `count` modes of the kind `basis`; on the
+    /// general path ([`Rotor::real`]) to the first 2·`count` undamped modes of the
+    /// symmetric part of the real-coordinate stiffness at speed Ω (rad/s), the supports'
+    /// coefficients taken there: both planes of the complex basis, the electrical modes
+    /// included.
+    pub fn new(rotor: &Rotor, count: usize, speed: f64, basis: Basis) -> Result<ReducedModel, AnalysisError> {
         if rotor.real {
-            return ReducedModel::real(rotor, count, speed);
+            return ReducedModel::real(rotor, count, speed, basis);
         }
         let sys = &rotor.system;
-        // M x = θ K x: θ = 1/ω², massless DOFs give θ = 0 (ω = ∞) and are never selected.
-        let eig = definite_eigen(sys.k.as_ref(), sys.m.as_ref())?;
-        let available = eig.values.iter().filter(|t| **t > 0.0).count();
-        if count == 0 || count > available {
-            return Err(AnalysisError::ReducedModes { requested: count, available });
-        }
         let n = sys.size();
-        let theta = &eig.values[..count];
-        // x with xᵀKx = 1 → mass-normalise: x/√θ has xᵀMx = 1.
-        let mut basis = Mat::from_fn(n, count, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
-        let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
-        let mass = project(&basis, &sys.m);
-        let drift = (0..count)
-            .flat_map(|j| (0..count).map(move |i| (i, j)))
-            .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
-            .fold(0.0, f64::max);
-        if drift.is_nan() || drift > UNRESOLVED_BASIS {
-            return Err(AnalysisError::ReducedBasis { modes: count, drift });
-        }
-        if drift > MASS_ORTHONORMALITY_TOLERANCE {
-            // Φ ← Φ·R⁻ᵀ with ΦᵀMΦ = R·Rᵀ (Cholesky; ≈ I, so well conditioned): exactly
-            // M-orthonormal, the same span. K̃ is then no longer exactly diagonal; B0 takes
-            // it whole, and the basis frequencies become its Rayleigh quotients √K̃_jj.
-            let l = crate::linalg::seq::cholesky(mass.as_ref())
-                .map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
-            let mut rt = basis.transpose().to_owned();
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
-            basis = rt.transpose().to_owned();
-            let k = project(&basis, &sys.k);
-            frequencies = (0..count).map(|j| k[(j, j)].sqrt()).collect();
-        }
+        let k_b = basis_stiffness(&sys.k, &sys.s, rotor, basis)?;
+        let (basis, frequencies) = modes_of(&k_b, &sys.m, count, 1)?;
         let unbalance = (0..count).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
         Ok(ReducedModel {
             frequencies,
@@ -170,36 +204,12 @@ impl ReducedModel {
     }
 
     /// The general path of [`ReducedModel::new`].
-    fn real(rotor: &Rotor, count: usize, speed: f64) -> Result<ReducedModel, AnalysisError> {
+    fn real(rotor: &Rotor, count: usize, speed: f64, basis: Basis) -> Result<ReducedModel, AnalysisError> {
         let sys = rotor.general_at(speed);
-        let k_s = sys.symmetric_stiffness();
-        let eig = definite_eigen(k_s.as_ref(), sys.m.as_ref())?;
-        let available = eig.values.iter().filter(|t| **t > 0.0).count();
+        let k_s = basis_stiffness(&sys.symmetric_stiffness(), &sys.s, rotor, basis)?;
         let count_real = 2 * count;
-        if count == 0 || count_real > available {
-            return Err(AnalysisError::ReducedModes { requested: count, available: available / 2 });
-        }
+        let (basis, frequencies) = modes_of(&k_s, &sys.m, count, 2)?;
         let n = sys.size();
-        let theta = &eig.values[..count_real];
-        let mut basis = Mat::from_fn(n, count_real, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
-        let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
-        let mass = project(&basis, &sys.m);
-        let drift = (0..count_real)
-            .flat_map(|j| (0..count_real).map(move |i| (i, j)))
-            .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
-            .fold(0.0, f64::max);
-        if drift.is_nan() || drift > UNRESOLVED_BASIS {
-            return Err(AnalysisError::ReducedBasis { modes: count_real, drift });
-        }
-        if drift > MASS_ORTHONORMALITY_TOLERANCE {
-            let l = crate::linalg::seq::cholesky(mass.as_ref())
-                .map_err(|_| AnalysisError::ReducedBasis { modes: count_real, drift })?;
-            let mut rt = basis.transpose().to_owned();
-            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
-            basis = rt.transpose().to_owned();
-            let k = project(&basis, &k_s);
-            frequencies = (0..count_real).map(|j| k[(j, j)].sqrt()).collect();
-        }
         let unbalance = (0..count_real).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
         Ok(ReducedModel {
             frequencies,

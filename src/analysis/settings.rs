@@ -16,10 +16,33 @@ pub struct Settings {
     /// |Im λ|/|λ| below which an eigenvalue is non-oscillatory (overdamped) and is not a
     /// whirl (−).
     pub oscillation_tolerance: f64,
-    /// Number of modes M of the reduced model used by the Floquet analysis (Eq. 22).
-    pub reduced_modes: usize,
-    /// The paper's instability criterion: unstable when max|μ| exceeds this (Eq. 28).
-    pub instability_tolerance: f64,
+    /// Number of modes M of the reduced model used by the Floquet analysis (Eq. 22):
+    /// `auto` (the default) sizes it by convergence ([`crate::analysis::basis`]): the
+    /// basis is enlarged until the answers asked for move less than the convergence
+    /// tolerance; a number fixes it (the paper's figures use 4 and 8).
+    pub reduced_modes: ModeCount,
+    /// Which modes make the reduced basis ([`Basis`]): `loaded` (the default) or the
+    /// paper's `unloaded`.
+    pub basis: Basis,
+    /// Relative tolerance of the basis's convergence (−): an answer has converged when
+    /// its band edges (and tongue edges) move by at most this fraction of the band's width
+    /// (or `convergence_absolute`, whichever is larger) and its growths by this fraction of
+    /// themselves, at the last enlargement of the basis.
+    pub convergence_relative: f64,
+    /// Absolute floor of the edges' convergence tolerance (rad/s).
+    pub convergence_absolute: f64,
+    /// Relative tolerance of the onsets' convergence (−): an onset has converged when it
+    /// moves by at most this fraction of itself at the last enlargement of the basis.
+    pub convergence_onset: f64,
+    /// The paper's instability criterion (Eq. 28): unstable when max|μ| exceeds this.
+    /// Unset by default: a point is then unstable when its growth per period exceeds the
+    /// fast path's floor less the decay margin ([`crate::analysis::criterion`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instability_tolerance: Option<f64>,
+    /// σ_req, the decay margin (1/s): a point is unstable when its growth per period
+    /// ln max|μ| exceeds ε − σ_req·T, so every mode must decay at least at this rate. 0
+    /// (the default) asks only that nothing grows. Not with `instability_tolerance`.
+    pub decay_margin: f64,
     /// Growth-rate floor σ_min of the declared criterion (1/s): an unstable point whose
     /// growth rate ln(max|μ|)/T is below it does not count in stable bands, designs and
     /// studies (it is listed as ignored). 0 keeps the paper's criterion.
@@ -51,6 +74,73 @@ fn is_auto(c: &crate::model::Coordinates) -> bool {
     *c == crate::model::Coordinates::Auto
 }
 
+/// The number of modes of the reduced model: sized by convergence, or fixed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModeCount {
+    /// Sized by convergence of the answers asked for (`"auto"` in a file).
+    Auto,
+    /// Exactly this many modes M (a whole number in a file).
+    Fixed(usize),
+}
+
+impl ModeCount {
+    /// The fixed count, if there is one.
+    pub fn fixed(&self) -> Option<usize> {
+        match self {
+            ModeCount::Auto => None,
+            ModeCount::Fixed(m) => Some(*m),
+        }
+    }
+}
+
+impl Serialize for ModeCount {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            ModeCount::Auto => s.serialize_str("auto"),
+            ModeCount::Fixed(m) => s.serialize_u64(*m as u64),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ModeCount {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl serde::de::Visitor<'_> for Visit {
+            type Value = ModeCount;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a whole number of modes or \"auto\"")
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ModeCount, E> {
+                usize::try_from(v).map(ModeCount::Fixed).map_err(|_| E::custom(format!("{v} modes is too many")))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ModeCount, E> {
+                u64::try_from(v)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Signed(v), &self))
+                    .and_then(|v| self.visit_u64(v))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<ModeCount, E> {
+                if v == "auto" {
+                    Ok(ModeCount::Auto)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(Visit)
+    }
+}
+
+/// Which modes the reduced basis of the Floquet analysis is made of (Eq. 22).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Basis {
+    /// The undamped modes of (K − αP_cr·S, M) at Ω = 0: the system under its static
+    /// load, whose answers converge with fewer modes (docs/decisions.md, "The basis").
+    Loaded,
+    /// The paper's: the undamped modes of (K, M) at Ω = 0 without axial load.
+    Unloaded,
+}
+
 /// Which monodromy path to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -59,6 +149,26 @@ pub enum MonodromyMethod {
     Fast,
     /// The paper's discrete state transition matrix (Eq. 26–27).
     Dstm,
+}
+
+/// Most modes a reduced model may keep, fixed or sized by convergence.
+pub const MAX_REDUCED_MODES: usize = 200;
+
+impl Settings {
+    /// The rule that makes a point unstable ([`crate::analysis::criterion::Threshold`]):
+    /// the paper's tolerance on max|μ| when one is set, the growth rule otherwise.
+    pub fn threshold(&self) -> crate::analysis::criterion::Threshold {
+        use crate::analysis::criterion::{Threshold, PATH_FLOOR};
+        match self.instability_tolerance {
+            Some(tolerance) => Threshold::Multiplier { tolerance },
+            None => Threshold::Growth { floor: PATH_FLOOR, decay_margin: self.decay_margin },
+        }
+    }
+
+    /// These settings with the reduced model fixed at `modes` modes.
+    pub fn with_modes(&self, modes: usize) -> Settings {
+        Settings { reduced_modes: ModeCount::Fixed(modes), ..self.clone() }
+    }
 }
 
 /// Highest tongue order the search may be asked for: orders cost a few evaluations per
@@ -144,8 +254,24 @@ impl Settings {
         within("electrical_fraction", self.electrical_fraction, 0.0, 1.0, "in (0, 1)")?;
         within("oscillation_tolerance", self.oscillation_tolerance, 0.0, 1.0, "in (0, 1)")?;
         within("max_step_phase", self.max_step_phase, 0.0, 10.0, "in (0, 10) rad")?;
-        within("instability_tolerance", self.instability_tolerance, 1.0, f64::INFINITY, "above 1")?;
-        count("reduced_modes", self.reduced_modes, 1, 200)?;
+        if let Some(t) = self.instability_tolerance {
+            within("instability_tolerance", t, 1.0, f64::INFINITY, "above 1")?;
+        }
+        floor("decay_margin", self.decay_margin)?;
+        if self.decay_margin > 0.0 && self.instability_tolerance.is_some() {
+            let range = "0 when instability_tolerance is set (two criteria: keep one)".to_string();
+            return err("decay_margin", SettingsRule::OutOfRange { value: self.decay_margin, range });
+        }
+        if self.decay_margin > 0.0 && self.min_growth_rate > 0.0 {
+            let range = "0 when decay_margin is set (a margin on decay and a floor on growth contradict)".to_string();
+            return err("min_growth_rate", SettingsRule::OutOfRange { value: self.min_growth_rate, range });
+        }
+        if let ModeCount::Fixed(m) = self.reduced_modes {
+            count("reduced_modes", m, 1, MAX_REDUCED_MODES)?;
+        }
+        within("convergence_relative", self.convergence_relative, 0.0, 1.0, "in (0, 1)")?;
+        within("convergence_absolute", self.convergence_absolute, 0.0, f64::INFINITY, "above 0 rad/s")?;
+        within("convergence_onset", self.convergence_onset, 0.0, 1.0, "in (0, 1)")?;
         count("steps_per_period", self.steps_per_period, 2, 1 << 16)?;
         count("reference_steps", self.reference_steps, 2, 1 << 20)?;
         // The criterion's floors: 0 (nothing ignored) up to any finite value.
@@ -164,9 +290,22 @@ impl Default for Settings {
             electrical_fraction: 0.5,
             // Damping ratios up to 1 − 1e-12 still count as whirls.
             oscillation_tolerance: 1e-9,
-            // The paper reduces to M = 4 (open, Ω = 0) and M = 8 (closed); 8 covers both.
-            reduced_modes: 8,
-            instability_tolerance: 1.0001,
+            // Sized by convergence; the paper's files fix M = 4 (open, Ω = 0) and M = 8
+            // (closed) with the unloaded basis.
+            reduced_modes: ModeCount::Auto,
+            basis: Basis::Loaded,
+            // The tolerance on band edges: 0.25 % of the band's width, at least
+            // 0.5 rad/s (four cells of the edges' 0.125 rad/s lattice).
+            convergence_relative: 0.0025,
+            convergence_absolute: 0.5,
+            // 1 %: twice the onset search's own repeatability on a thin higher-order
+            // tongue (the f2+s2 (k = 2) onset of the Fig. 11 rotor is found at 0.2913 and
+            // 0.2928 on bases that agree to 1e-3 rad/s in its edges, 0.5 % apart); a load
+            // margin of +30 % then holds to ±0.3 points.
+            convergence_onset: 0.01,
+            // The growth criterion (ln max|μ| above the path's floor), no decay margin.
+            instability_tolerance: None,
+            decay_margin: 0.0,
             // Nothing ignored: the paper's criterion as it stands.
             min_growth_rate: 0.0,
             min_tongue_width: 0.0,

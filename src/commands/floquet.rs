@@ -5,6 +5,7 @@ use super::bounds::{self, Names};
 use super::{files_phase, parse_range, OutDir, Provenance};
 use crate::commands::out::{json_compact, json_pretty};
 use crate::commands::Error;
+use rotorshunt::analysis::basis::{point_sized, BasisReport, Schedule, Sized};
 use rotorshunt::analysis::chart::{chart, ChartResult};
 use rotorshunt::analysis::cost::{self, Budget, Dense, PointCost};
 use rotorshunt::analysis::floquet::{FloquetPoint, FloquetSystem};
@@ -42,16 +43,18 @@ fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
 /// The names of a point command's inputs in a refusal.
 const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`--beta`", periods: "`--periods`" };
 
-/// The reduced system of `problem`, its dense stages admitted within `budget` first.
-pub fn reduced_system(problem: &Problem, budget: &Budget) -> Result<FloquetSystem, Error> {
-    Ok(rotor_and_system(problem, budget)?.1)
+/// The reduced system of `problem` for answers up to φ = `top` (rad/s)
+/// ([`FloquetSystem::for_window`]), its dense stages admitted within `budget` first.
+pub fn reduced_system(problem: &Problem, budget: &Budget, top: f64) -> Result<FloquetSystem, Error> {
+    Ok(rotor_and_system(problem, budget, top)?.1)
 }
 
-/// The rotor and its reduced system, the dense stages admitted within `budget` first.
-fn rotor_and_system(problem: &Problem, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+/// The rotor and its reduced system for answers up to φ = `top` (rad/s), the dense stages
+/// admitted within `budget` first.
+fn rotor_and_system(problem: &Problem, budget: &Budget, top: f64) -> Result<(Rotor, FloquetSystem), Error> {
     bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
     let rotor = Rotor::new(&problem.model)?;
-    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
+    let fs = FloquetSystem::for_window(&rotor, &problem.settings, problem.model.speed, top)?;
     Ok((rotor, fs))
 }
 
@@ -89,6 +92,8 @@ pub struct FloquetOutput {
     pub provenance: Provenance,
     /// Ω (rad/s).
     pub speed: f64,
+    /// The reduced basis the point was computed on, and its convergence.
+    pub basis: BasisReport,
     /// The Floquet point at (φ, β): its summary (max|μ|, growth rate, verdict) and the
     /// multipliers μ; flattened into the JSON.
     #[serde(flatten)]
@@ -97,22 +102,21 @@ pub struct FloquetOutput {
 
 /// `rotorshunt floquet FILE --phi P --beta B [--json]`.
 pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: Budget) -> Result<String, Error> {
-    check_point(phi, beta)?;
-    let fs = reduced_system(problem, &budget)?;
-    let point = floquet_point(&fs, phi, beta, &budget)?;
+    let sized = floquet_point_sized(problem, phi, beta, &budget)?;
+    let (fs, point, basis) = (sized.system, sized.answer, sized.basis);
     if json {
-        let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, point };
+        let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, basis, point };
         return Ok(json_pretty(&out, "the JSON output")? + "\n");
     }
     let mut s = format!(
-        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, M = {} modes\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (tolerance {}), status {:?}\n",
+        "phi = {phi} rad/s, beta = {beta}, speed = {} rad/s, {}\nmax|mu| = {:.8} (ln = {:.6e}), growth rate = {:.6e} 1/s: {} (unstable when {}), status {:?}\n",
         fs.speed,
-        fs.reduced.size(),
+        basis.text(),
         point.summary.max_multiplier,
         point.summary.ln_max_multiplier,
         point.summary.growth_rate,
         if point.summary.stable { "stable" } else { "UNSTABLE" },
-        problem.settings.instability_tolerance,
+        problem.settings.threshold().describe(),
         point.summary.status
     );
     if let Some(reason) = point.summary.reason {
@@ -130,13 +134,26 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: B
     Ok(s)
 }
 
-/// The Floquet point at (φ, β) of a problem's reduced system `fs` ([`reduced_system`]),
-/// as `floquet` computes it: φ and β checked by their rules and the point's cost admitted
-/// within `budget` first.
-pub fn floquet_point(fs: &FloquetSystem, phi: f64, beta: f64, budget: &Budget) -> Result<FloquetPoint, Error> {
+/// The Floquet point at (φ, β) of `problem` as `floquet` computes it: φ and β checked by
+/// their rules, then the point on a basis sized by convergence (or fixed by the settings,
+/// [`rotorshunt::analysis::basis::point_sized`]), its cost on the schedule's first two
+/// sizes admitted within `budget` first.
+pub fn floquet_point_sized(
+    problem: &Problem,
+    phi: f64,
+    beta: f64,
+    budget: &Budget,
+) -> Result<Sized<FloquetPoint>, Error> {
     check_point(phi, beta)?;
-    bounds::admit(budget, "the Floquet point", &cost::floquet_point(&PointCost::of(fs), phi, beta), &POINT)?;
-    Ok(fs.point(phi, beta))
+    bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
+    let rotor = Rotor::new(&problem.model)?;
+    let (settings, speed) = (&problem.settings, problem.model.speed);
+    let schedule = Schedule::new(&rotor, settings, speed, phi)?;
+    for &m in schedule.sizes().iter().take(2) {
+        let fs = FloquetSystem::with_modes(&rotor, settings, speed, m)?;
+        bounds::admit(budget, "the Floquet point", &cost::floquet_point(&PointCost::of(&fs), phi, beta), &POINT)?;
+    }
+    Ok(point_sized(&rotor, settings, speed, phi, beta)?)
 }
 
 /// The checks `chart` makes on its grid (φ in rad/s, β): every value by its rule, and at
@@ -251,11 +268,12 @@ pub fn chart_cmd(
     check_grid(&phis, &betas)?;
     // Both systems built and the charts' work admitted before any file is touched.
     let names = CHART;
-    let main_fs = reduced_system(problem, &budget)?;
+    let top = phis.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let main_fs = reduced_system(problem, &budget, top)?;
     let mut estimate = cost::chart(&PointCost::of(&main_fs), &phis, &betas);
     let other_fs = match &compare {
         Compare::Problem(_, other) => {
-            let fs = reduced_system(other, &budget)?;
+            let fs = reduced_system(other, &budget, top)?;
             estimate = estimate.then(cost::chart(&PointCost::of(&fs), &phis, &betas));
             Some(fs)
         }
@@ -333,6 +351,7 @@ pub fn chart_cmd(
         main.inaccurate,
         out.display()
     );
+    head += &format!("basis: {}\n", main.basis.text());
     if timing {
         head += &format!(
             "timing: {} points in {:.3} s wall ({:.1} us/point/thread, {} threads, method {:?}, {} steps/period)\n",
@@ -360,7 +379,7 @@ pub fn response_cmd(
 ) -> Result<String, Error> {
     check_point(phi, beta)?;
     bounds::flag("--periods", limits::count(periods as u64, 1, MAX_PERIODS as u64))?;
-    let (rotor, fs) = rotor_and_system(problem, &budget)?;
+    let (rotor, fs) = rotor_and_system(problem, &budget, phi)?;
     bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
     super::check_folder(out)?;
     // The Floquet point first: a phase without counted steps (time only in the log).

@@ -37,7 +37,7 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 #[allow(unused_imports)]
 pub use design::{design_file_name, design_run, status_word};
 #[allow(unused_imports)]
-pub use floquet::{admit_chart, check_grid, floquet_point, reduced_system};
+pub use floquet::{admit_chart, check_grid, floquet_point_sized, reduced_system};
 #[allow(unused_imports)]
 pub use tuned::tuned_toml;
 #[allow(unused_imports)]

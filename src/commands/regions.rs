@@ -5,15 +5,16 @@ use super::bounds::{self, Names};
 use super::{files_phase, OutDir, Provenance};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
+use rotorshunt::analysis::basis::{BasisReport, Schedule};
 use rotorshunt::analysis::chart::chart;
-use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
+use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, Estimate, PointCost};
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::limits::{self, Quantity};
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::margins::{band_margins, load_margin};
 use rotorshunt::analysis::regions::seeds_for;
 use rotorshunt::analysis::regions::{
-    band_with, catalogue_with, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
+    band_sized, catalogue_sized, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
 };
 use rotorshunt::analysis::Criterion;
 use rotorshunt::analysis::Interval;
@@ -37,13 +38,35 @@ fn range_of(text: &str) -> Result<Interval, Error> {
     bounds::flag("--phi", limits::phi_range(number(a)?, number(b)?))
 }
 
-/// The rotor and its reduced system, their dense stages (with the whirls at the speed)
-/// admitted within `budget` first.
-fn prepare(problem: &Problem, budget: &Budget) -> Result<(Rotor, FloquetSystem), Error> {
+/// The rotor and the reduced systems a search over a φ window whose top is `top`
+/// (rad/s) is counted on, their dense stages (with the whirls at the speed) admitted
+/// within `budget` first: the basis schedule's first size, and its second when the basis
+/// is sized by convergence (the least such a search computes,
+/// [`rotorshunt::analysis::basis`]); what it computes beyond is bounded while it runs.
+fn prepare(problem: &Problem, budget: &Budget, top: f64) -> Result<(Rotor, Vec<FloquetSystem>), Error> {
     bounds::admit_dense(budget, "the region search", problem, Dense::ReducedAndWhirls)?;
     let rotor = Rotor::new(&problem.model)?;
-    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
-    Ok((rotor, fs))
+    let (settings, speed) = (&problem.settings, problem.model.speed);
+    let schedule = Schedule::new(&rotor, settings, speed, top)?;
+    let systems = schedule
+        .sizes()
+        .iter()
+        .take(2)
+        .map(|&m| FloquetSystem::with_modes(&rotor, settings, speed, m))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((rotor, systems))
+}
+
+/// The estimates of a search on each of `systems`, run one after the other.
+fn on_each(
+    systems: &[FloquetSystem],
+    estimate: impl Fn(&FloquetSystem) -> Result<Estimate, Error>,
+) -> Result<Estimate, Error> {
+    let mut total = Estimate::zero();
+    for fs in systems {
+        total = total.then(estimate(fs)?);
+    }
+    Ok(total)
 }
 
 /// The grid of the boundary plot over a catalogue (600 φ × 41 β).
@@ -132,6 +155,8 @@ struct RegionsJson<'a> {
     speed: f64,
     region_settings: &'a RegionSettings,
     seconds: f64,
+    /// The reduced basis the catalogue was computed on, and its convergence.
+    basis: &'a BasisReport,
     #[serde(flatten)]
     catalogue: &'a Catalogue,
     /// The load margin of each stable band at the level (same order as `stable_bands`).
@@ -176,22 +201,25 @@ pub fn regions_cmd(
     let range = range_of(phi)?;
     let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
-    let (rotor, fs) = prepare(problem, &budget)?;
+    let (rotor, systems) = prepare(problem, &budget, range.hi)?;
     let settings = problem.regions.clone();
     let req = CatalogueRequest::builder().range(range).beta_max(beta_max).level(level).track(out.is_some()).build();
     let req = req.map_err(rotorshunt::analysis::AnalysisError::from)?;
     // The search's work, from the seeds of the range, before the whirls and the search.
-    let criterion = Criterion::of(&fs.settings);
-    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
-    let pc = PointCost::of(&fs);
+    let criterion = Criterion::of(&problem.settings);
     let work = CatalogueWork { range, beta_max, level, track: out.is_some() };
-    let mut estimate = cost::catalogue(&pc, &settings, &criterion, &seeds, &work);
+    let mut estimate = on_each(&systems, |fs| {
+        let seeds = seeds_for(fs, None, range, criterion.max_order)?;
+        Ok(cost::catalogue(&PointCost::of(fs), &settings, &criterion, &seeds, &work))
+    })?;
+    let fs = &systems[0];
     if out.is_some() {
+        let pc = PointCost::of(fs);
         estimate = estimate.then(cost::chart(&pc, &plot_grid(range, beta_max).0, &plot_grid(range, beta_max).1));
     }
     let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
     bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
-    let warnings = super::range_warning(problem, &fs, range, "--phi", progress);
+    let warnings = super::range_warning(problem, fs, range, "--phi", progress);
     // The staging folder is made before the search: an --out that cannot be written
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
@@ -199,16 +227,18 @@ pub fn regions_cmd(
     let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("catalogue", 0);
-    let cat = catalogue_with(&fs, &full, &settings, &req, &deadline);
+    let sized = catalogue_sized(&rotor, &problem.settings, problem.model.speed, &full, &settings, &req, &deadline);
     let seconds = start.elapsed().as_secs_f64();
     budget.stopped(&deadline, "the region catalogue")?;
-    let cat = cat?;
+    let sized = sized?;
+    let (cat, fs) = (&sized.answer, &sized.system);
     let doc = RegionsJson {
         provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
         region_settings: &settings,
         seconds,
-        catalogue: &cat,
+        basis: &sized.basis,
+        catalogue: cat,
         band_margins: cat
             .stable_bands
             .iter()
@@ -217,7 +247,7 @@ pub fn regions_cmd(
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
     if let Some(dir) = dir {
-        let plot = boundary_plot(problem, &fs, &cat, &deadline);
+        let plot = boundary_plot(problem, fs, cat, &deadline);
         budget.stopped(&deadline, "the region catalogue's boundary plot")?;
         let written = files_phase(progress, 3);
         dir.write("regions.json", json_text.as_bytes())?;
@@ -238,6 +268,7 @@ pub fn regions_cmd(
         problem.model.speed,
         cat.evaluations
     );
+    s += &format!("basis: {}\n", sized.basis.text());
     s += &format!(
         "{:>10} {:>5} {:>11} {:>10} {:>10} {:>8} {:>10} {:>10} {:>8}  note\n",
         "label", "k", "kind", "predicted", "start", "onset", "left", "right", "width"
@@ -308,6 +339,8 @@ pub struct BandOutput {
     pub band: Band,
     /// Width (rad/s), when φ_op is stable.
     pub width: Option<f64>,
+    /// The reduced basis the band was computed on, and its convergence.
+    pub basis: BasisReport,
     /// The band's margins: load margin (onset/β_op − 1 of the lowest counted tongue born
     /// inside it, searched up to 2·β_op), frequency margins φ_op − lo and hi − φ_op
     /// (rad/s), the largest max|μ| sampled inside it and the band by the strict
@@ -357,29 +390,34 @@ pub fn band_cmd(
         None => default_window(phi_op),
     };
     bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
-    let (rotor, fs) = prepare(problem, &budget)?;
+    let (rotor, systems) = prepare(problem, &budget, window.hi)?;
     let settings = problem.regions.clone();
-    let criterion = Criterion::of(&fs.settings);
-    let seeds = seeds_for(&fs, None, window, criterion.max_order)?;
-    let estimate = cost::band_and_margins(&PointCost::of(&fs), &settings, &criterion, &seeds, window, level);
+    let criterion = Criterion::of(&problem.settings);
+    let estimate = on_each(&systems, |fs| {
+        let seeds = seeds_for(fs, None, window, criterion.max_order)?;
+        Ok(cost::band_and_margins(&PointCost::of(fs), &settings, &criterion, &seeds, window, level))
+    })?;
     let names =
         Names { phi: "`--phi` (the window)", grid: "`--phi` (the window)", load: "`--level`", periods: "`--phi`" };
     bounds::admit(&budget, "the band search", &estimate, &names)?;
     let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
-    let warnings = super::range_warning(problem, &fs, window, key, progress);
-    let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
+    let warnings = super::range_warning(problem, &systems[0], window, key, progress);
+    let speed = problem.model.speed;
+    let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
     let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("band", 0);
-    let b = band_with(&fs, &full, &settings, window, phi_op, level, &deadline);
+    let sized = band_sized(&rotor, &problem.settings, speed, &full, &settings, window, phi_op, level, &deadline);
     budget.stopped(&deadline, "the band search")?;
-    let b = b?;
+    let sized = sized?;
+    let (b, fs, basis) = (sized.answer, &sized.system, sized.basis);
     progress.phase("margins", 0);
-    let labelled = seeds_for(&fs, Some(&full), window, criterion.max_order)?;
-    let margins = band_margins(&fs, &full, &settings, &labelled, &b, window, &deadline);
+    let labelled = seeds_for(fs, Some(&full), window, criterion.max_order)?;
+    let margins = band_margins(fs, &full, &settings, &labelled, &b, window, &deadline);
     budget.stopped(&deadline, "the band's margins")?;
     let margins = margins?;
     let out = BandOutput {
+        basis,
         margins,
         provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
@@ -412,6 +450,7 @@ pub fn band_cmd(
             )
         }
     };
+    text += &format!("  basis: {}\n", out.basis.text());
     if let Some(m) = &out.margins {
         text += &m.text("  ");
     }

@@ -36,6 +36,7 @@ pub mod optimise;
 pub mod pareto;
 pub mod qp;
 pub mod robust;
+pub mod sizing;
 pub mod spec;
 pub mod tolerance;
 pub mod verify;

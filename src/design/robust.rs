@@ -116,7 +116,7 @@ pub fn judged(
         Some(m) => penalty * margin_shortfall(&operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?, &m),
         None => 0.0,
     };
-    Ok(Judged { smallest: smallest(&bands), penalty, bands })
+    Ok(Judged { smallest: smallest_counted(&bands), penalty, bands })
 }
 
 /// One build of a candidate judged at one speed `w` (rad/s) outside its grid: the signed
@@ -141,7 +141,7 @@ pub fn judged_at(
         }
         None => 0.0,
     };
-    Ok(band.signed_width() - penalty)
+    Ok(band.band.counted_width() - penalty)
 }
 
 /// Golden-section steps refining the worst speed of a speed range's grid.
@@ -163,12 +163,12 @@ pub fn refined_worst(
     let (k, worst) = bands
         .iter()
         .enumerate()
-        .min_by(|a, b| a.1.signed_width().total_cmp(&b.1.signed_width()))
-        .map(|(k, b)| (k, b.signed_width()))
+        .min_by(|a, b| a.1.band.counted_width().total_cmp(&b.1.band.counted_width()))
+        .map(|(k, b)| (k, b.band.counted_width()))
         .ok_or_else(|| DesignError::Optimiser("no operating speed".into()))?;
     let at = |w: f64| -> Result<f64, DesignError> {
         let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
-        Ok(band_of_system(c, spec, &fs, phi_op, spec.level, s, count)?.signed_width())
+        Ok(band_of_system(c, spec, &fs, phi_op, spec.level, s, count)?.counted_width())
     };
     let speeds: Vec<f64> = bands.iter().map(|b| b.speed).collect();
     let (mut a, mut b) = (speeds[k.saturating_sub(1)], speeds[(k + 1).min(speeds.len() - 1)]);
@@ -200,6 +200,12 @@ pub fn refined_worst(
 /// The smallest signed band width over the speeds (rad/s).
 pub fn smallest(bands: &[OperatingBand]) -> f64 {
     bands.iter().map(OperatingBand::signed_width).fold(f64::INFINITY, f64::min)
+}
+
+/// The smallest width over the speeds that the widest-band objective counts (rad/s):
+/// none of what the window supplies ([`crate::analysis::regions::Band::counted_width`]).
+pub fn smallest_counted(bands: &[OperatingBand]) -> f64 {
+    bands.iter().map(|b| b.band.counted_width()).fold(f64::INFINITY, f64::min)
 }
 
 /// One build judged ([`Build`]) at the speeds of `built`'s reduced systems.

@@ -272,8 +272,8 @@ pub fn describe(
                     // Named as `band` and the region table name them: by the catalogue.
                     band.name_bounds(&cat.named_tongues(), &|phi| unexplained(fs, &full, phi, spec.level));
                     let strict = margins::strict_band(fs, s, &seeds, &band, spec.range());
-                    let tolerance = c.criterion().strict().instability_tolerance;
-                    let m = margins::assemble(&band, strict, &cat.regions, spec.beta_max, tolerance);
+                    let m =
+                        margins::assemble(&band, strict, &cat.regions, spec.beta_max, c.criterion().strict().threshold);
                     (Some(band), m)
                 }
                 None => (None, None),

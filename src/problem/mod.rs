@@ -72,6 +72,16 @@ pub fn input_hash(text: &str, overrides: &[String]) -> String {
     format!("{:x}", h.finalize())
 }
 
+/// The tool's default settings as text (`[analysis]` and `[regions]` in JSON): what a file
+/// that leaves a setting out computes with. A record of results computed from a problem
+/// text (a study case's) is tied to these, so that a version with other defaults (a
+/// basis, a criterion) never takes such a record as its own.
+pub fn default_settings_text() -> String {
+    let analysis = serde_json::to_string(&crate::analysis::Settings::default()).unwrap_or_default();
+    let regions = serde_json::to_string(&crate::analysis::regions::RegionSettings::default()).unwrap_or_default();
+    format!("analysis {analysis}\nregions {regions}\n")
+}
+
 impl Problem {
     /// Where a key path of the file is: its line, `--set` when an override set it, or
     /// unknown (data built in code, or a key the file does not have).

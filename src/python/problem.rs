@@ -35,7 +35,8 @@ impl NativeProblem {
         if let Some(fs) = self.system.get() {
             return Ok(fs);
         }
-        let fs = commands::reduced_system(&self.problem, &Budget::default())?;
+        let top = crate::analysis::DEFAULT_BAND_RANGE.hi;
+        let fs = commands::reduced_system(&self.problem, &Budget::default(), top)?;
         Ok(self.system.get_or_init(|| fs))
     }
 }
@@ -181,11 +182,8 @@ impl NativeProblem {
     ) -> PyResult<Bound<'py, PyDict>> {
         let phi = args::number(phi, "--phi").map_err(super::to_py)?;
         let beta = args::number(beta, "--beta").map_err(super::to_py)?;
-        let point = released(py, || {
-            let fs = self.system()?;
-            commands::floquet_point(fs, phi, beta, &Budget::default()).map(|p| (fs.speed, p))
-        })?;
-        let (speed, point) = point;
+        let sized = released(py, || commands::floquet_point_sized(&self.problem, phi, beta, &Budget::default()))?;
+        let (speed, point, basis) = (sized.system.speed, sized.answer, sized.basis);
         let scale = point.multiplier_log_scale.exp();
         let mu: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0] * scale, m[1] * scale)).collect();
         let raw: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0], m[1])).collect();
@@ -203,6 +201,7 @@ impl NativeProblem {
         d.set_item("multipliers", mu.into_pyarray(py))?;
         d.set_item("scaled_multipliers", raw.into_pyarray(py))?;
         d.set_item("multiplier_log_scale", point.multiplier_log_scale)?;
+        d.set_item("basis", basis.text())?;
         Ok(d)
     }
 
@@ -245,7 +244,7 @@ impl NativeProblem {
         let status: Vec<u8> = c.points.iter().map(|p| status_code(p.status)).collect();
         d.set_item("status", status.into_pyarray(py).reshape([shape.0, shape.1])?)?;
         d.set_item("status_names", ["ok", "inaccurate", "failed"])?;
-        d.set_item("instability_tolerance", c.instability_tolerance)?;
+        d.set_item("threshold", c.threshold.describe())?;
         d.set_item("failed", c.failed)?;
         d.set_item("inaccurate", c.inaccurate)?;
         d.set_item("unstable", c.unstable())?;
@@ -460,10 +459,9 @@ fn status_code(s: PointStatus) -> u8 {
 #[pyfunction]
 pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, points: Vec<(f64, f64)>) -> PyResult<f64> {
     released(py, || {
-        let fs = problem.system()?;
         let start = std::time::Instant::now();
         for &(phi, beta) in &points {
-            std::hint::black_box(commands::floquet_point(fs, phi, beta, &Budget::default())?);
+            std::hint::black_box(commands::floquet_point_sized(&problem.problem, phi, beta, &Budget::default())?);
         }
         Ok(start.elapsed().as_secs_f64())
     })

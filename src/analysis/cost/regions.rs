@@ -226,7 +226,7 @@ pub fn band(
 
 /// The `band` command's work around φ_op at `level` in `window`: the band search
 /// ([`band`]), its strict band (the same search under the strict criterion,
-/// [`crate::analysis::regions::margins::strict_band`]) and its load margin's catalogue
+/// [`crate::analysis::regions::margins::strict_band`], when that is not the declared one) and its load margin's catalogue
 /// (over the band, at most the window, up to [`load_margin_reach`]).
 pub fn band_and_margins(
     pc: &PointCost,
@@ -237,9 +237,12 @@ pub fn band_and_margins(
     level: f64,
 ) -> Estimate {
     let margins = CatalogueWork { range: window, beta_max: load_margin_reach(level), level, track: false };
-    band(pc, s, criterion, seeds, window, level)
-        .then(band(pc, s, &criterion.strict(), seeds, window, level))
-        .then(catalogue(pc, s, criterion, seeds, &margins))
+    let declared = band(pc, s, criterion, seeds, window, level);
+    let with_strict = match criterion.is_strict() {
+        true => declared,
+        false => declared.then(band(pc, s, &criterion.strict(), seeds, window, level)),
+    };
+    with_strict.then(catalogue(pc, s, criterion, seeds, &margins))
 }
 
 /// The search for the tongues at the level over `windows` (a clear-bands candidate's

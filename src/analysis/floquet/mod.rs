@@ -3,8 +3,9 @@
 //! The monodromy Φ(T), T = 2π/φ, comes from one of two paths: the paper's DSTM
 //! ([`dstm`], reference) or the fast CFM4 path ([`fast`]); both return a scaled product
 //! e^{s}·Φ̂ so that strongly unstable points never overflow. Multipliers μ are the
-//! eigenvalues of Φ(T); the point is unstable when max|μ| exceeds the tolerance
-//! (1.0001 in the paper).
+//! eigenvalues of Φ(T); the point is unstable by the settings' threshold
+//! ([`crate::analysis::criterion::Threshold`]: growth above the path's floor by default,
+//! max|μ| above 1.0001 in the paper).
 //!
 //! β = 0 sanity check: at β = 0 the system is constant and its multipliers are exactly
 //! exp(λ_k T), λ_k the eigenvalues of B0 (on the unit circle when undamped). Every
@@ -21,6 +22,7 @@ pub mod product;
 pub use point::{FloquetPoint, PointIssue, PointStatus, PointSummary};
 pub use product::ScaledProduct;
 
+use super::basis::BasisReport;
 use super::reduction::{PeriodicSystem, ReducedModel, ReductionInfo};
 use super::{AnalysisError, MonodromyMethod, Rotor, Settings};
 use fast::{PhiTable, Symmetry};
@@ -95,18 +97,70 @@ pub struct FloquetSystem {
     pub symmetry: Symmetry,
     /// Speed Ω (rad/s).
     pub speed: f64,
-    /// Numerical settings in force.
+    /// Numerical settings in force (the reduced model's size fixed at its modes).
     pub settings: Settings,
+    /// How its basis was chosen: fixed, or the first size of a schedule (unchecked); a
+    /// search that sizes its basis by convergence reports its own.
+    pub basis: BasisReport,
     /// The β = 0 check's reference.
     zero_load: ZeroLoadReference,
 }
 
 impl FloquetSystem {
-    /// Reduce the rotor to `settings.reduced_modes` modes at `speed` (rad/s); the settings
-    /// are checked first ([`Settings::validate`]).
+    /// Reduce the rotor at `speed` (rad/s) to `settings.reduced_modes` modes, or, when
+    /// they are sized by convergence, to the first size of the schedule for the default φ
+    /// window ([`crate::analysis::basis::Schedule`], [`crate::analysis::DEFAULT_BAND_RANGE`]);
+    /// the settings are checked first ([`Settings::validate`]).
     pub fn new(rotor: &Rotor, settings: &Settings, speed: f64) -> Result<FloquetSystem, AnalysisError> {
+        FloquetSystem::for_window(rotor, settings, speed, crate::analysis::DEFAULT_BAND_RANGE.hi)
+    }
+
+    /// [`FloquetSystem::new`] for answers about a φ window whose top is `top` (rad/s): with
+    /// the basis sized by convergence, the first size of its schedule for that window,
+    /// reported as unchecked ([`crate::analysis::basis::Sizing::Unchecked`]).
+    pub fn for_window(
+        rotor: &Rotor,
+        settings: &Settings,
+        speed: f64,
+        top: f64,
+    ) -> Result<FloquetSystem, AnalysisError> {
         settings.validate()?;
-        let reduced = ReducedModel::new(rotor, settings.reduced_modes, speed)?;
+        match settings.reduced_modes.fixed() {
+            Some(m) => FloquetSystem::with_modes(rotor, settings, speed, m),
+            None => {
+                let m = crate::analysis::basis::Schedule::new(rotor, settings, speed, top)?.first();
+                let mut fs = FloquetSystem::with_modes(rotor, settings, speed, m)?;
+                fs.basis = BasisReport::unchecked(settings.basis, m);
+                Ok(fs)
+            }
+        }
+    }
+
+    /// Reduce the rotor at `speed` (rad/s) to exactly `modes` modes of the settings' basis;
+    /// the system's settings record that count.
+    pub fn with_modes(
+        rotor: &Rotor,
+        settings: &Settings,
+        speed: f64,
+        modes: usize,
+    ) -> Result<FloquetSystem, AnalysisError> {
+        let settings = settings.with_modes(modes);
+        settings.validate()?;
+        let reduced = ReducedModel::new(rotor, modes, speed, settings.basis)?;
+        FloquetSystem::from_reduced(reduced, &settings, speed)
+    }
+
+    /// The Floquet system of a reduced model at `speed` (rad/s) under `settings` (checked
+    /// first; its `reduced_modes` should be fixed at the model's modes): B0, B1, the
+    /// transpose symmetry and the β = 0 check's reference.
+    pub fn from_reduced(
+        reduced: ReducedModel,
+        settings: &Settings,
+        speed: f64,
+    ) -> Result<FloquetSystem, AnalysisError> {
+        settings.validate()?;
+        let settings = settings.clone();
+        let modes = settings.reduced_modes.fixed().unwrap_or(reduced.size());
         let system = reduced.periodic_system(speed);
         let symmetry = Symmetry::new(&system);
         let rates = eigenvalues_of(&system).ok().map(|ev| {
@@ -115,7 +169,14 @@ impl FloquetSystem {
             rates
         });
         let zero_load = ZeroLoadReference { rates: rates.filter(|r| r.iter().all(|x| x.is_finite())) };
-        Ok(FloquetSystem { reduced, system, symmetry, speed, settings: settings.clone(), zero_load })
+        let basis = BasisReport::fixed(settings.basis, modes);
+        Ok(FloquetSystem { reduced, system, symmetry, speed, settings, basis, zero_load })
+    }
+
+    /// The modes M of its reduced model (−): per plane on the general path, whose basis
+    /// holds 2M real modes.
+    pub fn modes(&self) -> usize {
+        self.settings.reduced_modes.fixed().unwrap_or(self.reduced.size())
     }
 
     /// Eigenvalues λ of B0 (the reduced model at the static load), sorted by |Im λ|:
@@ -209,7 +270,7 @@ impl FloquetSystem {
     /// The point of a monodromy computed from `table` at β (for callers that also need
     /// the monodromy itself); as [`FloquetSystem::point_fast`].
     pub fn point_of(&self, table: &PhiTable, mono: &ScaledProduct, beta: f64) -> FloquetPoint {
-        FloquetPoint::from_monodromy_with(table.phi, beta, mono, self.settings.instability_tolerance, table.issue())
+        FloquetPoint::from_monodromy_with(table.phi, beta, mono, self.settings.threshold(), table.issue())
     }
 
     /// One point by the reference DSTM with `steps` steps, with the β = 0 check (the
@@ -223,12 +284,12 @@ impl FloquetSystem {
 
     fn point_dstm_unchecked(&self, phi: f64, beta: f64, steps: usize) -> FloquetPoint {
         let mono = dstm::monodromy_dstm(&self.system, phi, beta, steps);
-        FloquetPoint::from_monodromy_with(phi, beta, &mono, self.settings.instability_tolerance, None)
+        FloquetPoint::from_monodromy_with(phi, beta, &mono, self.settings.threshold(), None)
     }
 
     fn dstm_zero_load_issue(&self, phi: f64, steps: usize) -> Option<PointIssue> {
         let mono = dstm::monodromy_dstm_unloaded(&self.system, phi, steps);
-        let zero = FloquetPoint::from_monodromy_with(phi, 0.0, &mono, self.settings.instability_tolerance, None);
+        let zero = FloquetPoint::from_monodromy_with(phi, 0.0, &mono, self.settings.threshold(), None);
         self.zero_load.issue(&zero)
     }
 
@@ -280,7 +341,13 @@ mod tests {
     fn point(mu: &[c64]) -> FloquetPoint {
         let n = mu.len();
         let m = Mat::from_fn(n, n, |i, j| if i == j { mu[i] } else { c64::new(0.0, 0.0) });
-        FloquetPoint::from_monodromy_with(1.0, 0.0, &ScaledProduct::from_matrix(m, 0.0), 1.0001, None)
+        FloquetPoint::from_monodromy_with(
+            1.0,
+            0.0,
+            &ScaledProduct::from_matrix(m, 0.0),
+            crate::analysis::criterion::Threshold::Multiplier { tolerance: 1.0001 },
+            None,
+        )
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 use super::product::ScaledProduct;
 use super::{fast, ZERO_LOAD_TOLERANCE};
+use crate::analysis::criterion::Threshold;
 use serde::{Deserialize, Serialize};
 
 /// Largest |ln max|μ|| reported as a plain `max_multiplier`; beyond it the value is
@@ -146,7 +147,7 @@ pub struct PointSummary {
     pub ln_max_multiplier: f64,
     /// Growth rate ln(max|μ|)/T (1/s).
     pub growth_rate: f64,
-    /// max|μ| ≤ tolerance.
+    /// Not unstable by the settings' threshold ([`Threshold`]).
     pub stable: bool,
     /// Whether the point was computed normally.
     pub status: PointStatus,
@@ -202,10 +203,10 @@ impl FloquetPoint {
         phi: f64,
         beta: f64,
         mono: &ScaledProduct,
-        tolerance: f64,
+        threshold: Threshold,
         status: PointStatus,
     ) -> FloquetPoint {
-        let mut p = FloquetPoint::from_monodromy_with(phi, beta, mono, tolerance, None);
+        let mut p = FloquetPoint::from_monodromy_with(phi, beta, mono, threshold, None);
         if p.summary.status == PointStatus::Ok {
             p.summary.status = status;
         }
@@ -217,7 +218,7 @@ impl FloquetPoint {
         phi: f64,
         beta: f64,
         mono: &ScaledProduct,
-        tolerance: f64,
+        threshold: Threshold,
         issue: Option<PointIssue>,
     ) -> FloquetPoint {
         let mut balanced = mono.matrix.clone();
@@ -248,7 +249,7 @@ impl FloquetPoint {
                 max_multiplier: if ln_max < LN_F64_MAX { ln_max.exp() } else { f64::MAX },
                 ln_max_multiplier: ln_max,
                 growth_rate: ln_max / period,
-                stable: ln_max <= tolerance.ln(),
+                stable: !threshold.unstable(phi, ln_max),
                 status: issue.map_or(PointStatus::Ok, |i| i.status()),
                 reason: issue,
             },

@@ -188,6 +188,29 @@ impl Band {
         }
     }
 
+    /// Whether the band ends at an end of the φ window searched (below or above) rather
+    /// than at a tongue: its true extent is at least what the window shows, and may be
+    /// wider.
+    pub fn clipped(&self) -> bool {
+        self.band.is_some() && [&self.left, &self.right].iter().any(|x| matches!(x, Some(Bound::Window)))
+    }
+
+    /// The width a widest-band objective counts (rad/s): what tongues bound, not what the
+    /// window supplies. Each side bounded by a tongue counts its distance from φ_op; a
+    /// side bounded by the window's end counts nothing; a band the window bounds on both
+    /// sides (nothing unstable in the whole window) counts its whole width. Where φ_op is
+    /// unstable, [`Band::signed_width`].
+    pub fn counted_width(&self) -> f64 {
+        let Some(b) = self.band else { return self.signed_width() };
+        let tongue = |x: &Option<Bound>| matches!(x, Some(Bound::Tongue { .. }));
+        match (tongue(&self.left), tongue(&self.right)) {
+            (true, true) => b.width(),
+            (true, false) => self.phi_op - b.lo,
+            (false, true) => b.hi - self.phi_op,
+            (false, false) => b.width(),
+        }
+    }
+
     /// The band's width (rad/s) if φ_op is stable; otherwise minus the distance from φ_op
     /// to the nearer edge of the tongue containing it (continuous across the transition,
     /// so an optimiser can climb out of a tongue).

@@ -14,6 +14,7 @@
 //! holds up to that load (`[design.margins]`, [`crate::design`]).
 
 use super::{band_around, catalogue_with, Band, CatalogueRequest, Level, Probe, Region, RegionSettings, Seed};
+use crate::analysis::criterion::Threshold;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::limits;
 use crate::analysis::modes::ModesResult;
@@ -69,8 +70,8 @@ pub struct Margins {
     pub max_multiplier: Option<f64>,
     /// How many points that is.
     pub sampled: usize,
-    /// The strict criterion's tolerance on max|μ| (−): 1 + [`crate::analysis::criterion::PATH_FLOOR`].
-    pub strict_tolerance: f64,
+    /// The strict criterion's threshold ([`Criterion::strict`]).
+    pub strict: Threshold,
     /// The band around φ_op by the strict criterion (rad/s); None when φ_op is unstable by it.
     pub strict_band: Option<Interval>,
 }
@@ -116,17 +117,15 @@ impl Margins {
             ),
             None => format!("{prefix}largest max|mu| inside the band: not sampled\n"),
         };
+        let rule = self.strict.describe();
         s + &match self.strict_band {
             Some(b) => format!(
-                "{prefix}strict band (max|mu| <= {}): [{:.2}, {:.2}] rad/s, width {:.2} rad/s\n",
-                self.strict_tolerance,
+                "{prefix}strict band (unstable when {rule}): [{:.2}, {:.2}] rad/s, width {:.2} rad/s\n",
                 b.lo,
                 b.hi,
                 b.width()
             ),
-            None => {
-                format!("{prefix}strict band (max|mu| <= {}): none, phi_op is unstable by it\n", self.strict_tolerance)
-            }
+            None => format!("{prefix}strict band (unstable when {rule}): none, phi_op is unstable by it\n"),
         }
     }
 }
@@ -149,7 +148,9 @@ pub fn load_margin(regions: &[Region], band: Interval, level: f64) -> Option<Loa
 }
 
 /// The band around `band.phi_op` by the strict criterion in `window`, from `seeds` (the
-/// window's, as the band took them); None when φ_op is unstable by it.
+/// window's, as the band took them); None when φ_op is unstable by it. When the declared
+/// criterion is the strict one ([`Criterion::is_strict`]) that is `band` itself, found
+/// again by no search.
 pub fn strict_band(
     fs: &FloquetSystem,
     s: &RegionSettings,
@@ -157,19 +158,23 @@ pub fn strict_band(
     band: &Band,
     window: Interval,
 ) -> Option<Interval> {
+    let declared = Criterion::of(&fs.settings);
+    if declared.is_strict() {
+        // The declared criterion is the strict one: its band is the declared band.
+        return band.band;
+    }
     let probe = Probe::new(fs, s);
-    let strict = Criterion::of(&fs.settings).strict();
-    band_around(&Level::new(&probe, strict, band.level, window), seeds, band.phi_op).band
+    band_around(&Level::new(&probe, declared.strict(), band.level, window), seeds, band.phi_op).band
 }
 
 /// The margins of `band` from its parts: the strict band and the regions of a catalogue
 /// at the band's level searched up to `searched_to`. None without a band.
 pub fn assemble(
     band: &Band,
-    strict: Option<Interval>,
+    strict_band: Option<Interval>,
     regions: &[Region],
     searched_to: f64,
-    tolerance: f64,
+    strict: Threshold,
 ) -> Option<Margins> {
     let b = band.band?;
     Some(Margins {
@@ -180,8 +185,8 @@ pub fn assemble(
         phi_above: b.hi - band.phi_op,
         max_multiplier: band.max_multiplier,
         sampled: band.sampled,
-        strict_tolerance: tolerance,
-        strict_band: strict,
+        strict,
+        strict_band,
     })
 }
 
@@ -202,6 +207,5 @@ pub fn band_margins(
     let searched_to = load_margin_reach(band.level);
     let req = CatalogueRequest::new(b, searched_to, band.level, false)?;
     let cat = catalogue_with(fs, full, s, &req, progress)?;
-    let tolerance = Criterion::of(&fs.settings).strict().instability_tolerance;
-    Ok(assemble(band, strict, &cat.regions, searched_to, tolerance))
+    Ok(assemble(band, strict, &cat.regions, searched_to, Criterion::of(&fs.settings).strict().threshold))
 }

@@ -24,6 +24,7 @@ pub mod probe;
 pub mod seeds;
 pub mod sensitivity;
 pub mod settings;
+pub mod sized;
 pub mod start;
 pub mod tongues;
 pub mod track;
@@ -38,6 +39,7 @@ pub use margins::{LoadMargin, Margins};
 pub use probe::{Counter, Probe};
 pub use seeds::{seeds, RegionKind, Seed};
 pub use settings::{EdgeStep, RegionSettings, TipMargin};
+pub use sized::{band_sized, catalogue_sized};
 pub use start::{Start, Tip, START_WINDOW};
 pub use tongues::{Ignored, Tongue};
 pub use track::Edges;
@@ -62,6 +64,8 @@ pub struct Region {
     pub order: usize,
     /// The predicted start (ω_i + ω_j)/k (rad/s).
     pub predicted: f64,
+    /// ω_i and ω_j: the pair's forward and backward whirls of the reduced model (rad/s).
+    pub whirls: (f64, f64),
     /// Start point φ_s = argmin β_c (rad/s).
     pub start: f64,
     /// Onset β_min = min β_c.
@@ -385,6 +389,7 @@ pub fn catalogue_with(
                 kind: seed.kind,
                 order: seed.order,
                 predicted: seed.phi,
+                whirls: (seed.forward, seed.backward),
                 start,
                 onset_beta: onset,
                 left: tongue.map(|t| t.extent.lo),

@@ -63,7 +63,10 @@ pub struct CaseResult {
 }
 
 /// The input hashes of one study's cases: SHA-256 of the base problem text, the case's
-/// kind and overrides, the study parameters and the tool version (the base hashed once).
+/// kind and overrides, the study parameters, the tool version and the tool's default
+/// settings (the base and the defaults hashed once). The settings a case ran with are
+/// its file's, its overrides' and the defaults: a result computed under other defaults (a
+/// basis or criterion of an earlier version) is another case's, and is computed again.
 #[derive(Clone)]
 pub(crate) struct InputHasher(Sha256);
 
@@ -71,6 +74,7 @@ impl InputHasher {
     pub(crate) fn new(base_text: &[u8]) -> InputHasher {
         let mut h = Sha256::new();
         h.update(base_text);
+        h.update(rotorshunt::problem::default_settings_text().as_bytes());
         InputHasher(h)
     }
 

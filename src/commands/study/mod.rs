@@ -42,7 +42,7 @@ use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, PointCost};
 use rotorshunt::analysis::floquet::FloquetSystem;
 use rotorshunt::analysis::modes::whirl_modes_of;
 use rotorshunt::analysis::regions::seeds_for;
-use rotorshunt::analysis::regions::{band_with, catalogue_with, CatalogueRequest};
+use rotorshunt::analysis::regions::{band_sized, catalogue_sized, CatalogueRequest};
 use rotorshunt::analysis::Criterion;
 use rotorshunt::analysis::Interval;
 use rotorshunt::analysis::Rotor;

@@ -96,7 +96,7 @@ pub(super) fn run_case(
                 if let [only] = o.after_bands() {
                     m.insert("band_lo_after".into(), metric(only.band.band.map(|b| b.lo)));
                     m.insert("band_hi_after".into(), metric(only.band.band.map(|b| b.hi)));
-                    m.insert("clipped_after".into(), metric(clipped(&only.band)));
+                    m.insert("clipped_after".into(), metric(only.band.clipped()));
                 }
                 // The tuned band's margins (the smallest over the speeds; docs/studies.md).
                 let after: Vec<&rotorshunt::analysis::regions::Margins> =
@@ -135,15 +135,19 @@ pub(super) fn run_case(
             let s = problem.regions.clone();
             let deadline = budget.running(&Silent, &estimate);
             let req = CatalogueRequest { range, beta_max: study.beta_max, level, track: false };
-            let cat = catalogue_with(&fs, &full, &s, &req, &deadline);
+            let settings = &problem.settings;
+            let cat = catalogue_sized(&rotor, settings, speed, &full, &s, &req, &deadline);
             budget.stopped(&deadline, "the case's region catalogue")?;
-            let cat = cat?;
+            let sized = cat?;
+            let cat = sized.answer;
+            m.insert("basis_modes".into(), metric(sized.basis.modes));
+            m.insert("basis_converged".into(), metric(sized.basis.converged()));
             // The band before any file, so that a case stopped at its time limit writes none.
             let found = match study.phi_op {
                 Some(p) => {
-                    let found = band_with(&fs, &full, &s, range, p, level, &deadline);
+                    let found = band_sized(&rotor, settings, speed, &full, &s, range, p, level, &deadline);
                     budget.stopped(&deadline, "the case's band search")?;
-                    Some(found?)
+                    Some(found?.answer)
                 }
                 None => None,
             };
@@ -159,7 +163,7 @@ pub(super) fn run_case(
                 m.insert("band_lo".into(), metric(b.map(|b| b.lo)));
                 m.insert("band_hi".into(), metric(b.map(|b| b.hi)));
                 m.insert("band_width".into(), metric(b.map(|b| b.width())));
-                m.insert("clipped".into(), metric(clipped(&found)));
+                m.insert("clipped".into(), metric(found.clipped()));
             }
         }
     }
@@ -178,11 +182,4 @@ pub(super) fn finished(dir: &OutDir, case: &Case, hash: &str) -> Option<CaseResu
     }
     let r = super::case::read_result(&dir.path(""), case)?.ok()?;
     (r.input_hash == hash && r.status == CaseStatus::Ok).then_some(r)
-}
-
-/// Whether a band is bounded by the end of its search window (below or above) rather than
-/// by a tongue: its true extent may be wider than the window shows.
-fn clipped(b: &rotorshunt::analysis::regions::Band) -> bool {
-    use rotorshunt::analysis::regions::Bound;
-    b.band.is_some() && [&b.left, &b.right].iter().any(|x| matches!(x, Some(Bound::Window)))
 }

@@ -230,6 +230,11 @@ pub fn run_with(
 ) -> Result<DesignOutcome, DesignError> {
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
+    // The basis every candidate is judged on, sized at the reference design.
+    progress.phase("basis", 0);
+    let (sized, basis) = super::sizing::size_basis(base, spec, progress)?;
+    stopped(progress)?;
+    let base = &sized;
     progress.phase("optimise", most_candidates(spec) as u64);
     let started = Instant::now();
     let before = values_of(base, spec);
@@ -284,6 +289,8 @@ pub fn run_with(
         robustness: None,
         speed_check: None,
         speed_check_before: None,
+        basis: Some(basis),
+        refined: Vec::new(),
     };
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
@@ -309,6 +316,11 @@ pub fn run_with(
     let mut after_speeds = std::mem::take(&mut out.after_speeds);
     let mut parts = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count, progress);
     out.after_speeds = after_speeds;
+    parts.push(operating_point_part(spec, &out.after_speeds));
+    // The tuned design on a basis twice as large: its band and neighbourhood again.
+    let bands: Vec<_> = out.after_speeds.iter().map(|d| d.band.clone()).collect();
+    out.refined = super::sizing::refined_check(&tuned, spec, &ctx.regions, &bands, progress)?;
+    parts.push(refined_part(&out.refined));
     match &mut out.findings {
         // Intrusions named after the full model's whirls: the catalogue's region with the
         // same edges (the lattice-refined edges are the same numbers).
@@ -476,6 +488,69 @@ pub fn run_with(
     // A stop asked during the verification leaves its searches incomplete: no verdict.
     stopped(progress)?;
     Ok(out)
+}
+
+/// The verification part `operating-point`: φ_op must be stable at β_op on the tuned
+/// design at every speed (a design whose φ_op stays inside a tongue is neither improved
+/// nor verified, whatever the other parts checked); not applicable without a φ_op.
+fn operating_point_part(spec: &DesignSpec, after: &[super::verify::DesignAtSpeed]) -> VerificationPart {
+    let Some(phi_op) = spec.phi_op() else {
+        return VerificationPart::of("operating-point", 0, 0, String::new(), "the design has no phi_op");
+    };
+    let unstable: Vec<String> = after
+        .iter()
+        .filter(|d| d.band.as_ref().is_some_and(|b| b.band.is_none()))
+        .map(|d| {
+            let t = d.band.as_ref().and_then(|b| b.containing);
+            let inside = t.map_or(String::new(), |t| format!(" (inside the tongue [{:.2}, {:.2}] rad/s)", t.lo, t.hi));
+            format!("{} rad/s{inside}", d.speed)
+        })
+        .collect();
+    let checked = after.iter().filter(|d| d.band.is_some()).count();
+    let summary = if unstable.is_empty() {
+        format!("phi_op = {phi_op} rad/s is stable at beta_op = {} at each of the {checked} speed(s)", spec.level)
+    } else {
+        format!("phi_op = {phi_op} rad/s is UNSTABLE at beta_op = {} at Omega = {}", spec.level, unstable.join(", "))
+    };
+    VerificationPart::of("operating-point", checked, unstable.len(), summary, "no band around phi_op was searched")
+}
+
+/// The verification part `refined-basis` over the speeds' refined checks
+/// ([`super::sizing::refined_check`]).
+fn refined_part(checks: &[super::sizing::RefinedCheck]) -> VerificationPart {
+    let compared: usize = checks.iter().map(|c| c.movements.len()).sum();
+    let failed: Vec<String> = checks
+        .iter()
+        .flat_map(|c| {
+            c.movements.iter().filter(|m| !m.within()).map(move |m| format!("{} rad/s: {}", c.speed, m.text()))
+        })
+        .collect();
+    let sizes: Vec<String> = checks.iter().map(|c| format!("M = {} → {}", c.modes, c.refined_modes)).collect();
+    let worst = checks
+        .iter()
+        .flat_map(|c| &c.movements)
+        .max_by(|a, b| a.ratio().total_cmp(&b.ratio()))
+        .map_or(String::new(), |m| format!("; largest movement {}", m.text()));
+    let summary = if failed.is_empty() {
+        format!(
+            "{compared} comparison(s) on a basis twice the design's ({}) within the tolerance{worst}",
+            sizes.join(", ")
+        )
+    } else {
+        format!(
+            "{} of {compared} comparison(s) on a basis twice the design's ({}) moved beyond the tolerance: {}",
+            failed.len(),
+            sizes.join(", "),
+            failed.join("; ")
+        )
+    };
+    VerificationPart::of(
+        "refined-basis",
+        compared,
+        failed.len(),
+        summary,
+        "the model has no more modes than the design's basis, or nothing to compare (no phi_op, no kept-clear band)",
+    )
 }
 
 /// [`DesignError::Stopped`] once the caller has asked the run to stop.

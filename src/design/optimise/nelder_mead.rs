@@ -168,6 +168,11 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
             before.clone()
         }
     };
+    // A design that leaves φ_op inside a tongue at some speed has no band to widen: no
+    // design in the box was found that makes φ_op stable there.
+    if after.iter().any(|b| b.band.band.is_none()) {
+        out.status = Status::Infeasible;
+    }
     out.findings = Findings::WidestBand { before, after };
     Ok(())
 }

@@ -2,8 +2,10 @@
 //! findings of its objective, and the JSON shape of `report.json`.
 
 use super::min_peak::PeakFindings;
+use crate::analysis::basis::BasisReport;
 use crate::design::evaluate::{Intrusion, OperatingBand};
 use crate::design::robust::{Robustness, SpeedCheck};
+use crate::design::sizing::RefinedCheck;
 use crate::design::spec::{DesignSpec, ObjectiveKind};
 use crate::design::verify::{DesignAtSpeed, Verification};
 use crate::design::vibration::ConstraintCheck;
@@ -20,7 +22,9 @@ pub enum Status {
     Unchanged,
     /// Clear bands: every band is clear by its clearance, and verified.
     Feasible,
-    /// Clear bands: no design inside the bounds was found that clears every band.
+    /// No design inside the bounds was found that meets every requirement: clears every
+    /// band (clear bands), meets the constraints (least peak response), or puts φ_op in a
+    /// stable band at every speed (widest band).
     Infeasible,
     /// The design the optimiser found failed its independent verification
     /// ([`crate::design::verify`]): its band or clearances are not shown to hold.
@@ -191,6 +195,13 @@ pub struct DesignOutcome {
     pub speed_check: Option<crate::design::robust::SpeedCheck>,
     /// The reference design on the same speed grid (with `design.speed_range`).
     pub speed_check_before: Option<crate::design::robust::SpeedCheck>,
+    /// The reduced basis every candidate was judged on, and how its size was chosen
+    /// ([`crate::design::sizing`]); None only in a report read back from before it was
+    /// recorded.
+    pub basis: Option<BasisReport>,
+    /// The tuned design checked again on a basis twice as large, at each speed
+    /// ([`crate::design::sizing::refined_check`]).
+    pub refined: Vec<RefinedCheck>,
 }
 
 impl DesignOutcome {
@@ -281,6 +292,10 @@ struct OutcomeJson<'a> {
     speed_check: Option<Cow<'a, SpeedCheck>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     speed_check_before: Option<Cow<'a, SpeedCheck>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    basis: Option<Cow<'a, BasisReport>>,
+    #[serde(default)]
+    refined: Cow<'a, [RefinedCheck]>,
 }
 
 impl Serialize for DesignOutcome {
@@ -314,6 +329,8 @@ impl Serialize for DesignOutcome {
             robustness: self.robustness.as_ref().map(Cow::Borrowed),
             speed_check: self.speed_check.as_ref().map(Cow::Borrowed),
             speed_check_before: self.speed_check_before.as_ref().map(Cow::Borrowed),
+            basis: self.basis.as_ref().map(Cow::Borrowed),
+            refined: Cow::Borrowed(&self.refined),
         }
         .serialize(serializer)
     }
@@ -365,6 +382,8 @@ impl<'de> Deserialize<'de> for DesignOutcome {
             robustness: json.robustness.map(Cow::into_owned),
             speed_check: json.speed_check.map(Cow::into_owned),
             speed_check_before: json.speed_check_before.map(Cow::into_owned),
+            basis: json.basis.map(Cow::into_owned),
+            refined: json.refined.into_owned(),
         })
     }
 }

@@ -376,8 +376,9 @@ mod tests {
             phis,
             betas,
             points,
-            instability_tolerance: 1.0001,
+            threshold: crate::analysis::criterion::Threshold::Multiplier { tolerance: 1.0001 },
             reduction: ReductionInfo { modes: 2, frequencies: vec![1.0, 2.0] },
+            basis: crate::analysis::basis::BasisReport::fixed(crate::analysis::Basis::Loaded, 2),
             failed: 1,
             inaccurate: 1,
         }

@@ -47,6 +47,7 @@ pub(super) fn details(s: &mut String, r: &DesignReport) {
     for w in &p.warnings {
         let _ = writeln!(s, "- warning: {w}");
     }
+    basis_section(s, o);
     let _ = writeln!(
         s,
         "\n## Design variables\n\n| variable | unit | min | max | before | after |\n|---|---|---|---|---|---|"
@@ -85,10 +86,48 @@ pub(super) fn details(s: &mut String, r: &DesignReport) {
     }
 }
 
+/// The warnings of page one, all of them, and the basis: the sizes its convergence tried
+/// with each movement, and the refined check at each speed.
+fn basis_section(s: &mut String, o: &DesignOutcome) {
+    let warnings = super::page_one::warnings(o);
+    if !warnings.is_empty() {
+        let _ = writeln!(s, "\n## Warnings\n");
+        for w in &warnings {
+            let _ = writeln!(s, "- {w}");
+        }
+    }
+    let _ = writeln!(s, "\n## Reduced basis\n");
+    match &o.basis {
+        Some(b) => {
+            let _ = writeln!(s, "Every candidate was judged on the {}.\n", b.text());
+            let _ = writeln!(s, "| M | movement from the size before |\n|---|---|");
+            for step in &b.steps {
+                let m = step.movement.as_ref().map_or("–".to_string(), |m| m.text().replace('|', "\\|"));
+                let _ = writeln!(s, "| {} | {m} |", step.modes);
+            }
+        }
+        None => {
+            let _ = writeln!(s, "Not recorded.");
+        }
+    }
+    for c in &o.refined {
+        let moved: Vec<String> = c.movements.iter().map(|m| m.text().replace('|', "\\|")).collect();
+        let _ = writeln!(
+            s,
+            "\nRefined check at {}: M = {} → {}{}: {}.",
+            speed_text(o.spec.speed_unit, c.speed),
+            c.modes,
+            c.refined_modes,
+            c.refined_band.map_or(String::new(), |b| format!(", band [{:.2}, {:.2}] rad/s", b.lo, b.hi)),
+            if moved.is_empty() { "nothing to compare".to_string() } else { moved.join("; ") }
+        );
+    }
+}
+
 fn criterion_text(c: &crate::analysis::Settings) -> String {
     format!(
-        "unstable when max|μ| > {}{}{}; tongues searched up to order {}",
-        c.instability_tolerance,
+        "unstable when {}{}{}; tongues searched up to order {}",
+        c.threshold().describe().replace('|', "\\|"),
         if c.min_growth_rate > 0.0 {
             format!(", counted when the growth rate is at least {} 1/s", c.min_growth_rate)
         } else {
@@ -314,13 +353,21 @@ fn optimiser_section(s: &mut String, o: &DesignOutcome) {
 }
 
 /// What each numerical setting does (the `[analysis]` keys).
-const SETTING_MEANINGS: [(&str, &str); 12] = [
+const SETTING_MEANINGS: [(&str, &str); 17] = [
     ("mac_threshold", "least modal assurance criterion for a Campbell track to continue (−)"),
     ("electrical_fraction", "share of a mode's kinetic energy in the charges above which it is electrical (−)"),
     ("oscillation_tolerance", "\\|Im λ\\|/\\|λ\\| below which an eigenvalue is not a whirl (−)"),
-    ("reduced_modes", "modes M of the reduced model of the Floquet analysis (Eq. 22)"),
-    ("instability_tolerance", "unstable when max\\|μ\\| exceeds this (Eq. 28) (−)"),
-    ("min_growth_rate", "growth-rate floor of the criterion (1/s); 0: the paper's criterion"),
+    ("reduced_modes", "modes M of the reduced model of the Floquet analysis (Eq. 22), or auto: sized by convergence"),
+    ("basis", "the reduced basis: loaded (modes under the static load) or unloaded (the paper's)"),
+    ("convergence_relative", "edges converged within this share of the band's width (−)"),
+    ("convergence_absolute", "edges converged within this at least (rad/s)"),
+    ("convergence_onset", "onsets converged within this share of themselves (−)"),
+    (
+        "instability_tolerance",
+        "the paper's rule: unstable when max\\|μ\\| exceeds this (Eq. 28) (−); unset: the growth rule",
+    ),
+    ("decay_margin", "σ_req: unstable when ln max\\|μ\\| exceeds 1e-6 − σ_req·T (1/s)"),
+    ("min_growth_rate", "growth-rate floor of the criterion (1/s); 0: every growth counts"),
     ("min_tongue_width", "narrowest tongue at β_op that counts (rad/s); 0: every tongue"),
     ("max_tongue_order", "highest order k of the tongues searched: the bands are complete up to it"),
     ("method", "monodromy path of charts and points (fast: CFM4 on the reduced model; dstm: the paper's)"),

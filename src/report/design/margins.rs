@@ -18,11 +18,11 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
     }
     let _ = writeln!(
         s,
-        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max|μ| over the band search's points inside the band; the strict band counts every point with max|μ| above 1 + the fast path's floor):\n\n| {} | | load margin | φ_op − lo | hi − φ_op | largest max|μ| inside | declared band (tolerance {}) | strict band (max|μ| ≤ {}) |\n|---|---|---|---|---|---|---|---|",
+        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max|μ| over the band search's points inside the band; the strict band counts every point with max|μ| above 1 + the fast path's floor):\n\n| {} | | load margin | φ_op − lo | hi − φ_op | largest max|μ| inside | declared band (unstable when {}) | strict band (unstable when {}) |\n|---|---|---|---|---|---|---|---|",
         o.spec.level,
         super::speed_header(o.spec.speed_unit),
-        o.after_speeds.first().map_or(f64::NAN, |d| d.catalogue.criterion.instability_tolerance),
-        rows[0].2.strict_tolerance
+        o.after_speeds.first().map_or(String::new(), |d| d.catalogue.criterion.threshold.describe().replace('|', "\\|")),
+        rows[0].2.strict.describe().replace('|', "\\|")
     );
     for (speed, before, after, at) in &rows {
         for (which, m, band) in [

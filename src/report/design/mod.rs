@@ -78,6 +78,9 @@ pub(super) fn opt(x: Option<f64>, digits: usize) -> String {
 
 pub(super) fn band_text(b: &Band) -> String {
     match (b.band, b.containing) {
+        (Some(x), _) if b.clipped() => {
+            format!("[{:.2}, {:.2}] (at least {:.2}: clipped by the window)", x.lo, x.hi, x.width())
+        }
         (Some(x), _) => format!("[{:.2}, {:.2}] ({:.2})", x.lo, x.hi, x.width()),
         (None, Some(t)) => format!("φ_op unstable, inside [{:.2}, {:.2}]", t.lo, t.hi),
         _ => "φ_op unstable".into(),
@@ -91,7 +94,9 @@ pub(super) fn bound_text(b: &Option<Bound>) -> String {
             u.exponent_frequency, u.nearest, u.nearest_frequency
         ),
         Some(Bound::Tongue { label, edge, .. }) => format!("{label} at {edge:.2}"),
-        _ => "window end".into(),
+        Some(Bound::Window) => "window end (clipped: widen design.phi_range)".into(),
+        // No band: φ_op is unstable, and nothing bounds it.
+        None => "–".into(),
     }
 }
 

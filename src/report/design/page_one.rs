@@ -104,6 +104,8 @@ pub(super) fn page_one(r: &DesignReport) -> String {
     let _ = writeln!(s, "# Shunt design report: {}\n", crate::report::html::markdown_literal(&r.title));
     let _ = writeln!(s, "**Question.** {}\n", question(r));
     let _ = writeln!(s, "**Answer.** {}\n", status_sentence(o.status));
+    model_line(&mut s, o);
+    warnings_block(&mut s, o);
     let _ = writeln!(s, "Circuit, before → after (changed values in bold):\n");
     circuit_table(&mut s, &r.branches_before, &r.branches_after);
     match &spec.objective {
@@ -122,6 +124,76 @@ pub(super) fn page_one(r: &DesignReport) -> String {
         "\nBelow: regions near the band, whirls, the optimiser's runs, settings, a glossary of the terms and labels, and the files. Everything is also in `report.json`."
     );
     s
+}
+
+/// Lines the page-one warnings block may take; more warnings are counted in its last line
+/// and listed in the details.
+pub const WARNING_LINES: usize = 6;
+
+/// The model every verdict rests on, in one line: the basis and its convergence, and the
+/// criterion.
+fn model_line(s: &mut String, o: &DesignOutcome) {
+    let basis = o.basis.as_ref().map_or("basis not recorded".to_string(), |b| b.text());
+    let rule = o.after_speeds.first().map(|d| d.catalogue.criterion.threshold.describe().replace('|', "\\|"));
+    let rule = rule.map_or(String::new(), |r| format!("; unstable when {r}"));
+    let _ = writeln!(s, "**Model.** {basis}{rule}.\n");
+}
+
+/// What the answer rests on that a reader must know first (a band clipped by the window,
+/// φ_op unstable, a basis that did not converge or that a refined basis moves), at most
+/// [`WARNING_LINES`] lines; nothing when all is well.
+pub fn warnings(o: &DesignOutcome) -> Vec<String> {
+    let mut w = Vec::new();
+    let unit = o.spec.speed_unit;
+    for d in &o.after_speeds {
+        let Some(b) = &d.band else { continue };
+        match (b.band, b.containing) {
+            (None, t) => w.push(format!(
+                "φ_op = {} rad/s is **unstable** at β_op at {}{}: no stable band contains it.",
+                b.phi_op,
+                speed_text(unit, d.speed),
+                t.map_or(String::new(), |t| format!(" (inside [{:.2}, {:.2}] rad/s)", t.lo, t.hi))
+            )),
+            (Some(x), _) if b.clipped() => {
+                let range = o.spec.range();
+                let end = if matches!(b.left, Some(Bound::Window)) { range.lo } else { range.hi };
+                w.push(format!(
+                    "The band at {} reaches the end of the φ range at {end} rad/s: it is at least {:.2} rad/s wide, and the objective counted only what tongues bound; widen `design.phi_range` past {end} rad/s to see its edge.",
+                    speed_text(unit, d.speed),
+                    x.width()
+                ));
+            }
+            _ => {}
+        }
+    }
+    if let Some(b) = o.basis.as_ref().filter(|b| !b.converged()) {
+        w.push(format!("The reduced basis did not converge: {}; the answers may move on a larger basis.", b.text()));
+    }
+    for c in o.refined.iter().filter(|c| !c.held) {
+        let worst = c.movements.iter().filter(|m| !m.within()).map(|m| m.text()).collect::<Vec<_>>().join("; ");
+        w.push(format!(
+            "A basis twice as large (M = {}) moves the answer at {} beyond its tolerance: {worst}.",
+            c.refined_modes,
+            speed_text(unit, c.speed)
+        ));
+    }
+    w
+}
+
+/// The warnings block: one line each, at most [`WARNING_LINES`] with the count of the rest.
+fn warnings_block(s: &mut String, o: &DesignOutcome) {
+    let w = warnings(o);
+    if w.is_empty() {
+        return;
+    }
+    let shown = if w.len() > WARNING_LINES { WARNING_LINES - 1 } else { w.len() };
+    for line in &w[..shown] {
+        let _ = writeln!(s, "> **Warning.** {line}");
+    }
+    if w.len() > shown {
+        let _ = writeln!(s, "> … and {} more warnings (details, \"Warnings\").", w.len() - shown);
+    }
+    let _ = writeln!(s);
 }
 
 fn widest_band_table(s: &mut String, o: &DesignOutcome) {
@@ -283,6 +355,8 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
     let _ = writeln!(s, "\n**Verification: {}** (independent of the optimiser, on the tuned design):\n", v.verdict);
     for p in &v.parts {
         let name = match p.part.as_str() {
+            "operating-point" => "Operating point",
+            "refined-basis" => "Refined basis",
             "catalogue" => "Catalogue",
             "centres" => "Tongue centres",
             "grid" => "Grid",
