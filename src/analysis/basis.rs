@@ -16,9 +16,9 @@
 
 use super::criterion::PATH_FLOOR;
 use super::floquet::{FloquetPoint, FloquetSystem};
+use super::reduction::ModeSet;
 use super::settings::{Basis, ModeCount, Settings, MAX_REDUCED_MODES};
 use super::{AnalysisError, Interval, Rotor};
-use crate::linalg::definite_eigen;
 use serde::{Deserialize, Serialize};
 
 /// The smallest basis sized by convergence: the paper's open-circuit M = 4.
@@ -63,9 +63,8 @@ impl Tolerance {
 /// How far an answer moved between two sizes of the basis, against its tolerance.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Movement {
-    /// The movement of the quantity that moved most (in `unit`); +∞ when the two answers
-    /// differ in kind (a band at one size, none at the other).
-    #[serde(with = "crate::numbers::infinite_as_null")]
+    /// The movement of the quantity that moved most (in `unit`; 0 when the answers
+    /// differ in kind).
     pub value: f64,
     /// Its tolerance (in `unit`).
     pub tolerance: f64,
@@ -73,22 +72,41 @@ pub struct Movement {
     pub unit: String,
     /// Which quantity it was, e.g. `band edge lo` or `onset of f1+b1 (k = 1)`.
     pub quantity: String,
+    /// Whether the two answers differ in kind (a band at one size, none at the other; a
+    /// verdict that changed; a value not finite at one size): never within a tolerance.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub changed: bool,
 }
 
 impl Movement {
     /// No movement of `quantity` (compared, equal).
     pub fn none(quantity: &str, unit: &str, tolerance: f64) -> Movement {
-        Movement { value: 0.0, tolerance, unit: unit.into(), quantity: quantity.into() }
+        Movement { value: 0.0, tolerance, unit: unit.into(), quantity: quantity.into(), changed: false }
+    }
+
+    /// A movement of `value` (finite) of `quantity` in `unit` against `tolerance`.
+    pub fn of(value: f64, tolerance: f64, unit: &str, quantity: String) -> Movement {
+        Movement { value, tolerance, unit: unit.into(), quantity, changed: false }
+    }
+
+    /// Answers that differ in kind: `quantity` says how.
+    pub fn change(quantity: String, unit: &str, tolerance: f64) -> Movement {
+        Movement { value: 0.0, tolerance, unit: unit.into(), quantity, changed: true }
     }
 
     /// Whether the movement is within its tolerance.
     pub fn within(&self) -> bool {
-        self.value <= self.tolerance
+        !self.changed && self.value <= self.tolerance
     }
 
-    /// The movement relative to its tolerance (−): at most 1 when within it.
+    /// The movement relative to its tolerance (−): at most 1 when within it, +∞ for a
+    /// change in kind.
     pub fn ratio(&self) -> f64 {
-        self.value / self.tolerance
+        if self.changed {
+            f64::INFINITY
+        } else {
+            self.value / self.tolerance
+        }
     }
 
     /// The larger of two movements (by their ratio to their tolerances).
@@ -102,7 +120,7 @@ impl Movement {
 
     /// The movement in words, e.g. `0.12 rad/s (band edge lo; tolerance 0.50 rad/s)`.
     pub fn text(&self) -> String {
-        let v = if self.value.is_infinite() { "changed in kind".to_string() } else { self.amount(self.value) };
+        let v = if self.changed { "changed in kind".to_string() } else { self.amount(self.value) };
         format!("{v} ({}; tolerance {})", self.quantity, self.amount(self.tolerance))
     }
 
@@ -137,6 +155,7 @@ pub struct BasisStep {
     /// Modes M (−).
     pub modes: usize,
     /// The movement from the previous size (None for the first).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub movement: Option<Movement>,
 }
 
@@ -162,6 +181,18 @@ impl BasisReport {
     /// The movement at the last enlargement (None on a fixed basis).
     pub fn last_movement(&self) -> Option<&Movement> {
         self.steps.last().and_then(|s| s.movement.as_ref())
+    }
+
+    /// The report of a basis an answer was computed on but that the answer turned out to
+    /// need more modes than: not converged, whatever its sizing said.
+    pub fn not_held(mut self) -> BasisReport {
+        self.sizing = Sizing::NotConverged;
+        self
+    }
+
+    /// The modes of [`BasisReport::at_smallest_converged`].
+    pub fn at_smallest_converged_modes(&self) -> usize {
+        self.clone().at_smallest_converged().modes
     }
 
     /// The report with `modes` at the smallest size shown converged: for a converged
@@ -233,8 +264,22 @@ impl Schedule {
         if let ModeCount::Fixed(m) = settings.reduced_modes {
             return Ok(Schedule { sizes: vec![m], fixed: true });
         }
-        let (available, below) = basis_frequencies(rotor, settings.basis, speed, top)?;
-        let first = below.max(MIN_MODES).min(available);
+        let modes = ModeSet::new(rotor, speed, settings.basis)?;
+        let available = modes.available();
+        let first = first_size(&modes, speed, top, settings.convergence_relative)?;
+        Ok(Schedule::grown(first.min(available), available))
+    }
+
+    /// The sizes from `first` on (an automatic schedule whatever the settings say), up to
+    /// [`GROWTH_LIMIT`] times it, none beyond the modes the model has: the check that a
+    /// basis of `first` modes, chosen elsewhere, holds for another answer.
+    pub fn starting_at(rotor: &Rotor, basis: Basis, speed: f64, first: usize) -> Result<Schedule, AnalysisError> {
+        let available = available(rotor, basis, speed)?;
+        Ok(Schedule::grown(first.min(available), available))
+    }
+
+    /// The sizes from `first` up to [`GROWTH_LIMIT`] times it and at most `available`.
+    fn grown(first: usize, available: usize) -> Schedule {
         let last = (GROWTH_LIMIT * first).min(available).min(MAX_REDUCED_MODES);
         let mut sizes = vec![first];
         let mut m = first;
@@ -242,7 +287,7 @@ impl Schedule {
             m = (m + (m / 4).max(2)).min(last);
             sizes.push(m);
         }
-        Ok(Schedule { sizes, fixed: false })
+        Schedule { sizes, fixed: false }
     }
 
     /// A fixed schedule of `modes` modes.
@@ -269,35 +314,38 @@ impl Schedule {
 /// The modes M a reduced model of `rotor` with a basis of kind `basis` can have at speed
 /// Ω (rad/s): its finite modes (per plane on the general path).
 pub fn available(rotor: &Rotor, basis: Basis, speed: f64) -> Result<usize, AnalysisError> {
-    Ok(basis_frequencies(rotor, basis, speed, f64::INFINITY)?.0)
+    Ok(ModeSet::new(rotor, speed, basis)?.available())
 }
 
-/// The number of finite basis modes per plane, and of those at or below `top` (rad/s).
-fn basis_frequencies(rotor: &Rotor, basis: Basis, speed: f64, top: f64) -> Result<(usize, usize), AnalysisError> {
-    let (k, m, s, planes) = if rotor.real {
-        let sys = rotor.general_at(speed);
-        (sys.symmetric_stiffness(), sys.m, sys.s, 2)
-    } else {
-        let sys = &rotor.system;
-        (sys.k.clone(), sys.m.clone(), sys.s.clone(), 1)
+/// The first size of an automatic schedule: from the modes at or below `top` (at least
+/// [`MIN_MODES`]), the smallest basis whose whirls at or below `top` (rad/s), forward and
+/// backward, are within `relative` of those of a basis [`GROWTH_LIMIT`] times as large.
+/// The whirls place the tongues (their sums); a basis without a mode that a whirl of the
+/// window couples to gyroscopically has that whirl wrong (on the paper's rotor without its
+/// third mode, b2 is 1710 against 1655 rad/s at Ω = 2000 rad/s), and a tongue's answer
+/// compared between two such bases (which only differ by modes that do not couple to it)
+/// would look converged.
+fn first_size(modes: &ModeSet, speed: f64, top: f64, relative: f64) -> Result<usize, AnalysisError> {
+    let available = modes.available();
+    let per_plane = if modes.real() { 2 } else { 1 };
+    let below = modes.frequencies().iter().filter(|w| **w <= top).count().div_ceil(per_plane);
+    let start = below.max(MIN_MODES).min(available);
+    let reference = (GROWTH_LIMIT * start).min(available).min(MAX_REDUCED_MODES);
+    let whirls = |m: usize| -> Result<(Vec<f64>, Vec<f64>), AnalysisError> {
+        let (f, b) = modes.reduced(m)?.periodic_system(speed).whirls()?;
+        let keep = |v: Vec<f64>| v.into_iter().filter(|w| *w <= top).collect::<Vec<f64>>();
+        Ok((keep(f), keep(b)))
     };
-    let k_b = match basis {
-        Basis::Unloaded => k,
-        Basis::Loaded => {
-            let p = rotor.static_load();
-            faer::Mat::from_fn(k.nrows(), k.ncols(), |i, j| k[(i, j)] - p * s[(i, j)])
+    let (rf, rb) = whirls(reference)?;
+    let close =
+        |a: &[f64], r: &[f64]| a.len() >= r.len() && r.iter().zip(a).all(|(r, a)| (a - r).abs() <= relative * r.abs());
+    for m in start..reference {
+        let (f, b) = whirls(m)?;
+        if close(&f, &rf) && close(&b, &rb) {
+            return Ok(m);
         }
-    };
-    let eig = definite_eigen(k_b.as_ref(), m.as_ref()).map_err(|e| match (basis, e) {
-        (Basis::Loaded, crate::linalg::LinalgError::NotPositiveDefinite { .. }) => {
-            AnalysisError::StaticLoadBuckles { alpha: rotor.model.load.alpha, critical_load: rotor.critical_load }
-        }
-        (_, e) => e.into(),
-    })?;
-    // θ = 1/ω²: a mode is at or below `top` when θ ≥ 1/top².
-    let finite = eig.values.iter().filter(|t| **t > 0.0).count();
-    let below = eig.values.iter().filter(|t| **t > 0.0 && **t >= 1.0 / (top * top)).count();
-    Ok((finite / planes, below.div_ceil(planes)))
+    }
+    Ok(reference)
 }
 
 /// An answer on a basis sized by convergence, with the system it was computed on.
@@ -340,12 +388,7 @@ pub fn point_sized(
 /// [`PATH_FLOOR`]: growths within the floor of zero are all "none").
 pub fn point_movement(a: &FloquetPoint, b: &FloquetPoint, tolerance: &Tolerance) -> Movement {
     if a.summary.stable != b.summary.stable {
-        return Movement {
-            value: f64::INFINITY,
-            tolerance: tolerance.relative,
-            unit: "relative".into(),
-            quantity: "the verdict".into(),
-        };
+        return Movement::change("the verdict".into(), "relative", tolerance.relative);
     }
     let (x, y) = (a.summary.ln_max_multiplier, b.summary.ln_max_multiplier);
     relative_movement(x, y, tolerance.relative, PATH_FLOOR, "ln max|mu|")
@@ -388,14 +431,16 @@ pub fn interval_movement(a: Interval, b: Interval, tolerance: &Tolerance, what: 
     let lo = (a.lo - b.lo).abs();
     let hi = (a.hi - b.hi).abs();
     let (value, end) = if lo >= hi { (lo, "lo") } else { (hi, "hi") };
-    Movement { value, tolerance: tol, unit: "rad/s".into(), quantity: format!("{what} {end}") }
+    Movement::of(value, tol, "rad/s", format!("{what} {end}"))
 }
 
 /// The relative movement of a value (onset, growth) between two sizes, against the
 /// relative tolerance `tolerance`; `floor` is the smallest magnitude a relative change is
 /// taken of (a value nearer zero moves by its absolute change over `floor`).
 pub fn relative_movement(a: f64, b: f64, tolerance: f64, floor: f64, what: &str) -> Movement {
+    if !(a.is_finite() && b.is_finite()) {
+        return Movement::change(format!("{what} not finite at one size"), "relative", tolerance);
+    }
     let scale = a.abs().max(b.abs()).max(floor);
-    let value = if a.is_finite() && b.is_finite() { (a - b).abs() / scale } else { f64::INFINITY };
-    Movement { value, tolerance, unit: "relative".into(), quantity: what.into() }
+    Movement::of((a - b).abs() / scale, tolerance, "relative", what.into())
 }

@@ -164,7 +164,11 @@ impl Criterion {
 
     /// What a stable band at β_op guarantees, in words.
     pub fn guarantee(&self, level: f64) -> String {
-        let mut s = format!("no tongue of order <= {} with {}", self.max_order, self.threshold.describe());
+        let mut s = format!(
+            "no sum-type tongue (omega_f + omega_b)/k of order k <= {} with {}",
+            self.max_order,
+            self.threshold.describe()
+        );
         if self.min_growth_rate > 0.0 {
             s += &format!(" and growth rate >= {} 1/s", self.min_growth_rate);
         }

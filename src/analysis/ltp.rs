@@ -1,6 +1,8 @@
 //! A small linear time-periodic system given by its matrices, for research and checks:
 //!
-//!     M q̈ + (C − jΩG) q̇ + (K − P(t)·S) q = 0,   P(t) = P_ref·(α + β cos φt),
+//! ```text
+//! M q̈ + (C − jΩG) q̇ + (K − P(t)·S) q = 0,   P(t) = P_ref·(α + β cos φt),
+//! ```
 //!
 //! the form of Eq. (14) with M, C, K, S and G real symmetric (G may be absent), q complex
 //! (at Ω = 0 and with G absent, the same multipliers as the real system q ∈ ℝⁿ). It becomes

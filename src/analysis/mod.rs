@@ -173,8 +173,10 @@ pub enum AnalysisError {
     /// ([`ltp::LtpSystem`]).
     #[error(transparent)]
     Ltp(#[from] ltp::LtpError),
-    /// α ≥ 1: the static part of the load alone buckles the shaft.
-    #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load (alpha must be below 1)")]
+    /// The static part of the load alone buckles the model: α ≥ 1, or, on a circuit that
+    /// makes the supports softer than the open circuit P_cr is computed with, K − αP_cr·S
+    /// not positive definite (the loaded basis is then undefined).
+    #[error("the static load αP_cr = {alpha} × {critical_load:.6e} N is at or above the buckling load of the model as assembled (alpha must be below 1, and below the buckling ratio of the circuit's supports)")]
     StaticLoadBuckles {
         /// α.
         alpha: f64,

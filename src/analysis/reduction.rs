@@ -75,6 +75,29 @@ impl PeriodicSystem {
     }
 }
 
+impl PeriodicSystem {
+    /// Balanced eigenvalues λ of B0 (the reduced model at the static load), sorted by
+    /// |Im λ|.
+    pub fn eigenvalues(&self) -> Result<Vec<c64>, AnalysisError> {
+        // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
+        let mut b0 = self.b0.clone();
+        crate::linalg::balance(&mut b0);
+        let mut ev = crate::linalg::seq::eigenvalues(b0.as_ref()).map_err(|_| {
+            AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
+        })?;
+        ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
+        Ok(ev)
+    }
+
+    /// Forward (Im λ > 0) and backward whirl frequencies of B0 (rad/s), each ascending.
+    pub fn whirls(&self) -> Result<(Vec<f64>, Vec<f64>), AnalysisError> {
+        let ev = self.eigenvalues()?;
+        let f = ev.iter().filter(|z| z.im > 0.0).map(|z| z.im).collect();
+        let b = ev.iter().filter(|z| z.im < 0.0).map(|z| -z.im).collect();
+        Ok((f, b))
+    }
+}
+
 /// Summary of a reduced model for outputs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ReductionInfo {
@@ -114,44 +137,130 @@ fn project_general(phi: &Mat<f64>, a: &Mat<f64>) -> Mat<f64> {
     crate::linalg::seq::product(phi.transpose(), ap.as_ref())
 }
 
-/// Mass-normalised modes of (K_b, M), the `count` lowest, from a symmetric-definite solve,
-/// re-orthonormalised when the solve leaves them beyond [`MASS_ORTHONORMALITY_TOLERANCE`]:
-/// the basis and its frequencies √(φᵀK_bφ) (rad/s). `planes` is 2 on the general path,
-/// whose basis holds `planes`·M real modes for M complex ones (an error names M).
-fn modes_of(k_b: &Mat<f64>, m: &Mat<f64>, modes: usize, planes: usize) -> Result<(Mat<f64>, Vec<f64>), AnalysisError> {
-    // M x = θ K x: θ = 1/ω², massless DOFs give θ = 0 (ω = ∞) and are never selected.
-    let eig = definite_eigen(k_b.as_ref(), m.as_ref())?;
-    let available = eig.values.iter().filter(|t| **t > 0.0).count();
-    let count = planes * modes;
-    if count == 0 || count > available {
-        return Err(AnalysisError::ReducedModes { requested: modes, available: available / planes });
+/// The undamped modes of a rotor's basis stiffness and mass at one speed, solved once:
+/// any number of them makes a reduced model ([`ModeSet::reduced`]) without another
+/// eigensolution, so that bases of several sizes (a schedule sized by convergence) cost
+/// one solve.
+#[derive(Debug, Clone)]
+pub struct ModeSet {
+    /// θ = 1/ω² descending and the K_b-orthonormal vectors of M x = θ K_b x.
+    eig: crate::linalg::DefiniteEigen,
+    /// The basis stiffness K_b.
+    k_b: Mat<f64>,
+    /// M, C, K, S, G of the coordinates the basis spans (complex, or real on the general
+    /// path with the supports at the speed), and the unbalance.
+    m: Mat<f64>,
+    c: Mat<f64>,
+    k: Mat<f64>,
+    s: Mat<f64>,
+    g: Mat<f64>,
+    unbalance: Vec<c64>,
+    /// 1, or 2 on the general path (two real modes per complex one).
+    planes: usize,
+    critical_load: f64,
+    alpha: f64,
+}
+
+impl ModeSet {
+    /// The modes of the kind `basis` of `rotor` at speed Ω (rad/s); on the general path
+    /// those of the symmetric part of the real-coordinate stiffness at Ω, the supports'
+    /// coefficients taken there.
+    pub fn new(rotor: &Rotor, speed: f64, basis: Basis) -> Result<ModeSet, AnalysisError> {
+        let (m, c, k, s, g, unbalance, k_sym, planes) = if rotor.real {
+            let sys = rotor.general_at(speed);
+            let k_sym = sys.symmetric_stiffness();
+            (sys.m, sys.c, sys.k, sys.s, sys.g, sys.unbalance, k_sym, 2)
+        } else {
+            let sys = &rotor.system;
+            let k_sym = sys.k.clone();
+            (sys.m.clone(), sys.c.clone(), sys.k.clone(), sys.s.clone(), sys.g.clone(), sys.unbalance.clone(), k_sym, 1)
+        };
+        let k_b = basis_stiffness(&k_sym, &s, rotor, basis)?;
+        // M x = θ K x: θ = 1/ω², massless DOFs give θ = 0 (ω = ∞) and are never selected.
+        let eig = definite_eigen(k_b.as_ref(), m.as_ref())?;
+        Ok(ModeSet {
+            eig,
+            k_b,
+            m,
+            c,
+            k,
+            s,
+            g,
+            unbalance,
+            planes,
+            critical_load: rotor.critical_load,
+            alpha: rotor.model.load.alpha,
+        })
     }
-    let n = m.nrows();
-    let theta = &eig.values[..count];
-    // x with xᵀKx = 1 → mass-normalise: x/√θ has xᵀMx = 1.
-    let mut basis = Mat::from_fn(n, count, |i, j| eig.vectors[(i, j)] / theta[j].sqrt());
-    let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
-    let mass = project(&basis, m);
-    let drift = (0..count)
-        .flat_map(|j| (0..count).map(move |i| (i, j)))
-        .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
-        .fold(0.0, f64::max);
-    if drift.is_nan() || drift > UNRESOLVED_BASIS {
-        return Err(AnalysisError::ReducedBasis { modes: count, drift });
+
+    /// The modes M a reduced model can have: the finite modes, per plane.
+    pub fn available(&self) -> usize {
+        self.eig.values.iter().filter(|t| **t > 0.0).count() / self.planes
     }
-    if drift > MASS_ORTHONORMALITY_TOLERANCE {
-        // Φ ← Φ·R⁻ᵀ with ΦᵀMΦ = R·Rᵀ (Cholesky; ≈ I, so well conditioned): exactly
-        // M-orthonormal, the same span. K̃ is then no longer exactly diagonal; B0 takes
-        // it whole, and the basis frequencies become its Rayleigh quotients √K̃_jj.
-        let l = crate::linalg::seq::cholesky(mass.as_ref())
-            .map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
-        let mut rt = basis.transpose().to_owned();
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
-        basis = rt.transpose().to_owned();
-        let k = project(&basis, k_b);
-        frequencies = (0..count).map(|j| k[(j, j)].sqrt()).collect();
+
+    /// The finite modes' frequencies √(1/θ) (rad/s), ascending: per real mode (both
+    /// planes on the general path).
+    pub fn frequencies(&self) -> Vec<f64> {
+        self.eig.values.iter().filter(|t| **t > 0.0).map(|t| (1.0 / t).sqrt()).collect()
     }
-    Ok((basis, frequencies))
+
+    /// Whether the modes are of the real coordinates (the general path).
+    pub fn real(&self) -> bool {
+        self.planes == 2
+    }
+
+    /// The reduced model of the lowest `modes` modes (per plane; 2·`modes` real ones on the
+    /// general path), mass-normalised, re-orthonormalised when the solve leaves them beyond
+    /// `MASS_ORTHONORMALITY_TOLERANCE`.
+    pub fn reduced(&self, modes: usize) -> Result<ReducedModel, AnalysisError> {
+        let count = self.planes * modes;
+        let available = self.eig.values.iter().filter(|t| **t > 0.0).count();
+        if count == 0 || count > available {
+            return Err(AnalysisError::ReducedModes { requested: modes, available: available / self.planes });
+        }
+        let n = self.m.nrows();
+        let theta = &self.eig.values[..count];
+        // x with xᵀKx = 1 → mass-normalise: x/√θ has xᵀMx = 1.
+        let mut basis = Mat::from_fn(n, count, |i, j| self.eig.vectors[(i, j)] / theta[j].sqrt());
+        let mut frequencies: Vec<f64> = theta.iter().map(|t| (1.0 / t).sqrt()).collect();
+        let mass = project(&basis, &self.m);
+        let drift = (0..count)
+            .flat_map(|j| (0..count).map(move |i| (i, j)))
+            .map(|(i, j)| (mass[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs())
+            .fold(0.0, f64::max);
+        if drift.is_nan() || drift > UNRESOLVED_BASIS {
+            return Err(AnalysisError::ReducedBasis { modes: count, drift });
+        }
+        if drift > MASS_ORTHONORMALITY_TOLERANCE {
+            // Φ ← Φ·R⁻ᵀ with ΦᵀMΦ = R·Rᵀ (Cholesky; ≈ I, so well conditioned): exactly
+            // M-orthonormal, the same span. K̃ is then no longer exactly diagonal; B0 takes
+            // it whole, and the basis frequencies become its Rayleigh quotients √K̃_jj.
+            let l = crate::linalg::seq::cholesky(mass.as_ref())
+                .map_err(|_| AnalysisError::ReducedBasis { modes: count, drift })?;
+            let mut rt = basis.transpose().to_owned();
+            faer::linalg::triangular_solve::solve_lower_triangular_in_place(l.as_ref(), rt.as_mut(), faer::Par::Seq);
+            basis = rt.transpose().to_owned();
+            let k = project(&basis, &self.k_b);
+            frequencies = (0..count).map(|j| k[(j, j)].sqrt()).collect();
+        }
+        let unbalance = (0..count).map(|j| (0..n).map(|i| self.unbalance[i] * basis[(i, j)]).sum()).collect();
+        let real = self.real();
+        // The complex path's matrices are symmetric: projected symmetric exactly; the general
+        // path's supports need not be.
+        let proj = |a: &Mat<f64>| if real { project_general(&basis, a) } else { project(&basis, a) };
+        Ok(ReducedModel {
+            frequencies,
+            c: proj(&self.c),
+            g: proj(&self.g),
+            k: proj(&self.k),
+            s: project(&basis, &self.s),
+            basis,
+            unbalance,
+            critical_load: self.critical_load,
+            alpha: self.alpha,
+            real,
+        })
+    }
 }
 
 /// The stiffness whose modes make the basis: K itself ([`Basis::Unloaded`]), or
@@ -179,50 +288,9 @@ impl ReducedModel {
     /// general path ([`Rotor::real`]) to the first 2·`count` undamped modes of the
     /// symmetric part of the real-coordinate stiffness at speed Ω (rad/s), the supports'
     /// coefficients taken there: both planes of the complex basis, the electrical modes
-    /// included.
+    /// included ([`ModeSet`]).
     pub fn new(rotor: &Rotor, count: usize, speed: f64, basis: Basis) -> Result<ReducedModel, AnalysisError> {
-        if rotor.real {
-            return ReducedModel::real(rotor, count, speed, basis);
-        }
-        let sys = &rotor.system;
-        let n = sys.size();
-        let k_b = basis_stiffness(&sys.k, &sys.s, rotor, basis)?;
-        let (basis, frequencies) = modes_of(&k_b, &sys.m, count, 1)?;
-        let unbalance = (0..count).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
-        Ok(ReducedModel {
-            frequencies,
-            c: project(&basis, &sys.c),
-            g: project(&basis, &sys.g),
-            k: project(&basis, &sys.k),
-            s: project(&basis, &sys.s),
-            basis,
-            unbalance,
-            critical_load: rotor.critical_load,
-            alpha: rotor.model.load.alpha,
-            real: false,
-        })
-    }
-
-    /// The general path of [`ReducedModel::new`].
-    fn real(rotor: &Rotor, count: usize, speed: f64, basis: Basis) -> Result<ReducedModel, AnalysisError> {
-        let sys = rotor.general_at(speed);
-        let k_s = basis_stiffness(&sys.symmetric_stiffness(), &sys.s, rotor, basis)?;
-        let count_real = 2 * count;
-        let (basis, frequencies) = modes_of(&k_s, &sys.m, count, 2)?;
-        let n = sys.size();
-        let unbalance = (0..count_real).map(|j| (0..n).map(|i| sys.unbalance[i] * basis[(i, j)]).sum()).collect();
-        Ok(ReducedModel {
-            frequencies,
-            c: project_general(&basis, &sys.c),
-            g: project_general(&basis, &sys.g),
-            k: project_general(&basis, &sys.k),
-            s: project(&basis, &sys.s),
-            basis,
-            unbalance,
-            critical_load: rotor.critical_load,
-            alpha: rotor.model.load.alpha,
-            real: true,
-        })
+        ModeSet::new(rotor, speed, basis)?.reduced(count)
     }
 
     /// Number of modes M.

@@ -188,10 +188,7 @@ impl FloquetSystem {
     /// Forward (Im λ > 0) and backward whirl frequencies of the reduced model (rad/s),
     /// each ascending.
     pub fn whirls(&self) -> Result<(Vec<f64>, Vec<f64>), AnalysisError> {
-        let ev = self.eigenvalues()?;
-        let f = ev.iter().filter(|z| z.im > 0.0).map(|z| z.im).collect();
-        let b = ev.iter().filter(|z| z.im < 0.0).map(|z| -z.im).collect();
-        Ok((f, b))
+        self.system.whirls()
     }
 
     /// Whether the forward and the backward whirls of B0 are the same frequencies, so
@@ -320,16 +317,9 @@ impl FloquetSystem {
     }
 }
 
-/// Balanced eigenvalues of B0, sorted by |Im λ|.
+/// Balanced eigenvalues of B0, sorted by |Im λ| ([`PeriodicSystem::eigenvalues`]).
 fn eigenvalues_of(system: &PeriodicSystem) -> Result<Vec<faer::c64>, AnalysisError> {
-    // B0 holds ω² next to 1: balance first, or λ is accurate only to ~ε·ω².
-    let mut b0 = system.b0.clone();
-    crate::linalg::balance(&mut b0);
-    let mut ev = crate::linalg::seq::eigenvalues(b0.as_ref()).map_err(|_| {
-        AnalysisError::Linalg(crate::linalg::LinalgError::NoConvergence { what: "reduced state matrix" })
-    })?;
-    ev.sort_by(|a, b| a.im.abs().total_cmp(&b.im.abs()).then(a.im.total_cmp(&b.im)));
-    Ok(ev)
+    system.eigenvalues()
 }
 
 #[cfg(test)]

@@ -150,9 +150,10 @@ pub struct Band {
     pub band: Option<Interval>,
     /// When φ_op is unstable: the tongue containing it (rad/s).
     pub containing: Option<Interval>,
-    /// What bounds the band below.
+    /// What bounds the band below: a tongue, or the window's end; None when φ_op is
+    /// unstable (no band).
     pub left: Option<Bound>,
-    /// What bounds the band above.
+    /// What bounds the band above (as `left`).
     pub right: Option<Bound>,
     /// Tongues inside the band that the criterion ignores (narrower than its width floor).
     pub ignored: Vec<Tongue>,
@@ -284,8 +285,9 @@ pub fn band_around(level: &Level<'_>, seeds: &[Seed], phi_op: f64) -> Band {
     };
     let found = Interval::new(edge(&left, limits.lo), edge(&right, limits.hi));
     out.band = Some(found);
-    out.left = left;
-    out.right = right;
+    // A side with no counted tongue before the window's end is bounded by the window.
+    out.left = left.or(Some(Bound::Window));
+    out.right = right.or(Some(Bound::Window));
     out.ignored = left_ignored.into_iter().chain(right_ignored).collect();
     // Tongues inside the band that grow too slowly to count are listed too (not the
     // bounding tongues, which count where they bound it).

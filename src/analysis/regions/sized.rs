@@ -1,7 +1,7 @@
 //! The band and the catalogue on a reduced basis sized by convergence
 //! ([`crate::analysis::basis`]): each is computed on bases of increasing size until its
 //! edges (and onsets) move less than the settings' tolerance, and comes back with the
-//! Floquet system it was computed on and the [`BasisReport`] that says so.
+//! Floquet system it was computed on and the [`crate::analysis::basis::BasisReport`] that says so.
 //!
 //! What is compared between two sizes:
 //! - a band: its edges (or, when φ_op is unstable at both, the edges of the tongue that
@@ -31,11 +31,13 @@ use crate::progress::Progress;
 const ONSET_FLOOR: f64 = 1e-3;
 
 /// The stable band around `phi_op` at `level` in `range` (rad/s) as [`band_with`] finds
-/// it, on a basis of `settings` sized by convergence at speed Ω (rad/s) (or fixed by them).
+/// it, on the bases of `schedule` (of `settings`' kind) at speed Ω (rad/s) until it
+/// converges ([`Schedule::new`] for the sizes of `settings` and the range).
 #[allow(clippy::too_many_arguments)]
 pub fn band_sized(
     rotor: &Rotor,
     settings: &Settings,
+    schedule: &Schedule,
     speed: f64,
     full: &ModesResult,
     s: &RegionSettings,
@@ -44,45 +46,46 @@ pub fn band_sized(
     level: f64,
     progress: &dyn Progress,
 ) -> Result<Sized<Band>, AnalysisError> {
-    let schedule = Schedule::new(rotor, settings, speed, range.hi)?;
+    sized(rotor, settings, schedule, speed, |fs| band_with(fs, full, s, range, phi_op, level, progress), band_movement)
+}
+
+/// `answer` on the Floquet systems of `schedule`'s sizes (of `settings`' kind, at speed Ω
+/// in rad/s) until one more size moves it, by `movement`, less than the tolerance.
+fn sized<T>(
+    rotor: &Rotor,
+    settings: &Settings,
+    schedule: &Schedule,
+    speed: f64,
+    answer: impl Fn(&FloquetSystem) -> Result<T, AnalysisError>,
+    movement: impl Fn(&T, &T, &Tolerance) -> Movement,
+) -> Result<Sized<T>, AnalysisError> {
     let tolerance = Tolerance::of(settings);
     let ((answer, system), basis) = converge(
-        &schedule,
+        schedule,
         settings.basis,
         |m| {
             let fs = FloquetSystem::with_modes(rotor, settings, speed, m)?;
-            let b = band_with(&fs, full, s, range, phi_op, level, progress)?;
-            Ok((b, fs))
+            Ok((answer(&fs)?, fs))
         },
-        |a, b| band_movement(&a.0, &b.0, &tolerance),
+        |a, b| movement(&a.0, &b.0, &tolerance),
     )?;
     Ok(Sized { answer, system, basis })
 }
 
-/// The catalogue of `req` as [`catalogue_with`] finds it, on a basis of `settings` sized
-/// by convergence at speed Ω (rad/s) (or fixed by them).
+/// The catalogue of `req` as [`catalogue_with`] finds it, on the bases of `schedule` (of
+/// `settings`' kind) at speed Ω (rad/s) until it converges.
+#[allow(clippy::too_many_arguments)]
 pub fn catalogue_sized(
     rotor: &Rotor,
     settings: &Settings,
+    schedule: &Schedule,
     speed: f64,
     full: &ModesResult,
     s: &RegionSettings,
     req: &CatalogueRequest,
     progress: &dyn Progress,
 ) -> Result<Sized<Catalogue>, AnalysisError> {
-    let schedule = Schedule::new(rotor, settings, speed, req.range.hi)?;
-    let tolerance = Tolerance::of(settings);
-    let ((answer, system), basis) = converge(
-        &schedule,
-        settings.basis,
-        |m| {
-            let fs = FloquetSystem::with_modes(rotor, settings, speed, m)?;
-            let c = catalogue_with(&fs, full, s, req, progress)?;
-            Ok((c, fs))
-        },
-        |a, b| catalogue_movement(&a.0, &b.0, &tolerance),
-    )?;
-    Ok(Sized { answer, system, basis })
+    sized(rotor, settings, schedule, speed, |fs| catalogue_with(fs, full, s, req, progress), catalogue_movement)
 }
 
 /// How far a band moved between two bases (module docs).
@@ -92,12 +95,9 @@ pub fn band_movement(a: &Band, b: &Band, tolerance: &Tolerance) -> Movement {
         (None, None, Some(x), Some(y)) => {
             basis::interval_movement(x, y, tolerance, "edge of the tongue containing phi_op")
         }
-        _ => Movement {
-            value: f64::INFINITY,
-            tolerance: tolerance.absolute,
-            unit: "rad/s".into(),
-            quantity: "phi_op stable at one size and unstable at the other".into(),
-        },
+        _ => {
+            Movement::change("phi_op stable at one size and unstable at the other".into(), "rad/s", tolerance.absolute)
+        }
     }
 }
 
@@ -143,12 +143,12 @@ pub fn stable_set_movement(a: &[Interval], b: &[Interval], tolerance: &Tolerance
         let touching = a.iter().chain(b).filter(|i| i.lo <= r.hi && r.lo <= i.hi).map(|i| i.width());
         let narrowest = touching.fold(f64::INFINITY, f64::min);
         let tol = tolerance.edge(if narrowest.is_finite() { narrowest } else { 0.0 });
-        let moved = Movement {
-            value: r.width(),
-            tolerance: tol,
-            unit: "rad/s".into(),
-            quantity: format!("stable set at the level in [{:.2}, {:.2}] rad/s", r.lo, r.hi),
-        };
+        let moved = Movement::of(
+            r.width(),
+            tol,
+            "rad/s",
+            format!("stable set at the level in [{:.2}, {:.2}] rad/s", r.lo, r.hi),
+        );
         worst = worst.worst(moved);
     }
     worst
