@@ -148,7 +148,7 @@ fn reporter(cli: &Cli) -> Reporter {
         Command::Regions { .. } => ("regions", &["catalogue"]),
         Command::Band { .. } => ("band", &["band", "margins"]),
         Command::Design { pareto: Some(_), .. } => ("design", &["front", "report"]),
-        Command::Design { .. } => ("design", &["optimise", "verification", "report"]),
+        Command::Design { .. } => ("design", &["basis", "optimise", "verification", "report"]),
         Command::Study(StudyArgs { action: None, .. }) => ("study", &["cases"]),
         Command::Response { .. } => ("response", &["floquet point", "response", "files"]),
         _ => return Reporter::Quiet,

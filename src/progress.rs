@@ -184,6 +184,51 @@ pub struct Silent;
 
 impl Progress for Silent {}
 
+/// A progress that passes every report on to `inner` and counts the monodromy evaluations
+/// reported through it ([`Progress::evaluated`]): the work of searches that keep no count
+/// of their own for the caller (a basis sized by convergence).
+pub struct Tally<'a> {
+    inner: &'a dyn Progress,
+    evaluations: std::sync::atomic::AtomicU64,
+}
+
+impl<'a> Tally<'a> {
+    /// A tally at 0 that reports to `inner`.
+    pub fn new(inner: &'a dyn Progress) -> Tally<'a> {
+        Tally { inner, evaluations: std::sync::atomic::AtomicU64::new(0) }
+    }
+
+    /// The evaluations reported so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+}
+
+impl Progress for Tally<'_> {
+    fn phase(&self, name: &str, steps: u64) {
+        self.inner.phase(name, steps);
+    }
+    fn extend(&self, steps: u64) {
+        self.inner.extend(steps);
+    }
+    fn advance(&self, steps: u64) {
+        self.inner.advance(steps);
+    }
+    fn warning(&self, warning: &dyn std::fmt::Display) {
+        self.inner.warning(warning);
+    }
+    fn notice(&self, line: &str) {
+        self.inner.notice(line);
+    }
+    fn evaluated(&self, count: u64) {
+        self.evaluations.fetch_add(count, Ordering::Relaxed);
+        self.inner.evaluated(count);
+    }
+    fn cancelled(&self) -> bool {
+        self.inner.cancelled()
+    }
+}
+
 /// A closure counts steps: it is called once per step done (phases and totals are
 /// dropped). `&|| {}` is the same as [`Silent`].
 impl<F: Fn() + Sync> Progress for F {

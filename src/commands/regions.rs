@@ -189,7 +189,7 @@ pub struct RegionsArgs<'a> {
 }
 
 /// `rotorshunt regions FILE --phi A:B --beta-max BMAX [--level BOP] [--json] [--out DIR]`.
-/// Progress: `catalogue` (a step per search, [`catalogue_with`]), and with `--out` the
+/// Progress: `catalogue` (a step per search, [`rotorshunt::analysis::regions::catalogue_with`]), and with `--out` the
 /// boundary plot's `chart` and the `files`.
 pub fn regions_cmd(
     problem: &Problem,
@@ -227,7 +227,9 @@ pub fn regions_cmd(
     let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("catalogue", 0);
-    let sized = catalogue_sized(&rotor, &problem.settings, problem.model.speed, &full, &settings, &req, &deadline);
+    let (speed, schedule) =
+        (problem.model.speed, Schedule::new(&rotor, &problem.settings, problem.model.speed, range.hi)?);
+    let sized = catalogue_sized(&rotor, &problem.settings, &schedule, speed, &full, &settings, &req, &deadline);
     let seconds = start.elapsed().as_secs_f64();
     budget.stopped(&deadline, "the region catalogue")?;
     let sized = sized?;
@@ -337,8 +339,11 @@ pub struct BandOutput {
     /// The band and what bounds it.
     #[serde(flatten)]
     pub band: Band,
-    /// Width (rad/s), when φ_op is stable.
+    /// Width (rad/s), when φ_op is stable: at least this much when `clipped`.
     pub width: Option<f64>,
+    /// Whether the band ends at an end of the window rather than at a tongue: its true
+    /// extent is at least the band's ([`Band::clipped`]).
+    pub clipped: bool,
     /// The reduced basis the band was computed on, and its convergence.
     pub basis: BasisReport,
     /// The band's margins: load margin (onset/β_op − 1 of the lowest counted tongue born
@@ -367,12 +372,12 @@ fn bound_text(b: &Option<Bound>) -> String {
             });
             format!("{label} (edge {edge:.3} rad/s, unstable at {inside:.3} rad/s{why})")
         }
-        _ => "the end of the search window".into(),
+        _ => "the end of the search window (the band is clipped: widen --phi to see its edge)".into(),
     }
 }
 
 /// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`. Progress: `band`
-/// (a step per search, [`band_with`]).
+/// (a step per search, [`rotorshunt::analysis::regions::band_with`]).
 pub fn band_cmd(
     problem: &Problem,
     phi_op: f64,
@@ -407,7 +412,9 @@ pub fn band_cmd(
     let deadline = budget.running(progress, &estimate);
     let start = Instant::now();
     progress.phase("band", 0);
-    let sized = band_sized(&rotor, &problem.settings, speed, &full, &settings, window, phi_op, level, &deadline);
+    let schedule = Schedule::new(&rotor, &problem.settings, speed, window.hi)?;
+    let sized =
+        band_sized(&rotor, &problem.settings, &schedule, speed, &full, &settings, window, phi_op, level, &deadline);
     budget.stopped(&deadline, "the band search")?;
     let sized = sized?;
     let (b, fs, basis) = (sized.answer, &sized.system, sized.basis);
@@ -423,6 +430,7 @@ pub fn band_cmd(
         speed: problem.model.speed,
         window,
         width: b.band.map(|x| x.width()),
+        clipped: b.clipped(),
         band: b,
         seconds: start.elapsed().as_secs_f64(),
     };
@@ -432,9 +440,10 @@ pub fn band_cmd(
     let b = &out.band;
     let mut text = match b.band {
         Some(x) => format!(
-            "stable band at beta = {level} around phi = {phi_op} rad/s: [{:.2}, {:.2}] rad/s, width {:.2} rad/s ({} evaluations, {:.3} s)\n  guarantee: {}\n  below: {}\n  above: {}\n",
+            "stable band at beta = {level} around phi = {phi_op} rad/s: [{:.2}, {:.2}] rad/s, width {}{:.2} rad/s ({} evaluations, {:.3} s)\n  guarantee: {}\n  below: {}\n  above: {}\n",
             x.lo,
             x.hi,
+            if out.clipped { "at least " } else { "" },
             x.width(),
             b.evaluations,
             out.seconds,

@@ -405,6 +405,7 @@ mod tests {
             tolerances: None,
             speed_unit: Default::default(),
             chart_grid: crate::design::spec::CHART_GRID,
+            refined_check: true,
         }
     }
 

@@ -26,10 +26,12 @@ use crate::analysis::basis::{self, BasisReport, Movement, Schedule, Sizing, Tole
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::sized::{band_movement, catalogue_movement};
-use crate::analysis::regions::{band_sized, catalogue_sized, catalogue_with, CatalogueRequest, RegionSettings};
+use crate::analysis::regions::{
+    band_sized, catalogue_sized, catalogue_with, CatalogueRequest, Counter, RegionSettings,
+};
 use crate::analysis::settings::{ModeCount, MAX_REDUCED_MODES};
 use crate::analysis::{Interval, Rotor};
-use crate::progress::Progress;
+use crate::progress::{Progress, Tally};
 use serde::{Deserialize, Serialize};
 
 /// The part of a kept-clear band's neighbourhood searched when sizing the basis: the band
@@ -41,41 +43,94 @@ const NEIGHBOURHOOD: f64 = super::verify::NEAR;
 /// size was chosen: at the reference design, at every speed, the largest size the design's
 /// quantities needed (module docs). A machine whose basis is fixed, or a design with no
 /// stability quantity (min-peak-response without a band), keeps its settings; its report
-/// is then that of its fixed (or first) size.
+/// is then that of its fixed (or first) size. The evaluations the sizing made are added
+/// to `count`.
 pub fn size_basis(
     base: &Machine,
     spec: &DesignSpec,
+    count: &Counter,
     progress: &dyn Progress,
 ) -> Result<(Machine, BasisReport), DesignError> {
     let settings = &base.settings;
-    let rotor = Rotor::new(&base.model)?;
-    let top = spec.range().hi;
     if let ModeCount::Fixed(m) = settings.reduced_modes {
         return Ok((base.clone(), BasisReport::fixed(settings.basis, m)));
     }
-    let s = &base.regions;
+    let rotor = Rotor::new(&base.model)?;
+    let top = spec.range().hi;
+    let schedules = |w: f64| Schedule::new(&rotor, settings, w, top);
+    let report = match sized_reports(&rotor, base, spec, &schedules, count, progress)? {
+        Some(r) => r.at_smallest_converged(),
+        None => first_size(&rotor, base, spec, top)?,
+    };
+    let mut sized = base.clone();
+    sized.settings = settings.with_modes(report.modes);
+    Ok((sized, report))
+}
+
+/// Whether the basis of `machine` (fixed at M modes by [`size_basis`]) still holds at the
+/// design `values`: its quantities at every speed computed from M modes up until they
+/// converge. None when they converge from M on (the next size moves them less than the
+/// tolerance); otherwise the report of the size they need, the machine to run again with.
+/// A basis the user fixed is not checked here (the refined check judges it).
+pub fn recheck(
+    machine: &Machine,
+    requested: &crate::analysis::Settings,
+    spec: &DesignSpec,
+    values: &[f64],
+    count: &Counter,
+    progress: &dyn Progress,
+) -> Result<Option<(Machine, BasisReport)>, DesignError> {
+    let (ModeCount::Auto, Some(m)) = (requested.reduced_modes, machine.settings.reduced_modes.fixed()) else {
+        return Ok(None);
+    };
+    let candidate = super::evaluate::machine_at(machine, spec, values)?;
+    let rotor = Rotor::new(&candidate.model)?;
+    let basis = machine.settings.basis;
+    let schedules = |w: f64| Schedule::starting_at(&rotor, basis, w, m);
+    let Some(report) = sized_reports(&rotor, &candidate, spec, &schedules, count, progress)? else {
+        return Ok(None);
+    };
+    let report = report.at_smallest_converged();
+    if report.modes <= m {
+        return Ok(None);
+    }
+    let mut sized = machine.clone();
+    sized.settings = machine.settings.with_modes(report.modes);
+    Ok(Some((sized, report)))
+}
+
+/// The design's quantities at every speed of `spec` on the machine `at` (its rotor
+/// `rotor`), each on the schedule `schedules(speed)` until it converges: the report that
+/// needed the largest size (one that did not converge first), or None when the design has
+/// no stability quantity.
+fn sized_reports(
+    rotor: &Rotor,
+    at: &Machine,
+    spec: &DesignSpec,
+    schedules: &dyn Fn(f64) -> Result<Schedule, crate::analysis::AnalysisError>,
+    count: &Counter,
+    progress: &dyn Progress,
+) -> Result<Option<BasisReport>, DesignError> {
+    let settings = &at.settings;
+    let s = &at.regions;
+    let tally = Tally::new(progress);
     let mut reports: Vec<BasisReport> = Vec::new();
     for &w in &spec.speeds {
-        let full = whirl_modes_of(&rotor, settings, w)?;
+        let schedule = schedules(w)?;
+        let full = whirl_modes_of(rotor, settings, w)?;
         if let Some(phi_op) = spec.phi_op() {
-            let b = band_sized(&rotor, settings, w, &full, s, spec.range(), phi_op, spec.level, progress)?;
+            let b = band_sized(rotor, settings, &schedule, w, &full, s, spec.range(), phi_op, spec.level, &tally)?;
             reports.push(b.basis);
         }
         for band in spec.kept_clear() {
             let req = neighbourhood(band.guarded(), spec);
-            let c = catalogue_sized(&rotor, settings, w, &full, s, &req, progress)?;
+            let c = catalogue_sized(rotor, settings, &schedule, w, &full, s, &req, &tally)?;
             reports.push(c.basis);
         }
     }
+    count.add(tally.evaluations() as usize);
     // The largest size needed; one that did not converge is said so.
-    let report = reports
-        .into_iter()
-        .max_by_key(|r| (r.sizing == Sizing::NotConverged, r.modes))
-        .map_or_else(|| Ok::<_, DesignError>(first_size(&rotor, base, spec, top)?), Ok)?;
-    let report = report.at_smallest_converged();
-    let mut sized = base.clone();
-    sized.settings = settings.with_modes(report.modes);
-    Ok((sized, report))
+    Ok(reports.into_iter().max_by_key(|r| (r.sizing == Sizing::NotConverged, r.at_smallest_converged_modes())))
 }
 
 /// The first size of the schedule, for a design with nothing to size by: its basis is
@@ -120,6 +175,20 @@ pub struct RefinedCheck {
 /// model's modes; a basis that cannot be doubled at all (the model has no more modes)
 /// compares nothing and says so.
 pub fn refined_check(
+    tuned: &Candidate,
+    spec: &DesignSpec,
+    s: &RegionSettings,
+    bands: &[Option<crate::analysis::regions::Band>],
+    count: &Counter,
+    progress: &dyn Progress,
+) -> Result<Vec<RefinedCheck>, DesignError> {
+    let tally = Tally::new(progress);
+    let checks = refined_checks(tuned, spec, s, bands, &tally);
+    count.add(tally.evaluations() as usize);
+    checks
+}
+
+fn refined_checks(
     tuned: &Candidate,
     spec: &DesignSpec,
     s: &RegionSettings,

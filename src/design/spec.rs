@@ -278,6 +278,11 @@ pub struct DesignSpec {
     /// (`design.chart_phi_points`, `design.chart_beta_points`; [`CHART_GRID`] by default).
     /// They draw what the design is; the design and its verification do not read them.
     pub chart_grid: (usize, usize),
+    /// Whether the verification checks the tuned design again on a basis twice as large
+    /// (`design.refined_check`, default true; [`crate::design::sizing::refined_check`]).
+    /// Off, that part is not applicable and says so: a quick look at a design, not one to
+    /// hand on.
+    pub refined_check: bool,
 }
 
 /// The report charts' default grid: φ points and β points (400 × 31 resolves a
@@ -318,6 +323,17 @@ struct SpecJson<'a> {
     /// it was).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     chart_grid: Option<(usize, usize)>,
+    /// Written only when off.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    refined_check: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 impl Serialize for DesignSpec {
@@ -338,6 +354,7 @@ impl Serialize for DesignSpec {
             speed_range: self.speed_range,
             tolerances: self.tolerances.as_ref().map(Cow::Borrowed),
             chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
+            refined_check: self.refined_check,
         }
         .serialize(serializer)
     }
@@ -374,6 +391,7 @@ impl<'de> Deserialize<'de> for DesignSpec {
             tolerances: json.tolerances.map(Cow::into_owned),
             speed_unit: crate::numbers::SpeedUnit::RadPerS,
             chart_grid: json.chart_grid.unwrap_or(CHART_GRID),
+            refined_check: json.refined_check,
         })
     }
 }

@@ -341,6 +341,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
                 MAX_CHART_BETA_POINTS,
             )?,
         ),
+        refined_check: d.refined_check.unwrap_or(true),
     }))
 }
 

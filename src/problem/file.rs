@@ -108,6 +108,10 @@ pub struct DesignFile {
     /// β points of each before/after chart of the design report (2–401); default 31.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub chart_beta_points: Option<i64>,
+    /// Whether the verification checks the tuned design again on a basis twice as large
+    /// (default true).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refined_check: Option<bool>,
     /// `[design.response]`: the unbalance response of the min-peak-response objective and
     /// the peak constraint.
     #[serde(default, skip_serializing_if = "Option::is_none")]

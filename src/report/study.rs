@@ -37,7 +37,7 @@ impl SummaryTable {
             None => 0,
         };
         let mut md = format!(
-            "# Study summary\n\n{} case(s), {flagged} flagged (failed, infeasible, not verified, phi_op unstable or band clipped by the window).\n\n| {} | output |\n|{}\n",
+            "# Study summary\n\n{} case(s), {flagged} flagged (failed, infeasible, not verified, phi_op unstable, band clipped by the window or basis not converged).\n\n| {} | output |\n|{}\n",
             self.rows.len(),
             self.header.join(" | "),
             "---|".repeat(self.header.len() + 1)
@@ -111,7 +111,7 @@ mod tests {
         };
         assert_eq!(
             t.markdown(&["[r](x)".into(), "[s](y)".into()]),
-            "# Study summary\n\n2 case(s), 1 flagged (failed, infeasible, not verified, phi_op unstable or band clipped by the window).\n\n\
+            "# Study summary\n\n2 case(s), 1 flagged (failed, infeasible, not verified, phi_op unstable, band clipped by the window or basis not converged).\n\n\
              | case | flags | seconds | band | output |\n|---|---|---|---|---|\n\
              | a\\|b |  | 1.23457 | 12 | [r](x) |\n| c | infeasible | 2 |  | [s](y) |\n"
         );

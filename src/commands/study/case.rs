@@ -112,12 +112,12 @@ pub fn case_id(case: &Case) -> String {
 const MAX_RESULT_BYTES: u64 = 1 << 24;
 
 /// Metrics that are counts (non-negative integers).
-const COUNT_METRICS: [&str; 4] =
-    ["regions", "regions_in_bands_before", "regions_in_bands_after", "floquet_evaluations"];
+const COUNT_METRICS: [&str; 5] =
+    ["regions", "regions_in_bands_before", "regions_in_bands_after", "floquet_evaluations", "basis_modes"];
 /// Metrics that are text.
 const TEXT_METRICS: [&str; 2] = ["design_status", "lowest_onset_region"];
 /// Metrics that are true or false.
-const FLAG_METRICS: [&str; 3] = ["verified", "clipped", "clipped_after"];
+const FLAG_METRICS: [&str; 4] = ["verified", "clipped", "clipped_after", "basis_converged"];
 /// The metric that lists warnings (texts).
 const WARNINGS_METRIC: &str = "warnings";
 

@@ -426,7 +426,9 @@ fn cell(v: Option<&serde_json::Value>) -> String {
 
 /// The flags of a case's result a reader must not miss: `failed`, `infeasible`, `not
 /// verified` (a design), `phi_op unstable` (no stable band around φ_op), `band clipped by the
-/// window` (a band bounded by the end of the φ window, not by a tongue).
+/// window` (a band bounded by the end of the φ window, not by a tongue), `basis not
+/// converged` (the reduced basis moved the answer beyond its tolerance at its largest
+/// size).
 fn flags(r: &CaseResult) -> Vec<&'static str> {
     let mut f = Vec::new();
     if r.status == CaseStatus::Failed {
@@ -447,6 +449,9 @@ fn flags(r: &CaseResult) -> Vec<&'static str> {
     }
     if ["clipped", "clipped_after"].iter().any(|k| m(k).and_then(|v| v.as_bool()) == Some(true)) {
         f.push("band clipped by the window");
+    }
+    if m("basis_converged").and_then(|v| v.as_bool()) == Some(false) {
+        f.push("basis not converged");
     }
     f
 }

@@ -31,9 +31,9 @@ fn regions_case_system(
 ) -> Result<(Rotor, FloquetSystem, Estimate), Error> {
     bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
     let rotor = Rotor::new(&problem.model)?;
-    let fs = FloquetSystem::new(&rotor, &problem.settings, problem.model.speed)?;
-    let level = study.level.unwrap_or(study.beta_max);
     let range = Interval::new(study.phi[0], study.phi[1]);
+    let fs = FloquetSystem::for_window(&rotor, &problem.settings, problem.model.speed, range.hi)?;
+    let level = study.level.unwrap_or(study.beta_max);
     let (s, criterion, pc) = (problem.regions.clone(), Criterion::of(&fs.settings), PointCost::of(&fs));
     let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
     let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
@@ -85,6 +85,10 @@ pub(super) fn run_case(
             let o = design_report(&problem, dir, &Silent, budget, &estimate)?;
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified()));
+            if let Some(b) = &o.basis {
+                m.insert("basis_modes".into(), metric(b.modes));
+                m.insert("basis_converged".into(), metric(b.converged()));
+            }
             // The same bands as `rotorshunt band tuned.toml` gives (0 where φ_op is unstable):
             // the smallest over the speeds.
             let width = |v: &[rotorshunt::design::evaluate::OperatingBand]| {
@@ -136,7 +140,8 @@ pub(super) fn run_case(
             let deadline = budget.running(&Silent, &estimate);
             let req = CatalogueRequest { range, beta_max: study.beta_max, level, track: false };
             let settings = &problem.settings;
-            let cat = catalogue_sized(&rotor, settings, speed, &full, &s, &req, &deadline);
+            let schedule = rotorshunt::analysis::basis::Schedule::new(&rotor, settings, speed, range.hi)?;
+            let cat = catalogue_sized(&rotor, settings, &schedule, speed, &full, &s, &req, &deadline);
             budget.stopped(&deadline, "the case's region catalogue")?;
             let sized = cat?;
             let cat = sized.answer;
@@ -145,7 +150,7 @@ pub(super) fn run_case(
             // The band before any file, so that a case stopped at its time limit writes none.
             let found = match study.phi_op {
                 Some(p) => {
-                    let found = band_sized(&rotor, settings, speed, &full, &s, range, p, level, &deadline);
+                    let found = band_sized(&rotor, settings, &schedule, speed, &full, &s, range, p, level, &deadline);
                     budget.stopped(&deadline, "the case's band search")?;
                     Some(found?.answer)
                 }

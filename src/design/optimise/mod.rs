@@ -29,7 +29,7 @@ pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 use nelder_mead::widest_band;
 pub use observer::{Observation, Observer};
 pub use outcome::{
-    ConvexStep, Cost, DesignOutcome, Findings, HistoryPoint, StartReport, Status, VibrationReport,
+    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, HistoryPoint, StartReport, Status, VibrationReport,
     REPORT_DAMPING_WHIRLS,
 };
 
@@ -232,76 +232,43 @@ pub fn run_with(
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
     // The basis every candidate is judged on, sized at the reference design.
     progress.phase("basis", 0);
-    let (sized, basis) = super::sizing::size_basis(base, spec, progress)?;
+    let sizing = Counter::default();
+    let (mut sized, basis) = super::sizing::size_basis(base, spec, &sizing, progress)?;
     stopped(progress)?;
-    let base = &sized;
-    progress.phase("optimise", most_candidates(spec) as u64);
     let started = Instant::now();
-    let before = values_of(base, spec);
-    // The reference design's Floquet points must pass the β = 0 check over the design's
-    // range at every speed before any candidate is searched, and its whirls must have the
-    // damping constraints' tags.
-    let reference = Candidate::new(base, spec, &before)?;
-    super::checks::modes_exist(&reference.rotor, &base.settings, spec)?;
-    for (_, fs) in &reference.systems {
-        check_reliable(fs, spec.range())?;
+    let mut extra: Vec<(String, Vec<f64>)> = options.extra_starts.clone();
+    let mut rounds = Vec::new();
+    let mut out = optimise_round(&sized, spec, options, &extra, progress)?;
+    out.basis = Some(basis);
+    // Until the basis holds at the tuned design too: a design far from the reference can
+    // need more modes than the reference did (its electrical modes moved). Each round
+    // starts again on the larger basis, from the previous tuned design as well.
+    for round in 1..=BASIS_ROUNDS {
+        stopped(progress)?;
+        let recheck = super::sizing::recheck(&sized, &base.settings, spec, &out.after, &sizing, progress)?;
+        let Some((machine, report)) = recheck else { break };
+        rounds.push(BasisRound { modes: out.basis.as_ref().map_or(0, |b| b.modes), values: out.after.clone() });
+        if round == BASIS_ROUNDS {
+            // The last round's tuned design needs a larger basis than it was run on:
+            // said so, and the refined check judges it.
+            out.basis = Some(report.not_held());
+            break;
+        }
+        sized = machine;
+        extra.push((format!("tuned on M = {}", rounds[rounds.len() - 1].modes), out.after.clone()));
+        let mut next = optimise_round(&sized, spec, options, &extra, progress)?;
+        next.basis = Some(report);
+        next.candidates += out.candidates;
+        next.failed_candidates += out.failed_candidates;
+        next.floquet_evaluations += out.floquet_evaluations;
+        next.first_failure = next.first_failure.or(out.first_failure);
+        out = next;
     }
-    let ctx = Context {
-        base,
-        spec,
-        regions: base.regions.clone(),
-        floquet: Counter::reporting(progress),
-        candidates: AtomicUsize::new(0),
-        failures: AtomicUsize::new(0),
-        first_failure: std::sync::Mutex::new(None),
-        progress,
-        reference,
-        extra_starts: options.extra_starts.iter().map(|(name, v)| (name.clone(), to_unit(spec, v))).collect(),
-        unconstrained: options.unconstrained.as_ref().map(|v| to_unit(spec, v)),
-        observer: options.observer.as_deref(),
-    };
-    let mut out = DesignOutcome {
-        spec: spec.clone(),
-        status: Status::Unchanged,
-        before: before.clone(),
-        after: before.clone(),
-        findings: match spec.objective {
-            Objective::WidestStableBand { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
-            Objective::ClearBands { .. } => {
-                Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
-            }
-            Objective::MinPeakResponse { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
-        },
-        before_speeds: Vec::new(),
-        after_speeds: Vec::new(),
-        verification: Verification::of(Vec::new(), None),
-        starts: Vec::new(),
-        history: Vec::new(),
-        convex_steps: Vec::new(),
-        candidates: 0,
-        failed_candidates: 0,
-        first_failure: None,
-        floquet_evaluations: 0,
-        seconds: 0.0,
-        verification_cost: Cost::default(),
-        constraints_after: Vec::new(),
-        vibration: None,
-        robustness: None,
-        speed_check: None,
-        speed_check_before: None,
-        basis: Some(basis),
-        refined: Vec::new(),
-    };
-    match &spec.objective {
-        Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
-        Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
-        Objective::MinPeakResponse { .. } => min_peak(&ctx, &mut out)?,
-    }
-    out.candidates = ctx.candidates.load(Ordering::Relaxed);
-    out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
-    out.first_failure = ctx.first_failure.lock().unwrap_or_else(|p| p.into_inner()).clone();
-    out.floquet_evaluations = ctx.floquet.get();
+    out.floquet_evaluations += sizing.get();
+    out.basis_rounds = rounds;
     out.seconds = started.elapsed().as_secs_f64();
+    let base = &sized;
+    let regions = base.regions.clone();
     stopped(progress)?;
     // Verification, from scratch: the reference and the tuned design rebuilt, their full
     // catalogues, and the checks on the tuned one.
@@ -310,17 +277,22 @@ pub fn run_with(
     let count = Counter::default();
     let reference = Candidate::new(base, spec, &out.before)?;
     let tuned = Candidate::new(base, spec, &out.after)?;
-    out.before_speeds = describe(&reference, spec, &ctx.regions, progress)?;
-    out.after_speeds = describe(&tuned, spec, &ctx.regions, progress)?;
+    out.before_speeds = describe(&reference, spec, &regions, progress)?;
+    out.after_speeds = describe(&tuned, spec, &regions, progress)?;
     count.add(out.before_speeds.iter().chain(&out.after_speeds).map(|d| d.catalogue.evaluations).sum());
     let mut after_speeds = std::mem::take(&mut out.after_speeds);
     let mut parts = verify(&tuned, spec, out.after_bands(), &mut after_speeds, &count, progress);
     out.after_speeds = after_speeds;
     parts.push(operating_point_part(spec, &out.after_speeds));
-    // The tuned design on a basis twice as large: its band and neighbourhood again.
-    let bands: Vec<_> = out.after_speeds.iter().map(|d| d.band.clone()).collect();
-    out.refined = super::sizing::refined_check(&tuned, spec, &ctx.regions, &bands, progress)?;
-    parts.push(refined_part(&out.refined));
+    // The tuned design on a basis twice as large: its band and catalogues again.
+    if spec.refined_check {
+        let bands: Vec<_> = out.after_speeds.iter().map(|d| d.band.clone()).collect();
+        out.refined = super::sizing::refined_check(&tuned, spec, &regions, &bands, &count, progress)?;
+        parts.push(refined_part(&out.refined));
+    } else {
+        let why = "switched off (design.refined_check = false): the answer is not checked on a larger basis";
+        parts.push(VerificationPart::of("refined-basis", 0, 0, String::new(), why));
+    }
     match &mut out.findings {
         // Intrusions named after the full model's whirls: the catalogue's region with the
         // same edges (the lattice-refined edges are the same numbers).
@@ -354,7 +326,7 @@ pub fn run_with(
             Some(r) => Some(crate::design::vibration::peak_of(&tuned.rotor, r)?),
             None => None,
         };
-        out.constraints_after = crate::design::vibration::check_constraints(&tuned, spec, &ctx.regions, peak, &count)?;
+        out.constraints_after = crate::design::vibration::check_constraints(&tuned, spec, &regions, peak, &count)?;
         for c in out.constraints_after.iter().filter(|c| !c.met) {
             let message = format!("constraint {} not met: {:e}", c.name, c.value);
             if let Some(d) = out.after_speeds.first_mut() {
@@ -420,7 +392,7 @@ pub fn run_with(
     // The tuned design as built: every corner of the tolerance box and Monte Carlo samples.
     if let (Some(t), Some(phi_op)) = (&spec.tolerances, spec.phi_op()) {
         progress.extend((t.corners().len() + t.samples) as u64);
-        let r = robust::check(&tuned, spec, t, phi_op, &ctx.regions, &|| progress.advance(1))?;
+        let r = robust::check(&tuned, spec, t, phi_op, &regions, &|| progress.advance(1))?;
         count.add(r.evaluations);
         parts.push(VerificationPart::of("tolerances", r.checked(), r.failed(), robust::summary(&r, phi_op), ""));
         out.robustness = Some(r);
@@ -430,13 +402,13 @@ pub fn run_with(
         match spec.phi_op() {
             Some(phi_op) => {
                 progress.extend(super::spec::VERIFY_SPEEDS as u64);
-                let r = robust::speed_check(&tuned, spec, range, phi_op, &ctx.regions, &|| progress.advance(1))?;
+                let r = robust::speed_check(&tuned, spec, range, phi_op, &regions, &|| progress.advance(1))?;
                 count.add(r.evaluations);
                 let summary = robust::speed_summary(&r, phi_op);
                 parts.push(VerificationPart::of("speeds", r.bands.len(), r.failing.len(), summary, ""));
                 out.speed_check = Some(r);
                 // The reference on the same grid, for the report: where it failed.
-                let before = robust::speed_check(&reference, spec, range, phi_op, &ctx.regions, &|| {})?;
+                let before = robust::speed_check(&reference, spec, range, phi_op, &regions, &|| {})?;
                 count.add(before.evaluations);
                 out.speed_check_before = Some(before);
             }
@@ -551,6 +523,90 @@ fn refined_part(checks: &[super::sizing::RefinedCheck]) -> VerificationPart {
         summary,
         "the model has no more modes than the design's basis, or nothing to compare (no phi_op, no kept-clear band)",
     )
+}
+
+/// Most times a design runs again on a larger basis when its tuned design needs one
+/// ([`super::sizing::recheck`]): each round is a whole optimisation, and a tuning that
+/// moves an electrical mode across the window can need one more size; beyond, the last
+/// round's design is verified as it is, its basis said not to hold.
+pub const BASIS_ROUNDS: usize = 2;
+
+/// One optimisation of `spec` on `base` (its basis fixed), with `extra` starts beside the
+/// caller's: the outcome before its verification, with the counts of the round.
+fn optimise_round(
+    base: &Machine,
+    spec: &DesignSpec,
+    options: &RunOptions,
+    extra: &[(String, Vec<f64>)],
+    progress: &dyn Progress,
+) -> Result<DesignOutcome, DesignError> {
+    progress.phase("optimise", most_candidates(spec) as u64);
+    let before = values_of(base, spec);
+    // The reference design's Floquet points must pass the β = 0 check over the design's
+    // range at every speed before any candidate is searched, and its whirls must have the
+    // damping constraints' tags.
+    let reference = Candidate::new(base, spec, &before)?;
+    super::checks::modes_exist(&reference.rotor, &base.settings, spec)?;
+    for (_, fs) in &reference.systems {
+        check_reliable(fs, spec.range())?;
+    }
+    let ctx = Context {
+        base,
+        spec,
+        regions: base.regions.clone(),
+        floquet: Counter::reporting(progress),
+        candidates: AtomicUsize::new(0),
+        failures: AtomicUsize::new(0),
+        first_failure: std::sync::Mutex::new(None),
+        progress,
+        reference,
+        extra_starts: extra.iter().map(|(name, v)| (name.clone(), to_unit(spec, v))).collect(),
+        unconstrained: options.unconstrained.as_ref().map(|v| to_unit(spec, v)),
+        observer: options.observer.as_deref(),
+    };
+    let mut out = DesignOutcome {
+        spec: spec.clone(),
+        status: Status::Unchanged,
+        before: before.clone(),
+        after: before.clone(),
+        findings: match spec.objective {
+            Objective::WidestStableBand { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
+            Objective::ClearBands { .. } => {
+                Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
+            }
+            Objective::MinPeakResponse { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
+        },
+        before_speeds: Vec::new(),
+        after_speeds: Vec::new(),
+        verification: Verification::of(Vec::new(), None),
+        starts: Vec::new(),
+        history: Vec::new(),
+        convex_steps: Vec::new(),
+        candidates: 0,
+        failed_candidates: 0,
+        first_failure: None,
+        floquet_evaluations: 0,
+        seconds: 0.0,
+        verification_cost: Cost::default(),
+        constraints_after: Vec::new(),
+        vibration: None,
+        robustness: None,
+        speed_check: None,
+        speed_check_before: None,
+        basis: None,
+        basis_rounds: Vec::new(),
+        refined: Vec::new(),
+    };
+    match &spec.objective {
+        Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
+        Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
+        Objective::MinPeakResponse { .. } => min_peak(&ctx, &mut out)?,
+    }
+    out.candidates = ctx.candidates.load(Ordering::Relaxed);
+    out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
+    out.first_failure = ctx.first_failure.lock().unwrap_or_else(|p| p.into_inner()).clone();
+    out.floquet_evaluations = ctx.floquet.get();
+    Ok(out)
 }
 
 /// [`DesignError::Stopped`] once the caller has asked the run to stop.

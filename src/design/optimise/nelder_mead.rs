@@ -103,6 +103,8 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
         k += 1;
     }
     starts.truncate(spec.starts.max(1));
+    // The caller's starts, and the tuned design of a round on a smaller basis.
+    starts.extend(ctx.extra_starts.iter().cloned());
     // Starts in parallel (the outermost loop); each Nelder–Mead run is sequential.
     let runs: Vec<Result<StartRun, DesignError>> = starts
         .par_iter()

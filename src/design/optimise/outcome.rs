@@ -199,6 +199,10 @@ pub struct DesignOutcome {
     /// ([`crate::design::sizing`]); None only in a report read back from before it was
     /// recorded.
     pub basis: Option<BasisReport>,
+    /// The rounds before the last, each on a basis its tuned design turned out to need
+    /// more modes than ([`crate::design::sizing::recheck`]): empty when the first basis
+    /// held.
+    pub basis_rounds: Vec<BasisRound>,
     /// The tuned design checked again on a basis twice as large, at each speed
     /// ([`crate::design::sizing::refined_check`]).
     pub refined: Vec<RefinedCheck>,
@@ -295,6 +299,8 @@ struct OutcomeJson<'a> {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     basis: Option<Cow<'a, BasisReport>>,
     #[serde(default)]
+    basis_rounds: Cow<'a, [BasisRound]>,
+    #[serde(default)]
     refined: Cow<'a, [RefinedCheck]>,
 }
 
@@ -330,6 +336,7 @@ impl Serialize for DesignOutcome {
             speed_check: self.speed_check.as_ref().map(Cow::Borrowed),
             speed_check_before: self.speed_check_before.as_ref().map(Cow::Borrowed),
             basis: self.basis.as_ref().map(Cow::Borrowed),
+            basis_rounds: Cow::Borrowed(&self.basis_rounds),
             refined: Cow::Borrowed(&self.refined),
         }
         .serialize(serializer)
@@ -383,9 +390,19 @@ impl<'de> Deserialize<'de> for DesignOutcome {
             speed_check: json.speed_check.map(Cow::into_owned),
             speed_check_before: json.speed_check_before.map(Cow::into_owned),
             basis: json.basis.map(Cow::into_owned),
+            basis_rounds: json.basis_rounds.into_owned(),
             refined: json.refined.into_owned(),
         })
     }
+}
+
+/// A round of a design on a basis its tuned design did not hold on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BasisRound {
+    /// The modes M the round ran on (−).
+    pub modes: usize,
+    /// Its tuned design (SI units, as the variables).
+    pub values: Vec<f64>,
 }
 
 /// The cost of a phase of the run.

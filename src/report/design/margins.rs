@@ -16,13 +16,25 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
     if rows.is_empty() {
         return;
     }
+    let criterion = o.after_speeds.first().map(|d| d.catalogue.criterion);
+    let declared_rule = criterion.map_or(String::new(), |c| c.threshold.describe().replace('|', "\\|"));
+    // The strict band beside the declared one only where the declared criterion has slack
+    // (the paper's tolerance, floors): otherwise it is the declared band.
+    let slack = criterion.is_some_and(|c| !c.is_strict());
+    let (strict_text, strict_header, strict_rule) = if slack {
+        (
+            "; the strict band counts every point with ln max\\|μ\\| above the fast path's floor",
+            format!(" strict band (unstable when {}) |", rows[0].2.strict.describe().replace('|', "\\|")),
+            "---|",
+        )
+    } else {
+        ("", String::new(), "")
+    };
     let _ = writeln!(
         s,
-        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max|μ| over the band search's points inside the band; the strict band counts every point with max|μ| above 1 + the fast path's floor):\n\n| {} | | load margin | φ_op − lo | hi − φ_op | largest max|μ| inside | declared band (unstable when {}) | strict band (unstable when {}) |\n|---|---|---|---|---|---|---|---|",
+        "\nMargins of the band around φ_op at β_op = {} (load margin: the lowest onset above β_op of a counted tongue born inside the band, as onset/β_op − 1; frequency margins φ_op − lo and hi − φ_op in rad/s; largest max\\|μ\\| over the band search's points inside the band{strict_text}):\n\n| {} | | load margin | φ_op − lo | hi − φ_op | largest max\\|μ\\| inside | band (unstable when {declared_rule}) |{strict_header}\n|---|---|---|---|---|---|---|{strict_rule}",
         o.spec.level,
         super::speed_header(o.spec.speed_unit),
-        o.after_speeds.first().map_or(String::new(), |d| d.catalogue.criterion.threshold.describe().replace('|', "\\|")),
-        rows[0].2.strict.describe().replace('|', "\\|")
     );
     for (speed, before, after, at) in &rows {
         for (which, m, band) in [
@@ -32,11 +44,14 @@ pub(super) fn margins_table(s: &mut String, o: &DesignOutcome) {
             let declared = band
                 .and_then(|b| b.band)
                 .map_or("–".into(), |b| format!("[{:.2}, {:.2}] ({:.2})", b.lo, b.hi, b.width()));
-            let strict =
-                m.strict_band.map_or("none".into(), |b| format!("[{:.2}, {:.2}] ({:.2})", b.lo, b.hi, b.width()));
+            let strict = match (slack, m.strict_band) {
+                (false, _) => String::new(),
+                (true, Some(b)) => format!(" [{:.2}, {:.2}] ({:.2}) |", b.lo, b.hi, b.width()),
+                (true, None) => " none |".into(),
+            };
             let _ = writeln!(
                 s,
-                "| {} | {which} | {} | {:.2} | {:.2} | {} | {declared} | {strict} |",
+                "| {} | {which} | {} | {:.2} | {:.2} | {} | {declared} |{strict}",
                 super::speed_cell(o.spec.speed_unit, *speed),
                 m.load_text().replace('|', "\\|"),
                 m.phi_below,

@@ -277,60 +277,60 @@ fn clear_bands_table(s: &mut String, o: &DesignOutcome) {
     }
 }
 
-/// The peaks of the reference, tuned, unconstrained and classic designs, and the price.
+/// The peaks of the open circuit, the reference, classic, unconstrained and tuned designs
+/// in one table (the baselines' amplification factors and the tuned peak relative to
+/// each), and the price of the constraints.
 fn peak_table(s: &mut String, o: &DesignOutcome) {
     let Some(f) = o.peak_findings() else { return };
     let _ = writeln!(
         s,
-        "\nPeak unbalance response (m):\n\n| design | peak (m) | at (rad/s) | constraints met |\n|---|---|---|---|"
+        "\nPeak unbalance response (m), each by the same response computation:\n\n| design | peak (m) | at (rad/s) | amplification factor (−) | tuned peak vs it | constraints met |\n|---|---|---|---|---|---|"
     );
-    let mut rows = vec![("reference", &f.before), ("tuned", &f.after), ("unconstrained optimum", &f.unconstrained)];
-    if let Some(c) = &f.classic_design {
-        rows.push(("classic tuning", c));
-    }
-    for (name, d) in rows {
+    let baseline = |name: &str| f.baselines.iter().find(|b| b.design == name);
+    let tuned = f.after.peak.amplitude;
+    let af = |name: &str| {
+        baseline(name).map_or("–".to_string(), |b| {
+            b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| format!("{a:.1}"))
+        })
+    };
+    let row = |s: &mut String, name: &str, peak: &crate::design::vibration::PeakValue, af: String, met: String| {
+        let vs = if name == "tuned" {
+            "–".to_string()
+        } else {
+            format!("{:+.1} %", 100.0 * (tuned / peak.amplitude - 1.0))
+        };
         let _ = writeln!(
             s,
-            "| {name} | {:.4e}{} | {:.2} | {} |",
-            d.peak.amplitude,
-            if d.peak.unbounded { " (unbounded)" } else { "" },
-            d.peak.speed,
-            if d.constraints.is_empty() { "–".to_string() } else { d.feasible.to_string() }
+            "| {name} | {:.4e}{} | {:.2} | {af} | {vs} | {met} |",
+            peak.amplitude,
+            if peak.unbounded { " (unbounded)" } else { "" },
+            peak.speed
         );
+    };
+    if let Some(b) = baseline("open circuit") {
+        row(s, "open circuit", &b.peak, af("open circuit"), "–".to_string());
     }
-    baseline_table(s, &f.baselines);
+    let met = |d: &crate::design::optimise::JudgedDesign| {
+        if d.constraints.is_empty() {
+            "–".to_string()
+        } else {
+            d.feasible.to_string()
+        }
+    };
+    let mut rows = vec![("reference", &f.before, af("reference circuit"))];
+    if let Some(c) = &f.classic_design {
+        rows.push(("classic tuning", c, af("classic tuning")));
+    }
+    rows.push(("unconstrained optimum", &f.unconstrained, "–".to_string()));
+    rows.push(("tuned", &f.after, af("tuned")));
+    for (name, d, a) in rows {
+        row(s, name, &d.peak, a, met(d));
+    }
     if let Some(price) = f.price {
         let _ = writeln!(
             s,
             "\nPrice of the constraints: tuned peak − unconstrained peak = {:+.4e} m ({:+.2} %).",
             price.metres, price.percent
-        );
-    }
-}
-
-/// The tuned shunt beside the open circuit, the reference circuit and the classic tuning:
-/// peak, amplification factor and the tuned peak relative to each.
-fn baseline_table(s: &mut String, rows: &[crate::design::vibration::Baseline]) {
-    let Some(tuned) = rows.iter().find(|b| b.design == "tuned") else { return };
-    let _ = writeln!(
-        s,
-        "\nBaselines (the same response computation for each):\n\n| design | peak (m) | at (rad/s) | amplification factor (−) | tuned peak vs it |\n|---|---|---|---|---|"
-    );
-    for b in rows {
-        let af =
-            b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| format!("{a:.1}"));
-        let vs = if b.design == "tuned" {
-            "–".to_string()
-        } else {
-            format!("{:+.1} %", 100.0 * (tuned.peak.amplitude / b.peak.amplitude - 1.0))
-        };
-        let _ = writeln!(
-            s,
-            "| {} | {:.4e}{} | {:.2} | {af} | {vs} |",
-            b.design,
-            b.peak.amplitude,
-            if b.peak.unbounded { " (unbounded)" } else { "" },
-            b.peak.speed
         );
     }
 }
