@@ -74,11 +74,14 @@ fn design_report_names_the_bounds_as_band_does() {
     assert_eq!(rows.len(), 1, "{md}");
     let band = &outcome["after_bands"][0]["band"];
     let tongues = tongues(&outcome["after_speeds"][0]["catalogue"]);
-    // `band` on tuned.toml over the design's range, at its φ_op and β_op.
+    // `band` on tuned.toml over the design's range, at its φ_op and β_op, on the basis the
+    // design judged every candidate on (the same model: what is compared is the names).
+    let modes = format!("analysis.reduced_modes={}", outcome["basis"]["modes"].as_u64().unwrap());
     let b: Value = serde_json::from_str(&run_ok(
         bin()
             .arg("band")
             .arg(dir.join("tuned.toml"))
+            .args(["--set", &modes])
             .args(["--phi-op", "1230", "--level", "0.3", "--phi", WINDOW, "--json"]),
     ))
     .unwrap();

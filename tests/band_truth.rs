@@ -61,6 +61,26 @@ use rotorshunt::analysis::{Criterion, Interval, Rotor};
 use rotorshunt::problem::Problem;
 use std::collections::HashMap;
 
+/// A band the search is known to get wrong: an unstable tongue inside it that the search
+/// does not look for. Each must still be found here exactly (its unstable grid points all
+/// inside `tongue`), so a fix shows up as a failure that asks for its removal.
+struct KnownMiss {
+    /// A problem of the group (its file name).
+    problem: &'static str,
+    level: f64,
+    phi_op: f64,
+    /// Where the missed tongue lies at the level (rad/s).
+    tongue: Interval,
+}
+
+/// The known misses: difference-type combination tongues (|ω_i − ω_j|/k of two whirls of
+/// one direction), which only a damped model has and the seeds (sum type) do not predict;
+/// docs/regions.md, "What the band does not search". On the Fig. 11 rotor with η = 200
+/// N·s/m at β = 0.1, a tongue at 2303.4–2306.6 rad/s with growth rate 8.4e-4 1/s (the
+/// reference DSTM agrees: ln max|μ| = 2.29e-6 at 2303.6 rad/s, M = 24).
+const KNOWN_MISSES: [KnownMiss; 1] =
+    [KnownMiss { problem: "design-min-peak.toml", level: 0.1, phi_op: 2500.0, tongue: Interval::new(2303.0, 2307.0) }];
+
 const PHI_OPS: [f64; 5] = [300.0, 700.0, 1230.0, 1800.0, 2500.0];
 const LEVELS: [f64; 3] = [0.1, 0.3, 0.6];
 /// The window of every band and catalogue: the φ range of the paper's charts (rad/s).
@@ -106,6 +126,8 @@ struct Report {
     tables: usize,
     named: usize,
     unlabelled: usize,
+    /// Bands that showed a known miss ([`KNOWN_MISSES`]) as recorded.
+    known: usize,
 }
 
 /// What checks 1–3 read of one stable band: the catalogue of its neighbourhood and the
@@ -294,7 +316,25 @@ fn check_problem(name: &str, p: &Problem) -> Report {
             r.full_grid += grid(found.lo, found.hi).len();
             r.total_points += inside.len();
             let bad: Vec<f64> = counted(inside).into_iter().map(|k| k as f64 * GRID).collect();
-            if !bad.is_empty() {
+            let known =
+                KNOWN_MISSES.iter().find(|m| name.contains(m.problem) && m.level == level && m.phi_op == phi_op);
+            match known {
+                Some(m) if !bad.is_empty() && bad.iter().all(|&x| m.tongue.contains(x)) => {
+                    eprintln!(
+                        "KNOWN MISS {name} β {level} φ_op {phi_op}: {} unstable grid points in [{}, {}] inside {found:?} (a difference-type tongue, docs/regions.md)",
+                        bad.len(),
+                        m.tongue.lo,
+                        m.tongue.hi
+                    );
+                    r.known += 1;
+                }
+                Some(_) => r.failures.push(format!(
+                    "{name} β {level} φ_op {phi_op}: the known miss is not as recorded (band {found:?}, unstable grid points {:?}): update KNOWN_MISSES",
+                    &bad[..bad.len().min(5)]
+                )),
+                None => {}
+            }
+            if !bad.is_empty() && known.is_none() {
                 r.failures.push(format!(
                     "{name} β {level} φ_op {phi_op}: band {found:?} has {} unstable grid points, first {:?}",
                     bad.len(),
@@ -370,13 +410,16 @@ fn band_is_true_on_every_problem() {
         all.tables += r.tables;
         all.named += r.named;
         all.unlabelled += r.unlabelled;
+        all.known += r.known;
     }
-    let Report { checked, thin, failures, full_grid, total_points, evaluated, tables, named, unlabelled } = all;
+    let Report { checked, thin, failures, full_grid, total_points, evaluated, tables, named, unlabelled, known } = all;
     eprintln!(
         "{checked} bands checked, {total_points} points ({evaluated} evaluated, on {tables} per-phi tables) where the full 0.05 rad/s grid has {full_grid}; bounded by tongues thinner than the grid: {thin:#?}"
     );
     eprintln!("{named} finite edges named, {unlabelled} of them unlabelled (no catalogued tongue with the edge)");
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    // Every known miss was seen as recorded: one that no longer shows was fixed.
+    assert_eq!(known, KNOWN_MISSES.len(), "a known miss no longer shows: remove it from KNOWN_MISSES");
     assert!(checked >= 60, "only {checked} stable bands checked");
     assert!(groups.len() >= 10, "only {} distinct problems", groups.len());
 }

@@ -87,7 +87,8 @@ fn an_unbalance_response_asked_to_stop_solves_no_more_speeds_and_comes_back_empt
 /// The widest-band design cut short: one start of two iterations over 1000–1500 rad/s.
 fn short_design() -> Problem {
     let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
-    Problem::from_path("problems/design-widest-band.toml", &short.map(String::from)).unwrap()
+    let o: Vec<String> = short.iter().chain(&crate::common::QUICK_BASIS).map(|s| s.to_string()).collect();
+    Problem::from_path("problems/design-widest-band.toml", &o).unwrap()
 }
 
 #[test]

@@ -117,12 +117,18 @@ fn the_catalogue_at_the_level_is_the_same_with_out_and_for_any_beta_max() {
 #[test]
 fn band_catalogue_design_and_study_give_the_same_band() {
     let file = problem_path("design-widest-band.toml");
-    let band =
-        run_json(bin().args(["band", &file, "--phi-op", "1230", "--level", "0.3", "--phi", "100:8000", "--json"]));
+    let band = run_json(
+        bin()
+            .args(["band", &file, "--phi-op", "1230", "--level", "0.3", "--phi", "100:8000", "--json"])
+            .args(common::FIXED_BASIS_ARGS),
+    );
     let b = (band["band"]["lo"].as_f64().unwrap(), band["band"]["hi"].as_f64().unwrap());
     // The catalogue of the same range at the same level.
-    let cat =
-        run_json(bin().args(["regions", &file, "--phi", "100:8000", "--beta-max", "0.3", "--level", "0.3", "--json"]));
+    let cat = run_json(
+        bin()
+            .args(["regions", &file, "--phi", "100:8000", "--beta-max", "0.3", "--level", "0.3", "--json"])
+            .args(common::FIXED_BASIS_ARGS),
+    );
     let containing: Vec<(f64, f64)> = cat["stable_bands"]
         .as_array()
         .unwrap()
@@ -136,6 +142,7 @@ fn band_catalogue_design_and_study_give_the_same_band() {
     let out = bin()
         .args(["design", &file, "--set", "design.starts=1", "--set", "design.max_iterations=2"])
         .args(common::COARSE_CHART_ARGS)
+        .args(common::QUICK_BASIS_ARGS)
         .arg("--out")
         .arg(&dir)
         .output()
@@ -151,7 +158,7 @@ fn band_catalogue_design_and_study_give_the_same_band() {
     std::fs::write(
         &study,
         format!(
-            "base = \"{file}\"\nkind = \"regions\"\nphi = [100.0, 8000.0]\nbeta_max = 0.3\nlevel = 0.3\nphi_op = 1230.0\n[[cases]]\nname = \"paper\"\n"
+            "base = \"{file}\"\nkind = \"regions\"\nphi = [100.0, 8000.0]\nbeta_max = 0.3\nlevel = 0.3\nphi_op = 1230.0\nset = [\"analysis.reduced_modes=8\"]\n[[cases]]\nname = \"paper\"\n"
         ),
     )
     .unwrap();

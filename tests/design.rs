@@ -16,12 +16,14 @@ use rotorshunt::problem::Problem;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-/// Verdicts of `rotorshunt chart FILE` on a grid of spacing `step` over [lo, hi] at one β.
-fn chart(file: &Path, lo: f64, hi: f64, step: f64, beta: f64, dir: &Path) -> Vec<(f64, bool)> {
+/// Verdicts of `rotorshunt chart FILE` on a grid of spacing `step` over [lo, hi] at one β,
+/// with the arguments `extra` (a basis).
+fn chart(file: &Path, lo: f64, hi: f64, step: f64, beta: f64, dir: &Path, extra: &[&str]) -> Vec<(f64, bool)> {
     run_ok(
         bin()
             .arg("chart")
             .arg(file)
+            .args(extra)
             .args(["--phi", &format!("{lo}:{hi}:{step}"), "--beta", &format!("{beta}:{beta}:1"), "--out"])
             .arg(dir),
     );
@@ -34,26 +36,35 @@ fn chart(file: &Path, lo: f64, hi: f64, step: f64, beta: f64, dir: &Path) -> Vec
         .collect()
 }
 
-/// `rotorshunt band FILE --phi-op P --level L --phi 100:8000 --json`: the band [lo, hi].
-fn band_of(file: &Path, phi_op: f64, level: f64) -> Option<(f64, f64)> {
-    let text = run_ok(bin().arg("band").arg(file).args([
+/// `rotorshunt band FILE --phi-op P --level L --phi WINDOW --json` with the arguments
+/// `extra`: the band [lo, hi], and the modes of the basis it was found on.
+fn band_of(file: &Path, phi_op: f64, level: f64, window: &str, extra: &[&str]) -> (Option<(f64, f64)>, usize) {
+    let text = run_ok(bin().arg("band").arg(file).args(extra).args([
         "--phi-op",
         &phi_op.to_string(),
         "--level",
         &level.to_string(),
         "--phi",
-        "100:8000",
+        window,
         "--json",
     ]));
     let v: Value = serde_json::from_str(&text).unwrap();
     let b = &v["band"];
-    Some((b["lo"].as_f64()?, b["hi"].as_f64()?))
+    let modes = v["basis"]["modes"].as_u64().unwrap() as usize;
+    (b["lo"].as_f64().zip(b["hi"].as_f64()), modes)
 }
 
-/// Counted tongues of `rotorshunt regions FILE --json` at the level whose edges reach into
-/// (lo, hi), unexplained ones included.
-fn tongues_inside(file: &Path, range: (f64, f64), lo: f64, hi: f64, level: f64) -> Vec<(String, f64, f64)> {
-    let text = run_ok(bin().arg("regions").arg(file).args([
+/// Counted tongues of `rotorshunt regions FILE --json` (with the arguments `extra`) at the
+/// level whose edges reach into (lo, hi), unexplained ones included.
+fn tongues_inside(
+    file: &Path,
+    range: (f64, f64),
+    lo: f64,
+    hi: f64,
+    level: f64,
+    extra: &[&str],
+) -> Vec<(String, f64, f64)> {
+    let text = run_ok(bin().arg("regions").arg(file).args(extra).args([
         "--phi",
         &format!("{}:{}", range.0, range.1),
         "--beta-max",
@@ -86,7 +97,8 @@ fn widest_band_design_reports_the_band_of_tuned_toml_and_verifies_it() {
     let input = PathBuf::from(problem_path("design-widest-band.toml"));
     // 2 starts of 8 iterations (the file asks 4 of 25), the design's catalogues over
     // 900-1700 rad/s: the checks hold for whatever band the run returns, and `band` over
-    // 100-8000 rad/s must give its numbers.
+    // 100-8000 rad/s must give its numbers. The basis is the file's: sized by convergence,
+    // and the refined check on twice it.
     let short =
         ["--set", "design.starts=2", "--set", "design.max_iterations=8", "--set", "design.phi_range=[900.0, 1700.0]"];
     let text = run_ok(bin().arg("design").arg(&input).args(short).arg("--out").arg(&dir));
@@ -103,25 +115,43 @@ fn widest_band_design_reports_the_band_of_tuned_toml_and_verifies_it() {
     let outcome = &report["outcome"];
     assert_eq!(outcome["verified"], true);
     assert!(common::outcome_round_trips(outcome).status.is_result());
+    let modes = outcome["basis"]["modes"].as_u64().unwrap();
+    let refined = &outcome["refined"][0];
+    assert_eq!(refined["refined_modes"].as_u64(), Some(2 * modes), "the refined check on twice the basis");
+    let on_design = format!("analysis.reduced_modes={modes}");
+    let basis = ["--set", on_design.as_str()];
     let after = &outcome["after_bands"][0]["band"]["band"];
     let (lo, hi) = (after["lo"].as_f64().unwrap(), after["hi"].as_f64().unwrap());
     let before = &outcome["before_bands"][0]["band"]["band"];
     let (blo, bhi) = (before["lo"].as_f64().unwrap(), before["hi"].as_f64().unwrap());
     let (phi_op, level) = (1230.0, 0.3);
     let tuned = dir.join("tuned.toml");
-    // 1. The design's bands are `rotorshunt band` on the files, the same numbers.
-    assert_eq!(band_of(&tuned, phi_op, level), Some((lo, hi)), "after");
-    assert_eq!(band_of(&input, phi_op, level), Some((blo, bhi)), "before");
+    // 1. The design's bands are `rotorshunt band` on the files on the design's basis, the
+    //    same numbers.
+    assert_eq!(band_of(&tuned, phi_op, level, "100:8000", &basis).0, Some((lo, hi)), "after");
+    assert_eq!(band_of(&input, phi_op, level, "100:8000", &basis).0, Some((blo, bhi)), "before");
     assert!(hi - lo > bhi - blo, "tuned [{lo}, {hi}] not wider than [{blo}, {bhi}]");
-    // 2. An independent 0.05 rad/s chart of tuned.toml: no unstable point inside the band.
-    let pts = chart(&tuned, lo, hi, 0.05, level, &dir.join("check"));
+    // 2. Converged: `band` on tuned.toml with the default (a basis sized by convergence) and
+    //    on twice that basis agree within the convergence tolerance (the larger of 0.25 %
+    //    of the band and 0.5 rad/s).
+    let window = "900:1700";
+    let (auto, m) = band_of(&tuned, phi_op, level, window, &[]);
+    let twice = format!("analysis.reduced_modes={}", 2 * m);
+    let (double, _) = band_of(&tuned, phi_op, level, window, &["--set", twice.as_str()]);
+    let (a, d) = (auto.unwrap(), double.unwrap());
+    let tolerance = (0.0025 * (a.1 - a.0)).max(0.5);
+    let moved = (a.0 - d.0).abs().max((a.1 - d.1).abs());
+    eprintln!("band of tuned.toml over {window}: {a:?} on M = {m} (default), {d:?} on M = {}: moved {moved}", 2 * m);
+    assert!(moved <= tolerance, "{a:?} on M = {m} against {d:?} on twice it: {moved} > {tolerance}");
+    // 3. An independent 0.05 rad/s chart of tuned.toml: no unstable point inside the band.
+    let pts = chart(&tuned, lo, hi, 0.05, level, &dir.join("check"), &basis);
     let bad: Vec<f64> = pts.iter().filter(|p| !p.1 && p.0 > lo && p.0 < hi).map(|p| p.0).collect();
     assert!(bad.is_empty(), "unstable grid points inside the reported band [{lo}, {hi}]: {bad:?}");
-    // 3. The regions command on tuned.toml finds no counted tongue inside the band.
-    let hits = tongues_inside(&tuned, (100.0, 8000.0), lo, hi, level);
+    // 4. The regions command on tuned.toml finds no counted tongue inside the band.
+    let hits = tongues_inside(&tuned, (100.0, 8000.0), lo, hi, level, &basis);
     assert!(hits.is_empty(), "tongues inside the tuned band [{lo}, {hi}]: {hits:?}");
     eprintln!(
-        "band around 1230 rad/s at beta 0.3: before [{blo}, {bhi}] ({}), after [{lo}, {hi}] ({})",
+        "band around 1230 rad/s at beta 0.3 on M = {modes}: before [{blo}, {bhi}] ({}), after [{lo}, {hi}] ({})",
         bhi - blo,
         hi - lo
     );
@@ -134,9 +164,13 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let input = PathBuf::from(problem_path("design-clear-bands.toml"));
     // 2 convex steps, and the design's catalogues over 1000-2100 rad/s around both bands:
     // the checks below are the test's own chart and regions runs.
+    // On a fixed basis of 8 modes (what this test checks is the objective's answer, by the
+    // same basis's chart and catalogue; tests/true_bands.rs checks a basis's convergence).
     let short = ["--set", "design.max_iterations=2", "--set", "design.phi_range=[1000.0, 2100.0]"];
-    let text =
-        run_ok(bin().arg("design").arg(&input).args(short).args(common::COARSE_CHART_ARGS).arg("--out").arg(&dir));
+    let quick = common::QUICK_BASIS_ARGS;
+    let text = run_ok(
+        bin().arg("design").arg(&input).args(short).args(common::COARSE_CHART_ARGS).args(quick).arg("--out").arg(&dir),
+    );
     assert!(text.contains("design: feasible") && text.contains("verification: passed"), "{text}");
     let outcome = common::outcome_round_trips(&json(&dir.join("report.json"))["outcome"]);
     assert!(outcome.after_intrusions().is_empty() && !outcome.convex_steps.is_empty());
@@ -151,14 +185,14 @@ fn clear_bands_design_clears_both_bands_on_an_independent_fine_chart() {
     let level = spec.level;
     for (i, b) in spec.objective.bands().iter().enumerate() {
         let g = b.guarded();
-        let pts = chart(&tuned, g.lo, g.hi, 0.05, level, &dir.join(format!("band{i}")));
+        let pts = chart(&tuned, g.lo, g.hi, 0.05, level, &dir.join(format!("band{i}")), &common::FIXED_BASIS_ARGS);
         let bad: Vec<f64> = pts.iter().filter(|p| !p.1).map(|p| p.0).collect();
         assert!(bad.is_empty(), "band {i} {g:?} has unstable grid points {bad:?}");
-        let hits = tongues_inside(&tuned, (g.lo - 100.0, g.hi + 100.0), g.lo, g.hi, level);
+        let hits = tongues_inside(&tuned, (g.lo - 100.0, g.hi + 100.0), g.lo, g.hi, level, &common::FIXED_BASIS_ARGS);
         assert!(hits.is_empty(), "band {i}: {hits:?}");
     }
     // The reference circuit does not clear them (the design changed something that mattered).
-    let pts = chart(&input, 1135.0, 1225.0, 1.0, level, &dir.join("ref"));
+    let pts = chart(&input, 1135.0, 1225.0, 1.0, level, &dir.join("ref"), &common::FIXED_BASIS_ARGS);
     assert!(pts.iter().any(|p| !p.1), "the paper's circuit already clears band 1");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -173,6 +207,7 @@ fn impossible_bounds_are_reported_infeasible_with_exit_3_and_no_tuned_toml() {
         .args(["--set", "design.variables[1].max=1", "--set", "design.max_iterations=4"])
         .args(["--set", "design.phi_range=[1000.0, 2100.0]"])
         .args(common::COARSE_CHART_ARGS)
+        .args(common::QUICK_BASIS_ARGS)
         .arg("--out")
         .arg(&dir)
         .output()
@@ -202,6 +237,7 @@ fn a_band_that_fails_verification_is_reported_with_exit_4() {
         .arg(problem_path("design-widest-band.toml"))
         .args(["--set", "analysis.max_tongue_order=1", "--set", "design.starts=1", "--set", "design.max_iterations=3"])
         .args(common::COARSE_CHART_ARGS)
+        .args(common::QUICK_BASIS_ARGS)
         .arg("--out")
         .arg(&dir)
         .output()
@@ -219,7 +255,13 @@ fn a_design_run_is_reproducible_bit_for_bit() {
     // Two starts run in parallel: their merge is what could depend on the threads.
     let p = common::load(
         "design-widest-band.toml",
-        &["design.starts=2", "design.max_iterations=6", "design.phi_range=[900.0, 1600.0]"],
+        &[
+            "design.starts=2",
+            "design.max_iterations=6",
+            "design.phi_range=[900.0, 1600.0]",
+            common::QUICK_BASIS[0],
+            common::QUICK_BASIS[1],
+        ],
     );
     let spec = p.design.as_ref().unwrap();
     let a = design::run(&p.machine(), spec, &|| {}).unwrap();
@@ -266,6 +308,7 @@ fn a_two_speed_report_lists_and_embeds_the_files_it_writes() {
         .args(["--set", "design.speeds=[1900, 2000]", "--set", "design.starts=1", "--set", "design.max_iterations=3"])
         .args(["--set", "design.phi_range=[900.0, 1600.0]"])
         .args(common::COARSE_CHART_ARGS)
+        .args(common::QUICK_BASIS_ARGS)
         .arg("--out")
         .arg(&dir)
         .arg("--quiet")

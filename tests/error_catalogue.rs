@@ -106,6 +106,7 @@ fn every_kind() -> Vec<&'static str> {
         AnalysisError::NoSpeeds,
         AnalysisError::SpeedsNotAscending { index: 1, speed: 1.0, previous: 1.0 },
         AnalysisError::UnknownMode { label: s(), speed: 0.0, available: vec![] },
+        AnalysisError::Ltp(rotorshunt::analysis::ltp::LtpError::Load { what: s() }),
     ];
     let errors = [
         Error::Argument { argument: s(), message: s() },

@@ -79,21 +79,18 @@ fn commands() -> Vec<Command_> {
         Command_ {
             name: "design",
             args: s(&[
-                "design",
-                &design,
-                "--set",
-                "shaft.elements=8",
-                "--set",
-                "disks[0].node=2",
-                "--set",
-                "analysis.reduced_modes=4",
-                "--set",
-                "design.starts=1",
-                "--set",
-                "design.max_iterations=2",
-                "--set",
-                "design.phi_range=[1000.0, 1500.0]",
-            ]),
+                &["design", design.as_str()][..],
+                &common::COARSE_MODEL_ARGS,
+                &[
+                    "--set",
+                    "design.starts=1",
+                    "--set",
+                    "design.max_iterations=2",
+                    "--set",
+                    "design.phi_range=[1000.0, 1500.0]",
+                ],
+            ]
+            .concat()),
             output: "tuned.toml",
         },
     ]

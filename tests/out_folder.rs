@@ -131,7 +131,7 @@ fn strings(v: &[&str]) -> Vec<String> {
 fn cases() -> Vec<Case> {
     let fig11 = common::problem_path("fig11-closed-2000.toml");
     let design = common::problem_path("design-widest-band.toml");
-    let coarse = ["--set", "shaft.elements=8", "--set", "disks[0].node=2", "--set", "analysis.reduced_modes=4"];
+    let coarse = common::COARSE_MODEL_ARGS;
     let design_args = |iterations: &str| {
         let mut v = strings(&["design", &design]);
         v.extend(strings(&coarse));

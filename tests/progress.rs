@@ -17,9 +17,19 @@ use std::process::Output;
 /// the design below has a few tens of steps, the verification thousands).
 const EVERY: &str = "10";
 /// A short design: one start of a few iterations and a narrow report range (as in
-/// tests/reproducibility.rs), with every phase of a full one.
-const SETS: [&str; 6] =
-    ["--set", "design.starts=1", "--set", "design.max_iterations=3", "--set", "design.phi_range=[900.0, 1600.0]"];
+/// tests/reproducibility.rs) on a fixed basis, with every phase of a full one.
+const SETS: [&str; 10] = [
+    "--set",
+    "design.starts=1",
+    "--set",
+    "design.max_iterations=3",
+    "--set",
+    "design.phi_range=[900.0, 1600.0]",
+    "--set",
+    common::QUICK_BASIS[0],
+    "--set",
+    common::QUICK_BASIS[1],
+];
 
 fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
     let out = common::bin()
@@ -34,7 +44,7 @@ fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
     out
 }
 
-/// `progress: design: NAME (phase k of 3): DONE/TOTAL steps, …`: (name, done, total); a
+/// `progress: design: NAME (phase k of 4): DONE/TOTAL steps, …`: (name, done, total); a
 /// phase that knows none of its steps yet reports its time only (`…: 2 s elapsed`, done
 /// and total 0) or its done count only (`…: DONE steps, …`, total 0), never a total of 0.
 fn counts(line: &str) -> Option<(&str, u64, u64)> {

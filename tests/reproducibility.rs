@@ -199,11 +199,26 @@ fn cli_regions_json_is_identical_except_wall_time() {
         let _ = std::fs::remove_dir_all(&dir);
         let stdout = run(
             threads,
-            &["regions", &file, "--phi", "500:1200", "--beta-max", "0.5", "--level", "0.3", "--json", "--out", &out],
+            // The basis sized by convergence: every size's catalogue, and their comparison.
+            &[
+                "regions",
+                &file,
+                "--phi",
+                "500:1200",
+                "--beta-max",
+                "0.5",
+                "--level",
+                "0.3",
+                "--set",
+                "analysis.reduced_modes=\"auto\"",
+                "--json",
+                "--out",
+                &out,
+            ],
         );
         let json = strip_seconds(&stdout, 1);
         let written = strip_seconds(&std::fs::read(dir.join("regions.json")).expect("regions.json"), 1);
-        assert!(json.contains("\"label\""), "no region: {json}");
+        assert!(json.contains("\"label\"") && json.contains("\"sizing\": \"converged\""), "{json}");
         match &reference {
             None => reference = Some((json, written)),
             Some((j, w)) => {
@@ -273,6 +288,8 @@ fn cli_widest_band_design_is_identical_except_wall_time() {
             "design.phi_range=[900.0, 1600.0]",
             common::COARSE_CHARTS[0],
             common::COARSE_CHARTS[1],
+            common::QUICK_BASIS[0],
+            common::QUICK_BASIS[1],
         ],
     );
 }

@@ -460,7 +460,7 @@ fn a_read_only_output_is_an_error_and_left_as_it_is() {
     std::fs::set_permissions(&tuned, std::fs::Permissions::from_mode(0o444)).unwrap();
     let o = bin()
         .args(["design", &common::problem_path("design-widest-band.toml")])
-        .args(["--set", "shaft.elements=8", "--set", "disks[0].node=2", "--set", "analysis.reduced_modes=4"])
+        .args(common::COARSE_MODEL_ARGS)
         .args(["--set", "design.starts=1", "--set", "design.max_iterations=3"])
         .args(["--set", "design.phi_range=[1000.0, 1500.0]", "--out"])
         .arg(&out)

@@ -53,7 +53,7 @@ fn quick_study(dir: &Path, name: &str, cases: &str) -> PathBuf {
     std::fs::write(
         &study,
         format!(
-            "base = \"{}\"\nphi = [1150.0, 1350.0]\nbeta_max = 0.5\nlevel = 0.3\nphi_op = 1230.0\nset = [\"shaft.elements=8\", \"disks[0].node=2\", \"analysis.reduced_modes=4\"]\n\n{cases}\n",
+            "base = \"{}\"\nphi = [1150.0, 1350.0]\nbeta_max = 0.5\nlevel = 0.3\nphi_op = 1230.0\nset = [\"shaft.elements=8\", \"disks[0].node=2\", \"analysis.reduced_modes=4\", \"design.refined_check=false\"]\n\n{cases}\n",
             common::problem_path("design-widest-band.toml")
         ),
     )

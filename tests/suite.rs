@@ -82,6 +82,7 @@ mod study_safety;
 mod study_shards;
 mod time_limit;
 mod timoshenko;
+mod true_bands;
 mod unbalance;
 mod verification_parts;
 mod vibration_design;

@@ -61,11 +61,11 @@ fn parts_with_nothing_to_check_are_not_applicable_and_the_peak_is_found_again() 
     assert_eq!((s.as_str(), checked), ("passed", 1));
     let v = &report["outcome"]["verification"];
     assert_eq!(v["applicable"], 1);
-    assert_eq!(v["verdict"], "passed (1 of 4 parts applicable)");
-    assert!(text.contains("verification: passed (1 of 4 parts applicable)"), "{text}");
+    assert_eq!(v["verdict"], "passed (1 of 6 parts applicable)");
+    assert!(text.contains("verification: passed (1 of 6 parts applicable)"), "{text}");
     assert!(text.contains("grid not applicable:"), "{text}");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("**Verification: passed (1 of 4 parts applicable)**"), "{md}");
+    assert!(md.contains("**Verification: passed (1 of 6 parts applicable)**"), "{md}");
     assert!(md.contains("- Tongue centres: *not applicable*"), "{md}");
     assert!(md.contains("- Grid: *not applicable*"), "{md}");
     assert!(!md.contains("0 centres near") && !md.contains("0 points 0 rad/s apart"), "{md}");

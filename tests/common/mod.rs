@@ -15,6 +15,30 @@ pub const COARSE_CHARTS: [&str; 2] = ["design.chart_phi_points=40", "design.char
 /// [`COARSE_CHARTS`] as command-line arguments.
 pub const COARSE_CHART_ARGS: [&str; 4] = ["--set", COARSE_CHARTS[0], "--set", COARSE_CHARTS[1]];
 
+/// `--set` values that run a design on a fixed reduced basis of 8 modes without its
+/// refined-basis check (`analysis.reduced_modes`, `design.refined_check`): for the tests
+/// that check what a design run does (its files, folders, progress, stops, records,
+/// studies), not whether its answer holds on a larger basis. A basis sized by convergence
+/// and the refined check cost tens of seconds a design; tests/true_bands.rs checks them.
+pub const QUICK_BASIS: [&str; 2] = ["analysis.reduced_modes=8", "design.refined_check=false"];
+/// [`QUICK_BASIS`] as command-line arguments.
+pub const QUICK_BASIS_ARGS: [&str; 4] = ["--set", QUICK_BASIS[0], "--set", QUICK_BASIS[1]];
+/// A coarse model for the tests of files, folders and exit codes (8 shaft elements, the
+/// disk at node 2, 4 modes, no refined check): what they check is not the numbers.
+pub const COARSE_MODEL_ARGS: [&str; 8] = [
+    "--set",
+    "shaft.elements=8",
+    "--set",
+    "disks[0].node=2",
+    "--set",
+    "analysis.reduced_modes=4",
+    "--set",
+    "design.refined_check=false",
+];
+/// A fixed basis of 8 modes for `band`, `regions` and studies (`analysis.reduced_modes`):
+/// for the tests that compare what two commands or two runs give on the same model.
+pub const FIXED_BASIS_ARGS: [&str; 2] = ["--set", "analysis.reduced_modes=8"];
+
 /// Path of a catalogue problem.
 pub fn problem_path(name: &str) -> String {
     format!("{}/problems/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -402,7 +426,7 @@ phi = [1150.0, 1350.0]
 beta_max = 0.5
 level = 0.3
 phi_op = 1230.0
-set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4"]
+set = ["shaft.elements=8", "disks[0].node=2", "analysis.reduced_modes=4", "design.refined_check=false"]
 
 {cases}
 "#,
