@@ -10,7 +10,13 @@
 //!    `problems/design-compressor.toml`, alternating, three times each, in the same run:
 //!    wall time, the ratio, candidates and evaluations, and the time share of each phase
 //!    (optimising, verification, report) from report.json.
-//! 3. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
+//! 3. Issue 47: the paper's widest-band design as the paper's settings judge it (its basis
+//!    of M = 8 unloaded modes, max|μ| > 1.0001, no refined-basis check: what the design
+//!    was before) and with the defaults (a loaded basis sized by convergence, the growth
+//!    criterion, the refined check), alternating, three times each in the same run: wall
+//!    and CPU time and the ratio of the medians. (`scripts/speed-compare.sh` measures the
+//!    binary of before the issue against the working tree the same way.)
+//! 4. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
 //!    (`problems/design-robust-speed-range.toml`) and a 5-point Pareto front of
 //!    `problems/design-min-peak.toml`, once each.
 
@@ -107,6 +113,33 @@ fn main() {
     };
     let (p, c) = (median(&mut walls.0), median(&mut walls.1));
     println!("medians: paper {p:.2} s, compressor {c:.2} s: compressor / paper = {:.2}", c / p);
+    // Issue 47: the paper's settings against the defaults, alternating.
+    let old = [
+        "--set",
+        "analysis.reduced_modes=8",
+        "--set",
+        "analysis.basis=\"unloaded\"",
+        "--set",
+        "analysis.instability_tolerance=1.0001",
+        "--set",
+        "design.refined_check=false",
+    ];
+    let mut pairs = (Vec::new(), Vec::new());
+    for round in 0..3 {
+        let mut args = vec![paper.as_str()];
+        args.extend(old);
+        let (w, r) = design(&args, &dir.join("paper-settings"));
+        phases(&format!("widest band, the paper's settings, run {}", round + 1), w, &r);
+        pairs.0.push(w);
+        let (w, r) = design(&[&paper], &dir.join("defaults"));
+        phases(&format!("widest band, the defaults, run {}", round + 1), w, &r);
+        pairs.1.push(w);
+    }
+    let (a, b) = (median(&mut pairs.0), median(&mut pairs.1));
+    println!(
+        "widest band, medians: the paper's settings {a:.2} s, the defaults {b:.2} s: defaults / paper's = {:.2}",
+        b / a
+    );
     if std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1") {
         let (w, r) = design(&[&files("design-robust-speed-range.toml")], &dir.join("robust"));
         phases("robust with a speed range", w, &r);
