@@ -158,17 +158,22 @@ fn study_file(path: &Path) {
 }
 
 fn run(s: &Setup, cwd: &Path, args: &[&OsStr]) -> Output {
-    // The binary copy may be "busy" for a moment: a child spawned by another test thread
-    // while the copy was open for writing holds that descriptor until it execs.
-    let mut attempts = 0;
-    loop {
-        let out = Command::new(&s.binary)
+    output(
+        Command::new(&s.binary)
             .args(args)
             .current_dir(cwd)
             .env_remove("SLURM_ARRAY_TASK_ID")
-            .env("RAYON_NUM_THREADS", "1")
-            .output();
-        match out {
+            .env("RAYON_NUM_THREADS", "1"),
+    )
+}
+
+/// `cmd`'s output, retried while its program is "busy": a binary copy (or a stub script)
+/// just written is busy for a moment, as a child spawned by another test thread while it
+/// was open for writing holds that descriptor until it execs.
+fn output(cmd: &mut Command) -> Output {
+    let mut attempts = 0;
+    loop {
+        match cmd.output() {
             Err(e) if e.kind() == std::io::ErrorKind::ExecutableFileBusy && attempts < 100 => {
                 attempts += 1;
                 std::thread::sleep(std::time::Duration::from_millis(20));
@@ -632,13 +637,13 @@ fn submit_runs_the_sbatch_it_names_with_the_scripts_as_one_argument() {
         std::fs::create_dir_all(program.parent().unwrap()).unwrap();
         stub(&program, true);
         clear(&s.records);
-        let o = Command::new(&s.binary)
-            .args(["study", "slurm", "study.toml", "--out", "o", "--tasks", "2", "--submit", "--sbatch"])
-            .arg(&program)
-            .current_dir(&cwd)
-            .env("RECORDS", &s.records)
-            .output()
-            .unwrap();
+        let o = output(
+            Command::new(&s.binary)
+                .args(["study", "slurm", "study.toml", "--out", "o", "--tasks", "2", "--submit", "--sbatch"])
+                .arg(&program)
+                .current_dir(&cwd)
+                .env("RECORDS", &s.records),
+        );
         assert!(o.status.success(), "--sbatch {label}: {}", text(&o.stderr));
         let stdout = text(&o.stdout);
         assert!(stdout.contains("submitted: array job 4242 (2 tasks), merge job 4242 (afterany:4242)"), "{stdout}");

@@ -67,6 +67,7 @@ fn the_design_report_renders_offline_in_chromium() {
         .args(["design", &common::problem_path("design-widest-band.toml"), "--out", out.to_str().unwrap(), "--quiet"])
         .args(["--set", "design.starts=1", "--set", "design.max_iterations=3"])
         .args(["--set", "design.phi_range=[900.0, 1600.0]"])
+        .args(common::QUICK_BASIS_ARGS)
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
