@@ -370,15 +370,30 @@ pub fn point_sized(
     beta: f64,
 ) -> Result<Sized<FloquetPoint>, AnalysisError> {
     let schedule = Schedule::new(rotor, settings, speed, phi)?;
+    sized(rotor, settings, &schedule, speed, |fs| Ok(fs.point(phi, beta)), point_movement)
+}
+
+/// `answer` on the Floquet systems of `schedule`'s sizes (of `settings`' kind, at speed Ω
+/// in rad/s) until one more size moves it, by `movement`, less than the tolerance.
+pub fn sized<T>(
+    rotor: &Rotor,
+    settings: &Settings,
+    schedule: &Schedule,
+    speed: f64,
+    answer: impl Fn(&FloquetSystem) -> Result<T, AnalysisError>,
+    movement: impl Fn(&T, &T, &Tolerance) -> Movement,
+) -> Result<Sized<T>, AnalysisError> {
     let tolerance = Tolerance::of(settings);
+    // The basis modes are solved once for every size of the schedule.
+    let set = ModeSet::new(rotor, speed, settings.basis)?;
     let ((answer, system), basis) = converge(
-        &schedule,
+        schedule,
         settings.basis,
         |m| {
-            let fs = FloquetSystem::with_modes(rotor, settings, speed, m)?;
-            Ok((fs.point(phi, beta), fs))
+            let fs = FloquetSystem::from_mode_set(&set, settings, speed, m)?;
+            Ok((answer(&fs)?, fs))
         },
-        |a, b| point_movement(&a.0, &b.0, &tolerance),
+        |a, b| movement(&a.0, &b.0, &tolerance),
     )?;
     Ok(Sized { answer, system, basis })
 }

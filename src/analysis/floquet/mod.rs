@@ -23,7 +23,7 @@ pub use point::{FloquetPoint, PointIssue, PointStatus, PointSummary};
 pub use product::ScaledProduct;
 
 use super::basis::BasisReport;
-use super::reduction::{PeriodicSystem, ReducedModel, ReductionInfo};
+use super::reduction::{ModeSet, PeriodicSystem, ReducedModel, ReductionInfo};
 use super::{AnalysisError, MonodromyMethod, Rotor, Settings};
 use fast::{PhiTable, Symmetry};
 
@@ -144,10 +144,20 @@ impl FloquetSystem {
         speed: f64,
         modes: usize,
     ) -> Result<FloquetSystem, AnalysisError> {
+        FloquetSystem::from_mode_set(&ModeSet::new(rotor, speed, settings.basis)?, settings, speed, modes)
+    }
+
+    /// [`FloquetSystem::with_modes`] from the basis modes `set` already solved (of the
+    /// settings' basis kind, at `speed` in rad/s): a schedule of sizes solves them once.
+    pub fn from_mode_set(
+        set: &ModeSet,
+        settings: &Settings,
+        speed: f64,
+        modes: usize,
+    ) -> Result<FloquetSystem, AnalysisError> {
         let settings = settings.with_modes(modes);
         settings.validate()?;
-        let reduced = ReducedModel::new(rotor, modes, speed, settings.basis)?;
-        FloquetSystem::from_reduced(reduced, &settings, speed)
+        FloquetSystem::from_reduced(set.reduced(modes)?, &settings, speed)
     }
 
     /// The Floquet system of a reduced model at `speed` (rad/s) under `settings` (checked

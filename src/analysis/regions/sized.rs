@@ -20,8 +20,7 @@
 //!   the stable set it changes, not by its onset.
 
 use super::{band_with, catalogue_with, Band, Catalogue, CatalogueRequest, RegionSettings};
-use crate::analysis::basis::{self, converge, Movement, Schedule, Sized, Tolerance};
-use crate::analysis::floquet::FloquetSystem;
+use crate::analysis::basis::{self, sized, Movement, Schedule, Sized, Tolerance};
 use crate::analysis::modes::ModesResult;
 use crate::analysis::{AnalysisError, Interval, Rotor, Settings};
 use crate::progress::Progress;
@@ -47,29 +46,6 @@ pub fn band_sized(
     progress: &dyn Progress,
 ) -> Result<Sized<Band>, AnalysisError> {
     sized(rotor, settings, schedule, speed, |fs| band_with(fs, full, s, range, phi_op, level, progress), band_movement)
-}
-
-/// `answer` on the Floquet systems of `schedule`'s sizes (of `settings`' kind, at speed Ω
-/// in rad/s) until one more size moves it, by `movement`, less than the tolerance.
-fn sized<T>(
-    rotor: &Rotor,
-    settings: &Settings,
-    schedule: &Schedule,
-    speed: f64,
-    answer: impl Fn(&FloquetSystem) -> Result<T, AnalysisError>,
-    movement: impl Fn(&T, &T, &Tolerance) -> Movement,
-) -> Result<Sized<T>, AnalysisError> {
-    let tolerance = Tolerance::of(settings);
-    let ((answer, system), basis) = converge(
-        schedule,
-        settings.basis,
-        |m| {
-            let fs = FloquetSystem::with_modes(rotor, settings, speed, m)?;
-            Ok((answer(&fs)?, fs))
-        },
-        |a, b| movement(&a.0, &b.0, &tolerance),
-    )?;
-    Ok(Sized { answer, system, basis })
 }
 
 /// The catalogue of `req` as [`catalogue_with`] finds it, on the bases of `schedule` (of
