@@ -11,25 +11,16 @@ pub fn rename(from: &Path, to: &Path) -> io::Result<()> {
 }
 
 #[cfg(target_os = "linux")]
-fn renameat2(from: &Path, to: &Path, flags: libc::c_uint) -> io::Result<()> {
-    use std::os::unix::ffi::OsStrExt;
-    let c = |p: &Path| std::ffi::CString::new(p.as_os_str().as_bytes()).map_err(io::Error::other);
-    let (a, b) = (c(from)?, c(to)?);
-    // SAFETY: renameat2 with two valid NUL-terminated paths relative to the working
-    // folder; it reads the strings and changes nothing in this process's memory.
-    let r =
-        unsafe { libc::syscall(libc::SYS_renameat2, libc::AT_FDCWD, a.as_ptr(), libc::AT_FDCWD, b.as_ptr(), flags) };
-    if r == 0 {
-        Ok(())
-    } else {
-        Err(io::Error::last_os_error())
-    }
+fn renameat2(from: &Path, to: &Path, flags: rustix::fs::RenameFlags) -> io::Result<()> {
+    rustix::fs::renameat_with(rustix::fs::CWD, from, rustix::fs::CWD, to, flags).map_err(io::Error::from)
 }
 
 /// Whether an error says the file system or kernel lacks a `renameat2` flag.
 #[cfg(target_os = "linux")]
 fn unsupported(e: &io::Error) -> bool {
-    matches!(e.raw_os_error(), Some(libc::EINVAL) | Some(libc::ENOSYS) | Some(libc::ENOTSUP))
+    use rustix::io::Errno;
+    let lacks = [Errno::INVAL, Errno::NOSYS, Errno::NOTSUP];
+    e.raw_os_error().is_some_and(|n| lacks.contains(&Errno::from_raw_os_error(n)))
 }
 
 /// Rename `from` to `to` only if nothing stands at `to` (`AlreadyExists` otherwise):
@@ -38,7 +29,7 @@ fn unsupported(e: &io::Error) -> bool {
 pub fn rename_new(from: &Path, to: &Path) -> io::Result<()> {
     fault::point();
     #[cfg(target_os = "linux")]
-    match renameat2(from, to, libc::RENAME_NOREPLACE) {
+    match renameat2(from, to, rustix::fs::RenameFlags::NOREPLACE) {
         Err(e) if unsupported(&e) => {}
         done => return done,
     }
@@ -54,7 +45,7 @@ pub fn rename_new(from: &Path, to: &Path) -> io::Result<()> {
 pub fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
     fault::point();
     #[cfg(target_os = "linux")]
-    match renameat2(a, b, libc::RENAME_EXCHANGE) {
+    match renameat2(a, b, rustix::fs::RenameFlags::EXCHANGE) {
         Ok(()) => return Ok(true),
         Err(e) if unsupported(&e) => {}
         Err(e) => return Err(e),
