@@ -214,13 +214,15 @@ fn compared(
 /// Exit codes (docs/errors.md): 0 a result, 1 an analysis failure, 2 bad input, 3 an
 /// infeasible design, 4 a design that failed its verification, 5 a study with failed
 /// cases (`study status` and `study merge`: a case not done), 6 a design that is not
-/// robust; 7, a run stopped at its time limit, is its error's
-/// (`commands::Error::exit_code`).
+/// robust; 7 a design stopped while it ran (its best design so far written); 7 for any
+/// other run stopped at its limits is its error's (`commands::Error::exit_code`).
 mod exit {
     pub const INFEASIBLE: u8 = 3;
     pub const NOT_VERIFIED: u8 = 4;
     pub const STUDY_FAILED_CASES: u8 = 5;
     pub const NOT_ROBUST: u8 = 6;
+    /// A design stopped while it ran, its best design so far written.
+    pub const STOPPED: u8 = 7;
 }
 
 /// The text for standard output and the exit code of a run that produced output.
@@ -282,6 +284,7 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), crate::commands::E
                 rotorshunt::design::Status::Infeasible => exit::INFEASIBLE,
                 rotorshunt::design::Status::NotVerified => exit::NOT_VERIFIED,
                 rotorshunt::design::Status::NotRobust => exit::NOT_ROBUST,
+                rotorshunt::design::Status::Stopped => exit::STOPPED,
                 _ => 0,
             };
             Ok((text, code))

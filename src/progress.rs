@@ -184,6 +184,24 @@ pub struct Silent;
 
 impl Progress for Silent {}
 
+/// A progress that passes on only the question whether to stop ([`Progress::cancelled`]):
+/// for a search whose caller counts its steps and evaluations itself, and that must still
+/// stop when the caller's progress asks (a design's band searches, one per candidate).
+#[derive(Clone, Copy)]
+pub struct AskOnly<'a>(pub &'a dyn Progress);
+
+impl std::fmt::Debug for AskOnly<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("AskOnly").finish_non_exhaustive()
+    }
+}
+
+impl Progress for AskOnly<'_> {
+    fn cancelled(&self) -> bool {
+        self.0.cancelled()
+    }
+}
+
 /// A progress that passes every report on to `inner` and counts the monodromy evaluations
 /// reported through it ([`Progress::evaluated`]): the work of searches that keep no count
 /// of their own for the caller (a basis sized by convergence).

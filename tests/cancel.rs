@@ -1,8 +1,9 @@
 //! `Progress::cancelled`: a chart, a region catalogue and an unbalance response asked to
 //! stop skip the steps not begun (an incomplete result, for the caller to discard), a
-//! design ends with `DesignError::Stopped` (also when its allowance of evaluations is
-//! spent, `Progress::evaluated`), and a progress that never asks changes nothing (the
-//! Python bindings' Ctrl-C, docs/python.md).
+//! design ends `Status::Stopped` with the best design judged before the stop (asked by
+//! its caller, from another thread, at its time limit or when its allowance of
+//! evaluations is spent, `Progress::evaluated`), and a progress that never asks changes
+//! nothing (the Python bindings' Ctrl-C, docs/python.md).
 
 use rotorshunt::analysis::chart::chart;
 use rotorshunt::analysis::regions::catalogue_with;
@@ -91,9 +92,23 @@ fn short_design() -> Problem {
     Problem::from_path("problems/design-widest-band.toml", &o).unwrap()
 }
 
+/// What a stopped design must be: `Status::Stopped`, not verified, not a result, its
+/// values inside the bounds (the reference's own where no candidate was judged).
+fn assert_stopped(o: &rotorshunt::design::DesignOutcome) {
+    use rotorshunt::design::Status;
+    assert_eq!(o.status, Status::Stopped);
+    assert!(!o.status.is_result() && !o.verified() && o.verification.parts.is_empty());
+    assert!(o.stop.is_some());
+    if o.after != o.before {
+        for (v, x) in o.spec.variables.iter().zip(&o.after) {
+            assert!((v.min..=v.max).contains(x), "{x} outside [{}, {}]", v.min, v.max);
+        }
+    }
+}
+
 #[test]
-fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
-    use rotorshunt::design::{self, DesignError};
+fn a_design_asked_to_stop_builds_no_more_candidates_and_keeps_its_best() {
+    use rotorshunt::design;
     let problem = short_design();
     let spec = problem.design.as_ref().unwrap();
     let machine = problem.machine();
@@ -103,18 +118,18 @@ fn a_design_asked_to_stop_builds_no_more_candidates_and_says_it_stopped() {
     assert_eq!((never.after.clone(), never.candidates), (full.after.clone(), full.candidates));
     assert!(full.candidates > 4, "{} candidates", full.candidates);
     // Asked after 2 candidates (a step of the optimise phase is a candidate built): the
-    // run ends with the error, having built at most a candidate per thread more.
+    // run ends stopped, having built at most a candidate per thread more.
     let progress = stop_after(2);
-    let e = design::run(&machine, spec, &progress).expect_err("stopped");
-    assert!(matches!(e, DesignError::Stopped), "{e}");
-    assert_eq!(e.kind(), "Stopped");
+    let o = design::run(&machine, spec, &progress).unwrap();
+    assert_stopped(&o);
     let built = progress.done.load(Ordering::Relaxed);
     assert!(built <= 2 + rayon::current_num_threads() as u64, "{built} candidates built");
 }
 
 #[test]
 fn a_design_reports_its_evaluations_and_stops_at_its_allowance() {
-    use rotorshunt::design::{self, DesignError};
+    use rotorshunt::analysis::cost::DESIGN_BAND_EVALUATIONS;
+    use rotorshunt::design;
     use rotorshunt::progress::Deadline;
     let problem = short_design();
     let spec = problem.design.as_ref().unwrap();
@@ -135,11 +150,84 @@ fn a_design_reports_its_evaluations_and_stops_at_its_allowance() {
         (optimiser + catalogues..=optimiser + verification).contains(&reported),
         "{reported} of {optimiser} + {verification}"
     );
-    // An allowance of half the optimiser's count stops the run on its own count.
-    let half = Deadline::new(&Silent, f64::INFINITY).with_allowance(Some(optimiser / 2));
-    let e = design::run(&machine, spec, &half).expect_err("stopped");
-    assert!(matches!(e, DesignError::Stopped), "{e}");
-    assert!(half.counted_out() && half.evaluations() < optimiser, "{half:?}");
+    // An allowance of half the optimiser's count stops the run on its own count, and the
+    // work after the stop was asked stays under one band search's evaluations per thread
+    // (each thread ends the search it is in).
+    let allowance = optimiser / 2;
+    let half = Deadline::new(&Silent, f64::INFINITY).with_allowance(Some(allowance));
+    let o = design::run(&machine, spec, &half).unwrap();
+    assert_stopped(&o);
+    let after = half.evaluations() - allowance;
+    let threads = rayon::current_num_threads() as f64;
+    println!("stopped at {} evaluations, {after} after the allowance of {allowance}", half.evaluations());
+    assert!(half.counted_out() && (after as f64) < threads * DESIGN_BAND_EVALUATIONS, "{half:?}");
+}
+
+#[test]
+fn a_design_at_its_time_limit_keeps_the_best_design_judged() {
+    use rotorshunt::design;
+    use rotorshunt::progress::Deadline;
+    let problem = short_design();
+    let spec = problem.design.as_ref().unwrap();
+    let machine = problem.machine();
+    // A limit that has passed at the first question: nothing judged, the reference kept.
+    let at_once = Deadline::new(&Silent, 1e-12);
+    let o = design::run(&machine, spec, &at_once).unwrap();
+    assert_stopped(&o);
+    assert!(at_once.tripped() && !at_once.counted_out());
+    assert_eq!(o.after, o.before);
+}
+
+/// A caller's stop, set from another thread once the run has judged `after` candidates,
+/// and what the caller's observer saw: each evaluation's values and band objective, and
+/// whether the stop had been asked when it was seen.
+struct Caller {
+    stop: std::sync::atomic::AtomicBool,
+    seen: std::sync::Mutex<Vec<(Vec<f64>, f64, bool)>>,
+}
+
+impl Progress for Caller {
+    fn cancelled(&self) -> bool {
+        self.stop.load(Ordering::SeqCst)
+    }
+}
+
+struct Watch(std::sync::Arc<Caller>);
+
+impl rotorshunt::design::optimise::Observer for Watch {
+    fn observe(&self, o: &rotorshunt::design::optimise::Observation<'_>) {
+        let asked = self.0.cancelled();
+        self.0.seen.lock().unwrap().push((o.values.to_vec(), o.point.value, asked));
+    }
+}
+
+#[test]
+fn a_design_stopped_from_another_thread_keeps_the_best_design_judged_before() {
+    use rotorshunt::design::optimise::{run_with, RunOptions};
+    use std::sync::Arc;
+    let problem = short_design();
+    let spec = problem.design.as_ref().unwrap();
+    let machine = problem.machine();
+    let caller = Arc::new(Caller { stop: false.into(), seen: Default::default() });
+    let options = RunOptions { observer: Some(Arc::new(Watch(caller.clone()))), ..RunOptions::default() };
+    let o = std::thread::scope(|scope| {
+        let c = caller.clone();
+        scope.spawn(move || {
+            while c.seen.lock().unwrap().len() < 4 {
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            c.stop.store(true, Ordering::SeqCst);
+        });
+        run_with(&machine, spec, &options, caller.as_ref()).unwrap()
+    });
+    assert_stopped(&o);
+    let seen = caller.seen.lock().unwrap();
+    // The kept design was judged, and is at least as good as every judgement seen
+    // complete before the stop (the run keeps no judgement that ended after it).
+    let complete = seen.iter().filter(|s| !s.2).map(|s| s.1).fold(f64::NEG_INFINITY, f64::max);
+    let kept = seen.iter().filter(|s| s.0 == o.after).map(|s| s.1).fold(f64::NEG_INFINITY, f64::max);
+    println!("{} judgements seen, kept {kept} rad/s, best complete {complete} rad/s", seen.len());
+    assert!(complete.is_finite() && kept >= complete, "kept {kept} < {complete}");
 }
 
 #[test]
@@ -167,13 +255,14 @@ fn a_time_response_asked_to_stop_ends_its_integration_early() {
 
 #[test]
 fn a_min_peak_design_asked_to_stop_judges_no_candidate() {
-    use rotorshunt::design::{self, DesignError};
+    use rotorshunt::design;
     let problem = Problem::from_path("problems/design-min-peak.toml", &[]).unwrap();
     let spec = problem.design.as_ref().unwrap();
     // Asked from the start: not even the reference design is judged (a step of the
-    // optimise phase is a candidate judged).
+    // optimise phase is a candidate judged), and the reference is what it keeps.
     let progress = stop_after(0);
-    let e = design::run(&problem.machine(), spec, &progress).expect_err("stopped");
-    assert!(matches!(e, DesignError::Stopped), "{e}");
+    let o = design::run(&problem.machine(), spec, &progress).unwrap();
+    assert_stopped(&o);
+    assert_eq!(o.after, o.before);
     assert_eq!(progress.done.load(Ordering::Relaxed), 0);
 }

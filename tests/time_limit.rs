@@ -2,7 +2,8 @@
 //! it (issue 30: "a limit is a count, or a time measured while running with a clean
 //! stop"). A run still computing at its limit stops at its next step (a chart row, a
 //! search, a speed, a design candidate), writes nothing, leaves an earlier output folder
-//! as it was and exits 7 with the `TimeLimit` error. A limit of one nanosecond has passed
+//! as it was and exits 7 with the `TimeLimit` error; a design keeps its best design so far
+//! as `best-effort.toml`, with the stop on its report's page one, and exits 7. A limit of one nanosecond has passed
 //! by the first step on any machine, so these tests assert what a stop does, never how
 //! long anything took.
 
@@ -46,9 +47,8 @@ fn stopped(o: &Output, what: &str, dir: &Path) {
 #[test]
 fn every_long_command_stops_at_its_limit_and_writes_nothing() {
     let fig11 = problem_path("fig11-closed-2000.toml");
-    let widest = problem_path("design-widest-band.toml");
     let min_peak = problem_path("design-min-peak.toml");
-    let cases: [(&str, Vec<&str>, bool); 11] = [
+    let cases: [(&str, Vec<&str>, bool); 10] = [
         (
             "the chart",
             vec![
@@ -76,7 +76,6 @@ fn every_long_command_stops_at_its_limit_and_writes_nothing() {
         ("the Campbell diagram", vec!["campbell", &fig11, "--speeds", "0:2000:100"], true),
         ("the unbalance response", vec!["unbalance", &fig11, "--speeds", "100:3000:10"], true),
         ("the damping ratios", vec!["damping", &fig11, "--speeds", "0:2000:100"], false),
-        ("the design", vec!["design", &widest], true),
     ];
     for (what, args, with_out) in cases {
         let dir = scratch(&format!("time-limit-{}", what.replace(' ', "-")));
@@ -86,6 +85,37 @@ fn every_long_command_stops_at_its_limit_and_writes_nothing() {
         stopped(&o, what, &dir);
         std::fs::remove_dir_all(&dir).unwrap();
     }
+}
+
+#[test]
+fn a_design_at_its_limit_writes_its_best_design_so_far_and_exits_7() {
+    let dir = scratch("time-limit-design");
+    let out = dir.join("out");
+    let o = run(&["--time-limit", PASSED, "design", &problem_path("design-widest-band.toml")], Some(&out));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(STOPPED), "{}{text}", stderr(&o));
+    assert!(text.starts_with("design: stopped at its time limit of 1e-9 s, after "), "{text}");
+    assert!(text.contains("best-effort.toml (the best design judged so far: NOT A RESULT"), "{text}");
+    let mut files: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    files.sort();
+    assert_eq!(files, [".rotorshunt-out.json", "best-effort.toml", "report.html", "report.json", "report.md"]);
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let page_one = md.lines().take(20).collect::<Vec<_>>().join("\n");
+    assert!(
+        page_one.contains(
+            "**Answer.** **Stopped, NOT A RESULT**: the run was stopped before it ended (at its time limit of 1e-9 s"
+        ),
+        "{page_one}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(json["outcome"]["status"], "stopped", "{}", json["outcome"]["stop"]);
+    // Nothing was judged before a limit that had passed at the first question: the
+    // best design so far is the file's own, and best-effort.toml reads back as it.
+    let o = run(&["check", out.join("best-effort.toml").to_str().unwrap()], None);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -159,3 +159,47 @@ def test_ctrl_c_during_a_design_raises_keyboard_interrupt_within_a_second(tmp_pa
     assert latency < 1.0
     assert not out.exists()
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_an_alarm_during_a_robust_design_writes_its_best_design_so_far(tmp_path):
+    # The robust design at phi_op = 150 rad/s, wide tolerances and tongues to order 32: a
+    # run of many minutes. signal.alarm(1) raises from its handler one second in; the run
+    # stops at its next step (each band search asks), writes its best design so far as
+    # best-effort.toml with the stop on page one, and the exception comes.
+    p = rs.Problem.from_file(
+        "problems/design-robust.toml",
+        set=[
+            "design.tolerances.c_f=0.1",
+            "design.tolerances.cp_t=0.1",
+            "design.phi_op=150",
+            "analysis.max_tongue_order=32",
+        ],
+    )
+
+    def alarm(signum, frame):
+        raise TimeoutError("alarm")
+
+    previous = signal.signal(signal.SIGALRM, alarm)
+    out = tmp_path / "design"
+    try:
+        start = time.monotonic()
+        signal.alarm(1)
+        with pytest.raises(TimeoutError):
+            p.design(out=out)
+        stopped = time.monotonic() - start
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    print(f"\nTimeoutError {stopped:.2f} s after the design began (alarm at 1 s)")
+    assert sorted(f.name for f in out.iterdir() if not f.name.startswith(".")) == [
+        "best-effort.toml",
+        "report.html",
+        "report.json",
+        "report.md",
+    ]
+    import json
+
+    report = json.loads((out / "report.json").read_text())
+    assert report["outcome"]["status"] == "stopped"
+    assert "**Stopped, NOT A RESULT**" in (out / "report.md").read_text()

@@ -144,7 +144,7 @@ pub fn design_cmd(
     bounds::admit(&budget, "the design", &estimate, &DESIGN)?;
     modes_exist(problem, None, spec)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let outcome = design_report(problem, &dir, progress, &budget, &estimate)?;
+    let (outcome, _) = design_report(problem, &dir, progress, &budget, &estimate)?;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
@@ -191,21 +191,40 @@ pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &Desig
 }
 
 /// Run the design admitted at `estimate` and write the report files to `dir`; the
-/// outcome. A design or report stopped at `budget`'s time limit or at the estimate's
-/// allowance of evaluations is an error, its files left uncommitted.
+/// outcome, and the limit that stopped it. A design stopped by `budget`'s time limit, the
+/// estimate's allowance of evaluations or `progress` ([`Status::Stopped`]) keeps the best
+/// design judged so far: `best-effort.toml` and the report's text, with the stop on page
+/// one, and no figures. Its report's charts stopped so are an error, its files left
+/// uncommitted.
 pub fn design_report(
     problem: &Problem,
     dir: &OutDir,
     progress: &dyn Progress,
     budget: &Budget,
     estimate: &Estimate,
-) -> Result<DesignOutcome, Error> {
+) -> Result<(DesignOutcome, Option<cost::Stopped>), Error> {
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     let machine = problem.machine();
     let deadline = budget.running(progress, estimate);
-    let outcome = design::run(&machine, spec, &deadline);
-    budget.stopped(&deadline, "the design")?;
-    let outcome = outcome?;
+    let mut outcome = design::run(&machine, spec, &deadline)?;
+    if outcome.status == Status::Stopped {
+        let stop = budget.stopped(&deadline, "the design").err();
+        if let Some(s) = &stop {
+            outcome.stop = Some(s.reason());
+        }
+        let after = rotorshunt::design::evaluate::machine_at(&machine, spec, &outcome.after)?;
+        let report = DesignReport {
+            provenance: super::Provenance::of(problem),
+            title: title(problem),
+            branches_before: branch_rows(&problem.model),
+            branches_after: branch_rows(&after.model),
+            outcome,
+            whirls: Vec::new(),
+            files: ["report.md", "report.html", "report.json", "best-effort.toml"].map(str::to_string).to_vec(),
+        };
+        write_texts(problem, dir, &report)?;
+        return Ok((report.outcome, stop));
+    }
     // Each design's rotor and reduced systems, built once for the charts and Campbell.
     let before = Candidate::new(&machine, spec, &outcome.before)?;
     let after = Candidate::new(&machine, spec, &outcome.after)?;
@@ -227,9 +246,10 @@ pub fn design_report(
     let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
-    let design_file = design_file_name(outcome.status);
-    let mut files: Vec<String> =
-        ["report.md", "report.html", "report.json", design_file].iter().map(|s| s.to_string()).collect();
+    let mut files: Vec<String> = ["report.md", "report.html", "report.json", design_file_name(outcome.status)]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     files.extend(figures.iter().flat_map(|(stem, _)| [format!("{stem}.svg"), format!("{stem}.png")]));
     let report = DesignReport {
         provenance: super::Provenance::of(problem),
@@ -240,18 +260,26 @@ pub fn design_report(
         whirls,
         files,
     };
-    dir.write(design_file, super::tuned_toml(problem, &outcome)?.as_bytes())?;
-    dir.write("report.json", (json_pretty(&report, "the JSON output")? + "\n").as_bytes())?;
-    let text = markdown(&report);
-    dir.write("report.md", text.as_bytes())?;
     progress.advance(3);
     for (stem, figure) in &figures {
         dir.figure(stem, figure.as_ref())?;
         progress.advance(1);
     }
-    dir.write("report.html", rotorshunt::report::html::page(&report.title, &text, dir).as_bytes())?;
+    write_texts(problem, dir, &report)?;
     progress.advance(1);
-    Ok(report.outcome)
+    Ok((report.outcome, None))
+}
+
+/// The design file (`tuned.toml` or `best-effort.toml`), report.json, report.md and
+/// report.html (after the figures it shows).
+fn write_texts(problem: &Problem, dir: &OutDir, report: &DesignReport) -> Result<(), Error> {
+    let design_file = design_file_name(report.outcome.status);
+    dir.write(design_file, super::tuned_toml(problem, &report.outcome)?.as_bytes())?;
+    dir.write("report.json", (json_pretty(report, "the JSON output")? + "\n").as_bytes())?;
+    let text = markdown(report);
+    dir.write("report.md", text.as_bytes())?;
+    dir.write("report.html", rotorshunt::report::html::page(&report.title, &text, dir).as_bytes())?;
+    Ok(())
 }
 
 /// The one-paragraph result on standard output.
@@ -266,6 +294,15 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
             .join(", ")
     };
     let at = |w: f64| rotorshunt::report::design::speed_text(spec.speed_unit, w);
+    if o.status == Status::Stopped {
+        return format!(
+            "design: stopped {}\nbefore: {}\nbest so far: {}\nwrote report.md, report.html, report.json and best-effort.toml (the best design judged so far: NOT A RESULT, not verified) to {}\n",
+            o.stop.as_deref().unwrap_or("by its caller"),
+            values(&o.before),
+            values(&o.after),
+            out.display()
+        );
+    }
     let mut s = format!("design: {}", status_word(o.status));
     match spec.objective {
         Objective::WidestStableBand { .. } => {

@@ -11,6 +11,7 @@ use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Probe, RegionSettings, Seed, Tongue};
 use crate::analysis::{Criterion, Interval, Rotor};
 use crate::model::BranchError;
+use crate::progress::AskOnly;
 use serde::{Deserialize, Serialize};
 
 /// The machine with the design variables set to `values` (SI units) on its model
@@ -211,7 +212,9 @@ pub fn band_of_system(
     count: &Counter,
 ) -> Result<Band, DesignError> {
     let seeds = c.seeds_of(fs, spec)?;
-    let probe = Probe::new(fs, s);
+    // The search stops when the run is asked to; its evaluations are counted below.
+    let ask = AskOnly(count.progress());
+    let probe = Probe::reporting(fs, s, &ask);
     let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
     count.add(probe.evaluations());
     Ok(band)
@@ -339,7 +342,8 @@ pub fn intrusions(
     let mut out = Vec::new();
     for (k, (speed, fs)) in c.systems.iter().enumerate() {
         let seeds = c.seeds(k, spec)?;
-        let probe = Probe::new(fs, s);
+        let ask = AskOnly(count.progress());
+        let probe = Probe::reporting(fs, s, &ask);
         let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
         for (i, band) in spec.kept_clear().iter().enumerate() {
             let near = neighbourhood(band).clipped(&spec.range());
@@ -368,7 +372,8 @@ pub fn follow(
     let Some(k) = spec.speeds.iter().position(|&w| w == it.speed) else { return Ok(None) };
     let fs = &c.systems[k].1;
     let seeds = c.seeds(k, spec)?;
-    let probe = Probe::new(fs, s);
+    let ask = AskOnly(count.progress());
+    let probe = Probe::reporting(fs, s, &ask);
     let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
     let point = match it.identity {
         Some((pair, order)) => seeds

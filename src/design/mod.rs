@@ -111,10 +111,11 @@ pub enum DesignError {
         /// The model's tags there, forward then backward, lowest first.
         available: Vec<String>,
     },
-    /// The caller asked the run to stop ([`crate::progress::Progress::cancelled`]; the
-    /// Python bindings on Ctrl-C): no candidate is built after that, and what was begun
-    /// is dropped. The command line never asks (Ctrl-C ends it, removing its folder).
-    #[error("the design was stopped by its caller before it ended; nothing was kept")]
+    /// The caller asked the run to stop ([`crate::progress::Progress::cancelled`]): the
+    /// steps' signal to end at once. [`crate::design::optimise::run_with`] never returns
+    /// it: it turns a stop into an outcome with [`crate::design::Status::Stopped`] and the
+    /// best design judged before it.
+    #[error("the design was stopped by its caller before it ended")]
     Stopped,
 }
 

@@ -368,6 +368,24 @@ pub enum Stopped {
     Count(#[from] CountLimitError),
 }
 
+impl Stopped {
+    /// What stopped the run and how to allow more, as a clause for a report of what the
+    /// run kept (the error's own text says that nothing was written).
+    pub fn reason(&self) -> String {
+        match self {
+            Stopped::Time(e) => format!(
+                "at its time limit of {} s, after {:.1} s; allow more time with --time-limit SECONDS",
+                compact(e.limit),
+                e.elapsed
+            ),
+            Stopped::Count(e) => format!(
+                "at its allowance of {} monodromy evaluations, {} made; allow more with --max-cost FACTOR",
+                e.allowed, e.used
+            ),
+        }
+    }
+}
+
 /// The limits of a run: [`MAX_OPERATIONS`] and [`MAX_BYTES`] times a factor
 /// (`--max-cost`) for its counts before it starts, and two limits while it runs
 /// ([`Budget::running`]): a time measured there ([`RunningLimit`]: none for a library

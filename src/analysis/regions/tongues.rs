@@ -148,6 +148,11 @@ impl Level<'_> {
         let tolerance = self.probe.settings().phi_tolerance;
         let mut out = Vec::new();
         for a in 0..group.assignments() {
+            // An assignment not begun when the caller asks to stop is skipped (a group of
+            // a high order holds many, each a centre search of its own).
+            if self.probe.progress().cancelled() {
+                break;
+            }
             let (rf, rb) = group.ranks(a);
             let pair = Some((fm[rf], bm[rb]));
             let outcome = self.probe.centre_search(basis, &group, a, self.beta, &counts);

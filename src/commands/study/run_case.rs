@@ -82,7 +82,12 @@ pub(super) fn run_case(
     match case.kind {
         CaseKind::Design => {
             let estimate = admit_case(&problem, CaseKind::Design, study, budget)?.unwrap_or_else(Estimate::zero);
-            let o = design_report(&problem, dir, &Silent, budget, &estimate)?;
+            // A case stopped by its limit fails, as any stopped case does (its record
+            // says why; the study keeps no half-done design).
+            let o = match design_report(&problem, dir, &Silent, budget, &estimate)? {
+                (_, Some(stop)) => return Err(stop.into()),
+                (o, None) => o,
+            };
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified()));
             if let Some(b) = &o.basis {

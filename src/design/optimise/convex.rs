@@ -35,7 +35,9 @@ fn total(ints: &[Intrusion]) -> f64 {
 
 fn evaluate_bands(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
     let c = ctx.candidate(u)?;
-    intrusions(&c, ctx.spec, &ctx.regions, &ctx.floquet)
+    let ints = intrusions(&c, ctx.spec, &ctx.regions, &ctx.floquet)?;
+    ctx.best.offer(Rank(0, total(&ints), 0.0), &ctx.values(u), ctx.progress);
+    Ok(ints)
 }
 
 /// Squared distance in scaled units (the QP's weights are all 1).

@@ -143,8 +143,18 @@ impl Context<'_> {
         self.candidates.fetch_add(1, Ordering::Relaxed);
         self.progress.advance(1);
         let r = self.judge_quietly(u, values, constrained);
-        if let Err(e) = &r {
-            self.note_failure(e);
+        match &r {
+            Err(e) => self.note_failure(e),
+            // Unconstrained judgements rank only where there are no constraints to miss.
+            Ok(j) if constrained || self.spec.constraints.is_empty() => {
+                let rank = if j.feasible() {
+                    Rank(0, j.peak.amplitude, 0.0)
+                } else {
+                    Rank(1, j.violation(), j.peak.amplitude)
+                };
+                self.best.offer(rank, values, self.progress);
+            }
+            Ok(_) => {}
         }
         r
     }

@@ -17,12 +17,14 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+mod best;
 mod convex;
 mod min_peak;
 mod nelder_mead;
 mod observer;
 mod outcome;
 
+use best::{BestSoFar, Rank};
 use convex::clear_bands;
 use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
@@ -54,6 +56,8 @@ struct Context<'a> {
     unconstrained: Option<Vec<f64>>,
     /// The caller's observer ([`RunOptions::observer`]).
     observer: Option<&'a dyn Observer>,
+    /// The best design judged so far in the run (kept by a stop).
+    best: &'a BestSoFar,
 }
 
 /// What a caller adds to a design run beyond its `[design]` table.
@@ -99,7 +103,7 @@ impl Context<'_> {
 
     /// The candidate at `u` (scaled), counted; none once the caller asks to stop (the
     /// objectives take it as failed, so the optimisers run out at once, and the run then
-    /// ends with [`DesignError::Stopped`]).
+    /// ends [`Status::Stopped`]).
     fn candidate(&self, u: &[f64]) -> Result<Candidate, DesignError> {
         stopped(self.progress)?;
         self.candidates.fetch_add(1, Ordering::Relaxed);
@@ -125,7 +129,11 @@ impl Context<'_> {
     /// Smallest signed band width over the speeds (rad/s) of the design at `u` (scaled),
     /// less the margin penalty, at the worst build of the tolerance box ([`Context::judged`]).
     fn band_objective(&self, u: &[f64], phi_op: f64) -> f64 {
-        self.candidate(u).and_then(|c| Ok(self.judged(&c, phi_op)?.0)).unwrap_or(-FAILED_COST)
+        let value = self.candidate(u).and_then(|c| Ok(self.judged(&c, phi_op)?.0)).unwrap_or(-FAILED_COST);
+        if value > -FAILED_COST {
+            self.best.offer(Rank(0, -value, 0.0), &self.values(u), self.progress);
+        }
+        value
     }
 
     /// What the widest-band objective steers by for a candidate (rad/s): the smallest
@@ -217,6 +225,12 @@ pub fn most_candidates(spec: &DesignSpec) -> usize {
 /// `verification`, a step per search and grid point of the checks ([`describe`],
 /// [`verify`]). The result is verified independently ([`crate::design::verify`]); the
 /// catalogues of the reference and the tuned design (for the report) come with it.
+///
+/// A run that `progress` asks to stop ([`Progress::cancelled`]: a time limit, an
+/// allowance of evaluations, Ctrl-C) ends [`Status::Stopped`], not verified, with the
+/// best design whose judgement ended before the stop (candidates, and each round's final
+/// points and reference, judged afresh; the reference where there is none). Each band search asks too, so the stop comes within a
+/// search step.
 pub fn run(base: &Machine, spec: &DesignSpec, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
     run_with(base, spec, &RunOptions::default(), progress)
 }
@@ -230,6 +244,39 @@ pub fn run_with(
 ) -> Result<DesignOutcome, DesignError> {
     spec.check(&base.model.rings.iter().map(|r| r.circuit.branches.len()).collect::<Vec<_>>())
         .map_err(|(field, error)| DesignError::Spec { field, error })?;
+    let best = BestSoFar::default();
+    let mut optimised = None;
+    let result = run_steps(base, spec, options, progress, &best, &mut optimised);
+    // A stop asked at any point, whatever the steps made of their cut-short searches.
+    if !progress.cancelled() {
+        return result;
+    }
+    // The best design judged (a round's tuned design among them once a round has ended),
+    // with the runs and history of the last round that ended.
+    let mut out = DesignOutcome::empty(spec, values_of(base, spec));
+    if let Some(values) = best.values() {
+        out.after = values;
+    }
+    if let Some(o) = optimised {
+        (out.starts, out.history, out.convex_steps, out.basis) = (o.starts, o.history, o.convex_steps, o.basis);
+        (out.candidates, out.failed_candidates, out.floquet_evaluations) =
+            (o.candidates, o.failed_candidates, o.floquet_evaluations);
+    }
+    out.status = Status::Stopped;
+    out.stop = Some("by its caller before it ended".into());
+    Ok(out)
+}
+
+/// The steps of [`run_with`]; `optimised` is set to the outcome of each optimisation round
+/// as it ends (before its verification), `best` is offered every design judged.
+fn run_steps(
+    base: &Machine,
+    spec: &DesignSpec,
+    options: &RunOptions,
+    progress: &dyn Progress,
+    best: &BestSoFar,
+    optimised: &mut Option<DesignOutcome>,
+) -> Result<DesignOutcome, DesignError> {
     // The basis every candidate is judged on, sized at the reference design.
     progress.phase("basis", 0);
     let sizing = Counter::default();
@@ -238,8 +285,9 @@ pub fn run_with(
     let started = Instant::now();
     let mut extra: Vec<(String, Vec<f64>)> = options.extra_starts.clone();
     let mut rounds = Vec::new();
-    let mut out = optimise_round(&sized, spec, options, &extra, progress)?;
+    let mut out = optimise_round(&sized, spec, options, &extra, progress, best)?;
     out.basis = Some(basis);
+    *optimised = Some(out.clone());
     // Until the basis holds at the tuned design too: a design far from the reference can
     // need more modes than the reference did (its electrical modes moved). Each round
     // starts again on the larger basis, from the previous tuned design as well.
@@ -256,13 +304,14 @@ pub fn run_with(
         }
         sized = machine;
         extra.push((format!("tuned on M = {}", rounds[rounds.len() - 1].modes), out.after.clone()));
-        let mut next = optimise_round(&sized, spec, options, &extra, progress)?;
+        let mut next = optimise_round(&sized, spec, options, &extra, progress, best)?;
         next.basis = Some(report);
         next.candidates += out.candidates;
         next.failed_candidates += out.failed_candidates;
         next.floquet_evaluations += out.floquet_evaluations;
         next.first_failure = next.first_failure.or(out.first_failure);
         out = next;
+        *optimised = Some(out.clone());
     }
     out.floquet_evaluations += sizing.get();
     out.basis_rounds = rounds;
@@ -539,6 +588,7 @@ fn optimise_round(
     options: &RunOptions,
     extra: &[(String, Vec<f64>)],
     progress: &dyn Progress,
+    best: &BestSoFar,
 ) -> Result<DesignOutcome, DesignError> {
     progress.phase("optimise", most_candidates(spec) as u64);
     let before = values_of(base, spec);
@@ -563,40 +613,9 @@ fn optimise_round(
         extra_starts: extra.iter().map(|(name, v)| (name.clone(), to_unit(spec, v))).collect(),
         unconstrained: options.unconstrained.as_ref().map(|v| to_unit(spec, v)),
         observer: options.observer.as_deref(),
+        best,
     };
-    let mut out = DesignOutcome {
-        spec: spec.clone(),
-        status: Status::Unchanged,
-        before: before.clone(),
-        after: before.clone(),
-        findings: match spec.objective {
-            Objective::WidestStableBand { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
-            Objective::ClearBands { .. } => {
-                Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
-            }
-            Objective::MinPeakResponse { .. } => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
-        },
-        before_speeds: Vec::new(),
-        after_speeds: Vec::new(),
-        verification: Verification::of(Vec::new(), None),
-        starts: Vec::new(),
-        history: Vec::new(),
-        convex_steps: Vec::new(),
-        candidates: 0,
-        failed_candidates: 0,
-        first_failure: None,
-        floquet_evaluations: 0,
-        seconds: 0.0,
-        verification_cost: Cost::default(),
-        constraints_after: Vec::new(),
-        vibration: None,
-        robustness: None,
-        speed_check: None,
-        speed_check_before: None,
-        basis: None,
-        basis_rounds: Vec::new(),
-        refined: Vec::new(),
-    };
+    let mut out = DesignOutcome::empty(spec, before);
     match &spec.objective {
         Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
         Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,

@@ -152,8 +152,10 @@ pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
     let banded: Vec<Result<(f64, Vec<OperatingBand>), DesignError>> =
         finals.par_iter().map(|u| ctx.judged(&Candidate::new(ctx.base, spec, &ctx.values(u))?, phi_op)).collect();
     let mut best: Option<(f64, usize, Vec<OperatingBand>)> = None;
+    ctx.best.offer(Rank(0, -before_value, 0.0), &out.before, ctx.progress);
     for (k, b) in banded.into_iter().enumerate() {
         let (w, b) = b?;
+        ctx.best.offer(Rank(0, -w, 0.0), &ctx.values(&finals[k]), ctx.progress);
         if best.as_ref().is_none_or(|x| w > x.0) {
             best = Some((w, k, b));
         }

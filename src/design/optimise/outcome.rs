@@ -33,6 +33,10 @@ pub enum Status {
     /// tolerance box (`[design.tolerances]`, [`crate::design::robust`]): the failing build
     /// is named in the verification.
     NotRobust,
+    /// The run was stopped before it ended (a time limit, an allowance of evaluations, or
+    /// its caller): the design is the best judged so far, neither optimised to the end nor
+    /// verified ([`DesignOutcome::stop`] says what stopped it).
+    Stopped,
 }
 
 impl Status {
@@ -206,9 +210,52 @@ pub struct DesignOutcome {
     /// The tuned design checked again on a basis twice as large, at each speed
     /// ([`crate::design::sizing::refined_check`]).
     pub refined: Vec<RefinedCheck>,
+    /// What stopped the run, for [`Status::Stopped`] (the library says only that it was
+    /// asked to stop; a caller that set a limit names it); None for a run that ended.
+    pub stop: Option<String>,
 }
 
 impl DesignOutcome {
+    /// The outcome of a run that has judged nothing yet: `before` (SI units) kept as the
+    /// tuned design, status unchanged, every list empty.
+    pub(crate) fn empty(spec: &DesignSpec, before: Vec<f64>) -> DesignOutcome {
+        DesignOutcome {
+            spec: spec.clone(),
+            status: Status::Unchanged,
+            after: before.clone(),
+            before,
+            findings: match spec.objective.kind() {
+                ObjectiveKind::WidestStableBand | ObjectiveKind::MinPeakResponse => {
+                    Findings::WidestBand { before: Vec::new(), after: Vec::new() }
+                }
+                ObjectiveKind::ClearBands => {
+                    Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
+                }
+            },
+            before_speeds: Vec::new(),
+            after_speeds: Vec::new(),
+            verification: Verification::of(Vec::new(), None),
+            starts: Vec::new(),
+            history: Vec::new(),
+            convex_steps: Vec::new(),
+            candidates: 0,
+            failed_candidates: 0,
+            first_failure: None,
+            floquet_evaluations: 0,
+            seconds: 0.0,
+            verification_cost: Cost::default(),
+            constraints_after: Vec::new(),
+            vibration: None,
+            robustness: None,
+            speed_check: None,
+            speed_check_before: None,
+            basis: None,
+            basis_rounds: Vec::new(),
+            refined: Vec::new(),
+            stop: None,
+        }
+    }
+
     /// Whether the tuned design passed every verification check (the verdict of
     /// [`DesignOutcome::verification`]).
     pub fn verified(&self) -> bool {
@@ -302,6 +349,8 @@ struct OutcomeJson<'a> {
     basis_rounds: Cow<'a, [BasisRound]>,
     #[serde(default)]
     refined: Cow<'a, [RefinedCheck]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    stop: Option<String>,
 }
 
 impl Serialize for DesignOutcome {
@@ -338,6 +387,7 @@ impl Serialize for DesignOutcome {
             basis: self.basis.as_ref().map(Cow::Borrowed),
             basis_rounds: Cow::Borrowed(&self.basis_rounds),
             refined: Cow::Borrowed(&self.refined),
+            stop: self.stop.clone(),
         }
         .serialize(serializer)
     }
@@ -392,6 +442,7 @@ impl<'de> Deserialize<'de> for DesignOutcome {
             basis: json.basis.map(Cow::into_owned),
             basis_rounds: json.basis_rounds.into_owned(),
             refined: json.refined.into_owned(),
+            stop: json.stop,
         })
     }
 }

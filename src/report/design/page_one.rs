@@ -55,8 +55,8 @@ fn o_constrained(o: &DesignOutcome) -> bool {
 }
 
 /// The status in one sentence.
-fn status_sentence(status: Status) -> &'static str {
-    match status {
+fn status_sentence(o: &DesignOutcome) -> String {
+    let fixed = match o.status {
         Status::Improved => "**Improved**: the tuned design is better than the reference's, and verified.",
         Status::Unchanged => "**Unchanged**: no start beat the reference design, which is kept (verified).",
         Status::Feasible => "**Feasible**: every band is clear by its clearance, and verified.",
@@ -69,7 +69,14 @@ fn status_sentence(status: Status) -> &'static str {
         Status::NotRobust => {
             "**Not robust**: the design holds at its nominal component values but not at every build of the tolerance box (the failing build is named below); `best-effort.toml` is not a result."
         }
-    }
+        Status::Stopped => {
+            return format!(
+                "**Stopped, NOT A RESULT**: the run was stopped before it ended ({}). `best-effort.toml` is the best design judged so far, neither optimised to the end nor verified; run again with a larger limit for a result.",
+                o.stop.as_deref().unwrap_or("no reason recorded")
+            )
+        }
+    };
+    fixed.to_string()
 }
 
 /// One table of every branch before and after: a changed value reads `before → after`.
@@ -103,7 +110,7 @@ pub(super) fn page_one(r: &DesignReport) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Shunt design report: {}\n", crate::report::html::markdown_literal(&r.title));
     let _ = writeln!(s, "**Question.** {}\n", question(r));
-    let _ = writeln!(s, "**Answer.** {}\n", status_sentence(o.status));
+    let _ = writeln!(s, "**Answer.** {}\n", status_sentence(o));
     model_line(&mut s, o);
     warnings_block(&mut s, o);
     let _ = writeln!(s, "Circuit, before → after (changed values in bold):\n");
