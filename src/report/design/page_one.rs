@@ -115,6 +115,14 @@ pub(super) fn page_one(r: &DesignReport) -> String {
     warnings_block(&mut s, o);
     let _ = writeln!(s, "Circuit, before → after (changed values in bold):\n");
     circuit_table(&mut s, &r.branches_before, &r.branches_after);
+    if o.status == Status::Stopped {
+        // Nothing of the objective or the verification was judged to the end.
+        let _ = writeln!(
+            s,
+            "\n**Not verified**: the run stopped before its verification; the figures of the optimiser's runs so far are below.\n"
+        );
+        return s;
+    }
     match &spec.objective {
         Objective::WidestStableBand { .. } => widest_band_table(&mut s, o),
         Objective::ClearBands { .. } => clear_bands_table(&mut s, o),
@@ -140,7 +148,9 @@ pub const WARNING_LINES: usize = 6;
 /// The model every verdict rests on, in one line: the basis and its convergence, and the
 /// criterion.
 fn model_line(s: &mut String, o: &DesignOutcome) {
-    let basis = o.basis.as_ref().map_or("basis not recorded".to_string(), |b| b.text());
+    let none =
+        if o.status == Status::Stopped { "the run stopped before its basis was sized" } else { "basis not recorded" };
+    let basis = o.basis.as_ref().map_or(none.to_string(), |b| b.text());
     let rule = o.after_speeds.first().map(|d| d.catalogue.criterion.threshold.describe().replace('|', "\\|"));
     let rule = rule.map_or(String::new(), |r| format!("; unstable when {r}"));
     let _ = writeln!(s, "**Model.** {basis}{rule}.\n");
