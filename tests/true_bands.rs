@@ -238,8 +238,9 @@ fn every_design_holds_its_band_at_twice_its_basis() {
             let auto = band_json(&tuned, *phi_op, *level, window, &[]);
             let m = auto["basis"]["modes"].as_u64().unwrap();
             let twice = format!("analysis.reduced_modes={}", 2 * m);
-            // Twice the basis over the whole window costs more than the default allowance.
-            let double = band_json(&tuned, *phi_op, *level, window, &["--set", twice.as_str(), "--max-cost", "10"]);
+            // Twice the basis over the whole window costs more than the default allowance
+            // (the clear-bands design's band around 1850 rad/s on M = 44: 3.5e14 operations).
+            let double = band_json(&tuned, *phi_op, *level, window, &["--set", twice.as_str(), "--max-cost", "20"]);
             match (lo_hi(&auto["band"]), lo_hi(&double["band"])) {
                 (Some(a), Some(d)) => {
                     let moved = (a.0 - d.0).abs().max((a.1 - d.1).abs());
