@@ -370,8 +370,11 @@ fn library_requests_obey_the_same_rules() {
     );
     let e = near.beta_max(0.5).level(0.9).build().unwrap_err();
     assert_eq!(near.beta_max(0.5).level(0.9).validate().unwrap_err(), e);
-    // A required value not set is refused, never defaulted quietly.
-    assert!(CatalogueRequest::builder().level(0.3).build().is_err());
+    // A required value not set is refused, never defaulted quietly, and said to be missing
+    // (not a NaN the caller never wrote).
+    let missing = CatalogueRequest::builder().level(0.3).build().unwrap_err();
+    assert_eq!((&missing.rule, missing.to_string().as_str()), (&Rule::NotSet, "is required and was not set"));
+    assert_eq!(missing.rule.kind(), "Schema");
     assert!(rotorshunt::BandRequest::builder().level(0.3).build().is_err());
     assert!(rotorshunt::ChartRequest::grid()
         .phi(Interval::new(1000.0, 1500.0))

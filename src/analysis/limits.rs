@@ -123,6 +123,8 @@ pub enum Rule {
         /// Largest.
         max: u64,
     },
+    /// A required value a builder was not given (the value reads NaN).
+    NotSet,
 }
 
 impl Rule {
@@ -139,6 +141,8 @@ impl Rule {
             | Rule::AboveBetaMax { .. }
             | Rule::Outside { .. }
             | Rule::Count { .. } => "OutOfRange",
+            // A required value missing, as a required key missing from a file.
+            Rule::NotSet => "Schema",
         }
     }
 }
@@ -189,6 +193,7 @@ impl Rule {
                 format!("inside the range [{}, {}] rad/s", compact(range.lo), compact(range.hi))
             }
             Rule::Count { min, max } => format!("a whole number from {min} to {max}"),
+            Rule::NotSet => "given".into(),
         }
     }
 }
@@ -199,12 +204,18 @@ fn rule_text(rule: &Rule, value: f64) -> String {
         Rule::NotFinite => format!("must be a finite number, found {}", number(value)),
         Rule::NotPositive => format!("must be positive, found {}", number(value)),
         Rule::Negative => format!("must not be negative, found {}", number(value)),
+        Rule::NotSet => "is required and was not set".into(),
         other => format!("must be {}, found {}", other.range(), number(value)),
     }
 }
 
 fn fail(quantity: Quantity, value: f64, rule: Rule) -> ParamError {
     ParamError { quantity, value, rule }
+}
+
+/// A required value of a builder: `Rule::NotSet` when it was not given.
+pub fn required<T>(quantity: Quantity, v: Option<T>) -> Result<T, ParamError> {
+    v.ok_or(fail(quantity, f64::NAN, Rule::NotSet))
 }
 
 /// A finite value.

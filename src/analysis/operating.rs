@@ -76,50 +76,40 @@ pub struct ChartRequest {
 /// A regular chart grid by its named values (rad/s and −), checked when it is built
 /// ([`ChartGrid::validate`], [`ChartGrid::build`]): `ChartRequest::grid().phi(…)
 /// .phi_step(…).beta_max(…).beta_step(…).build()`. Every value is required: one not set
-/// is NaN and refused.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// is refused ([`limits::Rule::NotSet`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ChartGrid {
-    phi: Interval,
-    phi_step: f64,
-    beta_max: f64,
-    beta_step: f64,
-}
-
-impl Default for ChartGrid {
-    fn default() -> ChartGrid {
-        ChartGrid {
-            phi: Interval::new(f64::NAN, f64::NAN),
-            phi_step: f64::NAN,
-            beta_max: f64::NAN,
-            beta_step: f64::NAN,
-        }
-    }
+    phi: Option<Interval>,
+    phi_step: Option<f64>,
+    beta_max: Option<f64>,
+    beta_step: Option<f64>,
 }
 
 impl ChartGrid {
     /// The φ range of the grid (rad/s).
     pub fn phi(self, phi: Interval) -> ChartGrid {
-        ChartGrid { phi, ..self }
+        ChartGrid { phi: Some(phi), ..self }
     }
     /// The φ step (rad/s): φ runs `phi.lo, phi.lo + phi_step, … ≤ phi.hi`.
     pub fn phi_step(self, phi_step: f64) -> ChartGrid {
-        ChartGrid { phi_step, ..self }
+        ChartGrid { phi_step: Some(phi_step), ..self }
     }
     /// The largest load β (−): β runs `0, beta_step, … ≤ beta_max`.
     pub fn beta_max(self, beta_max: f64) -> ChartGrid {
-        ChartGrid { beta_max, ..self }
+        ChartGrid { beta_max: Some(beta_max), ..self }
     }
     /// The β step (−).
     pub fn beta_step(self, beta_step: f64) -> ChartGrid {
-        ChartGrid { beta_step, ..self }
+        ChartGrid { beta_step: Some(beta_step), ..self }
     }
     /// The grid's axes, each value checked by the parameter rules
     /// ([`crate::analysis::limits`]) and each axis's length bounded.
     fn axes(&self) -> Result<(Vec<f64>, Vec<f64>), ParamError> {
-        let phi = limits::phi_range(self.phi.lo, self.phi.hi)?;
-        let phi_step = limits::positive(Quantity::Frequency, self.phi_step)?;
-        let beta_max = limits::beta_max(self.beta_max)?;
-        let beta_step = limits::positive(Quantity::Load, self.beta_step)?;
+        let phi = limits::required(Quantity::RangeLow, self.phi)?;
+        let phi = limits::phi_range(phi.lo, phi.hi)?;
+        let phi_step = limits::positive(Quantity::Frequency, limits::required(Quantity::Frequency, self.phi_step)?)?;
+        let beta_max = limits::beta_max(limits::required(Quantity::BetaMax, self.beta_max)?)?;
+        let beta_step = limits::positive(Quantity::Load, limits::required(Quantity::Load, self.beta_step)?)?;
         let axis = |lo: f64, hi: f64, step: f64| -> Result<Vec<f64>, ParamError> {
             let grid = Interval::new(lo, hi);
             limits::count(grid.step_count(step) as u64, 1, MAX_CHART_AXIS as u64)?;
@@ -209,13 +199,13 @@ impl BandRequest {
 
 /// A [`BandRequest`] by named values, checked when it is built: `BandRequest::builder()
 /// .phi_op(1230.0).level(0.3).build()`. The range defaults to that of `rotorshunt band`
-/// ([`DEFAULT_BAND_RANGE`]); φ_op and the level are required (one not set is NaN and
-/// refused).
+/// ([`DEFAULT_BAND_RANGE`]); φ_op and the level are required (one not set is refused,
+/// [`limits::Rule::NotSet`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BandRequestBuilder {
     range: Interval,
-    phi_op: f64,
-    level: f64,
+    phi_op: Option<f64>,
+    level: Option<f64>,
 }
 
 /// The φ range a band is searched over when none is given (rad/s): that of `[design]`
@@ -225,7 +215,7 @@ pub const DEFAULT_BAND_RANGE: Interval = Interval { lo: 100.0, hi: 8000.0 };
 
 impl Default for BandRequestBuilder {
     fn default() -> BandRequestBuilder {
-        BandRequestBuilder { range: DEFAULT_BAND_RANGE, phi_op: f64::NAN, level: f64::NAN }
+        BandRequestBuilder { range: DEFAULT_BAND_RANGE, phi_op: None, level: None }
     }
 }
 
@@ -236,11 +226,11 @@ impl BandRequestBuilder {
     }
     /// The operating excitation frequency φ_op (rad/s).
     pub fn phi_op(self, phi_op: f64) -> BandRequestBuilder {
-        BandRequestBuilder { phi_op, ..self }
+        BandRequestBuilder { phi_op: Some(phi_op), ..self }
     }
     /// The level β_op of the band (−).
     pub fn level(self, level: f64) -> BandRequestBuilder {
-        BandRequestBuilder { level, ..self }
+        BandRequestBuilder { level: Some(level), ..self }
     }
     /// Check the values by the parameter rules.
     pub fn validate(&self) -> Result<(), ParamError> {
@@ -248,6 +238,7 @@ impl BandRequestBuilder {
     }
     /// The checked request.
     pub fn build(self) -> Result<BandRequest, ParamError> {
-        BandRequest::new(self.range, self.phi_op, self.level)
+        let phi_op = limits::required(Quantity::OperatingFrequency, self.phi_op)?;
+        BandRequest::new(self.range, phi_op, limits::required(Quantity::Level, self.level)?)
     }
 }

@@ -469,6 +469,7 @@ impl From<&ParamError> for ProblemErrorKind {
             Rule::NotFinite => ProblemErrorKind::NotFinite(e.value),
             Rule::NotPositive => ProblemErrorKind::NotPositive(e.value),
             Rule::Negative => ProblemErrorKind::Negative(e.value),
+            Rule::NotSet => ProblemErrorKind::Schema(format!("a required value ({:?}) was not set", e.quantity)),
             ref other => ProblemErrorKind::OutOfRange { value: e.value, range: other.range() },
         }
     }

@@ -128,46 +128,52 @@ impl CatalogueRequest {
 /// A [`CatalogueRequest`] by named values, checked when it is built:
 /// `CatalogueRequest::builder().range(…).beta_max(1.0).level(0.3).build()`. β_max defaults
 /// to 1 (that of `rotorshunt regions`), tracking to off; the range and the level are
-/// required (one not set is NaN and refused).
+/// required (one not set is refused, [`limits::Rule::NotSet`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CatalogueRequestBuilder(CatalogueRequest);
+pub struct CatalogueRequestBuilder {
+    range: Option<Interval>,
+    beta_max: f64,
+    level: Option<f64>,
+    track: bool,
+}
 
 impl Default for CatalogueRequestBuilder {
     fn default() -> CatalogueRequestBuilder {
-        CatalogueRequestBuilder(CatalogueRequest {
-            range: Interval::new(f64::NAN, f64::NAN),
-            beta_max: 1.0,
-            level: f64::NAN,
-            track: false,
-        })
+        CatalogueRequestBuilder { range: None, beta_max: 1.0, level: None, track: false }
     }
 }
 
 impl CatalogueRequestBuilder {
     /// The φ range searched (rad/s).
     pub fn range(self, range: Interval) -> CatalogueRequestBuilder {
-        CatalogueRequestBuilder(CatalogueRequest { range, ..self.0 })
+        CatalogueRequestBuilder { range: Some(range), ..self }
     }
     /// The highest load searched for onsets, β_max (−).
     pub fn beta_max(self, beta_max: f64) -> CatalogueRequestBuilder {
-        CatalogueRequestBuilder(CatalogueRequest { beta_max, ..self.0 })
+        CatalogueRequestBuilder { beta_max, ..self }
     }
     /// The level β_op of edges and bands (−), at most β_max.
     pub fn level(self, level: f64) -> CatalogueRequestBuilder {
-        CatalogueRequestBuilder(CatalogueRequest { level, ..self.0 })
+        CatalogueRequestBuilder { level: Some(level), ..self }
     }
     /// Also track boundaries from each located onset up to β_max.
     pub fn track(self, track: bool) -> CatalogueRequestBuilder {
-        CatalogueRequestBuilder(CatalogueRequest { track, ..self.0 })
+        CatalogueRequestBuilder { track, ..self }
     }
     /// Check the values by the parameter rules.
     pub fn validate(&self) -> Result<(), ParamError> {
-        self.0.check()
+        self.build().map(|_| ())
     }
     /// The checked request.
     pub fn build(self) -> Result<CatalogueRequest, ParamError> {
-        self.validate()?;
-        Ok(self.0)
+        let req = CatalogueRequest {
+            range: limits::required(limits::Quantity::RangeLow, self.range)?,
+            beta_max: self.beta_max,
+            level: limits::required(limits::Quantity::Level, self.level)?,
+            track: self.track,
+        };
+        req.check()?;
+        Ok(req)
     }
 }
 
