@@ -271,7 +271,7 @@ pub fn describe(
                     let mut band = band_around(&Level::new(&probe, c.criterion(), spec.level, spec.range()), &seeds, p);
                     // Named as `band` and the region table name them: by the catalogue.
                     band.name_bounds(&cat.named_tongues(), &|phi| unexplained(fs, &full, phi, spec.level));
-                    let strict = margins::strict_band(fs, s, &seeds, &band, spec.range());
+                    let strict = margins::strict_band(fs, s, &seeds, &band, spec.range(), progress);
                     let m =
                         margins::assemble(&band, strict, &cat.regions, spec.beta_max, c.criterion().strict().threshold);
                     (Some(band), m)

@@ -150,20 +150,24 @@ pub fn load_margin(regions: &[Region], band: Interval, level: f64) -> Option<Loa
 /// The band around `band.phi_op` by the strict criterion in `window`, from `seeds` (the
 /// window's, as the band took them); None when φ_op is unstable by it. When the declared
 /// criterion is the strict one ([`Criterion::is_strict`]) that is `band` itself, found
-/// again by no search.
+/// again by no search. The search stops early when `progress` asks (its result is then
+/// incomplete, for the caller to discard).
 pub fn strict_band(
     fs: &FloquetSystem,
     s: &RegionSettings,
     seeds: &[Seed],
     band: &Band,
     window: Interval,
+    progress: &dyn Progress,
 ) -> Option<Interval> {
     let declared = Criterion::of(&fs.settings);
     if declared.is_strict() {
         // The declared criterion is the strict one: its band is the declared band.
         return band.band;
     }
-    let probe = Probe::new(fs, s);
+    // Stopped when `progress` asks, its steps not reported (the caller's band counted them).
+    let ask = crate::progress::AskOnly(progress);
+    let probe = Probe::reporting(fs, s, &ask);
     band_around(&Level::new(&probe, declared.strict(), band.level, window), seeds, band.phi_op).band
 }
 
@@ -203,7 +207,7 @@ pub fn band_margins(
     progress: &dyn Progress,
 ) -> Result<Option<Margins>, AnalysisError> {
     let Some(b) = band.band else { return Ok(None) };
-    let strict = strict_band(fs, s, seeds, band, window);
+    let strict = strict_band(fs, s, seeds, band, window, progress);
     let searched_to = load_margin_reach(band.level);
     let req = CatalogueRequest::new(b, searched_to, band.level, false)?;
     let cat = catalogue_with(fs, full, s, &req, progress)?;
