@@ -564,3 +564,37 @@ pub fn baselines(
     out.push(Baseline::of("tuned", after));
     Ok(out)
 }
+
+/// The unbalance response and damping ratios of the reference and the tuned design of
+/// `out` (with a `[design.response]`), and the min-peak design's baselines.
+pub(crate) fn vibration_report(
+    base: &Machine,
+    spec: &DesignSpec,
+    out: &mut crate::design::optimise::DesignOutcome,
+) -> Result<(), DesignError> {
+    use crate::design::optimise::{Findings, VibrationReport, REPORT_DAMPING_WHIRLS};
+    if let Some(r) = spec.response() {
+        let vibration = |values: &[f64]| -> Result<_, DesignError> {
+            let (m, rotor) = rotor_at(base, spec, values)?;
+            let response = response_of(&rotor, r)?;
+            let speeds = ascending(&spec.speeds);
+            let silent = crate::progress::Silent;
+            let damping =
+                crate::analysis::damping::lowest_damping(&rotor, &m.settings, &speeds, REPORT_DAMPING_WHIRLS, &silent)?;
+            Ok((response, damping))
+        };
+        let (before, damping_before) = vibration(&out.before)?;
+        let (after, damping_after) = vibration(&out.after)?;
+        if let Findings::MinPeak(f) = &mut out.findings {
+            let classic = f.classic_design.as_ref().map(|j| j.values.clone());
+            f.baselines = baselines(base, spec, r, classic.as_deref(), &before, &after)?;
+        }
+        let unconstrained = match out.peak_findings().filter(|f| !f.unconstrained.constraints.is_empty()) {
+            Some(f) => Some(vibration(&f.unconstrained.values.clone())?.0),
+            None => None,
+        };
+        out.vibration =
+            Some(VibrationReport { response: r.clone(), before, after, unconstrained, damping_before, damping_after });
+    }
+    Ok(())
+}
