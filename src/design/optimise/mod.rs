@@ -230,8 +230,8 @@ pub fn most_candidates(spec: &DesignSpec) -> usize {
 /// A run that `progress` asks to stop ([`Progress::cancelled`]: a time limit, an
 /// allowance of evaluations, Ctrl-C) ends [`Status::Stopped`], not verified, with the
 /// best design whose judgement ended before the stop (candidates, and each round's final
-/// points and reference, judged afresh; the reference where there is none). Each band search asks too, so the stop comes within a
-/// search step.
+/// points and reference, judged afresh; the reference where there is none). Each band
+/// search asks too, so the stop comes within a search step.
 pub fn run(base: &Machine, spec: &DesignSpec, progress: &dyn Progress) -> Result<DesignOutcome, DesignError> {
     run_with(base, spec, &RunOptions::default(), progress)
 }
