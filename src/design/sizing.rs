@@ -22,9 +22,10 @@ use super::evaluate::Candidate;
 use super::machine::Machine;
 use super::spec::DesignSpec;
 use super::DesignError;
-use crate::analysis::basis::{self, BasisReport, Movement, Schedule, Sizing, Tolerance};
+use crate::analysis::basis::{BasisReport, Movement, Schedule, Sizing, Tolerance};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
+use crate::analysis::reduction::ModeSet;
 use crate::analysis::regions::sized::{band_movement, catalogue_movement};
 use crate::analysis::regions::{
     band_sized, catalogue_sized, catalogue_with, CatalogueRequest, Counter, RegionSettings,
@@ -200,8 +201,9 @@ fn refined_checks(
     let mut out = Vec::new();
     for (k, (w, fs)) in tuned.systems.iter().enumerate() {
         let modes = fs.modes();
-        let available = basis::available(&tuned.rotor, settings.basis, *w)?;
-        let refined_modes = (2 * modes).min(available).min(MAX_REDUCED_MODES);
+        // The basis modes, solved once: they count the modes and build the refined system.
+        let set = ModeSet::new(&tuned.rotor, *w, settings.basis)?;
+        let refined_modes = (2 * modes).min(set.available()).min(MAX_REDUCED_MODES);
         if refined_modes <= modes {
             out.push(RefinedCheck {
                 speed: *w,
@@ -213,7 +215,7 @@ fn refined_checks(
             });
             continue;
         }
-        let rfs = FloquetSystem::with_modes(&tuned.rotor, settings, *w, refined_modes)?;
+        let rfs = FloquetSystem::from_mode_set(&set, settings, *w, refined_modes)?;
         let full = whirl_modes_of(&tuned.rotor, settings, *w)?;
         let both = |req: &CatalogueRequest| -> Result<Movement, DesignError> {
             let here = catalogue_with(fs, &full, s, req, progress)?;
