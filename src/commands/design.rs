@@ -213,15 +213,8 @@ pub fn design_report(
             outcome.stop = Some(s.reason());
         }
         let after = rotorshunt::design::evaluate::machine_at(&machine, spec, &outcome.after)?;
-        let report = DesignReport {
-            provenance: super::Provenance::of(problem),
-            title: title(problem),
-            branches_before: branch_rows(&problem.model),
-            branches_after: branch_rows(&after.model),
-            outcome,
-            whirls: Vec::new(),
-            files: ["report.md", "report.html", "report.json", "best-effort.toml"].map(str::to_string).to_vec(),
-        };
+        let files = text_files(outcome.status);
+        let report = report_of(problem, &after.model, outcome, Vec::new(), files);
         write_texts(problem, dir, &report)?;
         return Ok((report.outcome, stop));
     }
@@ -246,20 +239,9 @@ pub fn design_report(
     let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
-    let mut files: Vec<String> = ["report.md", "report.html", "report.json", design_file_name(outcome.status)]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let mut files = text_files(outcome.status);
     files.extend(figures.iter().flat_map(|(stem, _)| [format!("{stem}.svg"), format!("{stem}.png")]));
-    let report = DesignReport {
-        provenance: super::Provenance::of(problem),
-        title: title(problem),
-        branches_before: branch_rows(&problem.model),
-        branches_after: branch_rows(&after.machine.model),
-        outcome: outcome.clone(),
-        whirls,
-        files,
-    };
+    let report = report_of(problem, &after.machine.model, outcome.clone(), whirls, files);
     progress.advance(3);
     for (stem, figure) in &figures {
         dir.figure(stem, figure.as_ref())?;
@@ -268,6 +250,30 @@ pub fn design_report(
     write_texts(problem, dir, &report)?;
     progress.advance(1);
     Ok((report.outcome, None))
+}
+
+/// The report of `outcome` on `problem`, the tuned circuit that of `after`.
+fn report_of(
+    problem: &Problem,
+    after: &rotorshunt::model::Model,
+    outcome: DesignOutcome,
+    whirls: Vec<rotorshunt::design::content::SpeedWhirls>,
+    files: Vec<String>,
+) -> DesignReport {
+    DesignReport {
+        provenance: super::Provenance::of(problem),
+        title: title(problem),
+        branches_before: branch_rows(&problem.model),
+        branches_after: branch_rows(after),
+        outcome,
+        whirls,
+        files,
+    }
+}
+
+/// The text files a design writes ([`write_texts`]), the figures aside.
+fn text_files(status: Status) -> Vec<String> {
+    ["report.md", "report.html", "report.json", design_file_name(status)].map(str::to_string).to_vec()
 }
 
 /// The design file (`tuned.toml` or `best-effort.toml`), report.json, report.md and
