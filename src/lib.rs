@@ -19,8 +19,11 @@
 //! form (shift-invert, Eq. 18–21, where that form does not apply).
 //!
 //! Data flows one way: [`problem`] (file) → [`model`] (physics) → [`assembly`]
-//! (matrices) → [`analysis`] → [`design`] → [`report`]; [`import`] turns other programs'
-//! rotor files (ROSS's) into problem files. The code's dependencies follow the types: the
+//! (matrices) → [`analysis`] → [`design`] → [`run`] → [`report`]; [`import`] turns other
+//! programs' rotor files (ROSS's) into problem files. [`run`] is the application layer:
+//! a [`run::Run`] holds a use's limits (cost, time, evaluations), observer and
+//! cancellation, and its methods are the tool's jobs, admitted, run and stopped as the
+//! command line and the Python bindings run them. The code's dependencies follow the types: the
 //! file layer builds the model, the settings and the design spec, so it names those
 //! layers and none of them names it; it reads and checks, and never runs an analysis
 //! (tests/layers.rs checks every layer). SI units and rad/s throughout.
@@ -32,7 +35,9 @@
 //! and ask it for a chart ([`ChartRequest`]), a catalogue of regions
 //! ([`CatalogueRequest`]) or a stable band ([`BandRequest`]); every request is checked
 //! when it is built. A file with a `[design]` table is designed by [`run_design`], given
-//! its machine ([`Problem::machine`]) and its spec. The modules stay public for the rest
+//! its machine ([`Problem::machine`]) and its spec, or through [`run::Run::design`], which
+//! admits it by its estimate and returns the best design so far when a limit or a
+//! [`run::CancelToken`] stops it. The modules stay public for the rest
 //! (assembled matrices, solvers); `commands` is the command line's layer and not part of
 //! the library.
 //!
@@ -99,6 +104,7 @@ mod commands;
 #[cfg(feature = "python")]
 extern crate self as rotorshunt;
 pub mod report;
+pub mod run;
 
 pub use analysis::regions::{Band, Catalogue, CatalogueRequest};
 pub use analysis::{AnalysisError, BandRequest, ChartRequest, Criterion, Interval, OperatingPoint, Rotor, Settings};

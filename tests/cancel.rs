@@ -86,7 +86,7 @@ fn an_unbalance_response_asked_to_stop_solves_no_more_speeds_and_comes_back_empt
 }
 
 /// The widest-band design cut short: one start of two iterations over 1000–1500 rad/s.
-fn short_design() -> Problem {
+pub(crate) fn short_design() -> Problem {
     let short = ["design.starts=1", "design.max_iterations=2", "design.phi_range=[1000.0, 1500.0]"];
     let o: Vec<String> = short.iter().chain(&crate::common::QUICK_BASIS).map(|s| s.to_string()).collect();
     Problem::from_path("problems/design-widest-band.toml", &o).unwrap()
@@ -94,7 +94,7 @@ fn short_design() -> Problem {
 
 /// What a stopped design must be: `Status::Stopped`, not verified, not a result, its
 /// values inside the bounds (the reference's own where no candidate was judged).
-fn assert_stopped(o: &rotorshunt::design::DesignOutcome) {
+pub(crate) fn assert_stopped(o: &rotorshunt::design::DesignOutcome) {
     use rotorshunt::design::Status;
     assert_eq!(o.status, Status::Stopped);
     assert!(!o.status.is_result() && !o.verified() && o.verification.parts.is_empty());

@@ -121,6 +121,7 @@ fn every_kind() -> Vec<&'static str> {
         }),
         Error::TimeLimit(TimeLimitError { what: s(), limit: 1.0, elapsed: 1.0, explicit: true }),
         Error::CountLimit(CountLimitError { what: s(), allowed: 1, used: 2 }),
+        Error::Cancelled { what: s() },
         Error::Output { path: s(), message: s() },
         Error::Study { file: s(), message: s() },
         Error::OutputIsInput { path: s(), input: s() },

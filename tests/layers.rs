@@ -1,5 +1,5 @@
-//! Data flows one way: file → problem → model → assembly → analysis → design → report →
-//! CLI. The code's dependencies follow the types: the file layer (`problem`, `import`)
+//! Data flows one way: file → problem → model → assembly → analysis → design → run →
+//! report → CLI. The code's dependencies follow the types: the file layer (`problem`, `import`)
 //! reads a text and builds the model, the analysis settings and the design spec, so it
 //! comes after the layers whose types it builds and before the report and the command
 //! line, which read a problem. A module may use its own layer and the layers before it
@@ -24,9 +24,11 @@ fn rank(module: &str) -> Option<u32> {
         "design" => 4,
         // The file layer: builds the types of every layer above from a text.
         "problem" | "import" => 5,
-        "report" => 6,
+        // The application layer: runs a problem's jobs under their limits.
+        "run" => 6,
+        "report" => 7,
         // The crate's composed error, the command layer and the Python bindings.
-        "error" | "Error" | "commands" | "python" => 7,
+        "error" | "Error" | "commands" | "python" => 8,
         _ => return None,
     })
 }

@@ -73,6 +73,7 @@ mod ross_examples;
 mod ross_import;
 mod ross_reference;
 mod round_trip;
+mod run_layer;
 mod sensitivity;
 mod singular_mass;
 mod slurm;

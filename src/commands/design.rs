@@ -2,23 +2,16 @@
 //! tuned-parameter report (report.md, report.json), the tuned problem (tuned.toml) and
 //! plots (charts before/after with the operating bands, Campbell diagram, history).
 
-use super::bounds::{self, Names};
 use super::{title, OutDir};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use rotorshunt::analysis::cost::{
-    self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS,
-};
-use rotorshunt::analysis::{Interval, Rotor};
-use rotorshunt::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
-use rotorshunt::design::evaluate::Candidate;
-use rotorshunt::design::evaluate::{neighbourhood, values_of};
-use rotorshunt::design::spec::{DesignSpec, Objective};
-use rotorshunt::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
+use rotorshunt::analysis::cost::Budget;
+use rotorshunt::design::spec::Objective;
 use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::design::{self as report_design, branch_rows, markdown, DesignReport};
+use rotorshunt::run::{DesignJob, DesignRun, Outcome, Run};
 use std::path::Path;
 
 /// The name of the design file written: `tuned.toml` for a result that can be handed on,
@@ -36,98 +29,6 @@ pub fn status_word(status: Status) -> String {
     serde_json::to_value(status).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
 }
 
-/// The names of a design's inputs in a refusal.
-pub(crate) const DESIGN: Names<'static> = Names {
-    phi: "`design.phi_range`",
-    grid: "`design.phi_range` or `design.bands`",
-    load: "`design.level` or `design.beta_max`",
-    periods: "the design",
-};
-
-/// The estimated cost of `problem`'s design, from its reference candidate (its rotor and
-/// reduced systems are built: bounded by the dense estimate, checked first): every
-/// candidate's dense stages and band (or operating-band) search at every speed, and the
-/// verification with the report (two catalogues per speed, the grids, the DSTM points at
-/// tongue centres, the before/after charts and the Campbell diagram).
-pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Budget) -> Result<Estimate, Error> {
-    let threads = rayon::current_num_threads();
-    let speeds = spec.speeds.len() as f64;
-    let model = &problem.model;
-    let dense = cost::dense(model, Dense::Reduced, 1);
-    let verify_dense = cost::dense(model, Dense::ReducedAndWhirls, 1);
-    let mut memory = dense.memory.clone();
-    memory.amount = (memory.amount * threads as f64).max(verify_dense.memory.amount);
-    let admitted = Estimate { memory: memory.clone(), ..dense.clone() };
-    bounds::admit(budget, "the design", &admitted, &DESIGN)?;
-    let machine = problem.machine();
-    let reference = Candidate::new(&machine, spec, &values_of(&machine, spec))?;
-    let s = problem.regions.clone();
-    let criterion = reference.criterion();
-    let mut per_candidate = Estimate::work(dense.work.amount * speeds, Driver::Dofs, dense.work.detail.clone());
-    let mut verification = Estimate::zero();
-    for (k, (_, fs)) in reference.systems.iter().enumerate() {
-        let pc = PointCost::of(fs);
-        let seeds = reference.seeds(k, spec)?;
-        let range = spec.range();
-        let work = match spec.objective {
-            Objective::WidestStableBand { .. } => {
-                let phi_op = spec.objective.phi_op().unwrap_or(range.lo);
-                cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
-            }
-            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                let windows: Vec<Interval> =
-                    spec.kept_clear().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
-                let mut work = cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level);
-                if let Some(b) = spec.constraints.min_band_width {
-                    let band = cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * b.phi_op).max(range.lo), spec.level);
-                    work = work.then(band);
-                }
-                work
-            }
-        };
-        per_candidate = per_candidate.then(work);
-        let catalogue = CatalogueWork { range, beta_max: spec.beta_max, level: spec.level, track: false };
-        let cat = cost::catalogue(&pc, &s, &criterion, &seeds, &catalogue);
-        // The windows checked: the band, taken as the charts' window around φ_op (half to
-        // 1.5 times it), or each widened operating band.
-        let windows: Vec<Interval> = match spec.objective {
-            Objective::WidestStableBand { .. } => {
-                vec![chart_window(spec)]
-            }
-            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded().clipped(&range)).collect();
-                if spec.constraints.min_band_width.is_some() {
-                    w.push(chart_window(spec));
-                }
-                w
-            }
-        };
-        let mut grids = Estimate::zero();
-        for w in &windows {
-            let n = (w.width() / GRID_STEP).min(MAX_GRID_POINTS as f64);
-            grids = grids.then(cost::points(&pc, n, w.lo, spec.level));
-            let near = Interval::new(w.lo * (1.0 - NEAR), w.hi * (1.0 + NEAR));
-            let centres = seeds.iter().filter(|x| near.contains(x.phi)).count() as f64;
-            grids = grids.then(Estimate::work(
-                centres * pc.dstm(),
-                Driver::Settings,
-                "DSTM points at tongue centres".into(),
-            ));
-        }
-        let (phis, betas) = chart_grid(spec);
-        let charts = cost::chart(&pc, &phis, &betas).times(2.0, Driver::Grid, "charts");
-        verification = verification.then(cat.times(2.0, Driver::Grid, "catalogues")).then(grids).then(charts);
-    }
-    // The whirls: the physics seed's and the catalogues' at each speed, and the Campbell
-    // diagram's speeds.
-    let whirls = cost::dense(model, Dense::Whirls(CAMPBELL_SPEEDS + 3 * spec.speeds.len()), threads);
-    let total = per_candidate
-        .times(design::optimise::most_candidates(spec) as f64, Driver::Candidates, "candidates")
-        .then(verification)
-        .then(whirls);
-    Ok(Estimate { memory: if memory.amount > total.memory.amount { memory } else { total.memory.clone() }, ..total })
-}
-
 /// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
 /// decides the exit code). Refused before any folder is made when its estimate is beyond
 /// `budget`. Progress: the design's `optimise` and `verification` ([`design::run`]),
@@ -138,13 +39,11 @@ pub fn design_cmd(
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<(String, DesignOutcome), Error> {
-    // No folder is created for a file without a [design] table.
-    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let estimate = design_estimate(problem, spec, &budget)?;
-    bounds::admit(&budget, "the design", &estimate, &DESIGN)?;
-    modes_exist(problem, None, spec)?;
+    let run = Run::new(progress).with_budget(budget);
+    // No folder is created for a file without a [design] table, nor for one refused.
+    let job = run.design(problem, "the design")?;
     let dir = OutDir::create(out, &problem.file)?;
-    let (outcome, _) = design_report(problem, &dir, progress, &budget, &estimate)?;
+    let outcome = design_report(problem, &dir, job, progress)?.value;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
 }
@@ -154,94 +53,37 @@ pub fn design_cmd(
 /// [`super::tuned_toml`]). Progress: the design's `optimise` and `verification`.
 #[allow(dead_code)] // called by the Python bindings alone
 pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) -> Result<DesignOutcome, Error> {
-    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let estimate = design_estimate(problem, spec, &budget)?;
-    bounds::admit(&budget, "the design", &estimate, &DESIGN)?;
-    modes_exist(problem, None, spec)?;
-    let deadline = budget.running(progress, &estimate);
-    let outcome = design::run(&problem.machine(), spec, &deadline);
-    budget.stopped(&deadline, "the design")?;
-    Ok(outcome?)
+    let run = Run::new(progress).with_budget(budget);
+    Ok(run.design(problem, "the design")?.run(false)?.value.outcome)
 }
 
-/// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),
-/// checked once the run is admitted and before its folder is made; a tag the model lacks
-/// is refused as the file's error at the tag's line.
-pub(crate) fn modes_exist(problem: &Problem, rotor: Option<&Rotor>, spec: &DesignSpec) -> Result<(), Error> {
-    if spec.constraints.damping.is_empty() {
-        return Ok(());
-    }
-    let built;
-    let rotor = match rotor {
-        Some(r) => r,
-        None => {
-            built = Rotor::new(&problem.model)?;
-            &built
-        }
-    };
-    match design::checks::modes_exist(rotor, &problem.settings, spec) {
-        Err(DesignError::UnknownMode { index, mode, speed, available }) => Err(problem
-            .refuse(
-                &format!("design.constraints.damping[{index}].mode"),
-                rotorshunt::problem::ProblemErrorKind::UnknownMode { mode, speed, available: available.into() },
-            )
-            .into()),
-        other => Ok(other?),
-    }
-}
-
-/// Run the design admitted at `estimate` and write the report files to `dir`; the
-/// outcome, and the limit that stopped it. A design stopped by `budget`'s time limit, the
-/// estimate's allowance of evaluations or `progress` ([`Status::Stopped`]) keeps the best
-/// design judged so far: `best-effort.toml` and the report's text, with the stop on page
-/// one, and no figures. Its report's charts stopped so are an error, its files left
-/// uncommitted.
+/// Run the admitted design `job` and write the report files to `dir`: the outcome, with
+/// the limit that stopped it. A design stopped by its time limit, its allowance of
+/// evaluations or its caller keeps the best design judged so far: `best-effort.toml`
+/// and the report's text, with the stop on page one, and no figures. Its report's
+/// charts stopped so are an error, its files left uncommitted. Progress: the design's
+/// `optimise` and `verification`, then `report` (a step per chart row, Campbell speed
+/// and file).
 pub fn design_report(
     problem: &Problem,
     dir: &OutDir,
+    job: DesignJob<'_, '_>,
     progress: &dyn Progress,
-    budget: &Budget,
-    estimate: &Estimate,
-) -> Result<(DesignOutcome, Option<cost::Stopped>), Error> {
-    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    let machine = problem.machine();
-    let deadline = budget.running(progress, estimate);
-    let mut outcome = design::run(&machine, spec, &deadline)?;
-    if outcome.status == Status::Stopped {
-        let stop = budget.stopped(&deadline, "the design").err();
-        if let Some(s) = &stop {
-            outcome.stop = Some(s.reason());
-        }
-        let after = rotorshunt::design::evaluate::machine_at(&machine, spec, &outcome.after)?;
+) -> Result<Outcome<DesignOutcome>, Error> {
+    let Outcome { status, value, stop, evaluations } = job.run(true)?;
+    let DesignRun { outcome, tuned, content } = value;
+    let Some(mut content) = content else {
         let files = text_files(outcome.status);
-        let report = report_of(problem, &after.model, outcome, Vec::new(), files);
+        let report = report_of(problem, &tuned, outcome, Vec::new(), files);
         write_texts(problem, dir, &report)?;
-        return Ok((report.outcome, stop));
-    }
-    // Each design's rotor and reduced systems, built once for the charts and Campbell.
-    let before = Candidate::new(&machine, spec, &outcome.before)?;
-    let after = Candidate::new(&machine, spec, &outcome.after)?;
-    // The charts' rows and Campbell speeds, the three text files and report.html; a step
-    // per figure once the figures are known.
-    progress.phase("report", (content_steps(spec) + 4) as u64);
-    // Every band the charts draw: the stable bands found before and after, the operating
-    // bands with their clearances.
-    let bands: Vec<Interval> = outcome
-        .before_bands()
-        .iter()
-        .chain(outcome.after_bands())
-        .filter_map(|b| b.band.band)
-        .chain(spec.kept_clear().iter().map(|b| b.guarded()))
-        .collect();
-    let content = content(spec, &before, &after, &bands, &deadline);
-    budget.stopped(&deadline, "the design's report")?;
-    let mut content = content?;
+        return Ok(Outcome { status, value: report.outcome, stop, evaluations });
+    };
     let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
     let mut files = text_files(outcome.status);
     files.extend(figures.iter().flat_map(|(stem, _)| [format!("{stem}.svg"), format!("{stem}.png")]));
-    let report = report_of(problem, &after.machine.model, outcome.clone(), whirls, files);
+    let report = report_of(problem, &tuned, outcome.clone(), whirls, files);
     progress.advance(3);
     for (stem, figure) in &figures {
         dir.figure(stem, figure.as_ref())?;
@@ -249,7 +91,7 @@ pub fn design_report(
     }
     write_texts(problem, dir, &report)?;
     progress.advance(1);
-    Ok((report.outcome, None))
+    Ok(Outcome { status, value: report.outcome, stop, evaluations })
 }
 
 /// The report of `outcome` on `problem`, the tuned circuit that of `after`.
@@ -447,21 +289,12 @@ pub fn pareto_cmd(
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<(String, design::pareto::Front), Error> {
-    use rotorshunt::problem::ProblemErrorKind;
     use rotorshunt::report::design::pareto::{front_plot, markdown, point_file, point_line, FrontReport};
     let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
-    design::pareto::trade_off(spec).map_err(|e| problem.refuse(&e.key, ProblemErrorKind::NoTradeOff(e.reason)))?;
-    // A front is its points' runs, and a point run again when it is dominated.
-    let one = design_estimate(problem, spec, &budget)?;
-    let runs = (2 * points) as f64;
-    let estimate = one.times(runs, Driver::Candidates, "design runs");
-    bounds::admit(&budget, "the Pareto front", &estimate, &DESIGN)?;
-    modes_exist(problem, None, spec)?;
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.pareto(problem, points)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let deadline = budget.running(progress, &estimate);
-    let front = design::pareto::front(&problem.machine(), spec, points, &deadline);
-    budget.stopped(&deadline, "the Pareto front")?;
-    let front = front?;
+    let front = job.run()?;
     progress.phase("report", (front.points.len() + 4) as u64);
     let design_files: Vec<String> = front.points.iter().map(point_file).collect();
     let mut files: Vec<String> =

@@ -65,6 +65,13 @@ pub enum Error {
     /// was written.
     #[error(transparent)]
     CountLimit(#[from] rotorshunt::analysis::cost::CountLimitError),
+    /// A run its caller cancelled while it ran (the Python bindings' Ctrl-C,
+    /// [`rotorshunt::run::CancelToken`]); nothing was kept.
+    #[error("{what} was cancelled by its caller; nothing was kept")]
+    Cancelled {
+        /// What was cancelled.
+        what: String,
+    },
     /// Writing an output failed (including a read-only file, which is not replaced).
     #[error("cannot write {path}: {message}")]
     Output {
@@ -257,6 +264,20 @@ impl From<rotorshunt::analysis::cost::Stopped> for Error {
     }
 }
 
+impl From<rotorshunt::run::RunError> for Error {
+    fn from(e: rotorshunt::run::RunError) -> Error {
+        use rotorshunt::run::RunError as R;
+        match e {
+            R::Problem(e) => Error::Problem(e),
+            R::Analysis(e) => Error::Analysis(e),
+            R::Design(e) => Error::Design(e),
+            R::Refused(e) => Error::Cost(e),
+            R::Stopped(e) => e.into(),
+            R::Cancelled { what } => Error::Cancelled { what },
+        }
+    }
+}
+
 impl From<rotorshunt::import::ross::RossError> for Error {
     fn from(e: rotorshunt::import::ross::RossError) -> Error {
         Error::Ross(Box::new(e))
@@ -289,6 +310,7 @@ impl Error {
             Error::Cost(_) => "Cost",
             Error::TimeLimit(_) => "TimeLimit",
             Error::CountLimit(_) => "CountLimit",
+            Error::Cancelled { .. } => "Cancelled",
             Error::Output { .. } => "Output",
             Error::OutputIsInput { .. } => "OutputIsInput",
             Error::OutIsNotAFolder { .. } => "OutIsNotAFolder",
@@ -317,7 +339,7 @@ impl Error {
         const FAILED: u8 = 1;
         const STOPPED: u8 = 7;
         match self {
-            Error::TimeLimit(_) | Error::CountLimit(_) => STOPPED,
+            Error::TimeLimit(_) | Error::CountLimit(_) | Error::Cancelled { .. } => STOPPED,
             Error::Problem(_)
             | Error::Ross(_)
             | Error::OutputExists { .. }

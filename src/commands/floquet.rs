@@ -1,26 +1,25 @@
 //! The Floquet commands: `floquet` (one point), `chart` (a grid, optionally compared with
 //! a second configuration) and `response` (time response at one point).
 
-use super::bounds::{self, Names};
+use super::bounds::{self};
 use super::{files_phase, parse_range, OutDir, Provenance};
 use crate::commands::out::{json_compact, json_pretty};
 use crate::commands::Error;
-use rotorshunt::analysis::basis::{point_sized, BasisReport, Schedule, Sized};
-use rotorshunt::analysis::chart::{chart, ChartResult};
-use rotorshunt::analysis::cost::{self, Budget, Dense, PointCost};
-use rotorshunt::analysis::floquet::{FloquetPoint, FloquetSystem};
+use rotorshunt::analysis::basis::{BasisReport, Sized};
+use rotorshunt::analysis::chart::ChartResult;
+use rotorshunt::analysis::cost::Budget;
+use rotorshunt::analysis::floquet::FloquetPoint;
 use rotorshunt::analysis::limits::{self, Quantity, MAX_PERIODS};
-use rotorshunt::analysis::response::{checked_response, response_steps, ResponseResult};
+use rotorshunt::analysis::response::ResponseResult;
 use rotorshunt::analysis::unbalance::Probe;
-use rotorshunt::analysis::Rotor;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::chart::{chart_csv, GrowthMap, Layer, StabilityPlot};
 use rotorshunt::report::plot::{envelope, Curve, CurvePlot};
 use rotorshunt::report::style;
+use rotorshunt::run::{ResponseRun, Run};
 use serde::Serialize;
 use std::path::Path;
-use std::time::Instant;
 
 /// Most points of one chart: ~10 minutes of CPU and ~100 MB of results on this machine
 /// class; beyond that a typo in a step (0.001 for 1) should fail at once, not run for days.
@@ -38,24 +37,6 @@ fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
     bounds::flag("--phi", limits::frequency(Quantity::Frequency, phi))?;
     bounds::flag("--beta", limits::load(beta))?;
     Ok(())
-}
-
-/// The names of a point command's inputs in a refusal.
-const POINT: Names<'static> = Names { phi: "`--phi`", grid: "`--phi`", load: "`--beta`", periods: "`--periods`" };
-
-/// The reduced system of `problem` for answers up to φ = `top` (rad/s)
-/// ([`FloquetSystem::for_window`]), its dense stages admitted within `budget` first.
-pub fn reduced_system(problem: &Problem, budget: &Budget, top: f64) -> Result<FloquetSystem, Error> {
-    Ok(rotor_and_system(problem, budget, top)?.1)
-}
-
-/// The rotor and its reduced system for answers up to φ = `top` (rad/s), the dense stages
-/// admitted within `budget` first.
-fn rotor_and_system(problem: &Problem, budget: &Budget, top: f64) -> Result<(Rotor, FloquetSystem), Error> {
-    bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
-    let rotor = Rotor::new(&problem.model)?;
-    let fs = FloquetSystem::for_window(&rotor, &problem.settings, problem.model.speed, top)?;
-    Ok((rotor, fs))
 }
 
 /// A probe's physical displacement over a response, as written to `response.json`.
@@ -145,15 +126,7 @@ pub fn floquet_point_sized(
     budget: &Budget,
 ) -> Result<Sized<FloquetPoint>, Error> {
     check_point(phi, beta)?;
-    bounds::admit_dense(budget, "the reduced model", problem, Dense::Reduced)?;
-    let rotor = Rotor::new(&problem.model)?;
-    let (settings, speed) = (&problem.settings, problem.model.speed);
-    let schedule = Schedule::new(&rotor, settings, speed, phi)?;
-    for &m in schedule.sizes().iter().take(2) {
-        let fs = FloquetSystem::with_modes(&rotor, settings, speed, m)?;
-        bounds::admit(budget, "the Floquet point", &cost::floquet_point(&PointCost::of(&fs), phi, beta), &POINT)?;
-    }
-    Ok(point_sized(&rotor, settings, speed, phi, beta)?)
+    Ok(Run::new(&rotorshunt::progress::Silent).with_budget(*budget).point(problem, phi, beta)?)
 }
 
 /// The checks `chart` makes on its grid (φ in rad/s, β): every value by its rule, and at
@@ -173,17 +146,6 @@ pub fn check_grid(phis: &[f64], betas: &[f64]) -> Result<(), Error> {
         ));
     }
     Ok(())
-}
-
-/// The names of a chart's inputs in a refusal.
-const CHART: Names<'static> =
-    Names { phi: "`--phi`", grid: "`--phi` and `--beta`", load: "`--beta`", periods: "`--phi`" };
-
-/// Admit the chart of one reduced system `fs` over a grid (checked by [`check_grid`])
-/// within `budget`, as `chart` admits it.
-#[allow(dead_code)] // called by the Python bindings alone
-pub fn admit_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], budget: &Budget) -> Result<(), Error> {
-    bounds::admit(budget, "the chart", &cost::chart(&PointCost::of(fs), phis, betas), &CHART)
 }
 
 #[derive(Serialize)]
@@ -221,11 +183,6 @@ impl<'a> Compare<'a> {
             None => Compare::None,
         }
     }
-}
-
-fn run_chart(fs: &FloquetSystem, phis: &[f64], betas: &[f64], progress: &dyn Progress, what: &str) -> ChartResult {
-    progress.phase(what, phis.len() as u64);
-    chart(fs, phis, betas, progress)
 }
 
 fn write_chart(
@@ -267,48 +224,28 @@ pub fn chart_cmd(
     let betas = parse_range(beta, "--beta")?;
     check_grid(&phis, &betas)?;
     // Both systems built and the charts' work admitted before any file is touched.
-    let names = CHART;
-    let top = phis.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let main_fs = reduced_system(problem, &budget, top)?;
-    let mut estimate = cost::chart(&PointCost::of(&main_fs), &phis, &betas);
-    let other_fs = match &compare {
-        Compare::Problem(_, other) => {
-            let fs = reduced_system(other, &budget, top)?;
-            estimate = estimate.then(cost::chart(&PointCost::of(&fs), &phis, &betas));
-            Some(fs)
-        }
+    let run = Run::new(progress).with_budget(budget);
+    let other = match &compare {
+        Compare::Problem(_, other) => Some(*other),
         Compare::None => None,
     };
-    bounds::admit(&budget, "the chart", &estimate, &names)?;
-    let range = rotorshunt::analysis::Interval::new(
-        phis.iter().copied().fold(f64::INFINITY, f64::min),
-        phis.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-    );
-    let main_warnings = super::range_warning(problem, &main_fs, range, "--phi", progress);
-    let other_warnings = match (&compare, &other_fs) {
-        (Compare::Problem(_, other), Some(fs)) => super::range_warning(other, fs, range, "--phi", progress),
-        _ => Vec::new(),
-    };
+    let job = run.chart(problem, other, &phis, &betas)?;
+    let (main_warnings, other_warnings) = job.warnings.clone();
     let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
     if let Compare::Problem(_, other) = &compare {
         inputs.push((Path::new(&other.file), "the --compare file"));
     }
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&CHART_FILES)?;
-    let deadline = budget.deadline(progress);
-    let start = Instant::now();
-    let main = run_chart(&main_fs, &phis, &betas, &deadline, "chart");
-    let elapsed = start.elapsed().as_secs_f64();
+    let charts = job.run()?;
+    let (main, elapsed) = (charts.main, charts.seconds);
     // Both layers are named alike: by their file and overrides when a second file is
     // compared, by circuit state and overrides when the same file is.
     let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
-    let compared = match (compare, &other_fs) {
-        (Compare::Problem(name, other), Some(fs)) => {
-            Some((name, other, run_chart(fs, &phis, &betas, &deadline, "compare")))
-        }
+    let compared = match (compare, charts.other) {
+        (Compare::Problem(name, other), Some(c)) => Some((name, other, c)),
         _ => None,
     };
-    budget.stopped(&deadline, "the chart")?;
     let written = files_phase(progress, if compared.is_some() { 8 } else { 6 });
     write_chart(&dir, "chart", problem, &main_warnings, &main)?;
     let label = super::plot_title(problem);
@@ -379,17 +316,10 @@ pub fn response_cmd(
 ) -> Result<String, Error> {
     check_point(phi, beta)?;
     bounds::flag("--periods", limits::count(periods as u64, 1, MAX_PERIODS as u64))?;
-    let (rotor, fs) = rotor_and_system(problem, &budget, phi)?;
-    bounds::admit(&budget, "the response", &cost::response_of(&fs, phi, beta, periods), &POINT)?;
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.response(problem, phi, beta, periods)?;
     super::check_folder(out)?;
-    // The Floquet point first: a phase without counted steps (time only in the log).
-    let deadline = budget.deadline(progress);
-    progress.phase("floquet point", 0);
-    let point = fs.point(phi, beta);
-    progress.phase("response", response_steps(&fs, phi, periods));
-    let r = checked_response(&fs, phi, beta, periods, &deadline);
-    budget.stopped(&deadline, "the response")?;
-    let r: ResponseResult = r?;
+    let ResponseRun { point, response: r, physical } = job.run()?;
     let written = files_phase(progress, 4);
     let dir = OutDir::create(out, &problem.file)?;
     #[derive(Serialize)]
@@ -401,11 +331,8 @@ pub fn response_cmd(
         /// The disks' and supports' physical displacements (m).
         physical: &'a [PhysicalSeries<'a>],
     }
-    let probes = rotorshunt::analysis::unbalance::probes(&rotor, &[])?;
-    let physical: Vec<PhysicalSeries<'_>> = probes
-        .iter()
-        .map(|p| PhysicalSeries { probe: p, displacement_m: r.displacement(fs.reduced.basis.as_ref(), p.dof) })
-        .collect();
+    let physical: Vec<PhysicalSeries<'_>> =
+        physical.iter().map(|(p, u)| PhysicalSeries { probe: p, displacement_m: u.clone() }).collect();
     let json = Json { provenance: Provenance::of(problem), floquet: &point, response: &r, physical: &physical };
     dir.write("response.json", json_compact(&json, "the JSON output")?.as_bytes())?;
     written();

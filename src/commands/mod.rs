@@ -37,22 +37,21 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 #[allow(unused_imports)]
 pub use design::{design_file_name, design_run, status_word};
 #[allow(unused_imports)]
-pub use floquet::{admit_chart, check_grid, floquet_point_sized, reduced_system};
+pub use floquet::{check_grid, floquet_point_sized};
 #[allow(unused_imports)]
 pub use tuned::tuned_toml;
 #[allow(unused_imports)]
 pub use unbalance::unbalance_json;
 
 use crate::commands::out::json_pretty;
-use rotorshunt::analysis::campbell::campbell;
-use rotorshunt::analysis::cost::{Budget, Dense};
+use rotorshunt::analysis::cost::Budget;
 use rotorshunt::analysis::limits::{self, MAX_COUNT};
-use rotorshunt::analysis::modes::{lowest_whirls_of, WhirlMode};
-use rotorshunt::analysis::Rotor;
+use rotorshunt::analysis::modes::WhirlMode;
 use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::{campbell as campbell_report, summary};
+use rotorshunt::run::Run;
 use serde::Serialize;
 use std::path::Path;
 
@@ -61,33 +60,6 @@ use std::path::Path;
 pub const DEFAULT_WHIRL_COUNT: usize = 4;
 
 pub use rotorshunt::problem::provenance::{Provenance, TOOL};
-
-/// The warning of a φ range (the flag or key `key`) that no instability region of the
-/// problem's reduced model at its speed can reach ([`rotorshunt::analysis::warnings::phi_range`]),
-/// reported to `progress` (the command line prints it) and returned for the JSON.
-pub(crate) fn range_warning(
-    problem: &Problem,
-    fs: &rotorshunt::analysis::floquet::FloquetSystem,
-    range: rotorshunt::analysis::Interval,
-    key: &str,
-    progress: &dyn Progress,
-) -> Vec<rotorshunt::problem::Warning> {
-    let Ok((forward, backward)) = fs.whirls() else { return Vec::new() };
-    let order = problem.settings.max_tongue_order;
-    rotorshunt::analysis::warnings::phi_range(&forward, &backward, range, order, fs.speed)
-        .map(|kind| {
-            let w = rotorshunt::problem::Warning {
-                file: problem.file.clone(),
-                location: rotorshunt::problem::Location::Unknown,
-                key: key.to_string(),
-                kind: rotorshunt::problem::WarningKind::Range(kind),
-            };
-            progress.warning(&w);
-            w
-        })
-        .into_iter()
-        .collect()
-}
 
 /// Begin the `files` phase that ends a command, of `count` files; the step to call after
 /// each file is written.
@@ -113,15 +85,7 @@ pub fn plot_title(p: &Problem) -> String {
 /// dense matrices are beyond `budget`. A design's damping constraints are checked against
 /// the model's whirls here too, as the design will ([`rotorshunt::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
-    bounds::admit_dense(&budget, "`check`", problem, Dense::Rotor)?;
-    let spec = problem.design.as_ref().filter(|s| !s.constraints.damping.is_empty());
-    if spec.is_some() {
-        bounds::admit_dense(&budget, "`check`", problem, Dense::Whirls(1))?;
-    }
-    let rotor = Rotor::new(&problem.model)?;
-    if let Some(spec) = spec {
-        design::modes_exist(problem, Some(&rotor), spec)?;
-    }
+    let rotor = Run::new(&rotorshunt::progress::Silent).with_budget(budget).check(problem)?;
     Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
 }
 
@@ -148,9 +112,7 @@ pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, bu
         Some(w) => bounds::flag("--speed", limits::speed(w))?,
         None => problem.model.speed,
     };
-    bounds::admit_dense(&budget, "`modes`", problem, Dense::Whirls(1))?;
-    let rotor = Rotor::new(&problem.model)?;
-    let r = lowest_whirls_of(&rotor, &problem.settings, speed, count)?;
+    let r = Run::new(&rotorshunt::progress::Silent).with_budget(budget).modes(problem, speed, count)?;
     let out = ModesOutput {
         provenance: Provenance::of(problem),
         speed,
@@ -200,21 +162,11 @@ pub fn campbell_json(
     budget: Budget,
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    if speeds.is_empty() {
-        return Err(rotorshunt::analysis::AnalysisError::NoSpeeds.into());
-    }
     for &w in speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }
-    let threads = rayon::current_num_threads();
-    let estimate = rotorshunt::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
-    bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
-    let rotor = Rotor::new(&problem.model)?;
-    progress.phase("whirls", speeds.len() as u64);
-    let deadline = budget.deadline(progress);
-    let result = campbell(&rotor, &problem.settings, speeds, count, &deadline);
-    budget.stopped(&deadline, "the Campbell diagram")?;
-    let result = result?;
+    let run = Run::new(progress).with_budget(budget);
+    let result = run.campbell(problem, speeds, count)?.run()?;
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);
     campbell_json_text(problem, &result, &operating, &critical)
@@ -254,16 +206,10 @@ pub fn campbell_cmd(
     }
     // rpm on the axis when the user gave rpm, on the command line or in the file.
     let unit = if given == SpeedUnit::Rpm { given } else { problem.speed_unit() };
-    let threads = rayon::current_num_threads();
-    let estimate = rotorshunt::analysis::cost::dense(&problem.model, Dense::Whirls(speeds.len()), threads);
-    bounds::admit(&budget, "the Campbell diagram", &estimate, &bounds::MODEL_ONLY)?;
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.campbell(problem, &speeds, count)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let rotor = Rotor::new(&problem.model)?;
-    progress.phase("whirls", speeds.len() as u64);
-    let deadline = budget.deadline(progress);
-    let result = campbell(&rotor, &problem.settings, &speeds, count, &deadline);
-    budget.stopped(&deadline, "the Campbell diagram")?;
-    let result = result?;
+    let result = job.run()?;
     progress.phase("files", 4);
     let operating = operating_speeds(problem);
     let critical = campbell_report::critical_speeds(&result);

@@ -1,30 +1,22 @@
 //! The region commands: `regions` (catalogue, stable bands, optional tracked boundaries)
 //! and `band` (the stable band around an operating frequency).
 
-use super::bounds::{self, Names};
+use super::bounds::{self};
 use super::{files_phase, OutDir, Provenance};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use rotorshunt::analysis::basis::{BasisReport, Schedule};
-use rotorshunt::analysis::chart::chart;
-use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, Estimate, PointCost};
-use rotorshunt::analysis::floquet::FloquetSystem;
+use rotorshunt::analysis::basis::BasisReport;
+use rotorshunt::analysis::chart::ChartResult;
+use rotorshunt::analysis::cost::Budget;
 use rotorshunt::analysis::limits::{self, Quantity};
-use rotorshunt::analysis::modes::whirl_modes_of;
-use rotorshunt::analysis::regions::margins::{band_margins, load_margin};
-use rotorshunt::analysis::regions::seeds_for;
-use rotorshunt::analysis::regions::{
-    band_sized, catalogue_sized, Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings,
-};
-use rotorshunt::analysis::Criterion;
+use rotorshunt::analysis::regions::{Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings};
 use rotorshunt::analysis::Interval;
-use rotorshunt::analysis::Rotor;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::chart::{Layer, RegionShape, StabilityPlot};
+use rotorshunt::run::{plot_grid, BandLoadMargin, BandRun, CatalogueRun, Run};
 use serde::Serialize;
 use std::path::Path;
-use std::time::Instant;
 
 fn arg(argument: &str, message: String) -> Error {
     Error::Argument { argument: argument.into(), message }
@@ -38,51 +30,10 @@ fn range_of(text: &str) -> Result<Interval, Error> {
     bounds::flag("--phi", limits::phi_range(number(a)?, number(b)?))
 }
 
-/// The rotor and the reduced systems a search over a φ window whose top is `top`
-/// (rad/s) is counted on, their dense stages (with the whirls at the speed) admitted
-/// within `budget` first: the basis schedule's first size, and its second when the basis
-/// is sized by convergence (the least such a search computes,
-/// [`rotorshunt::analysis::basis`]); what it computes beyond is bounded while it runs.
-fn prepare(problem: &Problem, budget: &Budget, top: f64) -> Result<(Rotor, Vec<FloquetSystem>), Error> {
-    bounds::admit_dense(budget, "the region search", problem, Dense::ReducedAndWhirls)?;
-    let rotor = Rotor::new(&problem.model)?;
-    let (settings, speed) = (&problem.settings, problem.model.speed);
-    let schedule = Schedule::new(&rotor, settings, speed, top)?;
-    let systems = schedule
-        .sizes()
-        .iter()
-        .take(2)
-        .map(|&m| FloquetSystem::with_modes(&rotor, settings, speed, m))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((rotor, systems))
-}
-
-/// The estimates of a search on each of `systems`, run one after the other.
-fn on_each(
-    systems: &[FloquetSystem],
-    estimate: impl Fn(&FloquetSystem) -> Result<Estimate, Error>,
-) -> Result<Estimate, Error> {
-    let mut total = Estimate::zero();
-    for fs in systems {
-        total = total.then(estimate(fs)?);
-    }
-    Ok(total)
-}
-
-/// The grid of the boundary plot over a catalogue (600 φ × 41 β).
-fn plot_grid(range: Interval, beta_max: f64) -> (Vec<f64>, Vec<f64>) {
-    let (lo, hi) = (range.lo, range.hi);
-    let phis: Vec<f64> = (0..600).map(|i| lo + (hi - lo) * i as f64 / 599.0).collect();
-    let betas: Vec<f64> = (0..41).map(|i| beta_max * i as f64 / 40.0).collect();
-    (phis, betas)
-}
-
 /// The tracked regions at their true width (filled, 1 px outline, labelled) over a chart
 /// of the same problem (600 × 41 grid), the `chart` phase of `progress`.
-fn boundary_plot(problem: &Problem, fs: &FloquetSystem, cat: &Catalogue, progress: &dyn Progress) -> StabilityPlot {
+fn boundary_plot(problem: &Problem, cat: &Catalogue, c: ChartResult) -> StabilityPlot {
     let (phis, betas) = plot_grid(cat.range, cat.beta_max);
-    progress.phase("chart", phis.len() as u64);
-    let c = chart(fs, &phis, &betas, progress);
     let resolved: Vec<&Region> = cat.regions.iter().filter(|r| r.resolved).collect();
     let regions = resolved
         .iter()
@@ -160,18 +111,7 @@ struct RegionsJson<'a> {
     #[serde(flatten)]
     catalogue: &'a Catalogue,
     /// The load margin of each stable band at the level (same order as `stable_bands`).
-    band_margins: Vec<BandLoadMargin>,
-}
-
-/// The load margin of one stable band of a catalogue: the lowest onset above the level
-/// among its regions born inside the band (onset/level − 1), searched up to β_max.
-#[derive(Debug, Serialize)]
-struct BandLoadMargin {
-    /// The stable band (rad/s).
-    band: Interval,
-    /// The lowest onset's tongue and margin; null when none is born inside up to β_max
-    /// (the margin is then more than β_max/level − 1).
-    load: Option<rotorshunt::analysis::regions::LoadMargin>,
+    band_margins: &'a [BandLoadMargin],
 }
 
 /// What a catalogue is asked on the command line.
@@ -201,39 +141,17 @@ pub fn regions_cmd(
     let range = range_of(phi)?;
     let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
     let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
-    let (rotor, systems) = prepare(problem, &budget, range.hi)?;
     let settings = problem.regions.clone();
     let req = CatalogueRequest::builder().range(range).beta_max(beta_max).level(level).track(out.is_some()).build();
     let req = req.map_err(rotorshunt::analysis::AnalysisError::from)?;
-    // The search's work, from the seeds of the range, before the whirls and the search.
-    let criterion = Criterion::of(&problem.settings);
-    let work = CatalogueWork { range, beta_max, level, track: out.is_some() };
-    let mut estimate = on_each(&systems, |fs| {
-        let seeds = seeds_for(fs, None, range, criterion.max_order)?;
-        Ok(cost::catalogue(&PointCost::of(fs), &settings, &criterion, &seeds, &work))
-    })?;
-    let fs = &systems[0];
-    if out.is_some() {
-        let pc = PointCost::of(fs);
-        estimate = estimate.then(cost::chart(&pc, &plot_grid(range, beta_max).0, &plot_grid(range, beta_max).1));
-    }
-    let names = Names { phi: "`--phi`", grid: "`--phi` (its range)", load: "`--beta-max`", periods: "`--phi`" };
-    bounds::admit(&budget, "the region catalogue", &estimate, &names)?;
-    let warnings = super::range_warning(problem, fs, range, "--phi", progress);
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.catalogue(problem, &req)?;
+    let warnings = job.warnings.clone();
     // The staging folder is made before the search: an --out that cannot be written
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
-    let full = whirl_modes_of(&rotor, &problem.settings, problem.model.speed)?;
-    let deadline = budget.running(progress, &estimate);
-    let start = Instant::now();
-    progress.phase("catalogue", 0);
-    let (speed, schedule) =
-        (problem.model.speed, Schedule::new(&rotor, &problem.settings, problem.model.speed, range.hi)?);
-    let sized = catalogue_sized(&rotor, &problem.settings, &schedule, speed, &full, &settings, &req, &deadline);
-    let seconds = start.elapsed().as_secs_f64();
-    budget.stopped(&deadline, "the region catalogue")?;
-    let sized = sized?;
-    let (cat, fs) = (&sized.answer, &sized.system);
+    let CatalogueRun { sized, seconds, grid, band_margins } = job.run()?;
+    let cat = &sized.answer;
     let doc = RegionsJson {
         provenance: Provenance::of(problem).with(&warnings),
         speed: problem.model.speed,
@@ -241,16 +159,11 @@ pub fn regions_cmd(
         seconds,
         basis: &sized.basis,
         catalogue: cat,
-        band_margins: cat
-            .stable_bands
-            .iter()
-            .map(|b| BandLoadMargin { band: *b, load: load_margin(&cat.regions, *b, level) })
-            .collect(),
+        band_margins: &band_margins,
     };
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
-    if let Some(dir) = dir {
-        let plot = boundary_plot(problem, fs, cat, &deadline);
-        budget.stopped(&deadline, "the region catalogue's boundary plot")?;
+    if let (Some(dir), Some(grid)) = (dir, grid) {
+        let plot = boundary_plot(problem, cat, grid);
         let written = files_phase(progress, 3);
         dir.write("regions.json", json_text.as_bytes())?;
         written();
@@ -303,7 +216,7 @@ pub fn regions_cmd(
     }
     s +=
         "\nload margins of the stable bands (lowest onset above the level of a region born inside, onset/level - 1):\n";
-    for m in &doc.band_margins {
+    for m in doc.band_margins {
         s += &match &m.load {
             Some(l) => format!(
                 "  [{:.1}, {:.1}]: {:+.2} % ({} (k = {}) at {:.2} rad/s, onset {:.4})\n",
@@ -395,34 +308,12 @@ pub fn band_cmd(
         None => default_window(phi_op),
     };
     bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
-    let (rotor, systems) = prepare(problem, &budget, window.hi)?;
-    let settings = problem.regions.clone();
-    let criterion = Criterion::of(&problem.settings);
-    let estimate = on_each(&systems, |fs| {
-        let seeds = seeds_for(fs, None, window, criterion.max_order)?;
-        Ok(cost::band_and_margins(&PointCost::of(fs), &settings, &criterion, &seeds, window, level))
-    })?;
-    let names =
-        Names { phi: "`--phi` (the window)", grid: "`--phi` (the window)", load: "`--level`", periods: "`--phi`" };
-    bounds::admit(&budget, "the band search", &estimate, &names)?;
     let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
-    let warnings = super::range_warning(problem, &systems[0], window, key, progress);
-    let speed = problem.model.speed;
-    let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
-    let deadline = budget.running(progress, &estimate);
-    let start = Instant::now();
-    progress.phase("band", 0);
-    let schedule = Schedule::new(&rotor, &problem.settings, speed, window.hi)?;
-    let sized =
-        band_sized(&rotor, &problem.settings, &schedule, speed, &full, &settings, window, phi_op, level, &deadline);
-    budget.stopped(&deadline, "the band search")?;
-    let sized = sized?;
-    let (b, fs, basis) = (sized.answer, &sized.system, sized.basis);
-    progress.phase("margins", 0);
-    let labelled = seeds_for(fs, Some(&full), window, criterion.max_order)?;
-    let margins = band_margins(fs, &full, &settings, &labelled, &b, window, &deadline);
-    budget.stopped(&deadline, "the band's margins")?;
-    let margins = margins?;
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.band(problem, phi_op, level, window, key)?;
+    let warnings = job.warnings.clone();
+    let BandRun { sized, margins, seconds } = job.run()?;
+    let (b, basis) = (sized.answer, sized.basis);
     let out = BandOutput {
         basis,
         margins,
@@ -432,7 +323,7 @@ pub fn band_cmd(
         width: b.band.map(|x| x.width()),
         clipped: b.clipped(),
         band: b,
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
     };
     if json {
         return Ok(json_pretty(&out, "the JSON output")? + "\n");

@@ -1,18 +1,18 @@
 //! `unbalance` (steady-state unbalance response, optionally compared with a second
 //! configuration) and `damping` (ζ of the whirl modes over a speed range).
 
-use super::bounds::{self, MODEL_ONLY};
+use super::bounds::{self};
 use super::out::json_pretty;
 use super::{title, Compare, OutDir, Progress, Provenance};
 use crate::commands::Error;
-use rotorshunt::analysis::cost::{self, Budget, Dense};
-use rotorshunt::analysis::damping::{lowest_damping, mode_damping, ModeDamping};
+use rotorshunt::analysis::cost::Budget;
+use rotorshunt::analysis::damping::ModeDamping;
 use rotorshunt::analysis::limits::{self, MAX_COUNT};
-use rotorshunt::analysis::unbalance::{probes, unbalance_response, UnbalanceResult};
-use rotorshunt::analysis::{AnalysisError, Rotor};
+use rotorshunt::analysis::unbalance::UnbalanceResult;
+use rotorshunt::analysis::AnalysisError;
 use rotorshunt::problem::Problem;
-use rotorshunt::progress::Deadline;
 use rotorshunt::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalance_csv, BodeLayer, BodePlot};
+use rotorshunt::run::{Run, RunError, UnbalanceRun};
 use serde::Serialize;
 use std::path::Path;
 
@@ -70,6 +70,14 @@ fn node_list(text: &str) -> Result<Vec<usize>, Error> {
         .collect()
 }
 
+/// A run's error, a probe node off the shaft named by `--nodes`.
+fn on_nodes(e: RunError) -> Error {
+    match e {
+        RunError::Analysis(e) => about("--nodes", e),
+        other => other.into(),
+    }
+}
+
 /// A library error about a flag's value, named by the flag (exit 2).
 fn about(argument: &str, e: AnalysisError) -> Error {
     match e {
@@ -78,23 +86,6 @@ fn about(argument: &str, e: AnalysisError) -> Error {
         }
         other => other.into(),
     }
-}
-
-/// The response of one configuration at the disks, supports and `nodes`.
-fn respond(
-    problem: &Problem,
-    speeds: &[f64],
-    nodes: &[usize],
-    deadline: &Deadline<'_>,
-    budget: &Budget,
-    what: &str,
-) -> Result<UnbalanceResult, Error> {
-    let rotor = Rotor::new(&problem.model)?;
-    let probes = probes(&rotor, nodes).map_err(|e| about("--nodes", e))?;
-    deadline.phase(what, speeds.len() as u64);
-    let r = unbalance_response(&rotor, speeds, &probes, deadline);
-    budget.stopped(deadline, "the unbalance response")?;
-    Ok(r?)
 }
 
 #[derive(Serialize)]
@@ -151,17 +142,8 @@ pub fn unbalance_json(
     for &w in speeds {
         bounds::flag("--speeds", limits::response_speed(w))?;
     }
-    let last = problem.model.shaft.nodes() - 1;
-    if let Some(&node) = nodes.iter().find(|&&n| n > last) {
-        return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
-    }
-    bounds::admit(
-        &budget,
-        "the unbalance response",
-        &cost::unbalance(&problem.model, speeds.len(), nodes.len()),
-        &MODEL_ONLY,
-    )?;
-    let r = respond(problem, speeds, nodes, &budget.deadline(progress), &budget, "unbalance")?;
+    let run = Run::new(progress).with_budget(budget);
+    let r = run.unbalance(problem, None, speeds, nodes).and_then(|job| job.run()).map_err(on_nodes)?.main;
     let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
     json_pretty(&UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: &r }, "the JSON output")
 }
@@ -198,34 +180,21 @@ pub fn unbalance_cmd(
         Compare::Problem(_, other) => Some(*other),
         Compare::None => None,
     };
-    let admit = |p: &Problem| -> Result<cost::Estimate, Error> {
-        let last = p.model.shaft.nodes() - 1;
-        if let Some(&node) = nodes.iter().find(|&&n| n > last) {
-            return Err(about("--nodes", AnalysisError::ProbeNodeOffShaft { node, last }));
-        }
-        Ok(cost::unbalance(&p.model, speeds.len(), nodes.len()))
-    };
-    let mut estimate = admit(problem)?;
-    if let Some(other) = other {
-        estimate = estimate.then(admit(other)?);
-    }
-    bounds::admit(&budget, "the unbalance response", &estimate, &MODEL_ONLY)?;
+    let run = Run::new(progress).with_budget(budget);
+    let job = run.unbalance(problem, other, &speeds, &nodes).map_err(on_nodes)?;
     let mut inputs = vec![(Path::new(&problem.file), "the input problem file")];
     if let Compare::Problem(_, other) = &compare {
         inputs.push((Path::new(&other.file), "the --compare file"));
     }
     let dir = OutDir::with_inputs(out, &inputs)?;
     dir.check_outputs(&UNBALANCE_FILES)?;
-    let deadline = budget.deadline(progress);
-    let main = respond(problem, &speeds, &nodes, &deadline, &budget, "unbalance")?;
+    let UnbalanceRun { main, other } = job.run().map_err(on_nodes)?;
     // Both layers are named alike: by file and overrides when a second file is compared,
     // by circuit state and overrides when the same file is.
     let by_file = matches!(compare, Compare::Problem(_, other) if other.file != problem.file);
-    let compared = match compare {
-        Compare::Problem(name, other) => {
-            Some((name, other, respond(other, &speeds, &nodes, &deadline, &budget, "compare")?))
-        }
-        Compare::None => None,
+    let compared = match (compare, other) {
+        (Compare::Problem(name, other), Some(r)) => Some((name, other, r)),
+        _ => None,
     };
     let main_json = write_layer(&dir, "unbalance", problem, &main)?;
     let mut layers = vec![BodeLayer {
@@ -300,19 +269,11 @@ pub fn damping_cmd(
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
     let (speeds, unit) = speed_grid(speeds, limits::speed)?;
     let tags: Vec<String> = super::args::parse_list(modes, "--modes")?.into_iter().map(String::from).collect();
-    let threads = rayon::current_num_threads();
-    let estimate = cost::dense(&problem.model, Dense::Whirls(speeds.len() + 1), threads);
-    bounds::admit(&budget, "the damping ratios", &estimate, &MODEL_ONLY)?;
-    let rotor = Rotor::new(&problem.model)?;
-    progress.phase("damping", speeds.len() as u64);
-    let deadline = budget.deadline(progress);
-    let result = if tags.is_empty() {
-        lowest_damping(&rotor, &problem.settings, &speeds, count, &deadline)
-    } else {
-        mode_damping(&rotor, &problem.settings, &speeds, &tags, &deadline)
-    };
-    budget.stopped(&deadline, "the damping ratios")?;
-    let result = result.map_err(|e| about("--modes", e))?;
+    let run = Run::new(progress).with_budget(budget);
+    let result = run.damping(problem, &speeds, &tags, count).map_err(|e| match e {
+        RunError::Analysis(e) => about("--modes", e),
+        other => other.into(),
+    })?;
     if json {
         let out = DampingJson { provenance: Provenance::of(problem), speeds: &speeds, modes: &result };
         return Ok(json_pretty(&out, "the JSON output")? + "\n");

@@ -2,69 +2,32 @@
 //! catalogue (and band) or the design, and the key results recorded as metrics.
 
 use super::*;
-use rotorshunt::analysis::cost::Estimate;
 
 fn metric(v: impl Serialize) -> serde_json::Value {
     serde_json::to_value(v).unwrap_or(serde_json::Value::Null)
 }
-
-/// The names of a study's inputs in a refusal.
-const STUDY: Names<'static> = Names {
-    phi: "the study's `phi`",
-    grid: "the study's `phi` (its range)",
-    load: "the study's `beta_max` or `level`",
-    periods: "the study",
-};
 
 /// A case's budget: the cases run in parallel, so each may hold a share of the memory.
 pub(super) fn case_budget(budget: &Budget) -> Budget {
     budget.share(rayon::current_num_threads() as f64)
 }
 
-/// The rotor and reduced system of a regions case, its work admitted within `budget`
-/// before the whirls and the search: the catalogue of the study's range and, with
-/// `phi_op`, the band.
-fn regions_case_system(
-    problem: &Problem,
-    study: &StudyFile,
-    budget: &Budget,
-) -> Result<(Rotor, FloquetSystem, Estimate), Error> {
-    bounds::admit_dense(budget, "a regions case", problem, Dense::ReducedAndWhirls)?;
-    let rotor = Rotor::new(&problem.model)?;
+/// The catalogue a regions case asks for: the study's range, β_max and level.
+fn case_request(study: &StudyFile) -> CatalogueRequest {
     let range = Interval::new(study.phi[0], study.phi[1]);
-    let fs = FloquetSystem::for_window(&rotor, &problem.settings, problem.model.speed, range.hi)?;
-    let level = study.level.unwrap_or(study.beta_max);
-    let (s, criterion, pc) = (problem.regions.clone(), Criterion::of(&fs.settings), PointCost::of(&fs));
-    let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
-    let work = CatalogueWork { range, beta_max: study.beta_max, level, track: false };
-    let mut estimate = cost::catalogue(&pc, &s, &criterion, &seeds, &work);
-    if study.phi_op.is_some() {
-        estimate = estimate.then(cost::band(&pc, &s, &criterion, &seeds, range, level));
-    }
-    bounds::admit(budget, "a regions case", &estimate, &STUDY)?;
-    Ok((rotor, fs, estimate))
+    CatalogueRequest { range, beta_max: study.beta_max, level: study.level.unwrap_or(study.beta_max), track: false }
 }
 
-/// Admit a case of `kind` on `problem` (the study's per-case estimate); the estimate
-/// admitted (none for a design case without a design, which the case itself reports).
-pub(super) fn admit_case(
-    problem: &Problem,
-    kind: CaseKind,
-    study: &StudyFile,
-    budget: &Budget,
-) -> Result<Option<Estimate>, Error> {
+/// Admit a case of `kind` on `problem` (the study's per-case estimate) within `budget`.
+pub(super) fn admit_case(problem: &Problem, kind: CaseKind, study: &StudyFile, budget: &Budget) -> Result<(), Error> {
+    let run = rotorshunt::run::Run::new(&Silent).with_budget(*budget);
     match kind {
-        CaseKind::Regions => regions_case_system(problem, study, budget).map(|(_, _, e)| Some(e)),
-        CaseKind::Design => match problem.design.as_ref() {
-            Some(spec) => {
-                let estimate = design_estimate(problem, spec, budget)?;
-                bounds::admit(budget, "a design case", &estimate, &DESIGN)?;
-                Ok(Some(estimate))
-            }
-            // Reported by the case itself (NoDesign).
-            None => Ok(None),
-        },
+        CaseKind::Regions => run.regions_case(problem, &case_request(study), study.phi_op).map(|_| ())?,
+        // A design case without a design is reported by the case itself (NoDesign).
+        CaseKind::Design if problem.design.is_none() => {}
+        CaseKind::Design => run.design(problem, "a design case").map(|_| ())?,
     }
+    Ok(())
 }
 
 /// Run one case into its folder; its metrics. Its estimated work is admitted within
@@ -81,12 +44,13 @@ pub(super) fn run_case(
     let mut warnings: Vec<String> = problem.warnings.iter().map(|w| format!("key `{}`: {}", w.key, w.kind)).collect();
     match case.kind {
         CaseKind::Design => {
-            let estimate = admit_case(&problem, CaseKind::Design, study, budget)?.unwrap_or_else(Estimate::zero);
+            let run = rotorshunt::run::Run::new(&Silent).with_budget(*budget);
+            let job = run.design(&problem, "a design case")?;
             // A case stopped by its limit fails, as any stopped case does (its record
             // says why; the study keeps no half-done design).
-            let o = match design_report(&problem, dir, &Silent, budget, &estimate)? {
-                (_, Some(stop)) => return Err(stop.into()),
-                (o, None) => o,
+            let o = match design_report(&problem, dir, job, &Silent)? {
+                rotorshunt::run::Outcome { stop: Some(stop), .. } => return Err(stop.into()),
+                rotorshunt::run::Outcome { value, .. } => value,
             };
             m.insert("design_status".into(), metric(o.status));
             m.insert("verified".into(), metric(o.verified()));
@@ -133,34 +97,13 @@ pub(super) fn run_case(
             m.insert("floquet_evaluations".into(), metric(o.floquet_evaluations));
         }
         CaseKind::Regions => {
-            let level = study.level.unwrap_or(study.beta_max);
-            let (rotor, fs, estimate) = regions_case_system(&problem, study, budget)?;
-            let range = Interval::new(study.phi[0], study.phi[1]);
-            for w in crate::commands::range_warning(&problem, &fs, range, "phi", &Silent) {
-                warnings.push(format!("key `{}`: {}", w.key, w.kind));
-            }
-            let speed = problem.model.speed;
-            let full = whirl_modes_of(&rotor, &problem.settings, speed)?;
-            let s = problem.regions.clone();
-            let deadline = budget.running(&Silent, &estimate);
-            let req = CatalogueRequest { range, beta_max: study.beta_max, level, track: false };
-            let settings = &problem.settings;
-            let schedule = rotorshunt::analysis::basis::Schedule::new(&rotor, settings, speed, range.hi)?;
-            let cat = catalogue_sized(&rotor, settings, &schedule, speed, &full, &s, &req, &deadline);
-            budget.stopped(&deadline, "the case's region catalogue")?;
-            let sized = cat?;
+            let run = rotorshunt::run::Run::new(&Silent).with_budget(*budget);
+            let job = run.regions_case(&problem, &case_request(study), study.phi_op)?;
+            warnings.extend(job.warnings.iter().map(|w| format!("key `{}`: {}", w.key, w.kind)));
+            let (sized, found) = job.run()?;
             let cat = sized.answer;
             m.insert("basis_modes".into(), metric(sized.basis.modes));
             m.insert("basis_converged".into(), metric(sized.basis.converged()));
-            // The band before any file, so that a case stopped at its time limit writes none.
-            let found = match study.phi_op {
-                Some(p) => {
-                    let found = band_sized(&rotor, settings, &schedule, speed, &full, &s, range, p, level, &deadline);
-                    budget.stopped(&deadline, "the case's band search")?;
-                    Some(found?.answer)
-                }
-                None => None,
-            };
             dir.write("regions.json", (json_pretty(&cat, "the JSON output")? + "\n").as_bytes())?;
             m.insert("regions".into(), metric(cat.regions.len()));
             let lowest = cat.regions.iter().min_by(|a, b| a.onset_beta.total_cmp(&b.onset_beta));
