@@ -38,6 +38,7 @@ pub mod qp;
 pub mod robust;
 pub mod sizing;
 pub mod spec;
+pub mod text;
 pub mod tolerance;
 pub mod verify;
 pub mod vibration;
