@@ -6,14 +6,13 @@ use super::bounds::{self, Names};
 use super::{title, OutDir};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use rotorshunt::analysis::cost::{
-    self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS,
-};
+use rotorshunt::analysis::cost::{self, Budget, CatalogueWork, Dense, Driver, Estimate, PointCost};
 use rotorshunt::analysis::{Interval, Rotor};
-use rotorshunt::design::content::{chart_grid, chart_window, content, content_steps, CAMPBELL_SPEEDS};
+use rotorshunt::design::content::{chart_grid, content, content_steps, CAMPBELL_SPEEDS};
+use rotorshunt::design::evaluate::values_of;
 use rotorshunt::design::evaluate::Candidate;
-use rotorshunt::design::evaluate::{neighbourhood, values_of};
-use rotorshunt::design::spec::{DesignSpec, Objective};
+use rotorshunt::design::objective::CostAt;
+use rotorshunt::design::spec::DesignSpec;
 use rotorshunt::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
 use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
@@ -69,39 +68,14 @@ pub(crate) fn design_estimate(problem: &Problem, spec: &DesignSpec, budget: &Bud
         let pc = PointCost::of(fs);
         let seeds = reference.seeds(k, spec)?;
         let range = spec.range();
-        let work = match spec.objective {
-            Objective::WidestStableBand { .. } => {
-                let phi_op = spec.objective.phi_op().unwrap_or(range.lo);
-                cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
-            }
-            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                let windows: Vec<Interval> =
-                    spec.kept_clear().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
-                let mut work = cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level);
-                if let Some(b) = spec.constraints.min_band_width {
-                    let band = cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * b.phi_op).max(range.lo), spec.level);
-                    work = work.then(band);
-                }
-                work
-            }
-        };
+        let at = CostAt { point: &pc, regions: &s, criterion: &criterion, seeds: &seeds };
+        let work = spec.objective.candidate_cost(spec, &at);
         per_candidate = per_candidate.then(work);
         let catalogue = CatalogueWork { range, beta_max: spec.beta_max, level: spec.level, track: false };
         let cat = cost::catalogue(&pc, &s, &criterion, &seeds, &catalogue);
         // The windows checked: the band, taken as the charts' window around φ_op (half to
         // 1.5 times it), or each widened operating band.
-        let windows: Vec<Interval> = match spec.objective {
-            Objective::WidestStableBand { .. } => {
-                vec![chart_window(spec)]
-            }
-            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded().clipped(&range)).collect();
-                if spec.constraints.min_band_width.is_some() {
-                    w.push(chart_window(spec));
-                }
-                w
-            }
-        };
+        let windows: Vec<Interval> = spec.objective.checked_windows(spec);
         let mut grids = Estimate::zero();
         for w in &windows {
             let n = (w.width() / GRID_STEP).min(MAX_GRID_POINTS as f64);
@@ -310,65 +284,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         );
     }
     let mut s = format!("design: {}", status_word(o.status));
-    match spec.objective {
-        Objective::WidestStableBand { .. } => {
-            let w = |v: &[rotorshunt::design::evaluate::OperatingBand]| {
-                v.iter()
-                    .map(|b| match b.band.band {
-                        Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at {}", x.lo, x.hi, x.width(), at(b.speed)),
-                        None => format!("none (φ_op unstable) at {}", at(b.speed)),
-                    })
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            };
-            s += &format!(
-                "\nstable band at beta = {} around phi_op = {} rad/s: before {}; after {}",
-                spec.level,
-                spec.objective.phi_op().map_or_else(|| "?".into(), |p| p.to_string()),
-                w(o.before_bands()),
-                w(o.after_bands())
-            );
-            if let Some(b) = o.after_bands().first() {
-                s += &format!("\nguarantee: {}", b.band.guarantee);
-            }
-            if let Some(r) = &o.speed_check {
-                s += &format!(
-                    "\nspeed range {}",
-                    rotorshunt::design::robust::speed_range_text(o.speed_check_before.as_ref(), r)
-                );
-            }
-            if let Some(r) = &o.robustness {
-                s += &format!(
-                    "\nas built ({}): {}",
-                    r.tolerances.text(),
-                    rotorshunt::design::robust::guaranteed_text(r)
-                );
-            }
-        }
-        Objective::ClearBands { .. } => {
-            s += &format!(
-                "\nbands: {} tongue(s) inside before, {} after",
-                o.before_intrusions().len(),
-                o.after_intrusions().len()
-            );
-            if o.status == Status::Infeasible {
-                for it in o.after_intrusions() {
-                    let b = &spec.objective.bands()[it.band];
-                    s += &format!(
-                        "\nviolated: band [{}, {}] (clearance {}) at {}: {} at [{:.2}, {:.2}] rad/s",
-                        b.lo,
-                        b.hi,
-                        b.clearance,
-                        at(it.speed),
-                        it.label,
-                        it.left,
-                        it.right
-                    );
-                }
-            }
-        }
-        Objective::MinPeakResponse { .. } => {}
-    }
+    s += &spec.objective.summary(o);
     if let Some(f) = o.peak_findings() {
         let p = |d: &rotorshunt::design::optimise::JudgedDesign| {
             format!("{:.4e} m at {:.2} rad/s", d.peak.amplitude, d.peak.speed)

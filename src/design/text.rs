@@ -1,5 +1,5 @@
-//! Speeds, bands and band edges in words: pieces of report text that the design layer
-//! writes too.
+//! Speeds, bands and band edges in words: the pieces of text the objectives' report lines
+//! ([`crate::design::objective`]) and the report layer share.
 
 use crate::analysis::regions::{Band, Bound};
 use crate::numbers::SpeedUnit;

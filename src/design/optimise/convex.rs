@@ -172,7 +172,7 @@ fn convex_run(ctx: &Context<'_>, u0: &[f64], reference: &[f64]) -> Result<Convex
     Ok(ConvexRun { u, intrusions: ints, steps, linear_infeasible })
 }
 
-pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
     let spec = ctx.spec;
     let n = spec.variables.len();
     let reference = to_unit(spec, &out.before);

@@ -388,7 +388,7 @@ fn signed_margin(c: &ConstraintCheck) -> f64 {
 
 /// The min-peak-response run: fills the starts, history, tuned values and
 /// [`Findings::MinPeak`].
-pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
     let spec = ctx.spec;
     let reference = to_unit(spec, &out.before);
     let classic = classic_tuning(ctx.base, spec)?;

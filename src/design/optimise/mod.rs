@@ -4,7 +4,7 @@
 use super::evaluate::{follow, intrusions, values_of, Candidate, Intrusion, OperatingBand};
 use super::machine::Machine;
 use super::qp::{self, Linear, Step, StepProblem};
-use super::spec::{DesignSpec, Objective, Parameter, Variable};
+use super::spec::{DesignSpec, Parameter, Variable};
 use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
 use super::DesignError;
 use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
@@ -26,21 +26,23 @@ mod outcome;
 mod verification;
 
 use best::{BestSoFar, Rank};
-use convex::clear_bands;
-use min_peak::min_peak;
+pub(crate) use convex::clear_bands;
+pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
-use nelder_mead::widest_band;
+pub(crate) use nelder_mead::widest_band;
 pub use observer::{Observation, Observer};
 pub use outcome::{
-    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, HistoryPoint, StartReport, Status, VibrationReport,
-    REPORT_DAMPING_WHIRLS,
+    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, FindingsKind, HistoryPoint, StartReport, Status,
+    VibrationReport, REPORT_DAMPING_WHIRLS,
 };
 
 /// Cost of a candidate whose analysis failed (rad/s, far worse than any band).
 const FAILED_COST: f64 = 1.0e9;
 
-/// Shared state of a run: the base machine, counters and the progress observer.
-struct Context<'a> {
+/// Shared state of an optimisation round, which an objective's optimiser works with
+/// ([`crate::design::objective::Objective::optimise`]): the base machine, the spec, the
+/// counters, the progress and the caller's observer, the reference design and the starts.
+pub struct Context<'a> {
     base: &'a Machine,
     spec: &'a DesignSpec,
     regions: RegionSettings,
@@ -200,24 +202,11 @@ fn halton(i: usize, dims: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The most candidates a design of `spec` builds: Nelder–Mead: the simplex and 2 per
-/// iteration, per start, then each start's final point and the reference; clear-bands:
-/// the global pass (4 per start and the reference), 2·(2·variables + 1) per convex step,
-/// and the result. An optimiser that converges early builds fewer.
+/// The most candidates a design of `spec` builds (its objective's
+/// [`crate::design::objective::Objective::most_candidates`]). An optimiser that converges
+/// early builds fewer.
 pub fn most_candidates(spec: &DesignSpec) -> usize {
-    let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
-    match spec.objective {
-        Objective::WidestStableBand { .. } => starts * (2 * iterations + variables + 1) + starts + 1,
-        Objective::ClearBands { .. } => 4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1,
-        // The reference and classic designs; each start's simplex and 2 per iteration,
-        // twice (without and with constraints); the convex steps' differences and trials
-        // (clear-bands' linearisation of the bands included).
-        Objective::MinPeakResponse { .. } => {
-            let runs = if spec.constraints.is_empty() { 1 } else { 2 };
-            let starts = starts.max(3);
-            2 + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
-        }
-    }
+    spec.objective.most_candidates(spec)
 }
 
 /// Run the design of `base.design`, first checked by the `[design]` rules
@@ -366,11 +355,7 @@ fn optimise_round(
         best,
     };
     let mut out = DesignOutcome::empty(spec, before);
-    match &spec.objective {
-        Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
-        Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
-        Objective::MinPeakResponse { .. } => min_peak(&ctx, &mut out)?,
-    }
+    spec.objective.optimise(&ctx, &mut out)?;
     out.candidates = ctx.candidates.load(Ordering::Relaxed);
     out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
     out.first_failure = ctx.first_failure.lock().unwrap_or_else(|p| p.into_inner()).clone();

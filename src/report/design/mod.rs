@@ -10,7 +10,6 @@ pub mod pareto;
 
 pub use figures::figures;
 
-use crate::analysis::regions::Bound;
 use crate::design::DesignOutcome;
 use serde::Serialize;
 use std::fmt::Write;
@@ -57,7 +56,7 @@ pub struct DesignReport {
 }
 
 pub use crate::design::text::speed_text;
-use crate::design::text::{band_text, bound_text, speed_cell, speed_header};
+use crate::design::text::{speed_cell, speed_header};
 
 pub(super) fn opt(x: Option<f64>, digits: usize) -> String {
     x.map(|v| format!("{v:.digits$}")).unwrap_or_else(|| "–".into())
