@@ -1,7 +1,7 @@
 //! The design runs: multi-start Nelder–Mead for the widest stable band, sequential convex
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
-use super::evaluate::{follow, intrusions, values_of, Candidate, Intrusion, OperatingBand};
+use super::evaluate::{follow, intrusions, values_of, Candidate, EvalContext, Intrusion, OperatingBand};
 use super::machine::Machine;
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Parameter, Variable};
@@ -91,6 +91,12 @@ impl std::fmt::Debug for RunOptions {
 }
 
 impl Context<'_> {
+    /// The context every judgement of a candidate in the run reads: the spec, the region
+    /// settings and the run's Floquet counter.
+    fn eval(&self) -> EvalContext<'_> {
+        EvalContext { spec: self.spec, regions: &self.regions, count: &self.floquet }
+    }
+
     /// Hand one history entry to the caller's observer, with the candidate's scaled
     /// variables `u` (empty: none).
     fn observe(&self, point: HistoryPoint, u: &[f64]) {
@@ -149,11 +155,11 @@ impl Context<'_> {
     /// ([`robust::judged_at`]), the cheaper set docs/decisions.md ("Design speed")
     /// measures against every corner at every speed. With the nominal bands.
     fn judged(&self, c: &Candidate, phi_op: f64) -> Result<(f64, Vec<OperatingBand>), DesignError> {
-        let (spec, s, count) = (self.spec, &self.regions, &self.floquet);
-        let nominal = robust::judged(c, spec, phi_op, s, count, MARGIN_PENALTY)?;
+        let (spec, ev) = (self.spec, &self.eval());
+        let nominal = robust::judged(c, ev, phi_op, MARGIN_PENALTY)?;
         let (worst_speed, mut value) = match spec.speed_range {
             Some(_) => {
-                let (w, width) = robust::refined_worst(c, spec, phi_op, &nominal.bands, s, count)?;
+                let (w, width) = robust::refined_worst(c, ev, phi_op, &nominal.bands)?;
                 (Some(w), nominal.smallest.min(width) - nominal.penalty)
             }
             None => (None, nominal.value()),
@@ -163,8 +169,8 @@ impl Context<'_> {
             let worst = corners[1..]
                 .par_iter()
                 .map(|p| match worst_speed {
-                    Some(w) => robust::judged_at(&c.perturbed_rotor(p)?, spec, phi_op, w, s, count, MARGIN_PENALTY),
-                    None => Ok(robust::judged(&c.perturbed(spec, p)?, spec, phi_op, s, count, MARGIN_PENALTY)?.value()),
+                    Some(w) => robust::judged_at(&c.perturbed_rotor(p)?, ev, phi_op, w, MARGIN_PENALTY),
+                    None => Ok(robust::judged(&c.perturbed(spec, p)?, ev, phi_op, MARGIN_PENALTY)?.value()),
                 })
                 .collect::<Result<Vec<f64>, DesignError>>()?;
             value = worst.into_iter().fold(value, f64::min);
