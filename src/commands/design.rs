@@ -6,7 +6,6 @@ use super::{title, OutDir};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
 use rotorshunt::analysis::cost::Budget;
-use rotorshunt::design::spec::Objective;
 use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
@@ -152,65 +151,7 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
         );
     }
     let mut s = format!("design: {}", status_word(o.status));
-    match spec.objective {
-        Objective::WidestStableBand { .. } => {
-            let w = |v: &[rotorshunt::design::evaluate::OperatingBand]| {
-                v.iter()
-                    .map(|b| match b.band.band {
-                        Some(x) => format!("[{:.2}, {:.2}] ({:.2} rad/s) at {}", x.lo, x.hi, x.width(), at(b.speed)),
-                        None => format!("none (φ_op unstable) at {}", at(b.speed)),
-                    })
-                    .collect::<Vec<_>>()
-                    .join("; ")
-            };
-            s += &format!(
-                "\nstable band at beta = {} around phi_op = {} rad/s: before {}; after {}",
-                spec.level,
-                spec.objective.phi_op().map_or_else(|| "?".into(), |p| p.to_string()),
-                w(o.before_bands()),
-                w(o.after_bands())
-            );
-            if let Some(b) = o.after_bands().first() {
-                s += &format!("\nguarantee: {}", b.band.guarantee);
-            }
-            if let Some(r) = &o.speed_check {
-                s += &format!(
-                    "\nspeed range {}",
-                    rotorshunt::design::robust::speed_range_text(o.speed_check_before.as_ref(), r)
-                );
-            }
-            if let Some(r) = &o.robustness {
-                s += &format!(
-                    "\nas built ({}): {}",
-                    r.tolerances.text(),
-                    rotorshunt::design::robust::guaranteed_text(r)
-                );
-            }
-        }
-        Objective::ClearBands { .. } => {
-            s += &format!(
-                "\nbands: {} tongue(s) inside before, {} after",
-                o.before_intrusions().len(),
-                o.after_intrusions().len()
-            );
-            if o.status == Status::Infeasible {
-                for it in o.after_intrusions() {
-                    let b = &spec.objective.bands()[it.band];
-                    s += &format!(
-                        "\nviolated: band [{}, {}] (clearance {}) at {}: {} at [{:.2}, {:.2}] rad/s",
-                        b.lo,
-                        b.hi,
-                        b.clearance,
-                        at(it.speed),
-                        it.label,
-                        it.left,
-                        it.right
-                    );
-                }
-            }
-        }
-        Objective::MinPeakResponse { .. } => {}
-    }
+    s += &spec.objective.summary(o);
     if let Some(f) = o.peak_findings() {
         let p = |d: &rotorshunt::design::optimise::JudgedDesign| {
             format!("{:.4e} m at {:.2} rad/s", d.peak.amplitude, d.peak.speed)

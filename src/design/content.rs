@@ -5,7 +5,7 @@
 //! mode shape.
 
 use super::evaluate::Candidate;
-use super::spec::{Band, DesignSpec, Objective};
+use super::spec::{Band, DesignSpec};
 use super::DesignError;
 use crate::analysis::campbell::{campbell, CampbellResult};
 use crate::analysis::chart::{chart, ChartResult};
@@ -125,23 +125,11 @@ pub fn pair_whirls(spec: &DesignSpec, before: &Candidate, after: &Candidate) -> 
     Ok(out)
 }
 
-/// The φ window of the charts: half to 1.5 times φ_op for the widest band, the
-/// operating bands widened by their clearances and a quarter of their span each side
-/// otherwise, inside the design's range (rad/s).
+/// The φ window of the charts: the objective's
+/// ([`crate::design::objective::Objective::chart_window`], e.g. half to 1.5 times φ_op for
+/// the widest band), inside the design's range (rad/s).
 pub fn chart_window(spec: &DesignSpec) -> Interval {
-    let (lo, hi) = match spec.objective {
-        Objective::WidestStableBand { .. } => {
-            let p = spec.objective.phi_op().unwrap_or(spec.phi_range.0);
-            (p * 0.5, p * 1.5)
-        }
-        Objective::ClearBands { .. } => band_window(spec.kept_clear()),
-        // The bands kept clear, else φ_op's, else the whole range.
-        Objective::MinPeakResponse { .. } => match spec.phi_op() {
-            _ if !spec.kept_clear().is_empty() => band_window(spec.kept_clear()),
-            Some(p) => (p * 0.5, p * 1.5),
-            None => spec.phi_range,
-        },
-    };
+    let (lo, hi) = spec.objective.chart_window(spec);
     Interval::new(lo.max(spec.phi_range.0), hi.min(spec.phi_range.1))
 }
 
@@ -161,7 +149,7 @@ pub fn drawn_window(spec: &DesignSpec, bands: &[Interval]) -> Interval {
 }
 
 /// The window around operating bands: their widened span and a quarter of it each side.
-fn band_window(bands: &[Band]) -> (f64, f64) {
+pub fn band_window(bands: &[Band]) -> (f64, f64) {
     let lo = bands.iter().map(|b| b.guarded().lo).fold(f64::INFINITY, f64::min);
     let hi = bands.iter().map(|b| b.guarded().hi).fold(0.0, f64::max);
     (lo - 0.25 * (hi - lo), hi + 0.25 * (hi - lo))

@@ -170,32 +170,35 @@ impl OperatingBand {
     }
 }
 
+/// What judging a candidate reads besides the candidate: the design problem, the region
+/// search's settings, and the counter its Floquet evaluations are added to (whose
+/// progress also says when to stop).
+#[derive(Debug, Clone, Copy)]
+pub struct EvalContext<'a> {
+    /// The design problem.
+    pub spec: &'a DesignSpec,
+    /// The region search's settings.
+    pub regions: &'a RegionSettings,
+    /// The Floquet evaluations of the searches.
+    pub count: &'a Counter<'a>,
+}
+
 /// The band around φ_op at every speed; the objective is the smallest signed width.
-pub fn operating_bands(
-    c: &Candidate,
-    spec: &DesignSpec,
-    phi_op: f64,
-    s: &RegionSettings,
-    count: &Counter,
-) -> Result<Vec<OperatingBand>, DesignError> {
-    operating_bands_at(c, spec, phi_op, spec.level, s, count)
+pub fn operating_bands(c: &Candidate, ev: &EvalContext<'_>, phi_op: f64) -> Result<Vec<OperatingBand>, DesignError> {
+    operating_bands_at(c, ev, phi_op, ev.spec.level)
 }
 
 /// The band around φ_op at the load `level` (−) at every speed ([`operating_bands`] at
 /// another level: the margin level of `[design.margins]`).
 pub fn operating_bands_at(
     c: &Candidate,
-    spec: &DesignSpec,
+    ev: &EvalContext<'_>,
     phi_op: f64,
     level: f64,
-    s: &RegionSettings,
-    count: &Counter,
 ) -> Result<Vec<OperatingBand>, DesignError> {
     c.systems
         .iter()
-        .map(|(speed, fs)| {
-            Ok(OperatingBand { speed: *speed, band: band_of_system(c, spec, fs, phi_op, level, s, count)? })
-        })
+        .map(|(speed, fs)| Ok(OperatingBand { speed: *speed, band: band_of_system(c, ev, fs, phi_op, level)? }))
         .collect()
 }
 
@@ -204,19 +207,17 @@ pub fn operating_bands_at(
 /// design's φ range, with the seeds of that range ([`Candidate::seeds_of`]).
 pub fn band_of_system(
     c: &Candidate,
-    spec: &DesignSpec,
+    ev: &EvalContext<'_>,
     fs: &FloquetSystem,
     phi_op: f64,
     level: f64,
-    s: &RegionSettings,
-    count: &Counter,
 ) -> Result<Band, DesignError> {
-    let seeds = c.seeds_of(fs, spec)?;
+    let seeds = c.seeds_of(fs, ev.spec)?;
     // The search stops when the run is asked to; its evaluations are counted below.
-    let ask = AskOnly(count.progress());
-    let probe = Probe::reporting(fs, s, &ask);
-    let band = band_around(&Level::new(&probe, c.criterion(), level, spec.range()), &seeds, phi_op);
-    count.add(probe.evaluations());
+    let ask = AskOnly(ev.count.progress());
+    let probe = Probe::reporting(fs, ev.regions, &ask);
+    let band = band_around(&Level::new(&probe, c.criterion(), level, ev.spec.range()), &seeds, phi_op);
+    ev.count.add(probe.evaluations());
     Ok(band)
 }
 
@@ -333,17 +334,13 @@ fn intrusion_of(
 /// clearance) or next to it, at every speed, from the unstable set at β_op over each
 /// band's neighbourhood ([`Level::scan`]: seeds of every order up to the criterion's and
 /// the guard lattice).
-pub fn intrusions(
-    c: &Candidate,
-    spec: &DesignSpec,
-    s: &RegionSettings,
-    count: &Counter,
-) -> Result<Vec<Intrusion>, DesignError> {
+pub fn intrusions(c: &Candidate, ev: &EvalContext<'_>) -> Result<Vec<Intrusion>, DesignError> {
+    let spec = ev.spec;
     let mut out = Vec::new();
     for (k, (speed, fs)) in c.systems.iter().enumerate() {
         let seeds = c.seeds(k, spec)?;
-        let ask = AskOnly(count.progress());
-        let probe = Probe::reporting(fs, s, &ask);
+        let ask = AskOnly(ev.count.progress());
+        let probe = Probe::reporting(fs, ev.regions, &ask);
         let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
         for (i, band) in spec.kept_clear().iter().enumerate() {
             let near = neighbourhood(band).clipped(&spec.range());
@@ -353,7 +350,7 @@ pub fn intrusions(
                 out.extend(intrusion_of(&t, &seeds, *speed, i, band, onset.beta.unwrap_or(spec.level)));
             }
         }
-        count.add(probe.evaluations());
+        ev.count.add(probe.evaluations());
     }
     Ok(out)
 }
@@ -363,17 +360,16 @@ pub fn intrusions(
 /// old width plus `search` (rad/s). (onset upper bound, left, right) at β_op.
 pub fn follow(
     c: &Candidate,
-    spec: &DesignSpec,
-    s: &RegionSettings,
+    ev: &EvalContext<'_>,
     it: &Intrusion,
     search: f64,
-    count: &Counter,
 ) -> Result<Option<(f64, f64, f64)>, DesignError> {
+    let spec = ev.spec;
     let Some(k) = spec.speeds.iter().position(|&w| w == it.speed) else { return Ok(None) };
     let fs = &c.systems[k].1;
     let seeds = c.seeds(k, spec)?;
-    let ask = AskOnly(count.progress());
-    let probe = Probe::reporting(fs, s, &ask);
+    let ask = AskOnly(ev.count.progress());
+    let probe = Probe::reporting(fs, ev.regions, &ask);
     let level = Level::new(&probe, c.criterion(), spec.level, spec.range());
     let point = match it.identity {
         Some((pair, order)) => seeds
@@ -394,6 +390,6 @@ pub fn follow(
         let onset = probe.critical_load_below(p, spec.level);
         Some((onset.beta.unwrap_or(spec.level), e.lo, e.hi))
     });
-    count.add(probe.evaluations());
+    ev.count.add(probe.evaluations());
     Ok(out)
 }

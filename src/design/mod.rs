@@ -1,7 +1,7 @@
 //! Shunt design: choose C_f, L (or the tuning frequency of Eq. 4) and R of the branches so
 //! that instability regions stay out of the operating bands.
 //!
-//! Three objectives (see [`spec::Objective`]):
+//! Three objectives, each a module of [`objective`] behind its trait:
 //! - **widest stable band**: an outer Nelder–Mead (argmin) over the variables scaled to
 //!   [0, 1] (log for C_f, L, ω), maximising the smallest width over the speeds of the
 //!   stable band at β_op containing φ_op, by the same function as `rotorshunt band`
@@ -32,12 +32,14 @@ pub mod checks;
 pub mod content;
 pub mod evaluate;
 pub mod machine;
+pub mod objective;
 pub mod optimise;
 pub mod pareto;
 pub mod qp;
 pub mod robust;
 pub mod sizing;
 pub mod spec;
+pub mod text;
 pub mod tolerance;
 pub mod verify;
 pub mod vibration;

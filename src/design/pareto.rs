@@ -21,8 +21,10 @@
 //! ([`crate::design::vibration::peak_recheck`]).
 
 use super::machine::Machine;
+use super::objective::min_peak::MinPeakResponse;
+use super::objective::widest_band::WidestStableBand;
 use super::optimise::{run_with, RunOptions};
-use super::spec::{BandWidth, DesignSpec, Objective, Response};
+use super::spec::{BandWidth, DesignSpec, Response};
 use super::verify::{PEAK_AGREEMENT, PEAK_GRID_FACTOR, SAME_EDGE};
 use super::vibration::{peak_recheck, Baseline, PeakValue};
 use super::{DesignError, DesignOutcome, Status};
@@ -71,26 +73,7 @@ pub fn trade_off(spec: &DesignSpec) -> Result<TradeOff, NoTradeOff> {
             "a front's points are min-peak-response designs, and component tolerances are judged for widest-stable-band alone: drop [design.tolerances] for the front",
         ));
     }
-    match &spec.objective {
-        Objective::ClearBands { .. } => Err(refuse(
-            "design.objective",
-            "clear-bands has a single objective (the least change that clears the bands), so there is no trade-off: a front trades the peak unbalance response against the stable band around phi_op (min-peak-response with phi_op and constraints.min_band_width, or widest-stable-band with [design.response])",
-        )),
-        Objective::MinPeakResponse { response } => match spec.constraints.min_band_width {
-            Some(b) => Ok(TradeOff { phi_op: b.phi_op, response: response.clone() }),
-            None => Err(refuse(
-                "design.objective",
-                "min-peak-response without a band around phi_op has no trade-off: add phi_op and constraints.min_band_width (rad/s), whose band the front widens",
-            )),
-        },
-        Objective::WidestStableBand { phi_op } => match spec.response() {
-            Some(r) => Ok(TradeOff { phi_op: *phi_op, response: r.clone() }),
-            None => Err(refuse(
-                "design.objective",
-                "widest-stable-band without [design.response] has no trade-off: add [design.response] (node, speeds), whose peak the front lowers",
-            )),
-        },
-    }
+    spec.objective.trade_off(spec)
 }
 
 /// The design of one point: the least peak with a band at least `width` wide (rad/s)
@@ -101,7 +84,7 @@ pub fn point_spec(spec: &DesignSpec, t: &TradeOff, width: Option<f64>) -> Design
         Some(width) => {
             constraints.min_band_width = Some(BandWidth { phi_op: t.phi_op, width });
             DesignSpec {
-                objective: Objective::MinPeakResponse { response: t.response.clone() },
+                objective: MinPeakResponse { response: t.response.clone() }.into(),
                 response: None,
                 constraints,
                 ..spec.clone()
@@ -110,7 +93,7 @@ pub fn point_spec(spec: &DesignSpec, t: &TradeOff, width: Option<f64>) -> Design
         None => {
             constraints.min_band_width = None;
             DesignSpec {
-                objective: Objective::WidestStableBand { phi_op: t.phi_op },
+                objective: WidestStableBand { phi_op: t.phi_op }.into(),
                 response: Some(t.response.clone()),
                 constraints,
                 ..spec.clone()
@@ -387,9 +370,11 @@ pub fn front(base: &Machine, spec: &DesignSpec, k: usize, progress: &dyn Progres
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::objective::clear_bands::ClearBands;
+    use crate::design::objective::AnyObjective;
     use crate::design::spec::{Band, Constraints};
 
-    fn spec(objective: Objective, constraints: Constraints, response: Option<Response>) -> DesignSpec {
+    fn spec(objective: AnyObjective, constraints: Constraints, response: Option<Response>) -> DesignSpec {
         DesignSpec {
             objective,
             level: 0.3,
@@ -417,15 +402,15 @@ mod tests {
     fn only_a_peak_against_a_band_is_a_trade_off() {
         let width =
             Constraints { min_band_width: Some(BandWidth { phi_op: 370.0, width: 225.0 }), ..Default::default() };
-        let min_peak = Objective::MinPeakResponse { response: response() };
+        let min_peak = AnyObjective::new(MinPeakResponse { response: response() });
         let t = trade_off(&spec(min_peak.clone(), width.clone(), None)).unwrap();
         assert_eq!((t.phi_op, t.response.node), (370.0, 16));
         let e = trade_off(&spec(min_peak, Constraints::default(), None)).unwrap_err();
         assert_eq!(e.key, "design.objective");
-        let widest = Objective::WidestStableBand { phi_op: 1230.0 };
+        let widest = AnyObjective::new(WidestStableBand { phi_op: 1230.0 });
         assert_eq!(trade_off(&spec(widest.clone(), Constraints::default(), Some(response()))).unwrap().phi_op, 1230.0);
         assert!(trade_off(&spec(widest, Constraints::default(), None)).is_err());
-        let clear = Objective::ClearBands { bands: vec![Band { lo: 1.0, hi: 2.0, clearance: 0.0 }] };
+        let clear = AnyObjective::new(ClearBands { bands: vec![Band { lo: 1.0, hi: 2.0, clearance: 0.0 }] });
         assert!(trade_off(&spec(clear, width, Some(response()))).unwrap_err().reason.contains("single objective"));
     }
 
@@ -436,7 +421,7 @@ mod tests {
             max_peak: Some(1e-2),
             ..Default::default()
         };
-        let s = spec(Objective::MinPeakResponse { response: response() }, c, None);
+        let s = spec(MinPeakResponse { response: response() }.into(), c, None);
         let t = trade_off(&s).unwrap();
         let p = point_spec(&s, &t, Some(100.0));
         assert_eq!(p.constraints.min_band_width.map(|b| b.width), Some(100.0));

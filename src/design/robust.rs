@@ -11,7 +11,7 @@
 //! failing build named (a corner before a sample).
 
 use super::evaluate::{
-    band_of_system, margin_shortfall, operating_bands, operating_bands_at, Candidate, OperatingBand,
+    band_of_system, margin_shortfall, operating_bands, operating_bands_at, Candidate, EvalContext, OperatingBand,
 };
 use super::spec::DesignSpec;
 use super::tolerance::{Perturbation, Tolerances};
@@ -103,17 +103,11 @@ impl Judged {
 
 /// One build of a candidate judged on the speed grid ([`Judged`]), with `penalty` per
 /// rad/s of margin shortfall.
-pub fn judged(
-    c: &Candidate,
-    spec: &DesignSpec,
-    phi_op: f64,
-    s: &RegionSettings,
-    count: &Counter,
-    penalty: f64,
-) -> Result<Judged, DesignError> {
-    let bands = operating_bands(c, spec, phi_op, s, count)?;
+pub fn judged(c: &Candidate, ev: &EvalContext<'_>, phi_op: f64, penalty: f64) -> Result<Judged, DesignError> {
+    let spec = ev.spec;
+    let bands = operating_bands(c, ev, phi_op)?;
     let penalty = match spec.constraints.margins {
-        Some(m) => penalty * margin_shortfall(&operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?, &m),
+        Some(m) => penalty * margin_shortfall(&operating_bands_at(c, ev, phi_op, m.level(spec.level))?, &m),
         None => 0.0,
     };
     Ok(Judged { smallest: smallest_counted(&bands), penalty, bands })
@@ -122,21 +116,13 @@ pub fn judged(
 /// One build of a candidate judged at one speed `w` (rad/s) outside its grid: the signed
 /// width of its band around φ_op there, less `penalty` per rad/s of margin shortfall at
 /// the margin level there.
-pub fn judged_at(
-    c: &Candidate,
-    spec: &DesignSpec,
-    phi_op: f64,
-    w: f64,
-    s: &RegionSettings,
-    count: &Counter,
-    penalty: f64,
-) -> Result<f64, DesignError> {
+pub fn judged_at(c: &Candidate, ev: &EvalContext<'_>, phi_op: f64, w: f64, penalty: f64) -> Result<f64, DesignError> {
+    let spec = ev.spec;
     let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
-    let band = OperatingBand { speed: w, band: band_of_system(c, spec, &fs, phi_op, spec.level, s, count)? };
+    let band = OperatingBand { speed: w, band: band_of_system(c, ev, &fs, phi_op, spec.level)? };
     let penalty = match spec.constraints.margins {
         Some(m) => {
-            let at =
-                OperatingBand { speed: w, band: band_of_system(c, spec, &fs, phi_op, m.level(spec.level), s, count)? };
+            let at = OperatingBand { speed: w, band: band_of_system(c, ev, &fs, phi_op, m.level(spec.level))? };
             penalty * margin_shortfall(&[at], &m)
         }
         None => 0.0,
@@ -154,11 +140,9 @@ pub const SPEED_REFINEMENTS: usize = 4;
 /// speed; the fine verification grid checks what the refinement cannot promise.
 pub fn refined_worst(
     c: &Candidate,
-    spec: &DesignSpec,
+    ev: &EvalContext<'_>,
     phi_op: f64,
     bands: &[OperatingBand],
-    s: &RegionSettings,
-    count: &Counter,
 ) -> Result<(f64, f64), DesignError> {
     let (k, worst) = bands
         .iter()
@@ -168,7 +152,7 @@ pub fn refined_worst(
         .ok_or_else(|| DesignError::Optimiser("no operating speed".into()))?;
     let at = |w: f64| -> Result<f64, DesignError> {
         let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
-        Ok(band_of_system(c, spec, &fs, phi_op, spec.level, s, count)?.counted_width())
+        Ok(band_of_system(c, ev, &fs, phi_op, ev.spec.level)?.counted_width())
     };
     let speeds: Vec<f64> = bands.iter().map(|b| b.speed).collect();
     let (mut a, mut b) = (speeds[k.saturating_sub(1)], speeds[(k + 1).min(speeds.len() - 1)]);
@@ -209,21 +193,15 @@ pub fn smallest_counted(bands: &[OperatingBand]) -> f64 {
 }
 
 /// One build judged ([`Build`]) at the speeds of `built`'s reduced systems.
-fn build(
-    built: &Candidate,
-    spec: &DesignSpec,
-    phi_op: f64,
-    p: &Perturbation,
-    s: &RegionSettings,
-    count: &Counter,
-) -> Result<Build, DesignError> {
-    let bands = operating_bands(built, spec, phi_op, s, count)?;
+fn build(built: &Candidate, ev: &EvalContext<'_>, phi_op: f64, p: &Perturbation) -> Result<Build, DesignError> {
+    let spec = ev.spec;
+    let bands = operating_bands(built, ev, phi_op)?;
     let mut failure = None;
     if let Some(b) = bands.iter().find(|b| b.band.band.is_none()) {
         failure = Some(format!("phi_op = {phi_op} rad/s is unstable at Omega = {} rad/s", b.speed));
     }
     if let (None, Some(m)) = (&failure, spec.constraints.margins) {
-        let at = operating_bands_at(built, spec, phi_op, m.level(spec.level), s, count)?;
+        let at = operating_bands_at(built, ev, phi_op, m.level(spec.level))?;
         let short = margin_shortfall(&at, &m);
         if short > 0.0 {
             failure = Some(format!(
@@ -259,11 +237,12 @@ pub fn check(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Robustness, DesignError> {
     let count = Counter::default();
+    let ev = EvalContext { spec, regions: s, count: &count };
     let corners: Vec<Build> = t
         .corners()
         .par_iter()
         .map(|p| {
-            let b = build(&c.perturbed(spec, p)?, spec, phi_op, p, s, &count);
+            let b = build(&c.perturbed(spec, p)?, &ev, phi_op, p);
             tick();
             b
         })
@@ -307,7 +286,7 @@ pub fn check(
                 }
                 None => c.perturbed(spec, p)?,
             };
-            let b = build(&built, spec, phi_op, p, s, &count);
+            let b = build(&built, &ev, phi_op, p);
             tick();
             b
         })
@@ -420,19 +399,20 @@ pub fn speed_check(
     tick: &(dyn Fn() + Sync),
 ) -> Result<SpeedCheck, DesignError> {
     let count = Counter::default();
+    let ev = EvalContext { spec, regions: s, count: &count };
     let grid = crate::design::spec::speed_grid(range, crate::design::spec::VERIFY_SPEEDS);
     let judged: Vec<(f64, crate::analysis::regions::Band, Option<String>)> = grid
         .par_iter()
         .map(|&w| {
             let fs = FloquetSystem::new(&c.rotor, &c.machine.settings, w)?;
-            let band = band_of_system(c, spec, &fs, phi_op, spec.level, s, &count)?;
+            let band = band_of_system(c, &ev, &fs, phi_op, spec.level)?;
             let mut why = None;
             if band.band.is_none() {
                 why = Some(format!("phi_op = {phi_op} rad/s is unstable"));
             } else if let Some(min) = spec.constraints.min_band_width.filter(|m| band.signed_width() < m.width) {
                 why = Some(format!("the band is {:.3} rad/s wide, below {} rad/s", band.signed_width(), min.width));
             } else if let Some(m) = spec.constraints.margins {
-                let at = band_of_system(c, spec, &fs, phi_op, m.level(spec.level), s, &count)?;
+                let at = band_of_system(c, &ev, &fs, phi_op, m.level(spec.level))?;
                 let short = margin_shortfall(&[OperatingBand { speed: w, band: at }], &m);
                 if short > 0.0 {
                     why = Some(format!("the frequency margin at the margin level is short by {short:.3} rad/s"));

@@ -18,7 +18,7 @@
 //! of a region found on both bases within the onset tolerance. It shares the optimiser's search
 //! code but not its truncation, which is the blind spot a design parks its edges in.
 
-use super::evaluate::Candidate;
+use super::evaluate::{Candidate, EvalContext};
 use super::machine::Machine;
 use super::spec::DesignSpec;
 use super::DesignError;
@@ -177,15 +177,13 @@ pub struct RefinedCheck {
 /// compares nothing and says so.
 pub fn refined_check(
     tuned: &Candidate,
-    spec: &DesignSpec,
-    s: &RegionSettings,
+    ev: &EvalContext<'_>,
     bands: &[Option<crate::analysis::regions::Band>],
-    count: &Counter,
     progress: &dyn Progress,
 ) -> Result<Vec<RefinedCheck>, DesignError> {
     let tally = Tally::new(progress);
-    let checks = refined_checks(tuned, spec, s, bands, &tally);
-    count.add(tally.evaluations() as usize);
+    let checks = refined_checks(tuned, ev.spec, ev.regions, bands, &tally);
+    ev.count.add(tally.evaluations() as usize);
     checks
 }
 

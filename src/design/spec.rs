@@ -3,71 +3,11 @@
 
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
+pub use crate::design::objective::ObjectiveKind;
+use crate::design::objective::{AnyObjective, ObjectiveKeys};
 pub use crate::design::tolerance::Tolerances;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
-
-/// The kind of objective, as `design.objective` names it in a problem file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ObjectiveKind {
-    /// `widest-stable-band`: see [`Objective::WidestStableBand`].
-    WidestStableBand,
-    /// `clear-bands`: see [`Objective::ClearBands`].
-    ClearBands,
-    /// `min-peak-response`: see [`Objective::MinPeakResponse`].
-    MinPeakResponse,
-}
-
-/// What the optimiser is asked to do, with the data the objective needs.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Objective {
-    /// Maximise the width of the stable band at β_op containing φ_op (the smallest over
-    /// the speeds).
-    WidestStableBand {
-        /// The operating frequency φ_op (rad/s) whose stable band is widened.
-        phi_op: f64,
-    },
-    /// Keep every operating band clear of instability at β_op by its clearance, with the
-    /// least weighted change to the reference design.
-    ClearBands {
-        /// The operating bands (at least one).
-        bands: Vec<Band>,
-    },
-    /// Minimise the largest unbalance amplitude (m) at a shaft node over a speed range
-    /// (the steady-state response of [`crate::analysis::unbalance`], peaks refined).
-    MinPeakResponse {
-        /// Where and over which speeds the response is minimised.
-        response: Response,
-    },
-}
-
-impl Objective {
-    /// The kind, as named in the file.
-    pub fn kind(&self) -> ObjectiveKind {
-        match self {
-            Objective::WidestStableBand { .. } => ObjectiveKind::WidestStableBand,
-            Objective::ClearBands { .. } => ObjectiveKind::ClearBands,
-            Objective::MinPeakResponse { .. } => ObjectiveKind::MinPeakResponse,
-        }
-    }
-
-    /// φ_op (rad/s) of the widest-stable-band objective.
-    pub fn phi_op(&self) -> Option<f64> {
-        match self {
-            Objective::WidestStableBand { phi_op } => Some(*phi_op),
-            Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => None,
-        }
-    }
-
-    /// The operating bands of the clear-bands objective (empty for the others).
-    pub fn bands(&self) -> &[Band] {
-        match self {
-            Objective::WidestStableBand { .. } | Objective::MinPeakResponse { .. } => &[],
-            Objective::ClearBands { bands } => bands,
-        }
-    }
-}
 
 /// Where and over which speeds an unbalance response is judged (`[design.response]`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -242,8 +182,9 @@ impl Band {
 /// A validated design problem.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DesignSpec {
-    /// The objective and its data.
-    pub objective: Objective,
+    /// The objective and its data (a type of [`crate::design::objective`], e.g.
+    /// [`crate::design::objective::widest_band::WidestStableBand`]).
+    pub objective: AnyObjective,
     /// β_op (−).
     pub level: f64,
     /// φ range of the catalogues and band searches (rad/s).
@@ -366,16 +307,10 @@ impl Serialize for DesignSpec {
 impl<'de> Deserialize<'de> for DesignSpec {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let json = SpecJson::deserialize(deserializer)?;
-        let mut response = json.response.map(Cow::into_owned);
-        let objective = match json.objective {
-            ObjectiveKind::WidestStableBand => Objective::WidestStableBand {
-                phi_op: json.phi_op.ok_or_else(|| serde::de::Error::missing_field("phi_op"))?,
-            },
-            ObjectiveKind::ClearBands => Objective::ClearBands { bands: json.bands.into_owned() },
-            ObjectiveKind::MinPeakResponse => Objective::MinPeakResponse {
-                response: response.take().ok_or_else(|| serde::de::Error::missing_field("response"))?,
-            },
-        };
+        let keys = ObjectiveKeys { phi_op: json.phi_op, bands: Some(&*json.bands), response: json.response.as_deref() };
+        let objective = json.objective.build_from_json(&keys).map_err(serde::de::Error::missing_field)?;
+        // A response the objective carries is its own, not the spec's.
+        let response = json.response.filter(|_| objective.response().is_none()).map(Cow::into_owned);
         Ok(DesignSpec {
             objective,
             level: json.level,
@@ -429,19 +364,13 @@ impl DesignSpec {
     /// The operating bands kept clear at β_op: the clear-bands objective's, or the band
     /// constraints of the other objectives.
     pub fn kept_clear(&self) -> &[Band] {
-        match &self.objective {
-            Objective::ClearBands { bands } => bands,
-            _ => &self.constraints.bands,
-        }
+        self.objective.keys().bands.unwrap_or(&self.constraints.bands)
     }
 
     /// The unbalance response of the design: the min-peak-response objective's, else the
     /// `[design.response]` of the others (for the peak constraint and the report).
     pub fn response(&self) -> Option<&Response> {
-        match &self.objective {
-            Objective::MinPeakResponse { response } => Some(response),
-            _ => self.response.as_ref(),
-        }
+        self.objective.response().or(self.response.as_ref())
     }
 
     /// φ_op (rad/s): the widest-stable-band objective's, or the band-width constraint's.
@@ -477,7 +406,7 @@ impl DesignSpec {
             limits::speed(w).map_err(at(&format!("speeds[{i}]")))?;
         }
         limits::count(self.speeds.len() as u64, 1, u64::MAX).map_err(at("speeds"))?;
-        if let Objective::ClearBands { bands } = &self.objective {
+        if let Some(bands) = self.objective.keys().bands {
             limits::count(bands.len() as u64, 1, u64::MAX).map_err(at("bands"))?;
         }
         for (i, b) in self.kept_clear().iter().enumerate() {

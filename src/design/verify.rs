@@ -21,7 +21,7 @@
 //! least one part was applicable, and names how many were.
 
 use super::evaluate::{Candidate, OperatingBand};
-use super::spec::{DesignSpec, MarginSpec, Objective};
+use super::spec::{DesignSpec, MarginSpec};
 use super::DesignError;
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
@@ -363,46 +363,9 @@ pub fn verify(
         let fs = &c.systems[k].1;
         let mut v = Seen::default();
         // The windows that must be free of instability, and the reach of "near".
-        let windows: Vec<Interval> = match spec.objective {
-            Objective::WidestStableBand { .. } => {
-                let b = bands.get(k).and_then(|b| b.band.band);
-                v.comparisons += 2;
-                if d.band.as_ref().map(|x| x.band) != Some(b) {
-                    d.failures.push(format!(
-                        "the band with labelled seeds ({:?}) differs from the optimiser's ({b:?})",
-                        d.band.as_ref().and_then(|x| x.band)
-                    ));
-                }
-                if let (Some(b), Some(cb)) = (b, d.catalogue_band) {
-                    if (b.lo - cb.lo).abs() > SAME_EDGE || (b.hi - cb.hi).abs() > SAME_EDGE {
-                        d.failures.push(format!("the catalogue's stable band {cb:.3} differs from the band {b:.3}"));
-                    }
-                } else if b.is_some() != d.catalogue_band.is_some() {
-                    d.failures.push(format!(
-                        "the catalogue's stable band ({:?}) and the band ({:?}) disagree on whether phi_op is stable",
-                        d.catalogue_band, b
-                    ));
-                }
-                let mut w: Vec<Interval> = b.into_iter().collect();
-                w.extend(spec.constraints.bands.iter().map(|b| b.guarded()));
-                w
-            }
-            Objective::ClearBands { .. } => spec.kept_clear().iter().map(|b| b.guarded()).collect(),
-            Objective::MinPeakResponse { .. } => {
-                let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded()).collect();
-                if let Some(min) = spec.constraints.min_band_width {
-                    v.comparisons += 1;
-                    match d.catalogue_band {
-                        Some(cb) if cb.width() >= min.width => w.push(cb),
-                        other => d.failures.push(format!(
-                            "the catalogue's stable band around {} rad/s ({other:?}) is not {} rad/s wide",
-                            min.phi_op, min.width
-                        )),
-                    }
-                }
-                w
-            }
-        };
+        let band = bands.get(k).and_then(|b| b.band.band);
+        let (windows, comparisons) = spec.objective.verified_windows(spec, band, d);
+        v.comparisons += comparisons;
         let all = tongues(&d.catalogue);
         v.windows = windows.len();
         v.counted = all.iter().filter(|t| t.2).count();

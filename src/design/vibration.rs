@@ -35,13 +35,13 @@
 
 use super::evaluate::{
     frequency_margin, intrusions, machine_at, margin_shortfall, operating_bands, operating_bands_at, Candidate,
+    EvalContext,
 };
 use super::machine::Machine;
 use super::spec::{DesignSpec, Parameter, Response};
 use super::DesignError;
 use crate::analysis::damping::mode_damping;
 use crate::analysis::modes::whirl_modes_of;
-use crate::analysis::regions::{Counter, RegionSettings};
 use crate::analysis::unbalance::{node_probe, peak_at_node, unbalance_response, UnbalanceResult};
 use crate::analysis::{Rotor, Settings};
 use crate::model::{CircuitState, Model};
@@ -229,19 +229,18 @@ pub struct ConstraintCheck {
     pub violation: f64,
 }
 
-/// The constraints of `spec` on the design `c` (every kind the spec has), and its peak
-/// when the spec has a response. `count` gets the Floquet evaluations.
+/// The constraints of the spec on the design `c` (every kind the spec has), and its peak
+/// when the spec has a response. The context's counter gets the Floquet evaluations.
 pub fn check_constraints(
     c: &Candidate,
-    spec: &DesignSpec,
-    s: &RegionSettings,
+    ev: &EvalContext<'_>,
     peak: Option<PeakValue>,
-    count: &Counter,
 ) -> Result<Vec<ConstraintCheck>, DesignError> {
+    let spec = ev.spec;
     let k = &spec.constraints;
     let mut out = Vec::new();
     if !k.bands.is_empty() {
-        let ints = intrusions(c, spec, s, count)?;
+        let ints = intrusions(c, ev)?;
         let mut violation = 0.0;
         let mut total = 0.0;
         for it in ints.iter().filter(|i| i.inside) {
@@ -259,7 +258,7 @@ pub fn check_constraints(
         });
     }
     if let Some(w) = k.min_band_width {
-        let bands = operating_bands(c, spec, w.phi_op, s, count)?;
+        let bands = operating_bands(c, ev, w.phi_op)?;
         let width = bands.iter().map(|b| b.signed_width()).fold(f64::INFINITY, f64::min);
         out.push(floor(
             ConstraintKind::BandWidth,
@@ -269,7 +268,7 @@ pub fn check_constraints(
         ));
     }
     if let (Some(m), Some(phi_op)) = (k.margins, spec.phi_op()) {
-        let bands = operating_bands_at(c, spec, phi_op, m.level(spec.level), s, count)?;
+        let bands = operating_bands_at(c, ev, phi_op, m.level(spec.level))?;
         let shortfall = margin_shortfall(&bands, &m);
         out.push(ConstraintCheck {
             kind: ConstraintKind::Margins,

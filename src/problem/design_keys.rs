@@ -7,10 +7,11 @@ use super::validate::{finite, non_negative, positive, range_rule, rule, Failure}
 use super::{NameOf, ProblemErrorKind as K};
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
+use crate::design::objective::{FileKeys, Objective, ObjectiveKind};
 use crate::design::spec::{
-    Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Objective, ObjectiveKind, Parameter, Response,
-    Variable, CHART_GRID, MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS,
-    MIN_CHART_POINTS, MIN_RESPONSE_POINTS,
+    Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Parameter, Response, Variable, CHART_GRID,
+    MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_CHART_POINTS,
+    MIN_RESPONSE_POINTS,
 };
 use crate::design::tolerance::Tolerances;
 use crate::model::{CircuitState, Model};
@@ -187,54 +188,12 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
     let response = d.response.as_ref().map(|r| response(r, model)).transpose()?;
     let width_constraint = d.constraints.as_ref().is_some_and(|c| c.min_band_width.is_some());
     // Each objective takes its own data; a key of another one is a mistake, not a hint.
-    let (objective, bands) = match d.objective {
-        ObjectiveKind::WidestStableBand => {
-            let Some(phi_op) = phi_op else {
-                return Err((
-                    "design.phi_op".into(),
-                    K::Schema("the widest-stable-band objective needs `phi_op` (rad/s)".into()),
-                ));
-            };
-            (Objective::WidestStableBand { phi_op }, bands)
-        }
-        ObjectiveKind::ClearBands => {
-            if phi_op.is_some() && !width_constraint {
-                return Err((
-                    "design.phi_op".into(),
-                    K::Schema("`phi_op` belongs to the widest-stable-band objective, not clear-bands".into()),
-                ));
-            }
-            if bands.is_empty() {
-                return Err((
-                    "design.bands".into(),
-                    K::Schema("the clear-bands objective needs [[design.bands]]".into()),
-                ));
-            }
-            (Objective::ClearBands { bands }, Vec::new())
-        }
-        ObjectiveKind::MinPeakResponse => {
-            if phi_op.is_some() && !width_constraint {
-                // `phi_op` is the band-width constraint's: the missing key is that constraint.
-                return Err((
-                    "design.constraints.min_band_width".into(),
-                    K::Schema("`design.phi_op` of min-peak-response belongs to a band-width constraint: add `min_band_width` (rad/s) or drop `phi_op`".into()),
-                ));
-            }
-            let Some(response) = response.clone() else {
-                return Err((
-                    "design.response".into(),
-                    K::Schema("the min-peak-response objective needs [design.response] (node, speeds)".into()),
-                ));
-            };
-            (Objective::MinPeakResponse { response }, bands)
-        }
-    };
-    let own_response = !matches!(objective, Objective::MinPeakResponse { .. });
-    let response = response.filter(|_| own_response);
-    let judged = match &objective {
-        Objective::MinPeakResponse { response } => Some(response),
-        _ => response.as_ref(),
-    };
+    let keys = FileKeys { phi_op, bands: &bands, response: response.as_ref(), min_band_width: width_constraint };
+    let objective = d.objective.build_from_file(&keys).map_err(|r| (r.key, K::Schema(r.reason)))?;
+    // What the objective does not take is the constraints'.
+    let bands = if objective.keys().bands.is_some() { Vec::new() } else { bands };
+    let response = response.filter(|_| objective.response().is_none());
+    let judged = objective.response().or(response.as_ref());
     let mut constraints = constraints(d, bands, phi_op, judged)?;
     if let Some(m) = &d.margins {
         let beta = non_negative("design.margins.beta", m.beta.unwrap_or(0.0))?;
@@ -309,7 +268,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
     }
     let tolerances = match &d.tolerances {
         None => None,
-        Some(t) => Some(tolerances(t, &objective)?),
+        Some(t) => Some(tolerances(t, &*objective)?),
     };
     Ok(Some(DesignSpec {
         speed_range,
@@ -351,9 +310,9 @@ const DEFAULT_SAMPLES: i64 = 200;
 const MAX_SAMPLES: u64 = 10_000;
 
 /// `[design.tolerances]`, validated: each tolerance in [0, 1) (a part at −100 % is no
-/// part), for the widest-stable-band objective (the one the optimiser judges at the
-/// tolerance box's corners).
-fn tolerances(t: &TolerancesFile, objective: &Objective) -> Result<Tolerances, Failure> {
+/// part), for an objective the optimiser judges at the tolerance box's corners
+/// ([`ObjectiveKind::judges_tolerances`]: widest-stable-band).
+fn tolerances(t: &TolerancesFile, objective: &dyn Objective) -> Result<Tolerances, Failure> {
     let one = |name: &str, v: Option<f64>| -> Result<f64, Failure> {
         let key = format!("design.tolerances.{name}");
         let v = non_negative(&key, v.unwrap_or(0.0))?;
@@ -372,15 +331,27 @@ fn tolerances(t: &TolerancesFile, objective: &Objective) -> Result<Tolerances, F
         cp_t: one("cp_t", t.cp_t)?,
         samples: count("design.tolerances.samples", t.samples, DEFAULT_SAMPLES, MAX_SAMPLES)?,
     };
-    if !matches!(objective, Objective::WidestStableBand { .. }) {
-        let message = "component tolerances are judged by the widest-stable-band objective only (its band at the tolerance box's corners); remove [design.tolerances] or use `objective = \"widest-stable-band\"`";
-        return Err(("design.tolerances".into(), K::Schema(message.into())));
+    if !objective.kind().judges_tolerances() {
+        let message = tolerances_refusal();
+        return Err(("design.tolerances".into(), K::Schema(message)));
     }
     if !out.any() {
         let message = "every tolerance is 0: give at least one of inductance, resistance, c_f, cp_t above 0, or remove [design.tolerances]";
         return Err(("design.tolerances".into(), K::Schema(message.into())));
     }
     Ok(out)
+}
+
+/// Why `[design.tolerances]` is refused for an objective that does not judge them: the
+/// objectives that do, by name.
+fn tolerances_refusal() -> String {
+    let judging: Vec<&str> = ObjectiveKind::all().iter().filter(|k| k.judges_tolerances()).map(|k| k.key()).collect();
+    let names = judging.join(" or ");
+    let uses: Vec<String> = judging.iter().map(|k| format!("`objective = \"{k}\"`")).collect();
+    format!(
+        "component tolerances are judged by the {names} objective only (its band at the tolerance box's corners); remove [design.tolerances] or use {}",
+        uses.join(" or ")
+    )
 }
 
 /// A whole number at `key` from 1 to `hi`, `default` when absent.

@@ -71,7 +71,8 @@ pub struct ProblemFile {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DesignFile {
-    /// `widest-stable-band` or `clear-bands`.
+    /// The objective's name: `widest-stable-band`, `clear-bands` or `min-peak-response`
+    /// ([`ObjectiveKind::all`]).
     pub objective: ObjectiveKind,
     /// β_op: the dynamic load level of bands and edges (−).
     pub level: f64,

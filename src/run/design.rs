@@ -3,12 +3,13 @@
 
 use super::admit::DESIGN;
 use super::{Outcome, Run, RunError, RunStatus};
-use crate::analysis::cost::{self, Dense, Driver, Estimate, PointCost, DESIGN_BAND_EVALUATIONS};
+use crate::analysis::cost::{self, Dense, Driver, Estimate, PointCost};
 use crate::analysis::{Interval, Rotor};
-use crate::design::content::{chart_grid, chart_window, content, content_steps, DesignContent, CAMPBELL_SPEEDS};
-use crate::design::evaluate::{neighbourhood, values_of, Candidate};
+use crate::design::content::{chart_grid, content, content_steps, DesignContent, CAMPBELL_SPEEDS};
+use crate::design::evaluate::{values_of, Candidate};
 use crate::design::pareto::Front;
-use crate::design::spec::{DesignSpec, Objective};
+use crate::design::objective::CostAt;
+use crate::design::spec::DesignSpec;
 use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::model::Model;
@@ -162,40 +163,14 @@ impl<'a> Run<'a> {
             let pc = PointCost::of(fs);
             let seeds = reference.seeds(k, spec)?;
             let range = spec.range();
-            let work = match spec.objective {
-                Objective::WidestStableBand { .. } => {
-                    let phi_op = spec.objective.phi_op().unwrap_or(range.lo);
-                    cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * phi_op).max(range.lo), spec.level)
-                }
-                Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                    let windows: Vec<Interval> =
-                        spec.kept_clear().iter().map(|b| neighbourhood(b).clipped(&range)).collect();
-                    let mut work = cost::scan(&pc, &s, &criterion, &seeds, &windows, spec.level);
-                    if let Some(b) = spec.constraints.min_band_width {
-                        let band =
-                            cost::points(&pc, DESIGN_BAND_EVALUATIONS, (0.5 * b.phi_op).max(range.lo), spec.level);
-                        work = work.then(band);
-                    }
-                    work
-                }
-            };
+            let at = CostAt { point: &pc, regions: &s, criterion: &criterion, seeds: &seeds };
+            let work = spec.objective.candidate_cost(spec, &at);
             per_candidate = per_candidate.then(work);
             let catalogue = cost::CatalogueWork { range, beta_max: spec.beta_max, level: spec.level, track: false };
             let cat = cost::catalogue(&pc, &s, &criterion, &seeds, &catalogue);
             // The windows checked: the band, taken as the charts' window around φ_op (half
             // to 1.5 times it), or each widened operating band.
-            let windows: Vec<Interval> = match spec.objective {
-                Objective::WidestStableBand { .. } => {
-                    vec![chart_window(spec)]
-                }
-                Objective::ClearBands { .. } | Objective::MinPeakResponse { .. } => {
-                    let mut w: Vec<Interval> = spec.kept_clear().iter().map(|b| b.guarded().clipped(&range)).collect();
-                    if spec.constraints.min_band_width.is_some() {
-                        w.push(chart_window(spec));
-                    }
-                    w
-                }
-            };
+            let windows: Vec<Interval> = spec.objective.checked_windows(spec);
             let mut grids = Estimate::zero();
             for w in &windows {
                 let n = (w.width() / GRID_STEP).min(MAX_GRID_POINTS as f64);

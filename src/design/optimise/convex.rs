@@ -26,7 +26,7 @@ const GLOBAL_POINTS_PER_START: usize = 4;
 
 /// (onset bound, left, right) of an intrusion's tongue in a nearby candidate.
 fn intrusion_quantities(ctx: &Context<'_>, c: &Candidate, it: &Intrusion) -> Result<Option<OnsetEdges>, DesignError> {
-    follow(c, ctx.spec, &ctx.regions, it, UNLABELLED_SEARCH, &ctx.floquet)
+    follow(c, &ctx.eval(), it, UNLABELLED_SEARCH)
 }
 
 fn total(ints: &[Intrusion]) -> f64 {
@@ -35,7 +35,7 @@ fn total(ints: &[Intrusion]) -> f64 {
 
 fn evaluate_bands(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
     let c = ctx.candidate(u)?;
-    let ints = intrusions(&c, ctx.spec, &ctx.regions, &ctx.floquet)?;
+    let ints = intrusions(&c, &ctx.eval())?;
     ctx.best.offer(Rank(0, total(&ints), 0.0), &ctx.values(u), ctx.progress);
     Ok(ints)
 }
@@ -172,7 +172,7 @@ fn convex_run(ctx: &Context<'_>, u0: &[f64], reference: &[f64]) -> Result<Convex
     Ok(ConvexRun { u, intrusions: ints, steps, linear_infeasible })
 }
 
-pub(super) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
     let spec = ctx.spec;
     let n = spec.variables.len();
     let reference = to_unit(spec, &out.before);

@@ -166,7 +166,7 @@ impl Context<'_> {
         let peak = peak_of(&rotor, response)?;
         let checks = if constrained && !spec.constraints.is_empty() {
             let c = Candidate::from_parts(machine, rotor, spec, spec.constraints.needs_stability())?;
-            check_constraints(&c, spec, &self.regions, Some(peak), &self.floquet)?
+            check_constraints(&c, &self.eval(), Some(peak))?
         } else {
             Vec::new()
         };
@@ -326,7 +326,7 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
         }
         if !ctx.spec.constraints.bands.is_empty() {
             let c = ctx.candidate(&at.u)?;
-            let ints = intrusions(&c, ctx.spec, &ctx.regions, &ctx.floquet)?;
+            let ints = intrusions(&c, &ctx.eval())?;
             rows.extend(linearise(ctx, &at.u, &ints)?);
         }
         let norm = grad_ln.iter().fold(0.0f64, |m, g| m.max(g.abs()));
@@ -388,7 +388,7 @@ fn signed_margin(c: &ConstraintCheck) -> f64 {
 
 /// The min-peak-response run: fills the starts, history, tuned values and
 /// [`Findings::MinPeak`].
-pub(super) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
     let spec = ctx.spec;
     let reference = to_unit(spec, &out.before);
     let classic = classic_tuning(ctx.base, spec)?;

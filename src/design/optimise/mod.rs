@@ -1,10 +1,10 @@
 //! The design runs: multi-start Nelder–Mead for the widest stable band, sequential convex
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
-use super::evaluate::{follow, intrusions, values_of, Candidate, Intrusion, OperatingBand};
+use super::evaluate::{follow, intrusions, values_of, Candidate, EvalContext, Intrusion, OperatingBand};
 use super::machine::Machine;
 use super::qp::{self, Linear, Step, StepProblem};
-use super::spec::{DesignSpec, Objective, Parameter, Variable};
+use super::spec::{DesignSpec, Parameter, Variable};
 use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
 use super::DesignError;
 use crate::analysis::regions::{check_reliable, Counter, RegionSettings};
@@ -26,21 +26,23 @@ mod outcome;
 mod verification;
 
 use best::{BestSoFar, Rank};
-use convex::clear_bands;
-use min_peak::min_peak;
+pub(crate) use convex::clear_bands;
+pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
-use nelder_mead::widest_band;
+pub(crate) use nelder_mead::widest_band;
 pub use observer::{Observation, Observer};
 pub use outcome::{
-    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, HistoryPoint, StartReport, Status, VibrationReport,
-    REPORT_DAMPING_WHIRLS,
+    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, FindingsKind, HistoryPoint, StartReport, Status,
+    VibrationReport, REPORT_DAMPING_WHIRLS,
 };
 
 /// Cost of a candidate whose analysis failed (rad/s, far worse than any band).
 const FAILED_COST: f64 = 1.0e9;
 
-/// Shared state of a run: the base machine, counters and the progress observer.
-struct Context<'a> {
+/// Shared state of an optimisation round, which an objective's optimiser works with
+/// ([`crate::design::objective::Objective::optimise`]): the base machine, the spec, the
+/// counters, the progress and the caller's observer, the reference design and the starts.
+pub struct Context<'a> {
     base: &'a Machine,
     spec: &'a DesignSpec,
     regions: RegionSettings,
@@ -89,6 +91,12 @@ impl std::fmt::Debug for RunOptions {
 }
 
 impl Context<'_> {
+    /// The context every judgement of a candidate in the run reads: the spec, the region
+    /// settings and the run's Floquet counter.
+    fn eval(&self) -> EvalContext<'_> {
+        EvalContext { spec: self.spec, regions: &self.regions, count: &self.floquet }
+    }
+
     /// Hand one history entry to the caller's observer, with the candidate's scaled
     /// variables `u` (empty: none).
     fn observe(&self, point: HistoryPoint, u: &[f64]) {
@@ -147,11 +155,11 @@ impl Context<'_> {
     /// ([`robust::judged_at`]), the cheaper set docs/decisions.md ("Design speed")
     /// measures against every corner at every speed. With the nominal bands.
     fn judged(&self, c: &Candidate, phi_op: f64) -> Result<(f64, Vec<OperatingBand>), DesignError> {
-        let (spec, s, count) = (self.spec, &self.regions, &self.floquet);
-        let nominal = robust::judged(c, spec, phi_op, s, count, MARGIN_PENALTY)?;
+        let (spec, ev) = (self.spec, &self.eval());
+        let nominal = robust::judged(c, ev, phi_op, MARGIN_PENALTY)?;
         let (worst_speed, mut value) = match spec.speed_range {
             Some(_) => {
-                let (w, width) = robust::refined_worst(c, spec, phi_op, &nominal.bands, s, count)?;
+                let (w, width) = robust::refined_worst(c, ev, phi_op, &nominal.bands)?;
                 (Some(w), nominal.smallest.min(width) - nominal.penalty)
             }
             None => (None, nominal.value()),
@@ -161,8 +169,8 @@ impl Context<'_> {
             let worst = corners[1..]
                 .par_iter()
                 .map(|p| match worst_speed {
-                    Some(w) => robust::judged_at(&c.perturbed_rotor(p)?, spec, phi_op, w, s, count, MARGIN_PENALTY),
-                    None => Ok(robust::judged(&c.perturbed(spec, p)?, spec, phi_op, s, count, MARGIN_PENALTY)?.value()),
+                    Some(w) => robust::judged_at(&c.perturbed_rotor(p)?, ev, phi_op, w, MARGIN_PENALTY),
+                    None => Ok(robust::judged(&c.perturbed(spec, p)?, ev, phi_op, MARGIN_PENALTY)?.value()),
                 })
                 .collect::<Result<Vec<f64>, DesignError>>()?;
             value = worst.into_iter().fold(value, f64::min);
@@ -200,24 +208,11 @@ fn halton(i: usize, dims: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The most candidates a design of `spec` builds: Nelder–Mead: the simplex and 2 per
-/// iteration, per start, then each start's final point and the reference; clear-bands:
-/// the global pass (4 per start and the reference), 2·(2·variables + 1) per convex step,
-/// and the result. An optimiser that converges early builds fewer.
+/// The most candidates a design of `spec` builds (its objective's
+/// [`crate::design::objective::Objective::most_candidates`]). An optimiser that converges
+/// early builds fewer.
 pub fn most_candidates(spec: &DesignSpec) -> usize {
-    let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
-    match spec.objective {
-        Objective::WidestStableBand { .. } => starts * (2 * iterations + variables + 1) + starts + 1,
-        Objective::ClearBands { .. } => 4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1,
-        // The reference and classic designs; each start's simplex and 2 per iteration,
-        // twice (without and with constraints); the convex steps' differences and trials
-        // (clear-bands' linearisation of the bands included).
-        Objective::MinPeakResponse { .. } => {
-            let runs = if spec.constraints.is_empty() { 1 } else { 2 };
-            let starts = starts.max(3);
-            2 + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
-        }
-    }
+    spec.objective.most_candidates(spec)
 }
 
 /// Run the design of `base.design`, first checked by the `[design]` rules
@@ -366,11 +361,7 @@ fn optimise_round(
         best,
     };
     let mut out = DesignOutcome::empty(spec, before);
-    match &spec.objective {
-        Objective::WidestStableBand { phi_op } => widest_band(&ctx, &mut out, *phi_op)?,
-        Objective::ClearBands { .. } => clear_bands(&ctx, &mut out)?,
-        Objective::MinPeakResponse { .. } => min_peak(&ctx, &mut out)?,
-    }
+    spec.objective.optimise(&ctx, &mut out)?;
     out.candidates = ctx.candidates.load(Ordering::Relaxed);
     out.failed_candidates = ctx.failures.load(Ordering::Relaxed);
     out.first_failure = ctx.first_failure.lock().unwrap_or_else(|p| p.into_inner()).clone();

@@ -89,7 +89,7 @@ fn physics_seed(ctx: &Context<'_>, reference: &[f64], phi_op: f64) -> Result<Opt
 
 /// The widest-band run around φ_op (rad/s): fills the starts, the history, the tuned
 /// values and [`Findings::WidestBand`].
-pub(super) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f64) -> Result<(), DesignError> {
+pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f64) -> Result<(), DesignError> {
     let spec = ctx.spec;
     let n = spec.variables.len();
     let reference = to_unit(spec, &out.before);

@@ -6,7 +6,7 @@ use crate::analysis::basis::BasisReport;
 use crate::design::evaluate::{Intrusion, OperatingBand};
 use crate::design::robust::{Robustness, SpeedCheck};
 use crate::design::sizing::RefinedCheck;
-use crate::design::spec::{DesignSpec, ObjectiveKind};
+use crate::design::spec::DesignSpec;
 use crate::design::verify::{DesignAtSpeed, Verification};
 use crate::design::vibration::ConstraintCheck;
 use serde::{Deserialize, Serialize};
@@ -128,6 +128,31 @@ pub enum Findings {
     MinPeak(Box<PeakFindings>),
 }
 
+/// Which [`Findings`] an objective's outcome has
+/// ([`crate::design::objective::Objective::findings`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FindingsKind {
+    /// [`Findings::WidestBand`]: the band around φ_op before and after.
+    Bands,
+    /// [`Findings::ClearBands`]: the tongues intruding into the operating bands.
+    Intrusions,
+    /// [`Findings::MinPeak`]: the peak responses (a run that judged nothing yet has
+    /// [`Findings::WidestBand`], empty).
+    Peak,
+}
+
+impl FindingsKind {
+    /// The findings of a run that has judged nothing yet.
+    pub fn empty(self) -> Findings {
+        match self {
+            FindingsKind::Bands | FindingsKind::Peak => Findings::WidestBand { before: Vec::new(), after: Vec::new() },
+            FindingsKind::Intrusions => {
+                Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
+            }
+        }
+    }
+}
+
 /// The unbalance response of a design with a `[design.response]`, before and after, and
 /// the damping ratios of its lowest whirls: report content.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -224,14 +249,7 @@ impl DesignOutcome {
             status: Status::Unchanged,
             after: before.clone(),
             before,
-            findings: match spec.objective.kind() {
-                ObjectiveKind::WidestStableBand | ObjectiveKind::MinPeakResponse => {
-                    Findings::WidestBand { before: Vec::new(), after: Vec::new() }
-                }
-                ObjectiveKind::ClearBands => {
-                    Findings::ClearBands { before: Vec::new(), after: Vec::new(), linear_infeasible: false }
-                }
-            },
+            findings: spec.objective.findings().empty(),
             before_speeds: Vec::new(),
             after_speeds: Vec::new(),
             verification: Verification::of(Vec::new(), None),
@@ -403,16 +421,16 @@ impl<'de> Deserialize<'de> for DesignOutcome {
         if json.verified != json.verification.passed {
             return Err(D::Error::custom("`verified` disagrees with `verification.passed`"));
         }
-        let findings = match json.spec.objective.kind() {
-            ObjectiveKind::WidestStableBand => {
+        let findings = match json.spec.objective.findings() {
+            FindingsKind::Bands => {
                 Findings::WidestBand { before: json.before_bands.into_owned(), after: json.after_bands.into_owned() }
             }
-            ObjectiveKind::ClearBands => Findings::ClearBands {
+            FindingsKind::Intrusions => Findings::ClearBands {
                 before: json.before_intrusions.into_owned(),
                 after: json.after_intrusions.into_owned(),
                 linear_infeasible: json.linear_infeasible,
             },
-            ObjectiveKind::MinPeakResponse => Findings::MinPeak(Box::new(
+            FindingsKind::Peak => Findings::MinPeak(Box::new(
                 json.min_peak.ok_or_else(|| D::Error::missing_field("min_peak"))?.into_owned(),
             )),
         };

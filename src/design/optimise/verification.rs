@@ -18,6 +18,7 @@ pub(super) fn verify_outcome(
     let checked = Instant::now();
     progress.phase("verification", 0);
     let count = Counter::default();
+    let ev = EvalContext { spec, regions: &regions, count: &count };
     let reference = Candidate::new(base, spec, &out.before)?;
     let tuned = Candidate::new(base, spec, &out.after)?;
     out.before_speeds = describe(&reference, spec, &regions, progress)?;
@@ -30,7 +31,7 @@ pub(super) fn verify_outcome(
     // The tuned design on a basis twice as large: its band and catalogues again.
     if spec.refined_check {
         let bands: Vec<_> = out.after_speeds.iter().map(|d| d.band.clone()).collect();
-        out.refined = crate::design::sizing::refined_check(&tuned, spec, &regions, &bands, &count, progress)?;
+        out.refined = crate::design::sizing::refined_check(&tuned, &ev, &bands, progress)?;
         parts.push(refined_part(&out.refined));
     } else {
         let why = "switched off (design.refined_check = false): the answer is not checked on a larger basis";
@@ -69,7 +70,7 @@ pub(super) fn verify_outcome(
             Some(r) => Some(crate::design::vibration::peak_of(&tuned.rotor, r)?),
             None => None,
         };
-        out.constraints_after = crate::design::vibration::check_constraints(&tuned, spec, &regions, peak, &count)?;
+        out.constraints_after = crate::design::vibration::check_constraints(&tuned, &ev, peak)?;
         for c in out.constraints_after.iter().filter(|c| !c.met) {
             let message = format!("constraint {} not met: {:e}", c.name, c.value);
             if let Some(d) = out.after_speeds.first_mut() {

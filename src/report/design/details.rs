@@ -4,7 +4,6 @@
 
 use super::*;
 use crate::analysis::Interval;
-use crate::design::spec::Objective;
 use crate::design::DesignOutcome;
 use crate::report::html::markdown_code;
 use std::fmt::Write;
@@ -286,20 +285,7 @@ fn whirls_section(s: &mut String, o: &DesignOutcome, paired: &[crate::design::co
 
 fn optimiser_section(s: &mut String, o: &DesignOutcome) {
     let _ = writeln!(s, "\n## Optimiser\n");
-    match o.spec.objective {
-        Objective::WidestStableBand { .. } => {
-            let _ = writeln!(s, "Nelder–Mead (argmin) from {} starts in parallel; objective = smallest band width over the speeds (rad/s).\n", o.starts.len());
-            let _ = writeln!(s, "| start | initial | best | objective (rad/s) | evaluations | iterations | termination |\n|---|---|---|---|---|---|---|");
-        }
-        Objective::ClearBands { .. } => {
-            let _ = writeln!(s, "Coarse global pass (objective = minus the total intrusion, rad/s), then sequential convex steps (clarabel QP) from the reference and from the best global point.\n");
-            let _ = writeln!(s, "| point | values | | −intrusion (rad/s) | evaluations | iterations | stage |\n|---|---|---|---|---|---|---|");
-        }
-        Objective::MinPeakResponse { .. } => {
-            let _ = writeln!(s, "Nelder–Mead (argmin) on ln(peak) from {} starts in parallel, first without constraints, then with them as an exact penalty; then sequential convex steps (clarabel QP) on the linearised constraints. Objective column: the start's best peak (m).\n", o.starts.len());
-            let _ = writeln!(s, "| start | initial | best | peak (m) | evaluations | iterations | termination |\n|---|---|---|---|---|---|---|");
-        }
-    }
+    s.push_str(&o.spec.objective.optimiser_method(o.starts.len()));
     let vals = |v: &[f64]| v.iter().map(|x| format!("{x:.5e}")).collect::<Vec<_>>().join(", ");
     let peak = o.peak_findings().is_some();
     for st in &o.starts {

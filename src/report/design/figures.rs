@@ -2,7 +2,6 @@
 //! tuned design's Campbell diagram, the optimiser's history and the Bode plot.
 
 use crate::design::content::DesignContent;
-use crate::design::spec::Objective;
 use crate::design::DesignOutcome;
 use crate::report::chart::{Layer, Span, StabilityPlot};
 use crate::report::plot::{Figure, LinePlot, Series};
@@ -108,10 +107,9 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
     let starts = o.history.iter().map(|h| h.start).max().map_or(0, |m| m + 1);
     let series: Vec<Series> = (0..starts)
         .map(|k| Series {
-            name: match o.spec.objective {
-                Objective::ClearBands { .. } if k == 0 => "from the reference".into(),
-                Objective::ClearBands { .. } => "from the best global point".into(),
-                _ => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
+            name: match o.spec.objective.history_series(k) {
+                Some(name) => name.into(),
+                None => o.starts.get(k).map_or(format!("start {k}"), |s| s.origin.clone()),
             },
             color: style::color(k),
             dashed: false,
@@ -122,15 +120,7 @@ fn history_plot(o: &DesignOutcome) -> LinePlot {
     let (y0, y1) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
     let (y0, y1) = if y0.is_finite() && y1 > y0 { (y0, y1) } else { (y0.min(0.0) - 1.0, y1.max(0.0) + 1.0) };
     let x1 = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).fold(1.0, f64::max);
-    let (x_label, y_label) = match o.spec.objective {
-        Objective::WidestStableBand { .. } => {
-            ("candidate evaluations of the start", "smallest band width over the speeds (rad/s)")
-        }
-        Objective::ClearBands { .. } => ("convex step", "total intrusion into the bands (rad/s)"),
-        Objective::MinPeakResponse { .. } => {
-            ("candidate evaluations of the start", "peak response, with the constraints' penalty (m)")
-        }
-    };
+    let (x_label, y_label) = o.spec.objective.history_axes();
     LinePlot {
         title: "Optimiser history (best so far)".into(),
         x_label: x_label.into(),

@@ -10,9 +10,7 @@ pub mod pareto;
 
 pub use figures::figures;
 
-use crate::analysis::regions::{Band, Bound};
 use crate::design::DesignOutcome;
-use crate::numbers::SpeedUnit;
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -57,47 +55,11 @@ pub struct DesignReport {
     pub files: Vec<String>,
 }
 
-/// `Ω = 1256.6 rad/s`, or `n = 12000 rpm (1256.6 rad/s)`.
-pub fn speed_text(unit: SpeedUnit, speed: f64) -> String {
-    format!("{} = {}", unit.symbol(), unit.text(speed))
-}
-
-/// The header of a table's speed column: `Ω (rad/s)` or `n (rpm)`.
-pub(super) fn speed_header(unit: SpeedUnit) -> String {
-    format!("{} ({})", unit.symbol(), unit.unit())
-}
-
-/// A speed in a table's speed column (its header's unit), to the rpm or rad/s.
-pub(super) fn speed_cell(unit: SpeedUnit, speed: f64) -> String {
-    format!("{:.0}", unit.value(speed))
-}
+pub use crate::design::text::speed_text;
+use crate::design::text::{speed_cell, speed_header};
 
 pub(super) fn opt(x: Option<f64>, digits: usize) -> String {
     x.map(|v| format!("{v:.digits$}")).unwrap_or_else(|| "–".into())
-}
-
-pub(super) fn band_text(b: &Band) -> String {
-    match (b.band, b.containing) {
-        (Some(x), _) if b.clipped() => {
-            format!("[{:.2}, {:.2}] (at least {:.2}: clipped by the window)", x.lo, x.hi, x.width())
-        }
-        (Some(x), _) => format!("[{:.2}, {:.2}] ({:.2})", x.lo, x.hi, x.width()),
-        (None, Some(t)) => format!("φ_op unstable, inside [{:.2}, {:.2}]", t.lo, t.hi),
-        _ => "φ_op unstable".into(),
-    }
-}
-
-pub(super) fn bound_text(b: &Option<Bound>) -> String {
-    match b {
-        Some(Bound::Tongue { label, edge, unexplained: Some(u), .. }) => format!(
-            "{label} at {edge:.2} (Floquet exponent {:.2} rad/s; nearest {} = {:.2})",
-            u.exponent_frequency, u.nearest, u.nearest_frequency
-        ),
-        Some(Bound::Tongue { label, edge, .. }) => format!("{label} at {edge:.2}"),
-        Some(Bound::Window) => "window end (clipped: widen design.phi_range)".into(),
-        // No band: φ_op is unstable, and nothing bounds it.
-        None => "–".into(),
-    }
 }
 
 /// Lines of Markdown page one may take: it must read in a minute.

@@ -2,7 +2,7 @@
 //! constraints, verification and the key figure.
 
 use super::*;
-use crate::design::spec::Objective;
+use crate::analysis::regions::Bound;
 use crate::design::{DesignOutcome, Status};
 use crate::numbers::SpeedUnit;
 use std::fmt::Write;
@@ -27,27 +27,7 @@ fn question(r: &DesignReport) -> String {
     let spec = &r.outcome.spec;
     let vars = variable_names(r);
     let at = speeds_text(spec.speed_unit, &spec.speeds);
-    match &spec.objective {
-        Objective::WidestStableBand { phi_op } => format!(
-            "Which {vars} (inside their bounds) give the widest stable band at β_op = {} around the load frequency φ_op = {phi_op} rad/s, at {at}?",
-            spec.level
-        ),
-        Objective::ClearBands { bands } => format!(
-            "Which {vars}, changed as little as possible, keep every instability region at β_op = {} out of the operating band(s) {} at {at}?",
-            spec.level,
-            bands.iter().map(|b| format!("[{}, {}] rad/s ± {} rad/s", b.lo, b.hi, b.clearance)).collect::<Vec<_>>().join(", ")
-        ),
-        Objective::MinPeakResponse { response } => format!(
-            "Which {vars} give the smallest peak unbalance response at node {} over the rotating speeds {}{}?",
-            response.node,
-            spec.speed_unit.range(response.speeds.lo, response.speeds.hi),
-            if o_constrained(&r.outcome) {
-                format!(", with the stability constraints below met at β_op = {} and {at}", spec.level)
-            } else {
-                String::new()
-            }
-        ),
-    }
+    spec.objective.question(spec, &vars, &at, o_constrained(&r.outcome))
 }
 
 fn o_constrained(o: &DesignOutcome) -> bool {
@@ -123,11 +103,7 @@ pub(super) fn page_one(r: &DesignReport) -> String {
         );
         return s;
     }
-    match &spec.objective {
-        Objective::WidestStableBand { .. } => widest_band_table(&mut s, o),
-        Objective::ClearBands { .. } => clear_bands_table(&mut s, o),
-        Objective::MinPeakResponse { .. } => peak_table(&mut s, o),
-    }
+    spec.objective.page_one(&mut s, o);
     constraints_table(&mut s, o);
     super::margins::margins_table(&mut s, o);
     verification_sentences(&mut s, o);
@@ -211,145 +187,6 @@ fn warnings_block(s: &mut String, o: &DesignOutcome) {
         let _ = writeln!(s, "> … and {} more warnings (details, \"Warnings\").", w.len() - shown);
     }
     let _ = writeln!(s);
-}
-
-fn widest_band_table(s: &mut String, o: &DesignOutcome) {
-    let _ = writeln!(
-        s,
-        "\nStable band at β_op = {} around φ_op (rad/s; width in brackets):\n\n| {} | before | after | after: bounded below by | above by |\n|---|---|---|---|---|",
-        o.spec.level,
-        speed_header(o.spec.speed_unit)
-    );
-    for (b, a) in o.before_bands().iter().zip(o.after_bands()) {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} |",
-            speed_cell(o.spec.speed_unit, b.speed),
-            band_text(&b.band),
-            band_text(&a.band),
-            bound_text(&a.band.left),
-            bound_text(&a.band.right)
-        );
-    }
-    if let Some(r) = &o.speed_check {
-        let _ =
-            writeln!(s, "\nSpeed range {}.", crate::design::robust::speed_range_text(o.speed_check_before.as_ref(), r));
-    }
-    if let Some(r) = &o.robustness {
-        let _ = writeln!(
-            s,
-            "\nAs built, with parts inside the tolerances ({}): {}.",
-            r.tolerances.text(),
-            crate::design::robust::guaranteed_text(r)
-        );
-    }
-    for a in o.after_bands() {
-        for t in &a.band.ignored {
-            let _ = writeln!(
-                s,
-                "\nIgnored by the criterion at {}: {} at [{:.3}, {:.3}] rad/s.",
-                speed_text(o.spec.speed_unit, a.speed),
-                t.label(),
-                t.extent.lo,
-                t.extent.hi
-            );
-        }
-    }
-}
-
-fn clear_bands_table(s: &mut String, o: &DesignOutcome) {
-    let _ = writeln!(s, "\nOperating bands at β_op = {} (rad/s):\n\n| band | clearance | tongues inside before | after | unstable grid points after |\n|---|---|---|---|---|", o.spec.level);
-    for (i, b) in o.spec.objective.bands().iter().enumerate() {
-        let names = |v: &[crate::design::evaluate::Intrusion]| {
-            let l: Vec<String> = v
-                .iter()
-                .filter(|x| x.band == i)
-                .map(|x| format!("{} [{:.1}, {:.1}]", x.label, x.left, x.right))
-                .collect();
-            if l.is_empty() {
-                "none".to_string()
-            } else {
-                l.join(", ")
-            }
-        };
-        let g = b.guarded();
-        let fine: usize = o
-            .after_speeds
-            .iter()
-            .flat_map(|d| d.grids.iter().filter(|x| x.window == g).map(|x| x.unstable.len()))
-            .sum();
-        let _ = writeln!(
-            s,
-            "| [{}, {}] | {} | {} | {} | {} |",
-            b.lo,
-            b.hi,
-            b.clearance,
-            names(o.before_intrusions()),
-            names(o.after_intrusions()),
-            fine
-        );
-    }
-    if o.linear_infeasible() {
-        let _ = writeln!(s, "\nThe linearised constraints at the final point have no solution inside the bounds.");
-    }
-}
-
-/// The peaks of the open circuit, the reference, classic, unconstrained and tuned designs
-/// in one table (the baselines' amplification factors and the tuned peak relative to
-/// each), and the price of the constraints.
-fn peak_table(s: &mut String, o: &DesignOutcome) {
-    let Some(f) = o.peak_findings() else { return };
-    let _ = writeln!(
-        s,
-        "\nPeak unbalance response (m), each by the same response computation:\n\n| design | peak (m) | at (rad/s) | amplification factor (−) | tuned peak vs it | constraints met |\n|---|---|---|---|---|---|"
-    );
-    let baseline = |name: &str| f.baselines.iter().find(|b| b.design == name);
-    let tuned = f.after.peak.amplitude;
-    let af = |name: &str| {
-        baseline(name).map_or("–".to_string(), |b| {
-            b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| format!("{a:.1}"))
-        })
-    };
-    let row = |s: &mut String, name: &str, peak: &crate::design::vibration::PeakValue, af: String, met: String| {
-        let vs = if name == "tuned" {
-            "–".to_string()
-        } else {
-            format!("{:+.1} %", 100.0 * (tuned / peak.amplitude - 1.0))
-        };
-        let _ = writeln!(
-            s,
-            "| {name} | {:.4e}{} | {:.2} | {af} | {vs} | {met} |",
-            peak.amplitude,
-            if peak.unbounded { " (unbounded)" } else { "" },
-            peak.speed
-        );
-    };
-    if let Some(b) = baseline("open circuit") {
-        row(s, "open circuit", &b.peak, af("open circuit"), "–".to_string());
-    }
-    let met = |d: &crate::design::optimise::JudgedDesign| {
-        if d.constraints.is_empty() {
-            "–".to_string()
-        } else {
-            d.feasible.to_string()
-        }
-    };
-    let mut rows = vec![("reference", &f.before, af("reference circuit"))];
-    if let Some(c) = &f.classic_design {
-        rows.push(("classic tuning", c, af("classic tuning")));
-    }
-    rows.push(("unconstrained optimum", &f.unconstrained, "–".to_string()));
-    rows.push(("tuned", &f.after, af("tuned")));
-    for (name, d, a) in rows {
-        row(s, name, &d.peak, a, met(d));
-    }
-    if let Some(price) = f.price {
-        let _ = writeln!(
-            s,
-            "\nPrice of the constraints: tuned peak − unconstrained peak = {:+.4e} m ({:+.2} %).",
-            price.metres, price.percent
-        );
-    }
 }
 
 /// The constraints judged afresh on the tuned design.
