@@ -53,7 +53,7 @@ fn class_of(e: crate::commands::Error) -> PyErr {
         E::Analysis(_) => AnalysisError::new_err(message),
         E::Design(_) => DesignError::new_err(message),
         E::Argument { .. } | E::Parameter { .. } => ArgumentError::new_err(message),
-        E::Cost(_) | E::TimeLimit(_) | E::CountLimit(_) => CostError::new_err(message),
+        E::Cost(_) | E::TimeLimit(_) | E::CountLimit(_) | E::Cancelled { .. } => CostError::new_err(message),
         E::Study { .. }
         | E::StudyTooLarge { .. }
         | E::Shard { .. }

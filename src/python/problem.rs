@@ -36,7 +36,7 @@ impl NativeProblem {
             return Ok(fs);
         }
         let top = crate::analysis::DEFAULT_BAND_RANGE.hi;
-        let fs = commands::reduced_system(&self.problem, &Budget::default(), top)?;
+        let fs = crate::run::Run::new(&crate::progress::Silent).reduced_system(&self.problem, top)?;
         Ok(self.system.get_or_init(|| fs))
     }
 }
@@ -223,11 +223,7 @@ impl NativeProblem {
         }
         commands::check_grid(&phis, &betas).map_err(super::to_py)?;
         let fs = released(py, || self.system())?;
-        commands::admit_chart(fs, &phis, &betas, &Budget::default()).map_err(super::to_py)?;
-        let c = watched(py, callback(progress), |pr| {
-            pr.phase("chart", phis.len() as u64);
-            Ok(crate::analysis::chart::chart(fs, &phis, &betas, pr))
-        })?;
+        let c = watched(py, callback(progress), |pr| Ok(crate::run::Run::new(pr).chart_of(fs, &phis, &betas)?))?;
         let shape = (phis.len(), betas.len());
         let field =
             |f: &dyn Fn(&crate::analysis::chart::ChartPoint) -> f64| -> Vec<f64> { c.points.iter().map(f).collect() };
