@@ -572,6 +572,31 @@ pub fn whirl_modes_nearest(
     whirls: usize,
     limit: usize,
 ) -> Result<Option<ModesResult>, AnalysisError> {
+    whirl_modes_nearest_by(rotor, settings, speed, whirls, limit, NearestSolver::Block)
+}
+
+/// The eigensolver of [`whirl_modes_nearest_by`]'s shift-invert operator. `modes` uses
+/// [`NearestSolver::Block`]; [`NearestSolver::Faer`] is kept as its measured comparison
+/// (benches/modes.rs, docs/decisions.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NearestSolver {
+    /// The block Krylov space with Rayleigh–Ritz ([`crate::linalg::ShiftInvert::nearest`]).
+    Block,
+    /// faer's partial eigensolver, Krylov–Schur
+    /// ([`crate::linalg::ShiftInvert::nearest_by_faer`]).
+    Faer,
+}
+
+/// [`whirl_modes_nearest`] with the operator's eigenpairs from `solver`: the same operator,
+/// count, acceptance and fallback (`Ok(None)`), to compare the two solvers.
+pub fn whirl_modes_nearest_by(
+    rotor: &Rotor,
+    settings: &Settings,
+    speed: f64,
+    whirls: usize,
+    limit: usize,
+    solver: NearestSolver,
+) -> Result<Option<ModesResult>, AnalysisError> {
     if !rotor.real {
         return Ok(None);
     }
@@ -585,7 +610,11 @@ pub fn whirl_modes_nearest(
     // and make the count grow below.
     let mut wanted = 2 * whirls.max(1);
     loop {
-        let Some(found) = op.nearest(wanted) else { return Ok(None) };
+        let found = match solver {
+            NearestSolver::Block => op.nearest(wanted),
+            NearestSolver::Faer => op.nearest_by_faer(wanted, limit),
+        };
+        let Some(found) = found else { return Ok(None) };
         let n2 = sys.size();
         let kept: Vec<(c64, Vec<c64>)> = found
             .values

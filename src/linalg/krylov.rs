@@ -165,7 +165,7 @@ impl<'a> ShiftInvert<'a> {
     /// Op·Z̃ for a block Z̃ (2n × c) in energy coordinates: with x = L_S⁻ᵀ·z̃₁ and
     /// M·v = L_M·z̃₂, P(σ)·p = −M·v − (D + σM)·x and Op·z = [p; x + σp], returned as
     /// [L_Sᵀ·p; L_Mᵀ·(x + σp)].
-    fn apply(&self, z: MatRef<'_, f64>, out: MatMut<'_, f64>) {
+    pub(super) fn apply(&self, z: MatRef<'_, f64>, out: MatMut<'_, f64>) {
         let n = self.l_m.nrows();
         let c = z.ncols();
         let (top, bottom) = z.split_at_row(n);
@@ -341,7 +341,6 @@ impl<'a> ShiftInvert<'a> {
     fn ritz(&self, wanted: usize) -> Option<NearestEigen> {
         let m = self.applied;
         let big = self.v.nrows();
-        let n = big / 2;
         let h = self.h.as_ref().submatrix(0, 0, m, m);
         if !h.norm_max().is_finite() {
             return None;
@@ -428,6 +427,34 @@ impl<'a> ShiftInvert<'a> {
             // known beyond the last one.
             radius = 1.0 / taken.last()?.0.norm();
         }
+        self.resolve(taken, radius, wanted, m)
+    }
+
+    /// The state size 2n of the operator.
+    pub(super) fn state(&self) -> usize {
+        self.v.nrows()
+    }
+
+    /// The first vector of the seeded random start block (2n × 1, unit 2-norm, energy
+    /// coordinates).
+    pub(super) fn start(&self) -> MatRef<'_, f64> {
+        self.v.as_ref().subcols(0, 1)
+    }
+
+    /// The eigenpairs λ = σ + 1/θ of the converged pairs `taken` (θ, ỹ in energy
+    /// coordinates, by |θ| descending) that lie within `radius` less [`RADIUS_MARGIN`],
+    /// with their displacements after one power step; `None` when fewer than `wanted` do
+    /// or a cluster as large as the block is among them. `dimension`: the space's, for
+    /// the record.
+    pub(super) fn resolve(
+        &self,
+        taken: Vec<(c64, Vec<c64>)>,
+        radius: f64,
+        wanted: usize,
+        dimension: usize,
+    ) -> Option<NearestEigen> {
+        let big = self.v.nrows();
+        let n = big / 2;
         let limit = radius * (1.0 - RADIUS_MARGIN);
         let kept: Vec<(c64, Vec<c64>)> = taken
             .into_iter()
@@ -476,7 +503,7 @@ impl<'a> ShiftInvert<'a> {
                 vectors[(i, c)] /= norm;
             }
         }
-        Some(NearestEigen { values: kept.into_iter().map(|(l, _)| l).collect(), vectors, radius, dimension: m })
+        Some(NearestEigen { values: kept.into_iter().map(|(l, _)| l).collect(), vectors, radius, dimension })
     }
 }
 

@@ -8,6 +8,7 @@
 mod balance;
 mod expm;
 mod krylov;
+mod krylov_faer;
 mod qep;
 mod qep_real;
 pub mod seq;
