@@ -26,8 +26,8 @@ mod reporter;
 use clap::Parser;
 use cli::{Cli, Command, Input, StudyAction, StudyArgs};
 use reporter::{printable, Reporter};
-use rotorshunt::analysis::cost::Budget;
 use rotorshunt::problem::Problem;
+use rotorshunt::run::Budget;
 use std::process::ExitCode;
 
 /// The shard count of `--shards`/`--tasks`.

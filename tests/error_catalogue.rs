@@ -5,12 +5,12 @@
 //! documented.
 
 use crate::common;
-use rotorshunt::analysis::cost::{CostError, CountLimitError, Resource, TimeLimitError};
 use rotorshunt::analysis::AnalysisError;
 use rotorshunt::design::DesignError;
 use rotorshunt::import::ross::{Format, Refusal, RossError, RossErrorKind};
 use rotorshunt::linalg::LinalgError;
 use rotorshunt::problem::{Problem, ProblemErrorKind};
+use rotorshunt::run::{CostError, CountLimitError, Resource, TimeLimitError};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;

@@ -4,8 +4,9 @@
 //! stays under one band search's evaluations per thread.
 
 use crate::cancel::{assert_stopped, short_design};
-use rotorshunt::analysis::cost::{Budget, Stopped, DESIGN_BAND_EVALUATIONS};
+use rotorshunt::analysis::cost::DESIGN_BAND_EVALUATIONS;
 use rotorshunt::progress::{Progress, Silent};
+use rotorshunt::run::{Budget, Stopped};
 use rotorshunt::run::{CancelToken, Run, RunStatus};
 use std::sync::mpsc;
 use std::sync::Mutex;

@@ -116,6 +116,12 @@ pub fn rk4_steps_per_period(fs: &FloquetSystem, phi: f64) -> usize {
     (by_phase.max(by_stability) as usize).max(64)
 }
 
+/// RK4 steps per period at φ by the phase rule alone (what the response is counted at
+/// when it is stiff: it is refused before any step).
+pub(crate) fn phase_steps(fs: &FloquetSystem, phi: f64) -> f64 {
+    step_rules(fs, phi).0
+}
+
 /// Steps per period by the phase rule, by RK4's stability, and B0's spectral radius.
 fn step_rules(fs: &FloquetSystem, phi: f64) -> (f64, f64, f64) {
     let omega_max = fs.reduced.frequencies.iter().fold(phi, |a, b| a.max(*b)).max(fs.speed);

@@ -5,11 +5,11 @@
 use super::{title, OutDir};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use rotorshunt::analysis::cost::Budget;
 use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::design::{self as report_design, branch_rows, markdown, DesignReport};
+use rotorshunt::run::Budget;
 use rotorshunt::run::{DesignJob, DesignRun, Outcome, Run};
 use std::path::Path;
 

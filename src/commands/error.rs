@@ -55,16 +55,16 @@ pub enum Error {
     /// A run refused before it started: its estimated time or memory is beyond the limit
     /// ([`rotorshunt::analysis::cost`]).
     #[error(transparent)]
-    Cost(#[from] rotorshunt::analysis::cost::CostError),
+    Cost(#[from] rotorshunt::run::CostError),
     /// A run stopped at its time limit while it ran ([`rotorshunt::progress::Deadline`]); nothing
     /// was written.
     #[error(transparent)]
-    TimeLimit(#[from] rotorshunt::analysis::cost::TimeLimitError),
+    TimeLimit(#[from] rotorshunt::run::TimeLimitError),
     /// A run stopped at its allowance of monodromy evaluations while it ran, counted as
-    /// the searches made them ([`rotorshunt::analysis::cost::Budget::allowance`]); nothing
+    /// the searches made them ([`rotorshunt::run::Budget::allowance`]); nothing
     /// was written.
     #[error(transparent)]
-    CountLimit(#[from] rotorshunt::analysis::cost::CountLimitError),
+    CountLimit(#[from] rotorshunt::run::CountLimitError),
     /// A run its caller cancelled while it ran (the Python bindings' Ctrl-C,
     /// [`rotorshunt::run::CancelToken`]); nothing was kept.
     #[error("{what} was cancelled by its caller; nothing was kept")]
@@ -255,11 +255,11 @@ impl From<rotorshunt::import::ross::ImportError> for Error {
     }
 }
 
-impl From<rotorshunt::analysis::cost::Stopped> for Error {
-    fn from(e: rotorshunt::analysis::cost::Stopped) -> Error {
+impl From<rotorshunt::run::Stopped> for Error {
+    fn from(e: rotorshunt::run::Stopped) -> Error {
         match e {
-            rotorshunt::analysis::cost::Stopped::Time(e) => Error::TimeLimit(e),
-            rotorshunt::analysis::cost::Stopped::Count(e) => Error::CountLimit(e),
+            rotorshunt::run::Stopped::Time(e) => Error::TimeLimit(e),
+            rotorshunt::run::Stopped::Count(e) => Error::CountLimit(e),
         }
     }
 }

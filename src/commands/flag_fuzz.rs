@@ -128,8 +128,8 @@ fn run_flag_case(
     dir: &Path,
 ) -> Result<(), String> {
     use crate::commands::{self, StudyOptions};
-    use rotorshunt::analysis::cost::Budget;
     use rotorshunt::progress::Silent as Quiet;
+    use rotorshunt::run::Budget;
     let budget = Budget::default();
     // A response asked for many periods of a low φ is long work the cost check admits,
     // not a hang: it is held to its own estimate, and not run at all beyond

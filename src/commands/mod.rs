@@ -44,13 +44,13 @@ pub use tuned::tuned_toml;
 pub use unbalance::unbalance_json;
 
 use crate::commands::out::json_pretty;
-use rotorshunt::analysis::cost::Budget;
 use rotorshunt::analysis::limits::{self, MAX_COUNT};
 use rotorshunt::analysis::modes::WhirlMode;
 use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::{campbell as campbell_report, summary};
+use rotorshunt::run::Budget;
 use rotorshunt::run::Run;
 use serde::Serialize;
 use std::path::Path;

@@ -9,6 +9,7 @@ use super::spec::{Band, DesignSpec};
 use super::DesignError;
 use crate::analysis::campbell::{campbell, CampbellResult};
 use crate::analysis::chart::{chart, ChartResult};
+use crate::analysis::cost::{self, Driver, Estimate, PointCost};
 use crate::analysis::Interval;
 use crate::progress::Progress;
 
@@ -168,6 +169,13 @@ fn grid_over(spec: &DesignSpec, w: Interval) -> (Vec<f64>, Vec<f64>) {
     let top = spec.beta_max.min(2.0 * spec.level).max(spec.level);
     let betas = (0..n_beta).map(|i| top * i as f64 / (n_beta - 1) as f64).collect();
     (phis, betas)
+}
+
+/// The charts of the report at one speed (before and after, on [`chart_grid`]),
+/// counted before they run.
+pub fn cost(pc: &PointCost, spec: &DesignSpec) -> Estimate {
+    let (phis, betas) = chart_grid(spec);
+    cost::chart(pc, &phis, &betas).times(2.0, Driver::Grid, "charts")
 }
 
 /// The speeds of the Campbell diagram (rad/s).

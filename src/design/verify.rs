@@ -23,11 +23,12 @@
 use super::evaluate::{Candidate, OperatingBand};
 use super::spec::{DesignSpec, MarginSpec};
 use super::DesignError;
+use crate::analysis::cost::{self, Driver, Estimate, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::{whirl_modes_of, Whirl};
 use crate::analysis::regions::{
     band_around, catalogue_with, margins, seeds_for, unexplained, Band, Catalogue, CatalogueRequest, Counter, Level,
-    Margins, Probe, RegionSettings,
+    Margins, Probe, RegionSettings, Seed,
 };
 use crate::analysis::{Criterion, Interval};
 use crate::progress::Progress;
@@ -250,8 +251,7 @@ pub fn describe(
         .iter()
         .map(|(w, fs)| {
             let full = whirl_modes_of(&c.rotor, &c.machine.settings, *w)?;
-            let req =
-                CatalogueRequest { range: spec.range(), beta_max: spec.beta_max, level: spec.level, track: false };
+            let req = catalogue_request(spec);
             let cat = catalogue_with(fs, &full, s, &req, progress)?;
             let mut whirls = Vec::new();
             for dir in [Whirl::Forward, Whirl::Backward] {
@@ -306,6 +306,36 @@ fn tongues(cat: &Catalogue) -> Vec<(String, Interval, bool)> {
     out
 }
 
+/// The grid points over `window` at [`GRID_STEP`] (coarser beyond [`MAX_GRID_POINTS`]),
+/// interior points only, and their step (rad/s).
+fn grid_points(window: Interval) -> (Vec<f64>, f64) {
+    let step = GRID_STEP.max(window.width() / MAX_GRID_POINTS as f64);
+    let n = (window.width() / step).floor() as usize;
+    ((1..n).map(|i| window.lo + step * i as f64).filter(|&p| p < window.hi).collect(), step)
+}
+
+/// The catalogue a design is verified with at each speed: over its range, up to its
+/// β_max, edges at β_op.
+fn catalogue_request(spec: &DesignSpec) -> CatalogueRequest {
+    CatalogueRequest { range: spec.range(), beta_max: spec.beta_max, level: spec.level, track: false }
+}
+
+/// What verifying a design at one speed is counted at before it runs: its two
+/// catalogues over the range, the grid over each window the objective checks (taken
+/// before the run as [`crate::design::objective::Objective::checked_windows`], the band
+/// found not being known) and a DSTM point at each seed near one.
+pub fn cost(pc: &PointCost, s: &RegionSettings, criterion: &Criterion, seeds: &[Seed], spec: &DesignSpec) -> Estimate {
+    let request = catalogue_request(spec);
+    let mut work = cost::catalogue(pc, s, criterion, seeds, &request).times(2.0, Driver::Grid, "catalogues");
+    for w in spec.objective.checked_windows(spec) {
+        work = work.then(cost::points(pc, grid_points(w).0.len() as f64, w.lo, spec.level));
+        let near = Interval::new(w.lo * (1.0 - NEAR), w.hi * (1.0 + NEAR));
+        let centres = seeds.iter().filter(|x| near.contains(x.phi)).count() as f64;
+        work = work.then(Estimate::work(centres * pc.dstm(), Driver::Settings, "DSTM points at tongue centres".into()));
+    }
+    work
+}
+
 /// The grid over `window` at [`GRID_STEP`] (coarser beyond [`MAX_GRID_POINTS`]), interior
 /// points only, in parallel; a step of `progress` per point.
 fn grid(
@@ -316,9 +346,7 @@ fn grid(
     count: &Counter,
     progress: &dyn Progress,
 ) -> GridCheck {
-    let step = GRID_STEP.max(window.width() / MAX_GRID_POINTS as f64);
-    let n = (window.width() / step).floor() as usize;
-    let points: Vec<f64> = (1..n).map(|i| window.lo + step * i as f64).filter(|&p| p < window.hi).collect();
+    let (points, step) = grid_points(window);
     count.add(points.len());
     progress.extend(points.len() as u64);
     let unstable: Vec<f64> = points

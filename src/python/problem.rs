@@ -5,12 +5,12 @@
 
 use super::args;
 use super::watch::{released, watched};
-use crate::analysis::cost::Budget;
 use crate::analysis::floquet::{FloquetSystem, PointStatus};
 use crate::analysis::limits::MAX_COUNT;
 use crate::commands;
 use crate::commands::Error;
 use crate::problem::Problem;
+use crate::run::Budget;
 use numpy::{Complex64, IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

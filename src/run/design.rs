@@ -5,12 +5,12 @@ use super::admit::DESIGN;
 use super::{Outcome, Run, RunError, RunStatus};
 use crate::analysis::cost::{self, Dense, Driver, Estimate, PointCost};
 use crate::analysis::{Interval, Rotor};
-use crate::design::content::{chart_grid, content, content_steps, DesignContent, CAMPBELL_SPEEDS};
+use crate::design::content::{self, content, content_steps, DesignContent, CAMPBELL_SPEEDS};
 use crate::design::evaluate::{values_of, Candidate};
 use crate::design::objective::CostAt;
 use crate::design::pareto::Front;
 use crate::design::spec::DesignSpec;
-use crate::design::verify::{GRID_STEP, MAX_GRID_POINTS, NEAR};
+use crate::design::verify;
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::model::Model;
 use crate::problem::{Problem, ProblemError, ProblemErrorKind};
@@ -47,7 +47,7 @@ impl DesignJob<'_, '_> {
         let stop = run.budget.stopped(&deadline, "the design").err();
         let evaluations = deadline.evaluations();
         if outcome.status == Status::Stopped {
-            outcome.stop = stop.as_ref().map(cost::Stopped::reason);
+            outcome.stop = stop.as_ref().map(super::Stopped::reason);
             let tuned = design::evaluate::machine_at(&machine, spec, &outcome.after)?.model;
             let value = DesignRun { outcome, tuned, content: None };
             return Ok(Outcome { status, value, stop, evaluations });
@@ -162,30 +162,10 @@ impl<'a> Run<'a> {
         for (k, (_, fs)) in reference.systems.iter().enumerate() {
             let pc = PointCost::of(fs);
             let seeds = reference.seeds(k, spec)?;
-            let range = spec.range();
             let at = CostAt { point: &pc, regions: &s, criterion: &criterion, seeds: &seeds };
-            let work = spec.objective.candidate_cost(spec, &at);
-            per_candidate = per_candidate.then(work);
-            let catalogue = cost::CatalogueWork { range, beta_max: spec.beta_max, level: spec.level, track: false };
-            let cat = cost::catalogue(&pc, &s, &criterion, &seeds, &catalogue);
-            // The windows checked: the band, taken as the charts' window around φ_op (half
-            // to 1.5 times it), or each widened operating band.
-            let windows: Vec<Interval> = spec.objective.checked_windows(spec);
-            let mut grids = Estimate::zero();
-            for w in &windows {
-                let n = (w.width() / GRID_STEP).min(MAX_GRID_POINTS as f64);
-                grids = grids.then(cost::points(&pc, n, w.lo, spec.level));
-                let near = Interval::new(w.lo * (1.0 - NEAR), w.hi * (1.0 + NEAR));
-                let centres = seeds.iter().filter(|x| near.contains(x.phi)).count() as f64;
-                grids = grids.then(Estimate::work(
-                    centres * pc.dstm(),
-                    Driver::Settings,
-                    "DSTM points at tongue centres".into(),
-                ));
-            }
-            let (phis, betas) = chart_grid(spec);
-            let charts = cost::chart(&pc, &phis, &betas).times(2.0, Driver::Grid, "charts");
-            verification = verification.then(cat.times(2.0, Driver::Grid, "catalogues")).then(grids).then(charts);
+            per_candidate = per_candidate.then(spec.objective.candidate_cost(spec, &at));
+            verification =
+                verification.then(verify::cost(&pc, &s, &criterion, &seeds, spec)).then(content::cost(&pc, spec));
         }
         // The whirls: the physics seed's and the catalogues' at each speed, and the
         // Campbell diagram's speeds.

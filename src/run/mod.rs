@@ -16,6 +16,7 @@
 mod admit;
 mod design;
 mod floquet;
+mod limits;
 mod outcome;
 mod regions;
 mod whirls;
@@ -23,13 +24,17 @@ mod whirls;
 pub use admit::{Names, DESIGN, MODEL_ONLY};
 pub use design::{DesignJob, DesignRun, FrontJob};
 pub use floquet::{range_warnings, ChartJob, ChartRun, PointRun, ResponseJob, ResponseRun, CHART, POINT};
+pub use limits::{
+    Budget, CostError, CountLimitError, Resource, RunningLimit, Stopped, TimeLimitError, MAX_BYTES, MAX_OPERATIONS,
+    MAX_SECONDS,
+};
 pub use outcome::{CancelToken, Outcome, RunStatus};
 pub use regions::{
     plot_grid, BandJob, BandLoadMargin, BandRun, CatalogueJob, CatalogueRun, RegionsCaseJob, BAND, REGIONS, STUDY,
 };
 pub use whirls::{CampbellJob, CampbellRun, DampingRun, ModesRun, UnbalanceJob, UnbalanceRun};
 
-use crate::analysis::cost::{Budget, CostError, Estimate, Stopped};
+use crate::analysis::cost::Estimate;
 use crate::progress::{Deadline, Progress};
 use thiserror::Error;
 

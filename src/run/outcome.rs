@@ -1,7 +1,7 @@
 //! What a job of a run returns when it may stop early ([`Outcome`]), why it ended
 //! ([`RunStatus`]), and the caller's way to stop it ([`CancelToken`]).
 
-use crate::analysis::cost::Stopped;
+use super::Stopped;
 use crate::progress::Progress;
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -5,7 +5,7 @@
 use super::{Names, Run, RunError};
 use crate::analysis::basis::{Schedule, Sized};
 use crate::analysis::chart::{chart, ChartResult};
-use crate::analysis::cost::{self, CatalogueWork, Dense, Estimate, PointCost};
+use crate::analysis::cost::{self, Dense, Estimate, PointCost};
 use crate::analysis::floquet::FloquetSystem;
 use crate::analysis::modes::whirl_modes_of;
 use crate::analysis::regions::margins::{band_margins, load_margin};
@@ -145,11 +145,10 @@ impl<'a> Run<'a> {
         let settings = &problem.regions;
         // The search's work, from the seeds of the range, before the whirls and the search.
         let criterion = Criterion::of(&problem.settings);
-        let work = CatalogueWork { range, beta_max: request.beta_max, level: request.level, track: request.track };
         let mut estimate = Estimate::zero();
         for fs in &systems {
             let seeds = seeds_for(fs, None, range, criterion.max_order)?;
-            estimate = estimate.then(cost::catalogue(&PointCost::of(fs), settings, &criterion, &seeds, &work));
+            estimate = estimate.then(cost::catalogue(&PointCost::of(fs), settings, &criterion, &seeds, request));
         }
         let fs = &systems[0];
         if request.track {
@@ -200,8 +199,7 @@ impl<'a> Run<'a> {
         let fs = FloquetSystem::for_window(&rotor, &problem.settings, problem.model.speed, range.hi)?;
         let (s, criterion, pc) = (&problem.regions, Criterion::of(&fs.settings), PointCost::of(&fs));
         let seeds = seeds_for(&fs, None, range, criterion.max_order)?;
-        let work = CatalogueWork { range, beta_max: request.beta_max, level: request.level, track: false };
-        let mut estimate = cost::catalogue(&pc, s, &criterion, &seeds, &work);
+        let mut estimate = cost::catalogue(&pc, s, &criterion, &seeds, &CatalogueRequest { track: false, ..*request });
         if phi_op.is_some() {
             estimate = estimate.then(cost::band(&pc, s, &criterion, &seeds, range, request.level));
         }

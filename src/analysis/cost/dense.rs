@@ -4,12 +4,6 @@ use super::*;
 use crate::assembly::DofMap;
 use crate::model::Model;
 
-/// Complex DOFs of a model: 2 per shaft node, 1 per ring, 1 per closed branch of each
-/// ring ([`DofMap::len`]).
-pub fn model_dofs(model: &Model) -> usize {
-    DofMap::of(model).len()
-}
-
 /// The dense stages a command runs on the full model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Dense {
@@ -27,7 +21,7 @@ pub enum Dense {
 /// The dense work of `stage` on `model`, from its DOFs alone (nothing is assembled).
 /// `threads` stages may run at once (a Campbell diagram's speeds).
 pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
-    let n = model_dofs(model) as f64;
+    let n = DofMap::of(model).len() as f64;
     // P_cr is computed on the open-circuit model unless the file gives it.
     let open = DofMap { nodes: model.shaft.nodes(), branches: vec![0; model.rings.len()] }.len() as f64;
     let buckling = if model.load.critical_load.is_some() { 0.0 } else { dense_eigen_ops(open) };
@@ -72,7 +66,7 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
 /// node, support and node).
 pub fn unbalance(model: &Model, speeds: usize, nodes: usize) -> Estimate {
     use crate::analysis::unbalance::{disk_nodes, SOLVES_PER_PEAK};
-    let n = model_dofs(model) as f64;
+    let n = DofMap::of(model).len() as f64;
     let probes = (disk_nodes(model).len() + model.bearings.len() + 2 * model.rings.len() + nodes) as f64;
     // |U_dof(Ω)|² is a ratio of polynomials in Ω of degree at most 4n (A(Ω) is quadratic
     // in Ω: det A and the cofactors have degree ≤ 2n), so it has at most 8n stationary

@@ -48,6 +48,19 @@ pub const MAX_STEPS: usize = 4096;
 /// verdict uses (docs/decisions.md, "Chebyshev tolerance").
 const CHEBYSHEV_TOLERANCE: f64 = 1e-11;
 
+/// The Chebyshev point count a table tries first at coupling `a` per exponential: the
+/// smallest whose coefficient bound 2(a/2)^(p−2)/(p−2)! is below a tenth of
+/// [`CHEBYSHEV_TOLERANCE`] (8 when none is).
+pub(crate) fn first_chebyshev_points(a: f64) -> usize {
+    let bound = |p: usize| 2.0 * (1..=p - 2).fold(1.0, |acc, i| acc * (a / 2.0) / i as f64);
+    CHEBYSHEV_DEGREES.iter().copied().find(|&p| bound(p) <= 0.1 * CHEBYSHEV_TOLERANCE).unwrap_or(8)
+}
+
+/// The Chebyshev point counts a table tries after `points` when it has not converged.
+pub(crate) fn chebyshev_points_after(points: usize) -> impl Iterator<Item = usize> {
+    CHEBYSHEV_DEGREES.into_iter().filter(move |&p| p > points)
+}
+
 /// The CFM4 weights and nodes (Blanes & Moan; Alvermann & Fehske).
 fn cfm4() -> ((f64, f64), (f64, f64)) {
     let r3 = 3f64.sqrt();
@@ -162,12 +175,7 @@ impl PhiTable {
         // smallest degree that bound accepts, rather than from a fixed 8 doubled to 16:
         // a failed attempt costs as many exponentials as the interpolant itself.
         let a = x_max * b1.norm1();
-        let bound = |p: usize| {
-            let k = p - 2;
-            2.0 * (1..=k).fold(1.0, |acc, i| acc * (a / 2.0) / i as f64)
-        };
-        let mut points =
-            CHEBYSHEV_DEGREES.iter().copied().find(|&p| bound(p) <= 0.1 * CHEBYSHEV_TOLERANCE).unwrap_or(8);
+        let mut points = first_chebyshev_points(a);
         loop {
             // Samples at the Chebyshev points, one split column each; the coefficients are
             // their discrete cosine transform, one real product: C = S·W.

@@ -230,6 +230,14 @@ impl FloquetSystem {
     /// 2ω₇ = 31φ with N = 32 steps gave max|μ| = 1.0012 at β = 0.1, where the DSTM gives
     /// 1). So N − [`ALIAS_ORDERS`] must exceed 2ω_max/φ with [`ALIAS_MARGIN`] to spare.
     pub fn steps_for(&self, phi: f64) -> usize {
+        let needed = self.steps_needed(phi);
+        self.settings.steps_per_period.max(if needed.is_finite() { needed.min(1e6) as usize } else { 0 })
+    }
+
+    /// The steps per period the rule of [`FloquetSystem::steps_for`] asks for at φ
+    /// (rad/s), before the settings' minimum and the cap of 10⁶; infinite when φ resolves
+    /// nothing (0, NaN). What a run's count before it starts takes ([`crate::analysis::cost`]).
+    pub fn steps_needed(&self, phi: f64) -> f64 {
         let freqs = &self.reduced.frequencies;
         let w_min = freqs.iter().copied().fold(f64::INFINITY, f64::min);
         let w_max = freqs.iter().copied().fold(0.0, f64::max);
@@ -237,7 +245,11 @@ impl FloquetSystem {
         let by_phase = (period * w_min / self.settings.max_step_phase).ceil();
         let by_alias = (ALIAS_MARGIN * 2.0 * w_max / phi).ceil() + ALIAS_ORDERS as f64;
         let needed = by_phase.max(by_alias);
-        self.settings.steps_per_period.max(if needed.is_finite() { needed.min(1e6) as usize } else { 0 })
+        if needed.is_nan() {
+            f64::INFINITY
+        } else {
+            needed
+        }
     }
 
     /// The β = 0 check alone at φ (one fast-path table and its unloaded monodromy):

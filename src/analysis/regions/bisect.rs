@@ -89,53 +89,6 @@ fn next_step(s: &RegionSettings, step: f64, lo: f64) -> f64 {
     (step * STEP_GROWTH).min(s.edge_step.at(lo))
 }
 
-/// The widest step (rad/s) a march that stays at or below φ = `reach` (rad/s) takes: its
-/// first step, or the edge step there, whichever is larger. The bracket a march ends with
-/// is at most this wide.
-fn widest_step(s: &RegionSettings, reach: f64) -> f64 {
-    first_step(s, reach).max(s.edge_step.at(reach))
-}
-
-/// Most steps a march from φ = `inside` (rad/s) takes before its step reaches the edge step: the
-/// march's own steps, walked upward (where the edge step grows with φ, the longest ramp),
-/// without a test. The steps at the full edge step are the march across the width it
-/// goes (what a cost counts across a window).
-fn ramp_steps(s: &RegionSettings, inside: f64) -> usize {
-    let (mut lo, mut step, mut n) = (inside, first_step(s, inside), 0);
-    while step < s.edge_step.at(lo) {
-        lo += step;
-        let next = next_step(s, step, lo);
-        // A step that no longer grows (φ beyond f64's resolution) ends the ramp.
-        if next.partial_cmp(&step) != Some(std::cmp::Ordering::Greater) {
-            break;
-        }
-        step = next;
-        n += 1;
-    }
-    n
-}
-
-/// Most tests [`bisect`] makes on a bracket `width` wide (rad/s, or −): halving to a
-/// tolerance takes ⌈log₂(width/tolerance)⌉; a lattice split halves the largest spacing
-/// inside the bracket at least at every test (the bracket holds no multiple of twice the
-/// spacing it is split at), from at most ⌈log₂(width/cell)⌉ doublings of the cell down to
-/// the cell, one more.
-pub fn most_splits(width: f64, split: Split) -> f64 {
-    match split {
-        Split::Halves(tolerance) => (width / tolerance).log2().ceil().max(0.0),
-        Split::Lattice(cell) => (width / cell).log2().ceil().max(0.0) + 1.0,
-    }
-}
-
-/// Most tests of an edge: a [`march`] from φ = `inside` that stays at or below φ =
-/// `reach` (rad/s), besides its steps at the full edge step (the width it crosses, which a
-/// cost counts on its own), and the bisection of its bracket by `split`: the ramp
-/// (`ramp_steps`), the crossing (or the limit's test), and [`most_splits`] of a bracket
-/// as wide as the widest step (`widest_step`).
-pub fn most_edge_tests(s: &RegionSettings, inside: f64, reach: f64, split: Split) -> f64 {
-    ramp_steps(s, inside) as f64 + 1.0 + most_splits(widest_step(s, reach), split)
-}
-
 /// March from `inside` (where `test` holds) in the direction `dir` (−1 or +1) to the first
 /// point where it fails: steps growing from max(2e-4·φ, 4·`phi_tolerance`) by 1.6 up to
 /// [`RegionSettings::edge_step`] at the point reached, so a stable gap that wide is never
@@ -175,8 +128,39 @@ fn lattice_split(a: f64, b: f64, cell: f64) -> Option<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::{bisect, march, most_splits, ramp_steps, Bracket, Split};
+    use super::{bisect, first_step, march, next_step, Bracket, Split};
     use crate::analysis::regions::RegionSettings;
+
+    /// Most tests [`bisect`] makes on a bracket `width` wide (rad/s, or −): halving to a
+    /// tolerance takes ⌈log₂(width/tolerance)⌉; a lattice split halves the largest spacing
+    /// inside the bracket at least at every test (the bracket holds no multiple of twice the
+    /// spacing it is split at), from at most ⌈log₂(width/cell)⌉ doublings of the cell down to
+    /// the cell, one more.
+    fn most_splits(width: f64, split: Split) -> f64 {
+        match split {
+            Split::Halves(tolerance) => (width / tolerance).log2().ceil().max(0.0),
+            Split::Lattice(cell) => (width / cell).log2().ceil().max(0.0) + 1.0,
+        }
+    }
+
+    /// Most steps a march from φ = `inside` (rad/s) takes before its step reaches the edge step: the
+    /// march's own steps, walked upward (where the edge step grows with φ, the longest ramp),
+    /// without a test. The steps at the full edge step are the march across the width it
+    /// goes (what a cost counts across a window).
+    fn ramp_steps(s: &RegionSettings, inside: f64) -> usize {
+        let (mut lo, mut step, mut n) = (inside, first_step(s, inside), 0);
+        while step < s.edge_step.at(lo) {
+            lo += step;
+            let next = next_step(s, step, lo);
+            // A step that no longer grows (φ beyond f64's resolution) ends the ramp.
+            if next.partial_cmp(&step) != Some(std::cmp::Ordering::Greater) {
+                break;
+            }
+            step = next;
+            n += 1;
+        }
+        n
+    }
 
     #[test]
     fn bisections_stay_within_their_most_splits() {

@@ -32,7 +32,7 @@
 //! pair searches every assignment of the groups' ranks, so each twin tongue is found by
 //! its own secant instead of both landing in the same one.
 
-use super::{Probe, RegionSettings};
+use super::Probe;
 use crate::analysis::floquet::{FloquetSystem, PointSummary};
 use faer::c64;
 use std::f64::consts::PI;
@@ -267,11 +267,6 @@ pub struct Converged {
     /// collided and left the circle, but less than the criterion asks, or been held inside
     /// it by damping; its tongue's crest may lie beside this point.
     pub split: f64,
-}
-
-/// Most evaluations of one [`Probe::centre_search`]: its start and one per iteration.
-pub fn most_centre_evaluations(s: &RegionSettings) -> f64 {
-    1.0 + s.centre_iterations as f64
 }
 
 impl Probe<'_> {

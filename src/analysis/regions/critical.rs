@@ -1,8 +1,8 @@
 //! The critical load curve β_c(φ): the smallest β in [0, β_max] with max|μ| above the
 //! instability tolerance, by bracketing from below and bisection.
 
-use super::bisect::{bisect, most_splits, Bracket, Split};
-use super::{Probe, RegionSettings};
+use super::bisect::{bisect, Bracket, Split};
+use super::Probe;
 use crate::analysis::floquet::fast::PhiTable;
 use crate::analysis::Interval;
 use serde::Serialize;
@@ -14,17 +14,6 @@ pub struct CriticalLoad {
     pub phi: f64,
     /// β_c, or None if stable up to the load searched.
     pub beta: Option<f64>,
-}
-
-/// Most evaluations of a crossing in β over `span` bisected to `tolerance`
-/// ([`Probe::crossing`]; [`Probe::critical_load_below`] over [0, β_hi] is the same
-/// count): the test at β = 0 when the span starts there, a sample at each multiple of
-/// `beta_bracket` the span reaches, and the bisection of one bracket step.
-pub fn most_crossing_evaluations(s: &RegionSettings, span: Interval, tolerance: f64) -> f64 {
-    let zero = if span.lo == 0.0 { 1.0 } else { 0.0 };
-    let first = (span.lo / s.beta_bracket).floor() + 1.0;
-    let last = (span.hi / s.beta_bracket).ceil().max(1.0);
-    zero + (last - first + 1.0).max(0.0) + most_splits(s.beta_bracket, Split::Halves(tolerance))
 }
 
 impl Probe<'_> {
@@ -81,7 +70,7 @@ impl Probe<'_> {
             return CriticalLoad { phi, beta: None };
         }
         // ⌈β_hi/step⌉ samples down to 0, the last at 0 itself: counted, not subtracted, so
-        // round-off leaves no sliver sample above 0 (`most_crossing_evaluations`).
+        // round-off leaves no sliver sample above 0.
         let samples = (beta_hi / s.beta_bracket).ceil().max(1.0) as usize;
         let mut hi = beta_hi;
         for k in 1..=samples {

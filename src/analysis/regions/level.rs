@@ -20,7 +20,7 @@
 //! (1 + g)^n, n ∈ ℤ (g = `RegionSettings::guard_step`): fixed in φ, so the band's march
 //! from φ_op and the catalogue's scan of a range visit the same points.
 
-use super::bisect::{bisect, march, most_edge_tests, Bracket, March, Split};
+use super::bisect::{bisect, march, Bracket, March, Split};
 use super::centre::{twin_groups, ModeBasis};
 use super::tongues::{GroupHit, GroupKey};
 use super::{Probe, RegionSettings};
@@ -183,13 +183,6 @@ impl<'p> Level<'p> {
 /// `phi_tolerance` ([`Level::cell`]).
 pub fn lattice_cell(s: &RegionSettings) -> f64 {
     2f64.powi(s.phi_tolerance.log2().floor() as i32)
-}
-
-/// Most evaluations of one edge at the level from a point at φ (rad/s) inside `window`,
-/// besides its steps at the full edge step (which a cost counts across the window): the
-/// march to the window's top and the lattice refinement ([`most_edge_tests`]).
-pub fn most_edge_evaluations(s: &RegionSettings, phi: f64, window: Interval) -> f64 {
-    most_edge_tests(s, phi, window.hi.max(phi), Split::Lattice(lattice_cell(s)))
 }
 
 /// The guard lattice points (1 + g)^n inside `window`, ascending (g = `guard_step`): the

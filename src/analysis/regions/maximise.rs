@@ -75,18 +75,6 @@ pub fn climb(mut g: impl FnMut(f64) -> f64, s: &RegionSettings, from: f64, half_
     Some(parabola_vertex(a, b, c).map_or(b.0, |x| x.clamp(a.0, c.0)))
 }
 
-/// The most evaluations of `g` a [`climb`] makes in a window of half-width at most
-/// `half_width_over_phi`·φ: three for the first triple; one per doubling step, of which
-/// at most ⌈log₂(half-width/h)⌉ stay inside the window (after k of them the climb is
-/// (2^(k+1) − 1)·h from its start, and the first step h is CLIMB_STEP·φ or a quarter of
-/// the half-width, whichever is smaller); and one per refinement step
-/// (`tip_iterations`). What the region searches' count before a run takes for a climb
-/// (`analysis::cost`), so that it follows the climb's own constants.
-pub fn most_climb_evaluations(s: &RegionSettings, half_width_over_phi: f64) -> f64 {
-    let steps = (half_width_over_phi / CLIMB_STEP).max(4.0);
-    3.0 + steps.log2().ceil() + s.tip_iterations as f64
-}
-
 /// The vertex of the parabola through three points (x ascending), if it opens downward.
 fn parabola_vertex((x0, y0): (f64, f64), (x1, y1): (f64, f64), (x2, y2): (f64, f64)) -> Option<f64> {
     let (d0, d2) = ((y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1));
@@ -102,6 +90,17 @@ fn parabola_vertex((x0, y0): (f64, f64), (x1, y1): (f64, f64), (x2, y2): (f64, f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The most evaluations of `g` a [`climb`] makes in a window of half-width at most
+    /// `half_width_over_phi`·φ: three for the first triple; one per doubling step, of which
+    /// at most ⌈log₂(half-width/h)⌉ stay inside the window (after k of them the climb is
+    /// (2^(k+1) − 1)·h from its start, and the first step h is CLIMB_STEP·φ or a quarter of
+    /// the half-width, whichever is smaller); and one per refinement step
+    /// (`tip_iterations`).
+    fn most_climb_evaluations(s: &RegionSettings, half_width_over_phi: f64) -> f64 {
+        let steps = (half_width_over_phi / CLIMB_STEP).max(4.0);
+        3.0 + steps.log2().ceil() + s.tip_iterations as f64
+    }
 
     /// A climb that only rises never turns back: it doubles its steps to the window's
     /// edge and stops there. Its count of evaluations is the bound's doubling part.
@@ -123,7 +122,5 @@ mod tests {
             let bound = most_climb_evaluations(&s, over_phi) - s.tip_iterations as f64;
             assert!(calls as f64 <= bound, "{calls} evaluations, bound {bound} at {over_phi}");
         }
-        // The bound the region searches count for a start climb (the literal 3 + 8 before).
-        assert_eq!(most_climb_evaluations(&s, crate::analysis::regions::START_WINDOW), 11.0 + s.tip_iterations as f64);
     }
 }

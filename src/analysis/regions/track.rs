@@ -1,8 +1,8 @@
 //! Region boundaries at a load β other than the catalogue's level, by marching and
 //! bisection, and their continuation from the onset upward.
 
-use super::bisect::{bisect, march, most_edge_tests, March, Split};
-use super::{Probe, RegionSettings};
+use super::bisect::{bisect, march, March, Split};
+use super::Probe;
 use crate::analysis::Interval;
 use serde::Serialize;
 
@@ -35,17 +35,6 @@ impl From<Edges> for EdgesRecord {
 /// Where a tracked level looks for its inside point when the predicted centre is not
 /// inside: at these multiples of the last width, on both sides.
 const BESIDE: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
-
-/// Evaluations of one tracked level from a region at φ (rad/s), besides its edges' steps
-/// at the full edge step: the inside point (the prediction, four offsets on both sides,
-/// the start) and both edges (a march reaching up to 2φ and the halving of its bracket to
-/// `phi_tolerance`, [`most_edge_tests`]). Not a bound of the level: its edges march
-/// across the region's width at that load, which is not known before the search (the
-/// running allowance of evaluations holds that part, [`crate::analysis::cost::Budget::allowance`]).
-pub fn most_level_evaluations(s: &RegionSettings, phi: f64) -> f64 {
-    let tries = 2 + 2 * BESIDE.len();
-    tries as f64 + 2.0 * most_edge_tests(s, phi, 2.0 * phi, Split::Halves(s.phi_tolerance))
-}
 
 impl Probe<'_> {
     /// The edge of the unstable set at load β next to `inside` (unstable) on the side

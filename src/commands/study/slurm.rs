@@ -40,7 +40,7 @@ pub struct SlurmOptions {
     pub binary: PathBuf,
     /// The limits each case runs under (`--max-cost`, `--time-limit`), passed on to the
     /// array tasks.
-    pub budget: rotorshunt::analysis::cost::Budget,
+    pub budget: rotorshunt::run::Budget,
 }
 
 fn argument(name: &str, message: impl Into<String>) -> Error {

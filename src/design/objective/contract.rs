@@ -213,7 +213,7 @@ impl KeyRefusal {
 #[derive(Debug, Clone, Copy)]
 pub struct CostAt<'a> {
     /// The cost of one Floquet point of the speed's system.
-    pub point: &'a PointCost,
+    pub point: &'a PointCost<'a>,
     /// The region search's settings.
     pub regions: &'a RegionSettings,
     /// The instability criterion.
