@@ -39,6 +39,8 @@ pub use design::{design_file_name, design_run, status_word};
 #[allow(unused_imports)]
 pub use floquet::{check_grid, floquet_point_sized};
 #[allow(unused_imports)]
+pub use regions::{band_output, band_request, regions_output, regions_request, BandOutput, BandRequest, RegionsJson};
+#[allow(unused_imports)]
 pub use tuned::tuned_toml;
 #[allow(unused_imports)]
 pub use unbalance::unbalance_json;
@@ -51,7 +53,7 @@ use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::{campbell as campbell_report, summary};
-use rotorshunt::run::Run;
+use rotorshunt::run::{ModesRun, Run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -107,23 +109,36 @@ pub struct ModesOutput {
 
 /// `rotorshunt modes FILE [--speed W] [--count N] [--json]`.
 pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, budget: Budget) -> Result<String, Error> {
-    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speed = match speed {
-        Some(w) => bounds::flag("--speed", limits::speed(w))?,
-        None => problem.model.speed,
-    };
+    let speed = modes_speed(problem, speed, count)?;
     let r = Run::new(&rotorshunt::progress::Silent).with_budget(budget).modes(problem, speed, count)?;
-    let out = ModesOutput {
+    let out = modes_output(problem, speed, count, &r);
+    if json {
+        Ok(json_pretty(&out, "the JSON output")? + "\n")
+    } else {
+        Ok(summary::modes_text(&out.modes, speed, out.critical_load))
+    }
+}
+
+/// The checks of `modes` (`--count`, `--speed`): the speed (rad/s) asked, the problem's
+/// when none is.
+pub fn modes_speed(problem: &Problem, speed: Option<f64>, count: usize) -> Result<f64, Error> {
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+    match speed {
+        Some(w) => bounds::flag("--speed", limits::speed(w)),
+        None => Ok(problem.model.speed),
+    }
+}
+
+/// The JSON document of `modes` from the whirls [`Run::modes`] computed at `speed`: the
+/// lowest `count` of each direction. Rendered by `modes`, converted by the Python
+/// bindings' `modes`.
+pub fn modes_output(problem: &Problem, speed: f64, count: usize, r: &ModesRun) -> ModesOutput {
+    ModesOutput {
         provenance: Provenance::of(problem),
         speed,
         critical_load: r.critical_load,
         static_load: r.static_load,
         modes: r.lowest(count),
-    };
-    if json {
-        Ok(json_pretty(&out, "the JSON output")? + "\n")
-    } else {
-        Ok(summary::modes_text(&out.modes, speed, out.critical_load))
     }
 }
 
