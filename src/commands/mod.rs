@@ -43,7 +43,7 @@ pub use regions::{band_output, band_request, regions_output, regions_request, Ba
 #[allow(unused_imports)]
 pub use tuned::tuned_toml;
 #[allow(unused_imports)]
-pub use unbalance::unbalance_json;
+pub use unbalance::{on_nodes, unbalance_output, unbalance_speeds, UnbalanceJson};
 
 use crate::commands::out::json_pretty;
 use rotorshunt::analysis::cost::Budget;
@@ -53,7 +53,7 @@ use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::{campbell as campbell_report, summary};
-use rotorshunt::run::{ModesRun, Run};
+use rotorshunt::run::{CampbellRun, ModesRun, Run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -155,53 +155,36 @@ fn operating_speeds(problem: &Problem) -> Vec<f64> {
 
 /// JSON of `campbell` (campbell.json).
 #[derive(Serialize)]
-struct CampbellJson<'a> {
+pub struct CampbellJson {
+    /// Tool, input hash and settings.
     #[serde(flatten)]
-    provenance: Provenance,
-    campbell: &'a rotorshunt::analysis::campbell::CampbellResult,
+    pub provenance: Provenance,
+    /// The diagram.
+    pub campbell: CampbellRun,
     /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
-    operating_speeds: &'a [f64],
+    pub operating_speeds: Vec<f64>,
     /// The crossings of the tracks with the 1× line, by speed.
-    critical_speeds: &'a [campbell_report::CriticalSpeed],
+    pub critical_speeds: Vec<campbell_report::CriticalSpeed>,
 }
 
-/// The Campbell diagram of `problem` over `speeds` (rad/s) as `campbell` computes it (the
-/// same checks and admission), returned as its campbell.json text instead of written:
-/// the Python bindings' `campbell`. Progress: `whirls`, a step per speed.
-#[allow(dead_code)] // called by the Python bindings alone
-pub fn campbell_json(
-    problem: &Problem,
-    speeds: &[f64],
-    count: usize,
-    progress: &dyn Progress,
-    budget: Budget,
-) -> Result<String, Error> {
-    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+/// The check of `campbell` on each of its speeds (rad/s).
+pub fn campbell_speeds(speeds: &[f64]) -> Result<(), Error> {
     for &w in speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }
-    let run = Run::new(progress).with_budget(budget);
-    let result = run.campbell(problem, speeds, count)?.run()?;
-    let operating = operating_speeds(problem);
-    let critical = campbell_report::critical_speeds(&result);
-    campbell_json_text(problem, &result, &operating, &critical)
+    Ok(())
 }
 
-/// campbell.json's text: the diagram with the problem's provenance, its operating speeds
-/// (rad/s) and the critical speeds.
-fn campbell_json_text(
-    problem: &Problem,
-    result: &rotorshunt::analysis::campbell::CampbellResult,
-    operating: &[f64],
-    critical: &[campbell_report::CriticalSpeed],
-) -> Result<String, Error> {
-    let json = CampbellJson {
+/// campbell.json's document from the diagram [`Run::campbell`] computed: with the
+/// problem's provenance, its operating speeds (rad/s) and the critical speeds. Written by
+/// `campbell`, converted by the Python bindings' `campbell`.
+pub fn campbell_output(problem: &Problem, result: CampbellRun) -> CampbellJson {
+    CampbellJson {
         provenance: Provenance::of(problem),
+        operating_speeds: operating_speeds(problem),
+        critical_speeds: campbell_report::critical_speeds(&result),
         campbell: result,
-        operating_speeds: operating,
-        critical_speeds: critical,
-    };
-    json_pretty(&json, "the JSON output")
+    }
 }
 
 /// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
@@ -216,29 +199,22 @@ pub fn campbell_cmd(
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
     let (speeds, given) = args::parse_speeds(speeds, "--speeds")?;
-    for &w in &speeds {
-        bounds::flag("--speeds", limits::speed(w))?;
-    }
+    campbell_speeds(&speeds)?;
     // rpm on the axis when the user gave rpm, on the command line or in the file.
     let unit = if given == SpeedUnit::Rpm { given } else { problem.speed_unit() };
     let run = Run::new(progress).with_budget(budget);
     let job = run.campbell(problem, &speeds, count)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let result = job.run()?;
+    let doc = campbell_output(problem, job.run()?);
     progress.phase("files", 4);
-    let operating = operating_speeds(problem);
-    let critical = campbell_report::critical_speeds(&result);
-    dir.write("campbell.json", campbell_json_text(problem, &result, &operating, &critical)?.as_bytes())?;
+    dir.write("campbell.json", json_pretty(&doc, "the JSON output")?.as_bytes())?;
+    let (result, operating, critical) = (&doc.campbell, &doc.operating_speeds, &doc.critical_speeds);
     progress.advance(1);
-    let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
+    let csv = campbell_report::campbell_csv(result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
     progress.advance(1);
-    let plot = campbell_report::campbell_plot(
-        &result,
-        &format!("Campbell diagram: {}", plot_title(problem)),
-        unit,
-        &operating,
-    );
+    let plot =
+        campbell_report::campbell_plot(result, &format!("Campbell diagram: {}", plot_title(problem)), unit, operating);
     dir.figure("campbell", &plot)?;
     progress.advance(2);
     dir.commit("campbell", progress)?;
@@ -251,7 +227,7 @@ pub fn campbell_cmd(
         result.mac_threshold,
         out.display()
     );
-    for w in &operating {
+    for w in operating {
         text += &format!("operating speed: {}\n", unit.text(*w));
     }
     text += "critical speeds (crossings with 1x):";
@@ -259,7 +235,7 @@ pub fn campbell_cmd(
         text += " none in the range";
     }
     text += "\n";
-    for c in &critical {
+    for c in critical {
         let whirl = format!("{:?}", c.whirl).to_lowercase();
         text += &format!("  {} ({whirl} whirl): {}\n", c.track, unit.text(c.speed));
     }
