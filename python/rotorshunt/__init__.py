@@ -244,18 +244,10 @@ class Problem:
         problem = self.with_set({f"design.{k}": v for k, v in settings.items()}) if settings else self
         cb = _progress(progress)
         if pareto is not None:
-            import json
-
-            if out is None:
-                with tempfile.TemporaryDirectory() as tmp:
-                    folder = Path(tmp) / "pareto"
-                    text = problem._native.pareto(pareto, folder, cb)
-                    report = json.loads((folder / "report.json").read_text())
-            else:
-                text = problem._native.pareto(pareto, out, cb)
-                report = json.loads((Path(out) / "report.json").read_text())
-            report["summary"] = text
-            return report
+            if out is not None:
+                return problem._native.pareto(pareto, out, cb)
+            with tempfile.TemporaryDirectory() as tmp:
+                return problem._native.pareto(pareto, Path(tmp) / "pareto", cb)
         return DesignResult(**problem._native.design(None if out is None else os.fspath(out), cb))
 
 

@@ -35,7 +35,7 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 // What the Python bindings alone call (unused in the binary, whose build checks the rest
 // of this layer for dead code).
 #[allow(unused_imports)]
-pub use design::{design_file_name, design_run, status_word};
+pub use design::{design_file_name, design_into, pareto_into, status_word};
 #[allow(unused_imports)]
 pub use floquet::{check_grid, floquet_point_sized};
 #[allow(unused_imports)]

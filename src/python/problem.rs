@@ -343,12 +343,14 @@ impl NativeProblem {
     ) -> PyResult<Bound<'py, PyDict>> {
         let p = &self.problem;
         let (summary, outcome, tuned) = watched(py, callback(progress), |pr| {
+            let run = Run::new(pr);
+            let job = run.design(p, "the design")?;
             let (summary, outcome) = match &out {
                 Some(dir) => {
-                    let (text, outcome) = commands::design_cmd(p, dir, pr, Budget::default())?;
+                    let (text, outcome) = commands::design_into(p, dir, job, pr)?;
                     (Some(text), outcome)
                 }
-                None => (None, commands::design_run(p, pr, Budget::default())?),
+                None => (None, job.run(false)?.value.outcome),
             };
             let tuned = commands::tuned_toml(p, &outcome)?;
             Ok((summary, outcome, tuned))
@@ -356,18 +358,26 @@ impl NativeProblem {
         results::design(py, &outcome, tuned, summary)
     }
 
-    /// `design --pareto K --out DIR`: the summary text (the front is in DIR/report.json).
+    /// `design --pareto K --out DIR`: report.json's document, with the summary text as
+    /// `summary`.
     #[pyo3(signature = (points, out, progress = None))]
-    fn pareto(
+    fn pareto<'py>(
         &self,
-        py: Python<'_>,
-        points: &Bound<'_, PyAny>,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
         out: PathBuf,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let k = args::count(points, "--pareto", 2, u32::MAX as u64).map_err(super::to_py)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| commands::pareto_cmd(p, k, &out, pr, Budget::default()).map(|(t, _)| t))
+        let (summary, report) = watched(py, callback(progress), |pr| {
+            let run = Run::new(pr);
+            let job = run.pareto(p, k)?;
+            commands::pareto_into(p, k, &out, job, pr)
+        })?;
+        let report = results::json(py, &report)?;
+        report.set_item("summary", summary)?;
+        Ok(report)
     }
 }
 
