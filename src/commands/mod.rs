@@ -37,7 +37,7 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 #[allow(unused_imports)]
 pub use design::{design_file_name, design_into, pareto_into, status_word};
 #[allow(unused_imports)]
-pub use floquet::{check_grid, floquet_point_sized};
+pub use floquet::{check_grid, check_point};
 #[allow(unused_imports)]
 pub use regions::{band_output, band_request, regions_output, regions_request, BandOutput, BandRequest, RegionsJson};
 #[allow(unused_imports)]
@@ -49,6 +49,7 @@ use crate::commands::out::json_pretty;
 use rotorshunt::analysis::cost::Budget;
 use rotorshunt::analysis::limits::{self, MAX_COUNT};
 use rotorshunt::analysis::modes::WhirlMode;
+use rotorshunt::analysis::Rotor;
 use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
@@ -88,7 +89,13 @@ pub fn plot_title(p: &Problem) -> String {
 /// the model's whirls here too, as the design will ([`rotorshunt::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     let rotor = Run::new(&rotorshunt::progress::Silent).with_budget(budget).check(problem)?;
-    Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
+    Ok(check_text(problem, &rotor))
+}
+
+/// The text of `check`: the model summary of the rotor [`Run::check`] built from
+/// `problem`.
+pub fn check_text(problem: &Problem, rotor: &Rotor) -> String {
+    format!("{}: valid\n{}", problem.file, summary::check_text(rotor, &title(problem)))
 }
 
 /// JSON of `modes`.

@@ -13,7 +13,7 @@ use crate::commands;
 use crate::commands::Error;
 use crate::problem::Problem;
 use crate::progress::Silent;
-use crate::run::Run;
+use crate::run::{PointRun, Run};
 use numpy::{Complex64, IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -144,7 +144,7 @@ impl NativeProblem {
     /// `check`: the model summary text.
     fn check(&self, py: Python<'_>) -> PyResult<String> {
         let p = &self.problem;
-        released(py, || commands::check(p, Budget::default()))
+        released(py, || Ok(commands::check_text(p, &Run::new(&Silent).check(p)?)))
     }
 
     /// `modes --json`: the whirls as arrays, and the document.
@@ -195,7 +195,7 @@ impl NativeProblem {
     ) -> PyResult<Bound<'py, PyDict>> {
         let phi = args::number(phi, "--phi").map_err(super::to_py)?;
         let beta = args::number(beta, "--beta").map_err(super::to_py)?;
-        let sized = released(py, || commands::floquet_point_sized(&self.problem, phi, beta, &Budget::default()))?;
+        let sized = released(py, || point(&self.problem, phi, beta))?;
         let (speed, point, basis) = (sized.system.speed, sized.answer, sized.basis);
         let scale = point.multiplier_log_scale.exp();
         let mu: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0] * scale, m[1] * scale)).collect();
@@ -389,6 +389,13 @@ fn status_word(s: PointStatus) -> &'static str {
     }
 }
 
+/// The Floquet point at (φ, β) of `problem` as `floquet` checks and computes it
+/// ([`Run::point`]).
+fn point(problem: &Problem, phi: f64, beta: f64) -> Result<PointRun, Error> {
+    commands::check_point(phi, beta)?;
+    Ok(Run::new(&Silent).point(problem, phi, beta)?)
+}
+
 /// A (lo, hi) pair as the command line's `A:B` text (Rust's shortest round-trip form).
 fn range_text(range: &Bound<'_, PyAny>) -> Result<String, Error> {
     let v = args::numbers(range, "--phi")?;
@@ -489,7 +496,7 @@ pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, poi
     released(py, || {
         let start = std::time::Instant::now();
         for &(phi, beta) in &points {
-            std::hint::black_box(commands::floquet_point_sized(&problem.problem, phi, beta, &Budget::default())?);
+            std::hint::black_box(point(&problem.problem, phi, beta)?);
         }
         Ok(start.elapsed().as_secs_f64())
     })
