@@ -275,8 +275,8 @@ fn run(cli: Cli, progress: &Reporter) -> Result<(String, u8), crate::commands::E
             plain(commands::band_cmd(&load(&input)?, phi_op, level, phi.as_deref(), json, progress, budget))
         }
         Command::Design { input, out, pareto: Some(k) } => {
-            let (text, front) = commands::pareto_cmd(&load(&input)?, k as usize, &out, progress, budget)?;
-            Ok((text, if front.verified() { 0 } else { exit::NOT_VERIFIED }))
+            let (text, report) = commands::pareto_cmd(&load(&input)?, k as usize, &out, progress, budget)?;
+            Ok((text, if report.front.verified() { 0 } else { exit::NOT_VERIFIED }))
         }
         Command::Design { input, out, pareto: None } => {
             let (text, outcome) = commands::design_cmd(&load(&input)?, &out, progress, budget)?;

@@ -2,7 +2,7 @@
 rings, and shunt-circuit design, from Python.
 
 The numbers come from the Rust crate (the same code as the ``rotorshunt`` command line);
-this package converts its results into numpy arrays and plots them. SI units, rad/s.
+this package wraps its results, numpy arrays and Python data, and plots them. SI units, rad/s.
 
 >>> import rotorshunt as rs
 >>> p = rs.Problem.from_file("problems/paper-open.toml", set={"speed": 2000})
@@ -180,23 +180,23 @@ class Problem:
     def modes(self, speed: Optional[float] = None, count: int = 4) -> ModesResult:
         """The lowest ``count`` forward and backward whirls at ``speed`` (rad/s; default
         the problem's), as `rotorshunt modes --json`."""
-        return ModesResult._of(self._native.modes(speed, count))
+        return ModesResult(**self._native.modes(speed, count))
 
     def campbell(self, speeds: Iterable[float], count: int = 4, progress: Progress = None) -> CampbellResult:
         """The Campbell diagram over ``speeds`` (rad/s), ``count`` whirls of each
         direction tracked (`rotorshunt campbell`)."""
-        return CampbellResult._of(self._native.campbell(speeds, count, _progress(progress)))
+        return CampbellResult(**self._native.campbell(speeds, count, _progress(progress)))
 
     def floquet(self, phi: float, beta: float) -> FloquetResult:
         """The Floquet point at excitation frequency ``phi`` (rad/s) and load ``beta``
         (`rotorshunt floquet`)."""
-        return FloquetResult._of(self._native.floquet(phi, beta))
+        return FloquetResult(**self._native.floquet(phi, beta))
 
     def chart(self, phis: Iterable[float], betas: Iterable[float], progress: Progress = None) -> ChartResult:
         """The stability chart over the grid ``phis`` (rad/s) x ``betas``
         (`rotorshunt chart`): max|μ| and the growth rate as 2-D arrays. Releases the GIL;
         Ctrl-C stops it between φ rows (KeyboardInterrupt)."""
-        return ChartResult._of(self._native.chart(phis, betas, _progress(progress)))
+        return ChartResult(**self._native.chart(phis, betas, _progress(progress)))
 
     def regions(
         self,
@@ -219,13 +219,14 @@ class Problem:
     ) -> BandResult:
         """The stable band around ``phi_op`` (rad/s) at load ``level``, with its margins
         (`rotorshunt band --json`); ``phi_range`` is the search window (lo, hi)."""
-        return BandResult._of(self._native.band(phi_op, level, phi_range, _progress(progress)))
+        return BandResult(**self._native.band(phi_op, level, phi_range, _progress(progress)))
 
     def unbalance(self, speeds: Iterable[float], nodes: Iterable[int], progress: Progress = None) -> UnbalanceResult:
         """The synchronous unbalance response over ``speeds`` (rad/s) at shaft ``nodes``
         (`rotorshunt unbalance`): amplitude and phase, x/y and orbit axes in real
         coordinates."""
-        return UnbalanceResult._of(self._native.unbalance(speeds, nodes, _progress(progress)))
+        native = self._native.unbalance(speeds, nodes, _progress(progress))
+        return UnbalanceResult(**{**native, "probes": [Probe(**p) for p in native["probes"]]})
 
     def design(
         self,
@@ -243,19 +244,11 @@ class Problem:
         problem = self.with_set({f"design.{k}": v for k, v in settings.items()}) if settings else self
         cb = _progress(progress)
         if pareto is not None:
-            import json
-
-            if out is None:
-                with tempfile.TemporaryDirectory() as tmp:
-                    folder = Path(tmp) / "pareto"
-                    text = problem._native.pareto(pareto, folder, cb)
-                    report = json.loads((folder / "report.json").read_text())
-            else:
-                text = problem._native.pareto(pareto, out, cb)
-                report = json.loads((Path(out) / "report.json").read_text())
-            report["summary"] = text
-            return report
-        return DesignResult._of(problem._native.design(None if out is None else os.fspath(out), cb))
+            if out is not None:
+                return problem._native.pareto(pareto, out, cb)
+            with tempfile.TemporaryDirectory() as tmp:
+                return problem._native.pareto(pareto, Path(tmp) / "pareto", cb)
+        return DesignResult(**problem._native.design(None if out is None else os.fspath(out), cb))
 
 
 def from_ross_file(path: Union[str, os.PathLike], rings: Optional[Sequence[Mapping[str, Any]]] = None, speed: Optional[float] = None, set=None) -> Problem:

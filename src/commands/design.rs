@@ -5,12 +5,12 @@
 use super::{title, OutDir};
 use crate::commands::out::json_pretty;
 use crate::commands::Error;
-use rotorshunt::design::{self, DesignError, DesignOutcome, Status};
+use rotorshunt::design::{DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
+use rotorshunt::report::design::pareto::FrontReport;
 use rotorshunt::report::design::{self as report_design, branch_rows, markdown, DesignReport};
-use rotorshunt::run::Budget;
-use rotorshunt::run::{DesignJob, DesignRun, Outcome, Run};
+use rotorshunt::run::{Budget, DesignJob, DesignRun, FrontJob, Outcome, Run};
 use std::path::Path;
 
 /// The name of the design file written: `tuned.toml` for a result that can be handed on,
@@ -30,8 +30,9 @@ pub fn status_word(status: Status) -> String {
 
 /// `rotorshunt design FILE --out DIR`: the summary text and the outcome (whose status
 /// decides the exit code). Refused before any folder is made when its estimate is beyond
-/// `budget`. Progress: the design's `optimise` and `verification` ([`design::run`]),
-/// then `report` (a step per chart row, Campbell speed and file).
+/// `budget`. Progress: the design's `optimise` and `verification`
+/// ([`rotorshunt::design::run`]), then `report` (a step per chart row, Campbell speed and
+/// file).
 pub fn design_cmd(
     problem: &Problem,
     out: &Path,
@@ -41,19 +42,22 @@ pub fn design_cmd(
     let run = Run::new(progress).with_budget(budget);
     // No folder is created for a file without a [design] table, nor for one refused.
     let job = run.design(problem, "the design")?;
+    design_into(problem, out, job, progress)
+}
+
+/// Run the admitted design `job` of `problem` into the folder `out`, as `design --out`
+/// writes it (made before the design runs, committed after the report): the summary text
+/// and the outcome. `design`'s, and the Python bindings' `design` with `out`.
+pub fn design_into(
+    problem: &Problem,
+    out: &Path,
+    job: DesignJob<'_, '_>,
+    progress: &dyn Progress,
+) -> Result<(String, DesignOutcome), Error> {
     let dir = OutDir::create(out, &problem.file)?;
     let outcome = design_report(problem, &dir, job, progress)?.value;
     dir.commit("design", progress)?;
     Ok((summary_text(&outcome, out), outcome))
-}
-
-/// The design of `problem` as `design` runs it (the same checks and admission), without
-/// its report: the outcome, for the Python bindings' `design` (its tuned file is
-/// [`super::tuned_toml`]). Progress: the design's `optimise` and `verification`.
-#[allow(dead_code)] // called by the Python bindings alone
-pub fn design_run(problem: &Problem, progress: &dyn Progress, budget: Budget) -> Result<DesignOutcome, Error> {
-    let run = Run::new(progress).with_budget(budget);
-    Ok(run.design(problem, "the design")?.run(false)?.value.outcome)
 }
 
 /// Run the admitted design `job` and write the report files to `dir`: the outcome, with
@@ -218,22 +222,37 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
 }
 
 /// `rotorshunt design FILE --pareto K --out DIR`: the front of the file's trade-off
-/// ([`design::pareto::front`]) with its report (report.md, report.html, report.json),
-/// the plot of the front (pareto.svg, pareto.png) and every point's design file
-/// (`tuned-k.toml`, or `best-effort-k.toml` for a point that is not a verified result).
-/// A design without a trade-off is refused at its key and line, before any folder is
-/// made. Progress: `front` (the runs' candidates and verification points), `report`.
+/// ([`rotorshunt::design::pareto::front`]) with its report (report.md, report.html,
+/// report.json), the plot of the front (pareto.svg, pareto.png) and every point's design
+/// file (`tuned-k.toml`, or `best-effort-k.toml` for a point that is not a verified
+/// result). A design without a trade-off is refused at its key and line, before any
+/// folder is made. Progress: `front` (the runs' candidates and verification points),
+/// `report`. Returns the summary text and the report (report.json's document).
 pub fn pareto_cmd(
     problem: &Problem,
     points: usize,
     out: &Path,
     progress: &dyn Progress,
     budget: Budget,
-) -> Result<(String, design::pareto::Front), Error> {
-    use rotorshunt::report::design::pareto::{front_plot, markdown, point_file, point_line, FrontReport};
-    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
+) -> Result<(String, FrontReport), Error> {
     let run = Run::new(progress).with_budget(budget);
     let job = run.pareto(problem, points)?;
+    pareto_into(problem, points, out, job, progress)
+}
+
+/// Run the admitted front `job` of `problem` (`points` points) into the folder `out`, as
+/// `design --pareto` writes it (made before the front runs, committed after the report):
+/// the summary text and the report. `design --pareto`'s, and the Python bindings'
+/// `pareto`.
+pub fn pareto_into(
+    problem: &Problem,
+    points: usize,
+    out: &Path,
+    job: FrontJob<'_, '_>,
+    progress: &dyn Progress,
+) -> Result<(String, FrontReport), Error> {
+    use rotorshunt::report::design::pareto::{front_plot, markdown, point_file, point_line};
+    let spec = problem.design.as_ref().ok_or(Error::Design(DesignError::NoDesign))?;
     let dir = OutDir::create(out, &problem.file)?;
     let front = job.run()?;
     progress.phase("report", (front.points.len() + 4) as u64);
@@ -283,5 +302,5 @@ pub fn pareto_cmd(
         report.design_files.join(", "),
         out.display()
     );
-    Ok((s, report.front))
+    Ok((s, report))
 }

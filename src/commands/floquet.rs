@@ -5,7 +5,7 @@ use super::bounds::{self};
 use super::{files_phase, parse_range, OutDir, Provenance};
 use crate::commands::out::{json_compact, json_pretty};
 use crate::commands::Error;
-use rotorshunt::analysis::basis::{BasisReport, Sized};
+use rotorshunt::analysis::basis::BasisReport;
 use rotorshunt::analysis::chart::ChartResult;
 use rotorshunt::analysis::floquet::FloquetPoint;
 use rotorshunt::analysis::limits::{self, Quantity, MAX_PERIODS};
@@ -33,7 +33,8 @@ fn arg_error(argument: &str, message: String) -> Error {
     Error::Argument { argument: argument.into(), message }
 }
 
-fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
+/// The checks of `floquet` (and `response`) on φ (rad/s) and β.
+pub fn check_point(phi: f64, beta: f64) -> Result<(), Error> {
     bounds::flag("--phi", limits::frequency(Quantity::Frequency, phi))?;
     bounds::flag("--beta", limits::load(beta))?;
     Ok(())
@@ -83,7 +84,9 @@ pub struct FloquetOutput {
 
 /// `rotorshunt floquet FILE --phi P --beta B [--json]`.
 pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: Budget) -> Result<String, Error> {
-    let sized = floquet_point_sized(problem, phi, beta, &budget)?;
+    check_point(phi, beta)?;
+    // On a basis sized by convergence, or fixed by the settings (basis::point_sized).
+    let sized = Run::new(&rotorshunt::progress::Silent).with_budget(budget).point(problem, phi, beta)?;
     let (fs, point, basis) = (sized.system, sized.answer, sized.basis);
     if json {
         let out = FloquetOutput { provenance: Provenance::of(problem), speed: fs.speed, basis, point };
@@ -113,20 +116,6 @@ pub fn floquet_cmd(problem: &Problem, phi: f64, beta: f64, json: bool, budget: B
         );
     }
     Ok(s)
-}
-
-/// The Floquet point at (φ, β) of `problem` as `floquet` computes it: φ and β checked by
-/// their rules, then the point on a basis sized by convergence (or fixed by the settings,
-/// [`rotorshunt::analysis::basis::point_sized`]), its cost on the schedule's first two
-/// sizes admitted within `budget` first.
-pub fn floquet_point_sized(
-    problem: &Problem,
-    phi: f64,
-    beta: f64,
-    budget: &Budget,
-) -> Result<Sized<FloquetPoint>, Error> {
-    check_point(phi, beta)?;
-    Ok(Run::new(&rotorshunt::progress::Silent).with_budget(*budget).point(problem, phi, beta)?)
 }
 
 /// The checks `chart` makes on its grid (φ in rad/s, β): every value by its rule, and at

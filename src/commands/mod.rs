@@ -35,23 +35,25 @@ pub use unbalance::{damping_cmd, unbalance_cmd, UnbalanceArgs};
 // What the Python bindings alone call (unused in the binary, whose build checks the rest
 // of this layer for dead code).
 #[allow(unused_imports)]
-pub use design::{design_file_name, design_run, status_word};
+pub use design::{design_file_name, design_into, pareto_into, status_word};
 #[allow(unused_imports)]
-pub use floquet::{check_grid, floquet_point_sized};
+pub use floquet::{check_grid, check_point};
+#[allow(unused_imports)]
+pub use regions::{band_output, band_request, regions_output, regions_request, BandOutput, BandRequest, RegionsJson};
 #[allow(unused_imports)]
 pub use tuned::tuned_toml;
 #[allow(unused_imports)]
-pub use unbalance::unbalance_json;
+pub use unbalance::{on_nodes, unbalance_output, unbalance_speeds, UnbalanceJson};
 
 use crate::commands::out::json_pretty;
 use rotorshunt::analysis::limits::{self, MAX_COUNT};
 use rotorshunt::analysis::modes::WhirlMode;
+use rotorshunt::analysis::Rotor;
 use rotorshunt::numbers::SpeedUnit;
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
 use rotorshunt::report::{campbell as campbell_report, summary};
-use rotorshunt::run::Budget;
-use rotorshunt::run::Run;
+use rotorshunt::run::{Budget, CampbellRun, ModesRun, Run};
 use serde::Serialize;
 use std::path::Path;
 
@@ -86,7 +88,13 @@ pub fn plot_title(p: &Problem) -> String {
 /// the model's whirls here too, as the design will ([`rotorshunt::design::checks::modes_exist`]).
 pub fn check(problem: &Problem, budget: Budget) -> Result<String, Error> {
     let rotor = Run::new(&rotorshunt::progress::Silent).with_budget(budget).check(problem)?;
-    Ok(format!("{}: valid\n{}", problem.file, summary::check_text(&rotor, &title(problem))))
+    Ok(check_text(problem, &rotor))
+}
+
+/// The text of `check`: the model summary of the rotor [`Run::check`] built from
+/// `problem`.
+pub fn check_text(problem: &Problem, rotor: &Rotor) -> String {
+    format!("{}: valid\n{}", problem.file, summary::check_text(rotor, &title(problem)))
 }
 
 /// JSON of `modes`.
@@ -107,23 +115,36 @@ pub struct ModesOutput {
 
 /// `rotorshunt modes FILE [--speed W] [--count N] [--json]`.
 pub fn modes(problem: &Problem, speed: Option<f64>, count: usize, json: bool, budget: Budget) -> Result<String, Error> {
-    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
-    let speed = match speed {
-        Some(w) => bounds::flag("--speed", limits::speed(w))?,
-        None => problem.model.speed,
-    };
+    let speed = modes_speed(problem, speed, count)?;
     let r = Run::new(&rotorshunt::progress::Silent).with_budget(budget).modes(problem, speed, count)?;
-    let out = ModesOutput {
+    let out = modes_output(problem, speed, count, &r);
+    if json {
+        Ok(json_pretty(&out, "the JSON output")? + "\n")
+    } else {
+        Ok(summary::modes_text(&out.modes, speed, out.critical_load))
+    }
+}
+
+/// The checks of `modes` (`--count`, `--speed`): the speed (rad/s) asked, the problem's
+/// when none is.
+pub fn modes_speed(problem: &Problem, speed: Option<f64>, count: usize) -> Result<f64, Error> {
+    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+    match speed {
+        Some(w) => bounds::flag("--speed", limits::speed(w)),
+        None => Ok(problem.model.speed),
+    }
+}
+
+/// The JSON document of `modes` from the whirls [`Run::modes`] computed at `speed`: the
+/// lowest `count` of each direction. Rendered by `modes`, converted by the Python
+/// bindings' `modes`.
+pub fn modes_output(problem: &Problem, speed: f64, count: usize, r: &ModesRun) -> ModesOutput {
+    ModesOutput {
         provenance: Provenance::of(problem),
         speed,
         critical_load: r.critical_load,
         static_load: r.static_load,
         modes: r.lowest(count),
-    };
-    if json {
-        Ok(json_pretty(&out, "the JSON output")? + "\n")
-    } else {
-        Ok(summary::modes_text(&out.modes, speed, out.critical_load))
     }
 }
 
@@ -140,53 +161,36 @@ fn operating_speeds(problem: &Problem) -> Vec<f64> {
 
 /// JSON of `campbell` (campbell.json).
 #[derive(Serialize)]
-struct CampbellJson<'a> {
+pub struct CampbellJson {
+    /// Tool, input hash and settings.
     #[serde(flatten)]
-    provenance: Provenance,
-    campbell: &'a rotorshunt::analysis::campbell::CampbellResult,
+    pub provenance: Provenance,
+    /// The diagram.
+    pub campbell: CampbellRun,
     /// The problem's operating speeds (rad/s): its `speed` and a design's speeds.
-    operating_speeds: &'a [f64],
+    pub operating_speeds: Vec<f64>,
     /// The crossings of the tracks with the 1× line, by speed.
-    critical_speeds: &'a [campbell_report::CriticalSpeed],
+    pub critical_speeds: Vec<campbell_report::CriticalSpeed>,
 }
 
-/// The Campbell diagram of `problem` over `speeds` (rad/s) as `campbell` computes it (the
-/// same checks and admission), returned as its campbell.json text instead of written:
-/// the Python bindings' `campbell`. Progress: `whirls`, a step per speed.
-#[allow(dead_code)] // called by the Python bindings alone
-pub fn campbell_json(
-    problem: &Problem,
-    speeds: &[f64],
-    count: usize,
-    progress: &dyn Progress,
-    budget: Budget,
-) -> Result<String, Error> {
-    bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
+/// The check of `campbell` on each of its speeds (rad/s).
+pub fn campbell_speeds(speeds: &[f64]) -> Result<(), Error> {
     for &w in speeds {
         bounds::flag("--speeds", limits::speed(w))?;
     }
-    let run = Run::new(progress).with_budget(budget);
-    let result = run.campbell(problem, speeds, count)?.run()?;
-    let operating = operating_speeds(problem);
-    let critical = campbell_report::critical_speeds(&result);
-    campbell_json_text(problem, &result, &operating, &critical)
+    Ok(())
 }
 
-/// campbell.json's text: the diagram with the problem's provenance, its operating speeds
-/// (rad/s) and the critical speeds.
-fn campbell_json_text(
-    problem: &Problem,
-    result: &rotorshunt::analysis::campbell::CampbellResult,
-    operating: &[f64],
-    critical: &[campbell_report::CriticalSpeed],
-) -> Result<String, Error> {
-    let json = CampbellJson {
+/// campbell.json's document from the diagram [`Run::campbell`] computed: with the
+/// problem's provenance, its operating speeds (rad/s) and the critical speeds. Written by
+/// `campbell`, converted by the Python bindings' `campbell`.
+pub fn campbell_output(problem: &Problem, result: CampbellRun) -> CampbellJson {
+    CampbellJson {
         provenance: Provenance::of(problem),
+        operating_speeds: operating_speeds(problem),
+        critical_speeds: campbell_report::critical_speeds(&result),
         campbell: result,
-        operating_speeds: operating,
-        critical_speeds: critical,
-    };
-    json_pretty(&json, "the JSON output")
+    }
 }
 
 /// `rotorshunt campbell FILE --speeds A:B:STEP --out DIR`: CSV, JSON, SVG and PNG.
@@ -201,29 +205,22 @@ pub fn campbell_cmd(
 ) -> Result<String, Error> {
     bounds::flag("--count", limits::count(count as u64, 1, MAX_COUNT as u64))?;
     let (speeds, given) = args::parse_speeds(speeds, "--speeds")?;
-    for &w in &speeds {
-        bounds::flag("--speeds", limits::speed(w))?;
-    }
+    campbell_speeds(&speeds)?;
     // rpm on the axis when the user gave rpm, on the command line or in the file.
     let unit = if given == SpeedUnit::Rpm { given } else { problem.speed_unit() };
     let run = Run::new(progress).with_budget(budget);
     let job = run.campbell(problem, &speeds, count)?;
     let dir = OutDir::create(out, &problem.file)?;
-    let result = job.run()?;
+    let doc = campbell_output(problem, job.run()?);
     progress.phase("files", 4);
-    let operating = operating_speeds(problem);
-    let critical = campbell_report::critical_speeds(&result);
-    dir.write("campbell.json", campbell_json_text(problem, &result, &operating, &critical)?.as_bytes())?;
+    dir.write("campbell.json", json_pretty(&doc, "the JSON output")?.as_bytes())?;
+    let (result, operating, critical) = (&doc.campbell, &doc.operating_speeds, &doc.critical_speeds);
     progress.advance(1);
-    let csv = campbell_report::campbell_csv(&result).map_err(|e| dir.error("campbell.csv", e))?;
+    let csv = campbell_report::campbell_csv(result).map_err(|e| dir.error("campbell.csv", e))?;
     dir.write("campbell.csv", csv.as_bytes())?;
     progress.advance(1);
-    let plot = campbell_report::campbell_plot(
-        &result,
-        &format!("Campbell diagram: {}", plot_title(problem)),
-        unit,
-        &operating,
-    );
+    let plot =
+        campbell_report::campbell_plot(result, &format!("Campbell diagram: {}", plot_title(problem)), unit, operating);
     dir.figure("campbell", &plot)?;
     progress.advance(2);
     dir.commit("campbell", progress)?;
@@ -236,7 +233,7 @@ pub fn campbell_cmd(
         result.mac_threshold,
         out.display()
     );
-    for w in &operating {
+    for w in operating {
         text += &format!("operating speed: {}\n", unit.text(*w));
     }
     text += "critical speeds (crossings with 1x):";
@@ -244,7 +241,7 @@ pub fn campbell_cmd(
         text += " none in the range";
     }
     text += "\n";
-    for c in &critical {
+    for c in critical {
         let whirl = format!("{:?}", c.whirl).to_lowercase();
         text += &format!("  {} ({whirl} whirl): {}\n", c.track, unit.text(c.speed));
     }

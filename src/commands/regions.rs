@@ -10,7 +10,7 @@ use rotorshunt::analysis::chart::ChartResult;
 use rotorshunt::analysis::limits::{self, Quantity};
 use rotorshunt::analysis::regions::{Band, Bound, Catalogue, CatalogueRequest, Edges, Margins, Region, RegionSettings};
 use rotorshunt::analysis::Interval;
-use rotorshunt::problem::Problem;
+use rotorshunt::problem::{Problem, Warning};
 use rotorshunt::progress::Progress;
 use rotorshunt::report::chart::{Layer, RegionShape, StabilityPlot};
 use rotorshunt::run::Budget;
@@ -99,19 +99,25 @@ fn interval_at(q: &Region, beta: f64) -> Option<Interval> {
 /// (the true widths) stand out from the grid's cells.
 const GRID_LAYER_COLOR: (u8, u8, u8) = (160, 190, 225);
 
+/// JSON of `regions` (`--json`, regions.json).
 #[derive(Serialize)]
-struct RegionsJson<'a> {
+pub struct RegionsJson {
+    /// Tool, input hash and settings, and the φ range's warning.
     #[serde(flatten)]
-    provenance: Provenance,
-    speed: f64,
-    region_settings: &'a RegionSettings,
-    seconds: f64,
+    pub provenance: Provenance,
+    /// Speed Ω (rad/s).
+    pub speed: f64,
+    /// The region search's settings.
+    pub region_settings: RegionSettings,
+    /// Wall time of the search (s).
+    pub seconds: f64,
     /// The reduced basis the catalogue was computed on, and its convergence.
-    basis: &'a BasisReport,
+    pub basis: BasisReport,
+    /// The regions, the stable bands at the level and what the search asked.
     #[serde(flatten)]
-    catalogue: &'a Catalogue,
+    pub catalogue: Catalogue,
     /// The load margin of each stable band at the level (same order as `stable_bands`).
-    band_margins: &'a [BandLoadMargin],
+    pub band_margins: Vec<BandLoadMargin>,
 }
 
 /// What a catalogue is asked on the command line.
@@ -128,6 +134,32 @@ pub struct RegionsArgs<'a> {
     pub out: Option<&'a Path>,
 }
 
+/// The catalogue `regions` asks: `--phi A:B` (rad/s), `--beta-max` and `--level` checked
+/// by their rules, with tracked boundaries when `track`.
+pub fn regions_request(phi: &str, beta_max: f64, level: Option<f64>, track: bool) -> Result<CatalogueRequest, Error> {
+    let range = range_of(phi)?;
+    let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
+    let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
+    let req = CatalogueRequest::builder().range(range).beta_max(beta_max).level(level).track(track).build();
+    Ok(req.map_err(rotorshunt::analysis::AnalysisError::from)?)
+}
+
+/// The JSON document of `regions` from the catalogue a run computed on `problem` (its
+/// boundary plot's chart aside) and the range's `warnings`. Written and rendered by
+/// `regions`, converted by the Python bindings' `regions`.
+pub fn regions_output(problem: &Problem, warnings: &[Warning], r: CatalogueRun) -> RegionsJson {
+    let CatalogueRun { sized, seconds, grid: _, band_margins } = r;
+    RegionsJson {
+        provenance: Provenance::of(problem).with(warnings),
+        speed: problem.model.speed,
+        region_settings: problem.regions.clone(),
+        seconds,
+        basis: sized.basis,
+        catalogue: sized.answer,
+        band_margins,
+    }
+}
+
 /// `rotorshunt regions FILE --phi A:B --beta-max BMAX [--level BOP] [--json] [--out DIR]`.
 /// Progress: `catalogue` (a step per search, [`rotorshunt::analysis::regions::catalogue_with`]), and with `--out` the
 /// boundary plot's `chart` and the `files`.
@@ -138,29 +170,18 @@ pub fn regions_cmd(
     budget: Budget,
 ) -> Result<String, Error> {
     let RegionsArgs { phi, beta_max, level, json, out } = args;
-    let range = range_of(phi)?;
-    let beta_max = bounds::flag("--beta-max", limits::beta_max(beta_max))?;
-    let level = bounds::flag("--level", limits::level(level.unwrap_or(beta_max), beta_max))?;
-    let settings = problem.regions.clone();
-    let req = CatalogueRequest::builder().range(range).beta_max(beta_max).level(level).track(out.is_some()).build();
-    let req = req.map_err(rotorshunt::analysis::AnalysisError::from)?;
+    let req = regions_request(phi, beta_max, level, out.is_some())?;
+    let (range, beta_max, level) = (req.range, req.beta_max, req.level);
     let run = Run::new(progress).with_budget(budget);
     let job = run.catalogue(problem, &req)?;
     let warnings = job.warnings.clone();
     // The staging folder is made before the search: an --out that cannot be written
     // fails at once, and nothing of the folder changes until the last file is written.
     let dir = out.map(|d| OutDir::create(d, &problem.file)).transpose()?;
-    let CatalogueRun { sized, seconds, grid, band_margins } = job.run()?;
-    let cat = &sized.answer;
-    let doc = RegionsJson {
-        provenance: Provenance::of(problem).with(&warnings),
-        speed: problem.model.speed,
-        region_settings: &settings,
-        seconds,
-        basis: &sized.basis,
-        catalogue: cat,
-        band_margins: &band_margins,
-    };
+    let mut r = job.run()?;
+    let grid = r.grid.take();
+    let doc = regions_output(problem, &warnings, r);
+    let (cat, seconds) = (&doc.catalogue, doc.seconds);
     let json_text = json_pretty(&doc, "the JSON output")? + "\n";
     if let (Some(dir), Some(grid)) = (dir, grid) {
         let plot = boundary_plot(problem, cat, grid);
@@ -183,7 +204,7 @@ pub fn regions_cmd(
         problem.model.speed,
         cat.evaluations
     );
-    s += &format!("basis: {}\n", sized.basis.text());
+    s += &format!("basis: {}\n", doc.basis.text());
     s += &format!(
         "{:>10} {:>5} {:>11} {:>10} {:>10} {:>8} {:>10} {:>10} {:>8}  note\n",
         "label", "k", "kind", "predicted", "start", "onset", "left", "right", "width"
@@ -216,7 +237,7 @@ pub fn regions_cmd(
     }
     s +=
         "\nload margins of the stable bands (lowest onset above the level of a region born inside, onset/level - 1):\n";
-    for m in doc.band_margins {
+    for m in &doc.band_margins {
         s += &match &m.load {
             Some(l) => format!(
                 "  [{:.1}, {:.1}]: {:+.2} % ({} (k = {}) at {:.2} rad/s, onset {:.4})\n",
@@ -289,8 +310,55 @@ fn bound_text(b: &Option<Bound>) -> String {
     }
 }
 
+/// What `band` asks, checked by the rules: the operating frequency φ_op (rad/s), the load
+/// level and the φ window (rad/s), with the flag that set the window (`--phi`, or
+/// `--phi-op` for the default window around it).
+#[derive(Debug, Clone, Copy)]
+pub struct BandRequest {
+    /// `--phi-op` (rad/s).
+    pub phi_op: f64,
+    /// `--level` (−).
+    pub level: f64,
+    /// The window searched (rad/s): `--phi`, or [`default_window`].
+    pub window: Interval,
+    /// The flag the window's warnings name.
+    pub key: &'static str,
+}
+
+/// The band `band` asks around `phi_op` (rad/s) at `level`, in the window `A:B` (rad/s)
+/// or the default one, each checked by its rule.
+pub fn band_request(phi_op: f64, level: f64, window: Option<&str>) -> Result<BandRequest, Error> {
+    let phi_op = bounds::flag("--phi-op", limits::frequency(Quantity::OperatingFrequency, phi_op))?;
+    let level = bounds::flag("--level", limits::level(level, limits::MAX_BETA))?;
+    let (window, key) = match window {
+        Some(text) => (range_of(text)?, "--phi"),
+        None => (default_window(phi_op), "--phi-op"),
+    };
+    bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
+    Ok(BandRequest { phi_op, level, window, key })
+}
+
+/// The JSON document of `band` from the band a run found on `problem` in `window` (rad/s)
+/// and the window's `warnings`. Rendered by `band`, converted by the Python bindings'
+/// `band`.
+pub fn band_output(problem: &Problem, window: Interval, warnings: &[Warning], r: BandRun) -> BandOutput {
+    let BandRun { sized, margins, seconds } = r;
+    let b = sized.answer;
+    BandOutput {
+        basis: sized.basis,
+        margins,
+        provenance: Provenance::of(problem).with(warnings),
+        speed: problem.model.speed,
+        window,
+        width: b.band.map(|x| x.width()),
+        clipped: b.clipped(),
+        band: b,
+        seconds,
+    }
+}
+
 /// `rotorshunt band FILE --phi-op P --level BOP [--phi A:B] [--json]`. Progress: `band`
-/// (a step per search, [`rotorshunt::analysis::regions::band_with`]).
+/// (a step per search, [`rotorshunt::analysis::regions::band_with`]), then `margins`.
 pub fn band_cmd(
     problem: &Problem,
     phi_op: f64,
@@ -300,31 +368,11 @@ pub fn band_cmd(
     progress: &dyn Progress,
     budget: Budget,
 ) -> Result<String, Error> {
-    let phi_op = bounds::flag("--phi-op", limits::frequency(Quantity::OperatingFrequency, phi_op))?;
-    let level = bounds::flag("--level", limits::level(level, limits::MAX_BETA))?;
-    let window_text = window;
-    let window = match window {
-        Some(text) => range_of(text)?,
-        None => default_window(phi_op),
-    };
-    bounds::flag("--phi-op", limits::phi_op(phi_op, window))?;
-    let key = if window_text.is_some() { "--phi" } else { "--phi-op" };
+    let BandRequest { phi_op, level, window, key } = band_request(phi_op, level, window)?;
     let run = Run::new(progress).with_budget(budget);
     let job = run.band(problem, phi_op, level, window, key)?;
     let warnings = job.warnings.clone();
-    let BandRun { sized, margins, seconds } = job.run()?;
-    let (b, basis) = (sized.answer, sized.basis);
-    let out = BandOutput {
-        basis,
-        margins,
-        provenance: Provenance::of(problem).with(&warnings),
-        speed: problem.model.speed,
-        window,
-        width: b.band.map(|x| x.width()),
-        clipped: b.clipped(),
-        band: b,
-        seconds,
-    };
+    let out = band_output(problem, window, &warnings, job.run()?);
     if json {
         return Ok(json_pretty(&out, "the JSON output")? + "\n");
     }

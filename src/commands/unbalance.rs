@@ -14,6 +14,7 @@ use rotorshunt::report::unbalance::{damping_text, peaks_csv, peaks_text, unbalan
 use rotorshunt::run::Budget;
 use rotorshunt::run::{Run, RunError, UnbalanceRun};
 use serde::Serialize;
+use std::borrow::Cow;
 use std::path::Path;
 
 /// The files `unbalance` writes (checked against its inputs before it computes).
@@ -71,7 +72,7 @@ fn node_list(text: &str) -> Result<Vec<usize>, Error> {
 }
 
 /// A run's error, a probe node off the shaft named by `--nodes`.
-fn on_nodes(e: RunError) -> Error {
+pub fn on_nodes(e: RunError) -> Error {
     match e {
         RunError::Analysis(e) => about("--nodes", e),
         other => other.into(),
@@ -88,13 +89,17 @@ fn about(argument: &str, e: AnalysisError) -> Error {
     }
 }
 
+/// JSON of `unbalance` (unbalance.json): borrowed where `unbalance` writes it, owned
+/// where the Python bindings' `unbalance` converts it.
 #[derive(Serialize)]
-struct UnbalanceJson<'a> {
+pub struct UnbalanceJson<'a> {
+    /// Tool, input hash and settings.
     #[serde(flatten)]
-    provenance: Provenance,
+    pub provenance: Provenance,
     /// Definitions of the numbers, for a reader of the file.
     conventions: Conventions,
-    unbalance: &'a UnbalanceResult,
+    /// The response.
+    pub unbalance: Cow<'a, UnbalanceResult>,
 }
 
 #[derive(Serialize)]
@@ -124,34 +129,34 @@ const REAL_CONVENTIONS: Conventions = Conventions {
     amplification_factor: CONVENTIONS.amplification_factor,
 };
 
-/// The unbalance response of `problem` over `speeds` (rad/s) at shaft `nodes`, as
-/// `unbalance` computes it (the same checks and admission), returned as its
-/// unbalance.json text instead of written: the Python bindings' `unbalance`. Progress:
-/// `unbalance`, a step per speed.
+/// The checks of `unbalance` on its speeds (rad/s): at least one, each by its rule.
 #[allow(dead_code)] // called by the Python bindings alone
-pub fn unbalance_json(
-    problem: &Problem,
-    speeds: &[f64],
-    nodes: &[usize],
-    progress: &dyn Progress,
-    budget: Budget,
-) -> Result<String, Error> {
+pub fn unbalance_speeds(speeds: &[f64]) -> Result<(), Error> {
     if speeds.is_empty() {
         return Err(about("--speeds", AnalysisError::NoSpeeds));
     }
     for &w in speeds {
         bounds::flag("--speeds", limits::response_speed(w))?;
     }
-    let run = Run::new(progress).with_budget(budget);
-    let r = run.unbalance(problem, None, speeds, nodes).and_then(|job| job.run()).map_err(on_nodes)?.main;
+    Ok(())
+}
+
+/// unbalance.json's document of the response `r` of `problem`, with the conventions of
+/// its coordinates (complex, or real with orbits).
+fn unbalance_json<'a>(problem: &Problem, r: Cow<'a, UnbalanceResult>) -> UnbalanceJson<'a> {
     let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
-    json_pretty(&UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: &r }, "the JSON output")
+    UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: r }
+}
+
+/// unbalance.json's document of the response a run computed on `problem` (its
+/// [`UnbalanceRun::main`]): the Python bindings' `unbalance`.
+#[allow(dead_code)] // called by the Python bindings alone
+pub fn unbalance_output(problem: &Problem, r: UnbalanceResult) -> UnbalanceJson<'static> {
+    unbalance_json(problem, Cow::Owned(r))
 }
 
 fn write_layer(dir: &OutDir, stem: &str, problem: &Problem, r: &UnbalanceResult) -> Result<String, Error> {
-    let conventions = if r.probes.iter().any(|p| p.orbit.is_some()) { REAL_CONVENTIONS } else { CONVENTIONS };
-    let json = UnbalanceJson { provenance: Provenance::of(problem), conventions, unbalance: r };
-    let text = json_pretty(&json, "the JSON output")?;
+    let text = json_pretty(&unbalance_json(problem, Cow::Borrowed(r)), "the JSON output")?;
     dir.write(&format!("{stem}.json"), text.as_bytes())?;
     let csv = unbalance_csv(r).map_err(|e| dir.error(&format!("{stem}.csv"), e))?;
     dir.write(&format!("{stem}.csv"), csv.as_bytes())?;

@@ -1,9 +1,11 @@
 //! The Python bindings (`--features python`, built by maturin into the `rotorshunt` wheel;
-//! docs/python.md). They only convert: every call is a library or command-layer function
-//! (the same checks, the same numbers and the same error messages as the command line),
-//! its arguments taken from Python objects and its results handed back as numpy arrays,
-//! dicts or the command's own JSON text, which the pure-Python part (python/rotorshunt)
-//! turns into result objects. No physics here.
+//! docs/python.md). They only convert: every call is the command's checks and its job of
+//! the application layer ([`crate::run::Run`]: the same checks, the same numbers and the
+//! same error messages as the command line), its arguments taken from Python objects and
+//! its typed results handed back as data ([`results`]): numpy arrays, and the command's
+//! JSON document as dicts and lists made by pythonize from its `Serialize` value, which
+//! the pure-Python part (python/rotorshunt) wraps into result objects with plots. No
+//! physics here, and no JSON text.
 //!
 //! Long calls ([`watch`]) run on a worker thread with the GIL released; the calling
 //! thread wakes every 50 ms to check Python's signals (Ctrl-C) and call the progress
@@ -12,6 +14,7 @@
 
 mod args;
 mod problem;
+mod results;
 mod watch;
 
 use pyo3::prelude::*;

@@ -1,16 +1,18 @@
-//! The native problem object and the module's functions. Each method is one command-layer
-//! or library call: the arguments converted ([`super::args`]), the call made with the GIL
-//! released ([`super::watch`]), the result handed back as numpy arrays, a dict or the
-//! command's JSON text.
+//! The native problem object and the module's functions. Each method is one job of a
+//! [`Run`]: the arguments converted ([`super::args`]) and checked as the command checks
+//! them, the job run with the GIL released ([`super::watch`]), the typed result handed
+//! back as a dict of numpy arrays and Python data ([`super::results`]).
 
 use super::args;
+use super::results;
 use super::watch::{released, watched};
 use crate::analysis::floquet::{FloquetSystem, PointStatus};
 use crate::analysis::limits::MAX_COUNT;
 use crate::commands;
 use crate::commands::Error;
 use crate::problem::Problem;
-use crate::run::Budget;
+use crate::progress::Silent;
+use crate::run::{Budget, PointRun, Run};
 use numpy::{Complex64, IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -36,7 +38,7 @@ impl NativeProblem {
             return Ok(fs);
         }
         let top = crate::analysis::DEFAULT_BAND_RANGE.hi;
-        let fs = crate::run::Run::new(&crate::progress::Silent).reduced_system(&self.problem, top)?;
+        let fs = Run::new(&Silent).reduced_system(&self.problem, top)?;
         Ok(self.system.get_or_init(|| fs))
     }
 }
@@ -141,36 +143,46 @@ impl NativeProblem {
     /// `check`: the model summary text.
     fn check(&self, py: Python<'_>) -> PyResult<String> {
         let p = &self.problem;
-        released(py, || commands::check(p, Budget::default()))
+        released(py, || Ok(commands::check_text(p, &Run::new(&Silent).check(p)?)))
     }
 
-    /// `modes --json`: the JSON text.
+    /// `modes --json`: the whirls as arrays, and the document.
     #[pyo3(signature = (speed = None, count = None))]
-    fn modes(
+    fn modes<'py>(
         &self,
-        py: Python<'_>,
-        speed: Option<&Bound<'_, PyAny>>,
-        count: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        speed: Option<&Bound<'py, PyAny>>,
+        count: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
         let count = whirl_count(count)?;
         let p = &self.problem;
-        released(py, || commands::modes(p, speed, count, true, Budget::default()))
+        let out = released(py, || {
+            let speed = commands::modes_speed(p, speed, count)?;
+            let r = Run::new(&Silent).modes(p, speed, count)?;
+            Ok(commands::modes_output(p, speed, count, &r))
+        })?;
+        results::modes(py, &out)
     }
 
-    /// `campbell`: the campbell.json text.
+    /// `campbell`: the tracks as (track, speed) arrays, and campbell.json's document.
     #[pyo3(signature = (speeds, count = None, progress = None))]
-    fn campbell(
+    fn campbell<'py>(
         &self,
-        py: Python<'_>,
-        speeds: &Bound<'_, PyAny>,
-        count: Option<&Bound<'_, PyAny>>,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        speeds: &Bound<'py, PyAny>,
+        count: Option<&Bound<'py, PyAny>>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
         let count = whirl_count(count)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| commands::campbell_json(p, &speeds, count, pr, Budget::default()))
+        let doc = watched(py, callback(progress), |pr| {
+            commands::campbell_speeds(&speeds)?;
+            let r = Run::new(pr).campbell(p, &speeds, count)?.run()?;
+            Ok(commands::campbell_output(p, r))
+        })?;
+        results::campbell(py, &doc)
     }
 
     /// `floquet`: the point at (φ, β) as a dict, the multipliers a complex array.
@@ -182,7 +194,7 @@ impl NativeProblem {
     ) -> PyResult<Bound<'py, PyDict>> {
         let phi = args::number(phi, "--phi").map_err(super::to_py)?;
         let beta = args::number(beta, "--beta").map_err(super::to_py)?;
-        let sized = released(py, || commands::floquet_point_sized(&self.problem, phi, beta, &Budget::default()))?;
+        let sized = released(py, || point(&self.problem, phi, beta))?;
         let (speed, point, basis) = (sized.system.speed, sized.answer, sized.basis);
         let scale = point.multiplier_log_scale.exp();
         let mu: Vec<Complex64> = point.multipliers.iter().map(|m| Complex64::new(m[0] * scale, m[1] * scale)).collect();
@@ -223,7 +235,7 @@ impl NativeProblem {
         }
         commands::check_grid(&phis, &betas).map_err(super::to_py)?;
         let fs = released(py, || self.system())?;
-        let c = watched(py, callback(progress), |pr| Ok(crate::run::Run::new(pr).chart_of(fs, &phis, &betas)?))?;
+        let c = watched(py, callback(progress), |pr| Ok(Run::new(pr).chart_of(fs, &phis, &betas)?))?;
         let shape = (phis.len(), betas.len());
         let field =
             |f: &dyn Fn(&crate::analysis::chart::ChartPoint) -> f64| -> Vec<f64> { c.points.iter().map(f).collect() };
@@ -244,67 +256,83 @@ impl NativeProblem {
         d.set_item("failed", c.failed)?;
         d.set_item("inaccurate", c.inaccurate)?;
         d.set_item("unstable", c.unstable())?;
-        d.set_item("reduction", serde_json::to_string(&c.reduction).unwrap_or_default())?;
+        d.set_item("reduction", results::json(py, &c.reduction)?)?;
         Ok(d)
     }
 
-    /// `regions --json`: the JSON text.
+    /// `regions --json`: the catalogue's numbers and stable bands, and the document.
     #[pyo3(signature = (phi_range, beta_max, level = None, progress = None))]
-    fn regions(
+    fn regions<'py>(
         &self,
-        py: Python<'_>,
-        phi_range: &Bound<'_, PyAny>,
-        beta_max: &Bound<'_, PyAny>,
-        level: Option<&Bound<'_, PyAny>>,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        phi_range: &Bound<'py, PyAny>,
+        beta_max: &Bound<'py, PyAny>,
+        level: Option<&Bound<'py, PyAny>>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let phi = range_text(phi_range).map_err(super::to_py)?;
         let beta_max = args::number(beta_max, "--beta-max").map_err(super::to_py)?;
         let level = args::optional_number(level, "--level").map_err(super::to_py)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| {
-            let a = commands::RegionsArgs { phi: &phi, beta_max, level, json: true, out: None };
-            commands::regions_cmd(p, a, pr, Budget::default())
-        })
+        let doc = watched(py, callback(progress), |pr| {
+            let request = commands::regions_request(&phi, beta_max, level, false)?;
+            let run = Run::new(pr);
+            let job = run.catalogue(p, &request)?;
+            let warnings = job.warnings.clone();
+            Ok(commands::regions_output(p, &warnings, job.run()?))
+        })?;
+        results::regions(py, &doc)
     }
 
-    /// `band --json`: the JSON text.
+    /// `band --json`: the band, its bounds and margins, and the document.
     #[pyo3(signature = (phi_op, level, phi_range = None, progress = None))]
-    fn band(
+    fn band<'py>(
         &self,
-        py: Python<'_>,
-        phi_op: &Bound<'_, PyAny>,
-        level: &Bound<'_, PyAny>,
-        phi_range: Option<&Bound<'_, PyAny>>,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        phi_op: &Bound<'py, PyAny>,
+        level: &Bound<'py, PyAny>,
+        phi_range: Option<&Bound<'py, PyAny>>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let phi_op = args::number(phi_op, "--phi-op").map_err(super::to_py)?;
         let level = args::number(level, "--level").map_err(super::to_py)?;
         let window = phi_range.filter(|r| !r.is_none()).map(range_text).transpose().map_err(super::to_py)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| {
-            commands::band_cmd(p, phi_op, level, window.as_deref(), true, pr, Budget::default())
-        })
+        let out = watched(py, callback(progress), |pr| {
+            let commands::BandRequest { phi_op, level, window, key } =
+                commands::band_request(phi_op, level, window.as_deref())?;
+            let run = Run::new(pr);
+            let job = run.band(p, phi_op, level, window, key)?;
+            let warnings = job.warnings.clone();
+            Ok(commands::band_output(p, window, &warnings, job.run()?))
+        })?;
+        results::band(py, &out)
     }
 
-    /// `unbalance --json`: the unbalance.json text.
+    /// `unbalance --json`: each probe's response as arrays, and unbalance.json's document.
     #[pyo3(signature = (speeds, nodes, progress = None))]
-    fn unbalance(
+    fn unbalance<'py>(
         &self,
-        py: Python<'_>,
-        speeds: &Bound<'_, PyAny>,
-        nodes: &Bound<'_, PyAny>,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        speeds: &Bound<'py, PyAny>,
+        nodes: &Bound<'py, PyAny>,
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
         let nodes = args::nodes(nodes, "--nodes").map_err(super::to_py)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| commands::unbalance_json(p, &speeds, &nodes, pr, Budget::default()))
+        let doc = watched(py, callback(progress), |pr| {
+            commands::unbalance_speeds(&speeds)?;
+            let run = Run::new(pr);
+            let r = run.unbalance(p, None, &speeds, &nodes).and_then(|job| job.run()).map_err(commands::on_nodes)?;
+            Ok(commands::unbalance_output(p, r.main))
+        })?;
+        results::unbalance(py, &doc)
     }
 
-    /// `design`: a dict of the outcome's JSON text, the tuned file's text, its file name
-    /// and the status; with `out`, the report is written there as `design --out` writes
-    /// it, and the summary text is included.
+    /// `design`: the status, the variables before and after, the tuned file's text and the
+    /// outcome as report.json has it; with `out`, the report is written there as `design
+    /// --out` writes it, and the summary text is included.
     #[pyo3(signature = (out = None, progress = None))]
     fn design<'py>(
         &self,
@@ -314,38 +342,41 @@ impl NativeProblem {
     ) -> PyResult<Bound<'py, PyDict>> {
         let p = &self.problem;
         let (summary, outcome, tuned) = watched(py, callback(progress), |pr| {
+            let run = Run::new(pr);
+            let job = run.design(p, "the design")?;
             let (summary, outcome) = match &out {
                 Some(dir) => {
-                    let (text, outcome) = commands::design_cmd(p, dir, pr, Budget::default())?;
+                    let (text, outcome) = commands::design_into(p, dir, job, pr)?;
                     (Some(text), outcome)
                 }
-                None => (None, commands::design_run(p, pr, Budget::default())?),
+                None => (None, job.run(false)?.value.outcome),
             };
             let tuned = commands::tuned_toml(p, &outcome)?;
             Ok((summary, outcome, tuned))
         })?;
-        let d = PyDict::new(py);
-        d.set_item("summary", summary)?;
-        d.set_item("status", commands::status_word(outcome.status))?;
-        d.set_item("file_name", commands::design_file_name(outcome.status))?;
-        d.set_item("verified", outcome.verified())?;
-        d.set_item("tuned_toml", tuned)?;
-        d.set_item("outcome", serde_json::to_string(&outcome).unwrap_or_default())?;
-        Ok(d)
+        results::design(py, &outcome, tuned, summary)
     }
 
-    /// `design --pareto K --out DIR`: the summary text (the front is in DIR/report.json).
+    /// `design --pareto K --out DIR`: report.json's document, with the summary text as
+    /// `summary`.
     #[pyo3(signature = (points, out, progress = None))]
-    fn pareto(
+    fn pareto<'py>(
         &self,
-        py: Python<'_>,
-        points: &Bound<'_, PyAny>,
+        py: Python<'py>,
+        points: &Bound<'py, PyAny>,
         out: PathBuf,
-        progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        progress: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let k = args::count(points, "--pareto", 2, u32::MAX as u64).map_err(super::to_py)?;
         let p = &self.problem;
-        watched(py, callback(progress), |pr| commands::pareto_cmd(p, k, &out, pr, Budget::default()).map(|(t, _)| t))
+        let (summary, report) = watched(py, callback(progress), |pr| {
+            let run = Run::new(pr);
+            let job = run.pareto(p, k)?;
+            commands::pareto_into(p, k, &out, job, pr)
+        })?;
+        let report = results::json(py, &report)?;
+        report.set_item("summary", summary)?;
+        Ok(report)
     }
 }
 
@@ -355,6 +386,13 @@ fn status_word(s: PointStatus) -> &'static str {
         PointStatus::Inaccurate => "inaccurate",
         PointStatus::Failed => "failed",
     }
+}
+
+/// The Floquet point at (φ, β) of `problem` as `floquet` checks and computes it
+/// ([`Run::point`]).
+fn point(problem: &Problem, phi: f64, beta: f64) -> Result<PointRun, Error> {
+    commands::check_point(phi, beta)?;
+    Ok(Run::new(&Silent).point(problem, phi, beta)?)
 }
 
 /// A (lo, hi) pair as the command line's `A:B` text (Rust's shortest round-trip form).
@@ -457,7 +495,7 @@ pub(crate) fn _rust_floquet_seconds(py: Python<'_>, problem: &NativeProblem, poi
     released(py, || {
         let start = std::time::Instant::now();
         for &(phi, beta) in &points {
-            std::hint::black_box(commands::floquet_point_sized(&problem.problem, phi, beta, &Budget::default())?);
+            std::hint::black_box(point(&problem.problem, phi, beta)?);
         }
         Ok(start.elapsed().as_secs_f64())
     })
