@@ -64,22 +64,31 @@ impl<'a> PointCost<'a> {
         }
     }
 
+    /// A per-φ table for loads up to `beta_table`, one monodromy on it by the configured
+    /// method and one point on a table of its own (operations of each), from one count of
+    /// the table: (table, monodromy, point). A DSTM point builds no table; the region
+    /// searches' β crossings do, whatever the method.
+    pub(super) fn costs(&self, phi: f64, beta_table: f64) -> (f64, f64, f64) {
+        let (table, steps) = self.table(phi, beta_table);
+        match self.fs.settings.method {
+            MonodromyMethod::Fast => {
+                let monodromy = steps * step_ops(self.n) + eig_ops(self.n);
+                (table, monodromy, table + monodromy)
+            }
+            MonodromyMethod::Dstm => (table, self.dstm(), self.dstm()),
+        }
+    }
+
     /// One monodromy at load β on a table built for `beta_table` ≥ β (operations), by
     /// the configured method.
     pub fn monodromy(&self, phi: f64, beta_table: f64) -> f64 {
-        match self.fs.settings.method {
-            MonodromyMethod::Fast => self.table(phi, beta_table).1 * step_ops(self.n) + eig_ops(self.n),
-            MonodromyMethod::Dstm => self.dstm(),
-        }
+        self.costs(phi, beta_table).1
     }
 
     /// One point on a table of its own (operations), by the configured method: what a
     /// search's point costs.
     pub fn point(&self, phi: f64, beta: f64) -> f64 {
-        match self.fs.settings.method {
-            MonodromyMethod::Fast => self.table(phi, beta).0 + self.monodromy(phi, beta),
-            MonodromyMethod::Dstm => self.dstm(),
-        }
+        self.costs(phi, beta).2
     }
 
     /// One DSTM monodromy with the settings' reference steps (operations).
@@ -113,8 +122,14 @@ pub fn floquet_point(pc: &PointCost, phi: f64, beta: f64) -> Estimate {
 pub fn chart(pc: &PointCost, phis: &[f64], betas: &[f64]) -> Estimate {
     let beta_max = betas.iter().fold(0.0f64, |m, b| m.max(b.abs()));
     let nb = betas.len() as f64;
-    let table = |phi| if pc.fs.settings.method == MonodromyMethod::Fast { pc.table(phi, beta_max).0 } else { 0.0 };
-    let operations: f64 = phis.iter().map(|&phi| table(phi) + nb * pc.monodromy(phi, beta_max)).sum();
+    let operations: f64 = phis
+        .iter()
+        .map(|&phi| {
+            let (table, monodromy, _) = pc.costs(phi, beta_max);
+            let table = if pc.fs.settings.method == MonodromyMethod::Fast { table } else { 0.0 };
+            table + nb * monodromy
+        })
+        .sum();
     let lowest = phis.iter().copied().fold(f64::INFINITY, f64::min);
     let (driver, why) = pc.point_driver(lowest);
     let detail = format!("{} points ({} phi × {} beta); {why}", phis.len() * betas.len(), phis.len(), betas.len());

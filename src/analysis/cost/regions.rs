@@ -109,10 +109,11 @@ pub fn catalogue(
     // and down from it); its climb and tracked levels are points of their own.
     let starts: Tally = seeds_in(seeds, s.max_order, range)
         .map(|x| {
-            let on_tables = Tally::of(samples + 4.0 * CROSSING_EVALUATIONS, pc.monodromy(x.phi, beta_max));
+            let (table, monodromy, point) = pc.costs(x.phi, beta_max);
+            let on_tables = Tally::of(samples + 4.0 * CROSSING_EVALUATIONS, monodromy);
             let climb = START_EVALUATIONS - 4.0 * CROSSING_EVALUATIONS + tracked;
-            let tables = Tally { operations: 3.0 * pc.table(x.phi, beta_max).0, evaluations: 0.0 };
-            [on_tables, Tally::of(climb, pc.point(x.phi, beta_max)), tables].into_iter().sum()
+            let tables = Tally { operations: 3.0 * table, evaluations: 0.0 };
+            [on_tables, Tally::of(climb, point), tables].into_iter().sum()
         })
         .sum();
     let at_level = level_search(pc, criterion, s, seeds, range, level);
@@ -182,8 +183,8 @@ pub fn scan(
         .iter()
         .flat_map(|w| {
             let onsets = seeds_in(seeds, criterion.max_order, *w).flat_map(|x| {
-                let table = Tally { operations: pc.table(x.phi, level).0, evaluations: 0.0 };
-                [table, Tally::of(onset, pc.monodromy(x.phi, level))]
+                let (table, monodromy, _) = pc.costs(x.phi, level);
+                [Tally { operations: table, evaluations: 0.0 }, Tally::of(onset, monodromy)]
             });
             std::iter::once(level_search(pc, criterion, s, seeds, *w, level)).chain(onsets)
         })
