@@ -24,33 +24,32 @@ pub fn dense(model: &Model, stage: Dense, threads: usize) -> Estimate {
     let n = DofMap::of(model).len() as f64;
     // P_cr is computed on the open-circuit model unless the file gives it.
     let open = DofMap { nodes: model.shaft.nodes(), branches: vec![0; model.rings.len()] }.len() as f64;
-    let buckling = if model.load.critical_load.is_some() { 0.0 } else { dense_eigen_ops(open) };
-    let eigen = dense_eigen_ops(n);
-    let qep = qep_ops(n);
+    let buckling = if model.load.critical_load.is_some() { 0.0 } else { DENSE_EIGEN_OPS_N3 * cubed(open) };
+    let eigen = DENSE_EIGEN_OPS_N3 * cubed(n);
+    let qep = QEP_OPS_2N3 * cubed(2.0 * n);
     let dofs = format!("{} complex DOFs", n);
     // Without the buckling eigenproblem a rotor is its five assembled matrices.
     let rotor_bytes = if buckling > 0.0 { ROTOR_BYTES_N2 } else { ASSEMBLED_BYTES_N2 } * n * n;
-    let (operations, bytes, memory_driver, memory_detail) = match stage {
-        Dense::Rotor => (buckling, rotor_bytes, Driver::Dofs, dofs.clone()),
-        Dense::Reduced => (buckling + eigen, ROTOR_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
-        Dense::ReducedAndWhirls => (buckling + eigen + qep, QEP_BYTES_N2 * n * n, Driver::Dofs, dofs.clone()),
-        Dense::Whirls(speeds) => {
-            let s = speeds.max(1) as f64;
-            let shapes = if speeds > 1 { SHAPES_BYTES_N2 * n * n * s } else { 0.0 };
-            let working = QEP_BYTES_N2 * n * n * (threads.max(1).min(speeds.max(1)) as f64);
-            let driver = if shapes > working { Driver::Grid } else { Driver::Dofs };
-            let detail =
-                if speeds > 1 { format!("{speeds} speeds × the mode shapes of {dofs}") } else { dofs.clone() };
-            (buckling + qep * s, working + shapes, driver, detail)
+    let (whole, held) = ((Driver::Dofs, format!("the dense eigenproblems of {dofs}")), (Driver::Dofs, dofs.clone()));
+    let (operations, bytes, (memory_driver, memory_detail), (work_driver, work_detail)) = match stage {
+        Dense::Rotor => (buckling, rotor_bytes, held, whole),
+        Dense::Reduced => (buckling + eigen, ROTOR_BYTES_N2 * n * n, held, whole),
+        Dense::ReducedAndWhirls => (buckling + eigen + qep, QEP_BYTES_N2 * n * n, held, whole),
+        Dense::Whirls(speeds) if speeds > 1 => {
+            let s = speeds as f64;
+            let (shapes, working) =
+                (SHAPES_BYTES_N2 * n * n * s, QEP_BYTES_N2 * n * n * threads.clamp(1, speeds) as f64);
+            let held = (
+                if shapes > working { Driver::Grid } else { Driver::Dofs },
+                format!("{speeds} speeds × the mode shapes of {dofs}"),
+            );
+            let work = (
+                if qep * s > (buckling + qep) * 4.0 { Driver::Grid } else { Driver::Dofs },
+                format!("{speeds} whirl eigenproblems of {dofs}"),
+            );
+            (buckling + qep * s, working + shapes, held, work)
         }
-    };
-    let work_detail = match stage {
-        Dense::Whirls(s) if s > 1 => format!("{s} whirl eigenproblems of {dofs}"),
-        _ => format!("the dense eigenproblems of {dofs}"),
-    };
-    let work_driver = match stage {
-        Dense::Whirls(s) if s > 1 && qep * s as f64 > (buckling + qep) * 4.0 => Driver::Grid,
-        _ => Driver::Dofs,
+        Dense::Whirls(_) => (buckling + qep, QEP_BYTES_N2 * n * n, held, whole),
     };
     Estimate {
         work: Part { amount: operations, driver: work_driver, detail: work_detail },

@@ -56,7 +56,7 @@ impl<'a> PointCost<'a> {
             // Beyond the doubling threshold the interpolant does not converge at its
             // first count: every larger count is tried too.
             let tried = if a <= MAX_COUPLING { first } else { first + chebyshev_points_after(first).sum::<usize>() };
-            operations += tried as f64 * exp_ops(self.n);
+            operations += tried as f64 * (EXP_OPS_N3 * cubed(self.n));
             if a <= MAX_COUPLING || steps >= MAX_STEPS as f64 || !a.is_finite() {
                 return (operations, steps);
             }
@@ -72,17 +72,11 @@ impl<'a> PointCost<'a> {
         let (table, steps) = self.table(phi, beta_table);
         match self.fs.settings.method {
             MonodromyMethod::Fast => {
-                let monodromy = steps * step_ops(self.n) + eig_ops(self.n);
+                let monodromy = steps * step_ops(self.n) + EIG_OPS_N3 * cubed(self.n);
                 (table, monodromy, table + monodromy)
             }
             MonodromyMethod::Dstm => (table, self.dstm(), self.dstm()),
         }
-    }
-
-    /// One monodromy at load β on a table built for `beta_table` ≥ β (operations), by
-    /// the configured method.
-    pub fn monodromy(&self, phi: f64, beta_table: f64) -> f64 {
-        self.costs(phi, beta_table).1
     }
 
     /// One point on a table of its own (operations), by the configured method: what a
@@ -93,7 +87,7 @@ impl<'a> PointCost<'a> {
 
     /// One DSTM monodromy with the settings' reference steps (operations).
     pub fn dstm(&self) -> f64 {
-        self.fs.settings.reference_steps as f64 * dstm_step_ops(self.n) + eig_ops(self.n)
+        self.fs.settings.reference_steps as f64 * (DSTM_STEP_OPS_N3 * cubed(self.n)) + EIG_OPS_N3 * cubed(self.n)
     }
 
     /// Driver and detail of a point at φ: the low frequency when its steps exceed the

@@ -34,13 +34,13 @@ use serde::Serialize;
 
 // Operation counts of the kernels: real floating-point operations (a complex multiply-add
 // is 8), n the state dimension 2M of the reduced model or the DOFs of the full one.
-// Matrices smaller than 8 × 8 count as 8 × 8 (`floored`): below that a call's fixed work
+// Matrices smaller than 8 × 8 count as 8 × 8 (`cubed`): below that a call's fixed work
 // (dispatch, bookkeeping, the result's allocation) is no longer small beside its
 // arithmetic.
 
-/// The size a kernel's count is taken at: at least [`SMALLEST_COUNTED`].
-fn floored(n: f64) -> f64 {
-    n.max(SMALLEST_COUNTED)
+/// n³ at the size a kernel's count is taken at: at least [`SMALLEST_COUNTED`].
+fn cubed(n: f64) -> f64 {
+    n.max(SMALLEST_COUNTED).powi(3)
 }
 /// The smallest matrix size counted (module comment above).
 const SMALLEST_COUNTED: f64 = 8.0;
@@ -48,40 +48,30 @@ const SMALLEST_COUNTED: f64 = 8.0;
 /// Chebyshev coefficients (a real 2n² × p by p product, 4pn², p ≤ 20 for a converged
 /// table) and its complex product into the monodromy (8n³).
 fn step_ops(n: f64) -> f64 {
-    8.0 * floored(n).powi(3) + 80.0 * n * n
+    8.0 * cubed(n) + 80.0 * n * n
 }
 /// Eigenvalues of the complex n × n monodromy (Hessenberg reduction and shifted QR, about
-/// 10n³ complex operations).
-fn eig_ops(n: f64) -> f64 {
-    40.0 * floored(n).powi(3)
-}
+/// 10n³ complex operations), per n³.
+const EIG_OPS_N3: f64 = 40.0;
 /// One exponential at a Chebyshev point: a Taylor polynomial by Paterson–Stockmeyer, about
-/// eight complex products.
-fn exp_ops(n: f64) -> f64 {
-    64.0 * floored(n).powi(3)
-}
+/// eight complex products, per n³.
+const EXP_OPS_N3: f64 = 64.0;
 /// One DSTM step: a Padé-13 exponential with scaling and squaring (six products, a solve
 /// and about three squarings: some twelve complex products' work) and its product into
-/// the monodromy.
-fn dstm_step_ops(n: f64) -> f64 {
-    104.0 * floored(n).powi(3)
-}
+/// the monodromy, per n³.
+const DSTM_STEP_OPS_N3: f64 = 104.0;
 /// One RK4 step of the response: four right-hand sides, each two complex n × n
 /// matrix-vector products (B0·y and B1·y), and the vector updates.
 fn rk4_ops(n: f64) -> f64 {
-    64.0 * floored(n).powi(2) + 64.0 * n
+    64.0 * n.max(SMALLEST_COUNTED).powi(2) + 64.0 * n
 }
 /// The symmetric-definite eigensolution of the full model with its vectors (buckling load
 /// or modal basis): Cholesky, reduction to standard form, tridiagonalisation and the
 /// implicit QR with vectors, about 14n³.
-fn dense_eigen_ops(n: f64) -> f64 {
-    14.0 * floored(n).powi(3)
-}
+const DENSE_EIGEN_OPS_N3: f64 = 14.0;
 /// The quadratic eigenproblem of the full model: the complex nonsymmetric eigenproblem of
-/// its 2n × 2n linearisation with vectors, about 25(2n)³ complex operations.
-fn qep_ops(n: f64) -> f64 {
-    100.0 * floored(2.0 * n).powi(3)
-}
+/// its 2n × 2n linearisation with vectors, about 25(2n)³ complex operations, per (2n)³.
+const QEP_OPS_2N3: f64 = 100.0;
 /// One sparse LU factorisation and solve of the dynamic stiffness, per DOF
 /// (`analysis::unbalance`): the shaft's band keeps the factors' fill fixed per DOF, about
 /// 8b² complex operations per row for a half-bandwidth b ≤ 11.
@@ -183,11 +173,9 @@ impl Estimate {
         self.work.amount *= count;
         self.evaluations *= count;
         if count > 1.0 {
-            self.work.detail = if self.work.detail.is_empty() {
-                format!("{} {what}", compact_count(count))
-            } else {
-                format!("{} {what}, each: {}", compact_count(count), self.work.detail)
-            };
+            let each =
+                if self.work.detail.is_empty() { String::new() } else { format!(", each: {}", self.work.detail) };
+            self.work.detail = format!("{} {what}{each}", compact_count(count));
             if !matches!(self.work.driver, Driver::LowFrequency | Driver::Load | Driver::Speed) {
                 self.work.driver = driver;
             }
@@ -197,11 +185,9 @@ impl Estimate {
 }
 
 fn compact_count(x: f64) -> String {
-    if !x.is_finite() {
-        "unboundedly many".into()
-    } else if x < 1e6 {
-        format!("{}", x.round())
-    } else {
-        format!("{x:.2e}")
+    match x {
+        x if !x.is_finite() => "unboundedly many".into(),
+        x if x < 1e6 => format!("{}", x.round()),
+        x => format!("{x:.2e}"),
     }
 }

@@ -160,12 +160,11 @@ pub fn band_and_margins(
     level: f64,
 ) -> Estimate {
     let margins = CatalogueRequest { range: window, beta_max: load_margin_reach(level), level, track: false };
-    let declared = band(pc, s, criterion, seeds, window, level);
-    let with_strict = match criterion.is_strict() {
-        true => declared,
-        false => declared.then(band(pc, s, &criterion.strict(), seeds, window, level)),
-    };
-    with_strict.then(catalogue(pc, s, criterion, seeds, &margins))
+    let mut work = band(pc, s, criterion, seeds, window, level);
+    if !criterion.is_strict() {
+        work = work.then(band(pc, s, &criterion.strict(), seeds, window, level));
+    }
+    work.then(catalogue(pc, s, criterion, seeds, &margins))
 }
 
 /// The tongues at the level over `windows` (a clear-bands candidate's operating bands)
