@@ -71,3 +71,20 @@ fn the_cost_guard_refuses_the_model_before_any_solve() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `[design.objective_options]` holds the keys of one objective alone (docs/design.md,
+/// "Adding an objective"); every bundled objective takes none and refuses the table at
+/// its key path, whichever objective the file names.
+#[test]
+fn an_objective_without_options_refuses_the_table() {
+    use rotorshunt::design::objective::{ObjectiveKind, OPTIONS_KEY};
+    let mut seen = Vec::new();
+    for file in ["design-widest-band.toml", "design-clear-bands.toml", "design-min-peak.toml"] {
+        let set = vec!["design.objective_options.min_width=150".to_string()];
+        let e = Problem::from_path(problem_path(file), &set).unwrap_err().to_string();
+        assert!(e.contains(OPTIONS_KEY) && e.contains("takes no options"), "{file}: {e}");
+        let plain = Problem::from_path(problem_path(file), &[]).unwrap();
+        seen.push(plain.design.unwrap().objective.kind());
+    }
+    assert_eq!(seen, ObjectiveKind::all(), "one problem of each objective");
+}

@@ -267,6 +267,9 @@ struct SpecJson<'a> {
     /// Written only when off.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     refined_check: bool,
+    /// The objective's own keys, when it has any ([`ObjectiveKeys::options`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    objective_options: Option<Cow<'a, serde_json::Value>>,
 }
 
 fn yes() -> bool {
@@ -296,6 +299,7 @@ impl Serialize for DesignSpec {
             tolerances: self.tolerances.as_ref().map(Cow::Borrowed),
             chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
             refined_check: self.refined_check,
+            objective_options: self.objective.keys().options.map(Cow::Borrowed),
         }
         .serialize(serializer)
     }
@@ -307,7 +311,12 @@ impl Serialize for DesignSpec {
 impl<'de> Deserialize<'de> for DesignSpec {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let json = SpecJson::deserialize(deserializer)?;
-        let keys = ObjectiveKeys { phi_op: json.phi_op, bands: Some(&*json.bands), response: json.response.as_deref() };
+        let keys = ObjectiveKeys {
+            phi_op: json.phi_op,
+            bands: Some(&*json.bands),
+            response: json.response.as_deref(),
+            options: json.objective_options.as_deref(),
+        };
         let objective = json.objective.build_from_json(&keys).map_err(serde::de::Error::missing_field)?;
         // A response the objective carries is its own, not the spec's.
         let response = json.response.filter(|_| objective.response().is_none()).map(Cow::into_owned);

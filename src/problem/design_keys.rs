@@ -7,7 +7,7 @@ use super::validate::{finite, non_negative, positive, range_rule, rule, Failure}
 use super::{NameOf, ProblemErrorKind as K};
 use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
-use crate::design::objective::{FileKeys, Objective, ObjectiveKind};
+use crate::design::objective::{FileKeys, Objective, ObjectiveKind, OPTIONS_KEY};
 use crate::design::spec::{
     Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Parameter, Response, Variable, CHART_GRID,
     MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_CHART_POINTS,
@@ -188,7 +188,15 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
     let response = d.response.as_ref().map(|r| response(r, model)).transpose()?;
     let width_constraint = d.constraints.as_ref().is_some_and(|c| c.min_band_width.is_some());
     // Each objective takes its own data; a key of another one is a mistake, not a hint.
-    let keys = FileKeys { phi_op, bands: &bands, response: response.as_ref(), min_band_width: width_constraint };
+    let options = d.objective_options.as_ref().map(serde_json::to_value).transpose();
+    let options = options.map_err(|e| (OPTIONS_KEY.to_string(), K::Schema(e.to_string())))?;
+    let keys = FileKeys {
+        phi_op,
+        bands: &bands,
+        response: response.as_ref(),
+        min_band_width: width_constraint,
+        options: options.as_ref(),
+    };
     let objective = d.objective.build_from_file(&keys).map_err(|r| (r.key, K::Schema(r.reason)))?;
     // What the objective does not take is the constraints'.
     let bands = if objective.keys().bands.is_some() { Vec::new() } else { bands };

@@ -126,6 +126,10 @@ pub struct DesignFile {
     /// `[design.tolerances]`: relative tolerances of the shunt's components.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerances: Option<TolerancesFile>,
+    /// `[design.objective_options]`: keys of the objective's own, read and checked by the
+    /// objective that `objective` names (one that takes none refuses the table).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective_options: Option<toml::Table>,
 }
 
 /// `[design.tolerances]`: relative tolerances (−, each in [0, 1), default 0) of every

@@ -164,7 +164,7 @@ impl PartialEq for AnyObjective {
 }
 
 /// An objective's data as the flat keys of `[design]` and of the spec's JSON (`phi_op`,
-/// `bands`, `response`); a key the objective does not carry is none.
+/// `bands`, `response`, `objective_options`); a key the objective does not carry is none.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ObjectiveKeys<'a> {
     /// φ_op (rad/s).
@@ -173,6 +173,9 @@ pub struct ObjectiveKeys<'a> {
     pub bands: Option<&'a [Band]>,
     /// The unbalance response of the objective.
     pub response: Option<&'a Response>,
+    /// `[design.objective_options]`: keys of the objective's own, which no other
+    /// objective shares, as the objective reads them ([`read_options`]).
+    pub options: Option<&'a serde_json::Value>,
 }
 
 /// The keys of a `[design]` table an objective is built from, checked by the file layer
@@ -189,6 +192,23 @@ pub struct FileKeys<'a> {
     /// Whether `design.constraints.min_band_width` is given (the constraint `phi_op`
     /// belongs to, when the objective does not take it).
     pub min_band_width: bool,
+    /// `[design.objective_options]`, the objective's own keys (a TOML table read as
+    /// JSON): refused for an objective that takes none
+    /// ([`ObjectiveKind::build_from_file`]).
+    pub options: Option<&'a serde_json::Value>,
+}
+
+/// The key path of an objective's own table in a problem file.
+pub const OPTIONS_KEY: &str = "design.objective_options";
+
+/// An objective's own keys (`[design.objective_options]`) read into its type `T`, which
+/// names and checks them (with `#[serde(deny_unknown_fields)]` an unknown key is refused
+/// by name); none when the table is not given. This is how an objective with data of a
+/// kind no other objective has gets it, without a key of its own in the file format.
+pub fn read_options<T: serde::de::DeserializeOwned>(
+    options: Option<&serde_json::Value>,
+) -> Result<Option<T>, KeyRefusal> {
+    options.map(|v| T::deserialize(v).map_err(|e| KeyRefusal::new(OPTIONS_KEY, &e.to_string()))).transpose()
 }
 
 /// Why a `[design]` table's keys do not make the objective it names: the key to blame

@@ -7,11 +7,11 @@
 //! builds it from the `[design]` keys and from the spec's JSON.
 //!
 //! Adding an objective is a module here and its kind in this module's list `KINDS` (one
-//! file outside the module). Data under a key no objective has yet also needs the key in
-//! [`ObjectiveKeys`] and [`FileKeys`] (here), in the spec's JSON
-//! ([`crate::design::spec`]) and in the file format (`problem::file`, which hands it over
-//! in `problem::design_keys`); findings of a new shape need a
-//! [`crate::design::optimise::FindingsKind`].
+//! file outside the module). Data of its own, which no objective has yet, goes in the
+//! table `[design.objective_options]` of the problem file, which the objective reads into
+//! a type of its own ([`read_options`]) and gives back as [`ObjectiveKeys::options`] (the
+//! spec's JSON keeps it as `objective_options`): no other file changes. Findings of a new
+//! shape need a [`crate::design::optimise::FindingsKind`].
 
 pub mod clear_bands;
 pub mod constraints;
@@ -19,7 +19,7 @@ mod contract;
 pub mod min_peak;
 pub mod widest_band;
 
-pub use contract::{AnyObjective, CostAt, FileKeys, KeyRefusal, Objective, ObjectiveKeys};
+pub use contract::{read_options, AnyObjective, CostAt, FileKeys, KeyRefusal, Objective, ObjectiveKeys, OPTIONS_KEY};
 
 use serde::{Deserialize, Serialize};
 use std::sync::OnceLock;
@@ -80,9 +80,15 @@ impl ObjectiveKind {
         KEYS.get_or_init(|| KINDS.iter().map(|k| k.key).collect())
     }
 
-    /// The objective of this kind from a `[design]` table's keys, or the key to blame.
+    /// The objective of this kind from a `[design]` table's keys, or the key to blame
+    /// (`[design.objective_options]` given to an objective that takes none among them).
     pub fn build_from_file(self, keys: &FileKeys<'_>) -> Result<AnyObjective, KeyRefusal> {
-        (self.from_file)(keys)
+        let objective = (self.from_file)(keys)?;
+        if keys.options.is_some() && objective.keys().options.is_none() {
+            let reason = format!("{} takes no options: drop the table [{OPTIONS_KEY}]", self.key);
+            return Err(KeyRefusal::new(OPTIONS_KEY, &reason));
+        }
+        Ok(objective)
     }
 
     /// The objective of this kind from the spec's JSON, or the name of the missing key.
@@ -162,5 +168,109 @@ impl serde::de::Visitor<'_> for KindName {
     fn visit_bytes<E: serde::de::Error>(self, key: &[u8]) -> Result<ObjectiveKind, E> {
         let key = String::from_utf8_lossy(key);
         ObjectiveKind::named(&key).ok_or_else(|| E::unknown_variant(&key, ObjectiveKind::keys()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The seam for an objective with data of its own: everything below is what such an
+    //! objective's module holds (a kind, its options type, its builders, its trait impl);
+    //! nothing outside the module names it except the registry `KINDS` (left out here, as
+    //! the test's objective is not one of the tool's).
+    use super::widest_band::WidestStableBand;
+    use super::*;
+    use crate::design::optimise::{Context, FindingsKind};
+    use crate::design::spec::DesignSpec;
+    use crate::design::{DesignError, DesignOutcome};
+
+    /// The widest band around φ_op, no narrower than a width of its own key.
+    #[derive(Debug)]
+    struct FloorBand {
+        band: WidestStableBand,
+        options: serde_json::Value,
+    }
+
+    /// Its own keys, checked by name.
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct FloorOptions {
+        /// The narrowest band accepted (rad/s).
+        min_width: f64,
+    }
+
+    const KIND: ObjectiveKind = ObjectiveKind::new("floor-band", from_file, from_json);
+
+    fn from_file(k: &FileKeys<'_>) -> Result<AnyObjective, KeyRefusal> {
+        let phi_op = k.phi_op.ok_or_else(|| KeyRefusal::new("design.phi_op", "needs phi_op"))?;
+        let Some(options) = read_options::<FloorOptions>(k.options)? else {
+            return Err(KeyRefusal::new(OPTIONS_KEY, "needs min_width (rad/s)"));
+        };
+        if !(options.min_width > 0.0) {
+            return Err(KeyRefusal::new(&format!("{OPTIONS_KEY}.min_width"), "must be positive"));
+        }
+        let options = k.options.cloned().unwrap_or_default();
+        Ok(AnyObjective::new(FloorBand { band: WidestStableBand { phi_op }, options }))
+    }
+
+    fn from_json(k: &ObjectiveKeys<'_>) -> Result<AnyObjective, &'static str> {
+        let phi_op = k.phi_op.ok_or("phi_op")?;
+        let options = k.options.ok_or("objective_options")?.clone();
+        Ok(AnyObjective::new(FloorBand { band: WidestStableBand { phi_op }, options }))
+    }
+
+    impl Objective for FloorBand {
+        fn kind(&self) -> ObjectiveKind {
+            KIND
+        }
+        fn keys(&self) -> ObjectiveKeys<'_> {
+            ObjectiveKeys { options: Some(&self.options), ..self.band.keys() }
+        }
+        fn most_candidates(&self, spec: &DesignSpec) -> usize {
+            self.band.most_candidates(spec)
+        }
+        fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {
+            self.band.optimise(ctx, out)
+        }
+        fn findings(&self) -> FindingsKind {
+            self.band.findings()
+        }
+        fn question(&self, spec: &DesignSpec, variables: &str, speeds: &str, constrained: bool) -> String {
+            self.band.question(spec, variables, speeds, constrained)
+        }
+        fn page_one(&self, s: &mut String, o: &DesignOutcome) {
+            self.band.page_one(s, o)
+        }
+        fn optimiser_method(&self, starts: usize) -> String {
+            self.band.optimiser_method(starts)
+        }
+        fn history_axes(&self) -> (&'static str, &'static str) {
+            self.band.history_axes()
+        }
+    }
+
+    fn file_keys(options: Option<&serde_json::Value>) -> FileKeys<'_> {
+        FileKeys { phi_op: Some(1230.0), bands: &[], response: None, min_band_width: false, options }
+    }
+
+    #[test]
+    fn an_objective_reads_its_own_keys_and_refuses_unknown_ones() {
+        let given = serde_json::json!({ "min_width": 150.0 });
+        let built = KIND.build_from_file(&file_keys(Some(&given))).unwrap();
+        assert_eq!(built.keys().options, Some(&given));
+        assert_eq!(built.phi_op(), Some(1230.0));
+        // The spec's JSON gives the same keys back, and they build the same objective.
+        let again = KIND.build_from_json(&built.keys()).unwrap();
+        assert_eq!(again, built);
+        // An unknown key is refused by name, under the table's key path.
+        let typo = serde_json::json!({ "min_widht": 150.0 });
+        let refusal = KIND.build_from_file(&file_keys(Some(&typo))).unwrap_err();
+        assert_eq!(refusal.key, OPTIONS_KEY);
+        assert!(refusal.reason.contains("min_widht"), "{}", refusal.reason);
+        let zero = serde_json::json!({ "min_width": 0.0 });
+        assert_eq!(
+            KIND.build_from_file(&file_keys(Some(&zero))).unwrap_err().key,
+            "design.objective_options.min_width"
+        );
+        assert_eq!(KIND.build_from_file(&file_keys(None)).unwrap_err().key, OPTIONS_KEY);
     }
 }
