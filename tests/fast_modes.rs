@@ -191,6 +191,7 @@ fn by_faer(rotor: &Rotor, p: &Problem, speed: f64, count: usize) -> Option<Modes
 /// solver's: its pairs carry relative residuals up to 4e-11 (the block solver's 1e-13),
 /// measured 1.0e-9 from the dense whirls at most where the block solver's are 1.4e-9.
 #[test]
+#[ignore = "faer's solver is not on the tool's path (docs/decisions.md, \"The lowest whirls stay with the block Krylov solver\"): the bench's correctness check, run by hand with -- --ignored faer_"]
 fn faer_and_dense_whirls_agree_on_the_anisotropic_rotors() {
     let fixtures = [
         "tests/fixtures/aniso/stepped-aniso.toml",
@@ -216,6 +217,7 @@ fn faer_and_dense_whirls_agree_on_the_anisotropic_rotors() {
 /// and the whirls' QEP residuals (6e-10 to 5e-8 measured) miss the 1e-10 the path asks.
 /// The block solver resolves every one of these cases (the test above).
 #[test]
+#[ignore = "a sweep over problems/ of a solver not on the tool's path: run by hand with -- --ignored faer_"]
 fn faer_and_dense_whirls_agree_on_every_problem_forced_to_the_real_path() {
     let mut fallbacks = Vec::new();
     for name in &common::problem_names() {

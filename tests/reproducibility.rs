@@ -204,7 +204,7 @@ fn cli_regions_json_is_identical_except_wall_time() {
                 "regions",
                 &file,
                 "--phi",
-                "500:1200",
+                "900:1200",
                 "--beta-max",
                 "0.5",
                 "--level",

@@ -151,6 +151,7 @@ fn a_band_that_reaches_the_window_is_clipped() {
 }
 
 #[test]
+#[ignore = "a refined-model check (a design, then its band on twice its basis: about 40 s on 2 cores); tests/design.rs checks a design's band at twice its basis in CI; run by hand: cargo test --release --test suite -- --ignored the_min_peak_design_is_never_verified"]
 fn the_min_peak_design_is_never_verified_on_a_band_a_refined_basis_refutes() {
     // The min-peak design with the band of 225 rad/s around 370 rad/s it was once
     // "verified" with (a band 18 rad/s wide on 12 modes): on its default basis, sized by
