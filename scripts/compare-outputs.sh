@@ -27,6 +27,11 @@
 #                     hold the raw outputs, each command's in out/<id>/.
 #   --inputs base     (default) both binaries read the problem files of BASE;
 #   --inputs head     both read those of HEAD. Either way both read the same bytes.
+#   --design-set K=V  add `--set K=V` to every `design` command, on both sides (repeat
+#                     for several): shortened designs (for example design.starts=1 and
+#                     design.max_iterations=4) take the same code paths in minutes where
+#                     the bundled designs with their own settings take about 35 minutes
+#                     per binary, one of them past the timeout below.
 #
 # What is run (function `commands`), each in the same directory, with the same relative
 # paths, so that paths in outputs are equal by construction: the inputs are problems/
@@ -65,11 +70,16 @@ usage() {
 }
 
 KEEP=0
+DESIGN_SETS=()
 INPUTS=base
 POSITIONAL=()
 while [[ $# -gt 0 ]]; do
     case $1 in
         --keep) KEEP=1 ;;
+        --design-set)
+            [[ $# -ge 2 && $2 == *=* ]] || { echo "error: --design-set takes KEY=VALUE" >&2; usage; }
+            DESIGN_SETS+=(--set "$2")
+            shift ;;
         --inputs)
             [[ $# -ge 2 && ( $2 == base || $2 == head ) ]] || { echo "error: --inputs takes base or head" >&2; usage; }
             INPUTS=$2
@@ -229,7 +239,7 @@ commands() {
         run "band-$s" band "$f" --phi-op 1230 --level 0.3
         run "band-json-$s" band "$f" --phi-op 1230 --level 0.3 --phi 600:2400 --json
         if grep -q '^\[design\]' "$f"; then
-            run "design-$s" design "$f" --out @OUT@
+            run "design-$s" design "$f" ${DESIGN_SETS[@]+"${DESIGN_SETS[@]}"} --out @OUT@
         fi
     done
 
