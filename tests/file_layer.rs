@@ -88,3 +88,32 @@ fn an_objective_without_options_refuses_the_table() {
     }
     assert_eq!(seen, ObjectiveKind::all(), "one problem of each objective");
 }
+
+/// A spec built in code (`DesignSpec::builder`) with the keys a file gives is the spec the
+/// file reads to: the builder's defaults are the `[design]` table's. A rule the table
+/// obeys is refused by the builder at the same key.
+#[test]
+fn a_spec_built_in_code_is_the_files_spec() {
+    use rotorshunt::analysis::Interval;
+    use rotorshunt::design::objective::widest_band::WidestStableBand;
+    use rotorshunt::design::spec::{DesignSpec, Tolerances};
+    let p = Problem::from_path(problem_path("design-robust-speed-range.toml"), &[]).unwrap();
+    let read = p.design.clone().unwrap();
+    let branches: Vec<usize> = p.model.rings.iter().map(|r| r.circuit.branches.len()).collect();
+    let tolerances = Tolerances { inductance: 0.05, resistance: 0.2, c_f: 0.0, cp_t: 0.0, samples: 200 };
+    let built =
+        DesignSpec::builder(WidestStableBand { phi_op: 1230.0 }, 0.3, vec![p.model.speed], read.variables.clone())
+            .max_iterations(25)
+            .speed_range(Interval::new(1900.0, 2100.0))
+            .tolerances(tolerances)
+            .build(&branches)
+            .unwrap();
+    assert_eq!(built, read);
+    let plain = Problem::from_path(problem_path("design-widest-band.toml"), &[]).unwrap();
+    let built = DesignSpec::builder(WidestStableBand { phi_op: 1230.0 }, 0.3, vec![plain.model.speed], read.variables)
+        .max_iterations(25);
+    assert_eq!(built.clone().build(&branches).unwrap(), plain.design.unwrap());
+    // β_op above β_max, and no start: refused at the key the file would name.
+    assert_eq!(built.clone().beta_max(0.2).build(&branches).unwrap_err().0, "level");
+    assert_eq!(built.starts(0).build(&branches).unwrap_err().0, "starts");
+}

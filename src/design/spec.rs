@@ -226,6 +226,118 @@ pub struct DesignSpec {
     pub refined_check: bool,
 }
 
+/// Default Nelder–Mead starts of a design (`design.starts`).
+pub const DEFAULT_STARTS: usize = 4;
+/// Default iterations per start, or convex steps (`design.max_iterations`).
+pub const DEFAULT_ITERATIONS: usize = 40;
+
+/// A [`DesignSpec`] built in code, with the defaults a `[design]` table has for every key
+/// it does not give, checked when built ([`DesignSpecBuilder::build`]): no field is ever
+/// unset. Begin with [`DesignSpec::builder`].
+#[derive(Debug, Clone)]
+pub struct DesignSpecBuilder {
+    spec: DesignSpec,
+}
+
+impl DesignSpec {
+    /// A spec of `objective` at β_op = `level` (−) over the operating `speeds` (rad/s)
+    /// with the design `variables`; everything else as a `[design]` table without the key:
+    /// φ range [`crate::analysis::DEFAULT_BAND_RANGE`], β_max = max(1, β_op),
+    /// [`DEFAULT_STARTS`], [`DEFAULT_ITERATIONS`], no constraints, response, speed range
+    /// or tolerances, the report charts' [`CHART_GRID`], the refined check on.
+    pub fn builder(
+        objective: impl Into<AnyObjective>,
+        level: f64,
+        speeds: Vec<f64>,
+        variables: Vec<Variable>,
+    ) -> DesignSpecBuilder {
+        let range = crate::analysis::DEFAULT_BAND_RANGE;
+        DesignSpecBuilder {
+            spec: DesignSpec {
+                objective: objective.into(),
+                level,
+                phi_range: (range.lo, range.hi),
+                beta_max: level.max(1.0),
+                speeds,
+                variables,
+                starts: DEFAULT_STARTS,
+                max_iterations: DEFAULT_ITERATIONS,
+                response: None,
+                constraints: Constraints::default(),
+                speed_range: None,
+                tolerances: None,
+                speed_unit: crate::numbers::SpeedUnit::RadPerS,
+                chart_grid: CHART_GRID,
+                refined_check: true,
+            },
+        }
+    }
+}
+
+impl DesignSpecBuilder {
+    /// The φ range of the catalogues and band searches, lo < hi (rad/s).
+    pub fn phi_range(mut self, lo: f64, hi: f64) -> Self {
+        self.spec.phi_range = (lo, hi);
+        self
+    }
+    /// β_max of the catalogues (−), at least β_op.
+    pub fn beta_max(mut self, beta_max: f64) -> Self {
+        self.spec.beta_max = beta_max;
+        self
+    }
+    /// Nelder–Mead starts (1–64).
+    pub fn starts(mut self, starts: usize) -> Self {
+        self.spec.starts = starts;
+        self
+    }
+    /// Iterations per start, or convex steps.
+    pub fn max_iterations(mut self, iterations: usize) -> Self {
+        self.spec.max_iterations = iterations;
+        self
+    }
+    /// The unbalance response judged by a peak constraint and reported (an objective
+    /// that carries its own response keeps that one).
+    pub fn response(mut self, response: Response) -> Self {
+        self.spec.response = Some(response);
+        self
+    }
+    /// Constraints on the result.
+    pub fn constraints(mut self, constraints: Constraints) -> Self {
+        self.spec.constraints = constraints;
+        self
+    }
+    /// A range of operating speeds (rad/s) over which the design must hold: the speeds
+    /// become its grid ([`range_speeds`]), as with `design.speed_range`.
+    pub fn speed_range(mut self, range: Interval) -> Self {
+        self.spec.speeds = range_speeds(range);
+        self.spec.speed_range = Some(range);
+        self
+    }
+    /// Component tolerances, judged at the worst corner of their box.
+    pub fn tolerances(mut self, tolerances: Tolerances) -> Self {
+        self.spec.tolerances = Some(tolerances);
+        self
+    }
+    /// The report charts' φ and β points.
+    pub fn chart_grid(mut self, phi_points: usize, beta_points: usize) -> Self {
+        self.spec.chart_grid = (phi_points, beta_points);
+        self
+    }
+    /// Whether the verification re-judges the tuned design on twice its basis (on by
+    /// default; off is a quick look, not a design to hand on).
+    pub fn refined_check(mut self, on: bool) -> Self {
+        self.spec.refined_check = on;
+        self
+    }
+    /// The spec, checked by the rules of a `[design]` table ([`DesignSpec::check`]) for a
+    /// problem whose rings have `branches[r]` branches each; else the first broken rule
+    /// with the key it breaks.
+    pub fn build(self, branches: &[usize]) -> Result<DesignSpec, (String, ParamError)> {
+        self.spec.check(branches)?;
+        Ok(self.spec)
+    }
+}
+
 /// The report charts' default grid: φ points and β points (400 × 31 resolves a
 /// 1 rad/s-wide tongue in a window of a few hundred rad/s, in about a second per chart).
 pub const CHART_GRID: (usize, usize) = (400, 31);

@@ -10,8 +10,8 @@ use crate::analysis::Interval;
 use crate::design::objective::{FileKeys, Objective, ObjectiveKind, OPTIONS_KEY};
 use crate::design::spec::{
     Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Parameter, Response, Variable, CHART_GRID,
-    MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS, MAX_RESPONSE_POINTS, MAX_STARTS, MIN_CHART_POINTS,
-    MIN_RESPONSE_POINTS,
+    DEFAULT_ITERATIONS, DEFAULT_STARTS, MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS,
+    MAX_RESPONSE_POINTS, MAX_STARTS, MIN_CHART_POINTS, MIN_RESPONSE_POINTS,
 };
 use crate::design::tolerance::Tolerances;
 use crate::model::{CircuitState, Model};
@@ -76,9 +76,6 @@ fn ring_of(
 /// Default φ range of a design's catalogues and band searches (rad/s): the paper's charts
 /// ([`crate::analysis::DEFAULT_BAND_RANGE`]).
 const DEFAULT_PHI_RANGE: [f64; 2] = [crate::analysis::DEFAULT_BAND_RANGE.lo, crate::analysis::DEFAULT_BAND_RANGE.hi];
-/// Default Nelder–Mead starts and iterations.
-const DEFAULT_STARTS: i64 = 4;
-const DEFAULT_ITERATIONS: i64 = 40;
 
 /// Default grid speeds of a `[design.response]`.
 const DEFAULT_RESPONSE_POINTS: i64 = 201;
@@ -287,8 +284,8 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         beta_max,
         speeds,
         variables,
-        starts: count("design.starts", d.starts, DEFAULT_STARTS, MAX_STARTS)?,
-        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS, MAX_ITERATIONS)?,
+        starts: count("design.starts", d.starts, DEFAULT_STARTS as i64, MAX_STARTS)?,
+        max_iterations: count("design.max_iterations", d.max_iterations, DEFAULT_ITERATIONS as i64, MAX_ITERATIONS)?,
         response,
         constraints,
         speed_unit: Default::default(),

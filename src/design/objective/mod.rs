@@ -205,7 +205,7 @@ mod tests {
         let Some(options) = read_options::<FloorOptions>(k.options)? else {
             return Err(KeyRefusal::new(OPTIONS_KEY, "needs min_width (rad/s)"));
         };
-        if !(options.min_width > 0.0) {
+        if options.min_width.is_nan() || options.min_width <= 0.0 {
             return Err(KeyRefusal::new(&format!("{OPTIONS_KEY}.min_width"), "must be positive"));
         }
         let options = k.options.cloned().unwrap_or_default();
