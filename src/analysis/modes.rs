@@ -100,7 +100,7 @@ pub enum Whirl {
     /// Im λ < 0, or every node's orbit backward: whirls against the spin.
     Backward,
     /// Real coordinates only: some nodes whirl forward and others backward, or every
-    /// orbit is a line ([`super::orbit::classify`]).
+    /// orbit is a line (`super::orbit::classify`).
     Mixed,
 }
 
@@ -152,7 +152,7 @@ pub struct WhirlMode {
     /// Relative QEP residual (see [`crate::linalg::qep_residual`]).
     pub residual: f64,
     /// Real coordinates only: κ = ±minor/major of the largest node orbit (positive
-    /// forward, [`super::orbit::Orbit`]); absent in complex coordinates, where every
+    /// forward, `super::orbit::Orbit`); absent in complex coordinates, where every
     /// orbit is a circle.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ellipticity: Option<f64>,

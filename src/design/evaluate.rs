@@ -116,7 +116,7 @@ impl Candidate {
     }
 
     /// The candidate as built with the component factors `p`
-    /// ([`crate::design::tolerance::Perturbation::apply`]), under this candidate's P_cr.
+    /// (`crate::design::tolerance::Perturbation::apply`), under this candidate's P_cr.
     pub fn perturbed(
         &self,
         spec: &DesignSpec,

@@ -12,15 +12,15 @@
 //! - **clear bands**: sequential convex programming from the reference design. Each step
 //!   linearises, by central differences, the edges (or the onset) of every region
 //!   intruding into a band widened by its clearance, and solves for the least weighted
-//!   change that moves each one out (clarabel QP, [`qp`]) inside a trust region and the
+//!   change that moves each one out (clarabel QP, `qp`) inside a trust region and the
 //!   bounds; the step is accepted when the total intrusion decreases. A problem with no
 //!   feasible step is reported infeasible with the violated bands.
 //! - **least peak response**: the largest unbalance amplitude at a node over a speed
-//!   range ([`vibration`]); Nelder–Mead without constraints (the design that damps best,
+//!   range (`vibration`); Nelder–Mead without constraints (the design that damps best,
 //!   always reported), then with the constraints ([`spec::Constraints`]: bands kept
 //!   clear, a least band width around φ_op, a peak limit, damping floors) as an exact
 //!   penalty, then clarabel steps on the constraints linearised by differences. One
-//!   start is the classic single-mode R–L tuning ([`vibration::classic_tuning`]).
+//!   start is the classic single-mode R–L tuning (`vibration::classic_tuning`).
 //!
 //! Constraints are judged afresh on the tuned design, whatever the objective.
 //!
@@ -31,22 +31,28 @@
 pub mod checks;
 pub mod content;
 pub mod evaluate;
-pub mod machine;
+pub(crate) mod machine;
 pub mod objective;
 pub mod optimise;
 pub mod pareto;
-pub mod qp;
-pub mod robust;
-pub mod sizing;
+pub(crate) mod qp;
+pub(crate) mod robust;
+pub(crate) mod sizing;
 pub mod spec;
-pub mod text;
-pub mod tolerance;
+pub(crate) mod text;
+pub(crate) mod tolerance;
 pub mod verify;
-pub mod vibration;
+pub(crate) mod vibration;
 
 pub use machine::Machine;
+pub use machine::Target;
 pub use optimise::{run, run_with, DesignOutcome, Observation, Observer, RunOptions, Status};
+pub use qp::QpStatus;
+pub use robust::{Build, Robustness, SpeedCheck};
+pub use sizing::RefinedCheck;
 pub use spec::DesignSpec;
+pub use tolerance::Perturbation;
+pub use vibration::{Baseline, ClassicTuning, ConstraintCheck, ConstraintKind, PeakValue};
 
 use thiserror::Error;
 

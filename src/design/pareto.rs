@@ -18,7 +18,7 @@
 //! dominates it. The figures of the front are the verifier's, not the optimiser's: each
 //! band is the full catalogue's stable band around φ_op ([`crate::design::verify`]), each
 //! peak the response found again on a grid ten times finer
-//! ([`crate::design::vibration::peak_recheck`]).
+//! (`crate::design::vibration::peak_recheck`).
 
 use super::machine::Machine;
 use super::objective::min_peak::MinPeakResponse;

@@ -29,7 +29,7 @@ pub struct Build {
     pub perturbation: Perturbation,
     /// The speeds it was judged at (rad/s): every operating speed, or, for a Monte Carlo
     /// sample over a speed range, the one where the box's corners leave the narrowest
-    /// guaranteed band ([`check`]).
+    /// guaranteed band (`check`).
     pub speeds: Vec<f64>,
     /// The band around φ_op at each of those speeds (rad/s); None where φ_op is unstable.
     pub bands: Vec<Option<Interval>>,

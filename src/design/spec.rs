@@ -220,7 +220,7 @@ pub struct DesignSpec {
     /// They draw what the design is; the design and its verification do not read them.
     pub chart_grid: (usize, usize),
     /// Whether the verification checks the tuned design again on a basis twice as large
-    /// (`design.refined_check`, default true; [`crate::design::sizing::refined_check`]).
+    /// (`design.refined_check`, default true; `crate::design::sizing::refined_check`).
     /// Off, that part is not applicable and says so: a quick look at a design, not one to
     /// hand on.
     pub refined_check: bool,
@@ -454,7 +454,7 @@ impl<'de> Deserialize<'de> for DesignSpec {
 
 /// Speeds of the optimiser's grid over a `design.speed_range`, ends included: the ends
 /// and three interior speeds, so a worst case inside the range is bracketed before the
-/// refinement near it ([`crate::design::robust::SPEED_REFINEMENTS`]).
+/// refinement near it (`crate::design::robust::SPEED_REFINEMENTS`).
 pub const RANGE_SPEEDS: usize = 5;
 /// Speeds of the verification's grid over a `design.speed_range`, ends included: eight
 /// times finer than the optimiser's.

@@ -124,7 +124,7 @@ impl Tolerances {
         out
     }
 
-    /// [`Tolerances::samples`] points drawn uniformly from the box ([`SAMPLE_SEED`]).
+    /// [`Tolerances::samples`] points drawn uniformly from the box (`SAMPLE_SEED`).
     pub fn draw(&self) -> Vec<Perturbation> {
         let d = self.kinds().len();
         let mut rng = ChaCha8Rng::seed_from_u64(SAMPLE_SEED);

@@ -91,7 +91,7 @@ impl VerificationPart {
 
 /// The min-peak design's peak found again: on a response grid [`PEAK_GRID_FACTOR`] times
 /// finer than the optimiser's, its local maxima refined by successive parabolic steps
-/// ([`crate::design::vibration::peak_recheck`]), against the optimiser's peak.
+/// (`crate::design::vibration::peak_recheck`), against the optimiser's peak.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct PeakRecheck {
     /// The optimiser's peak of the tuned design (its grid, golden-section refinement).

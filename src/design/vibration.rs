@@ -529,7 +529,7 @@ pub struct Baseline {
 }
 
 impl Baseline {
-    /// The baseline `design` read from its response at the node ([`response_of`]).
+    /// The baseline `design` read from its response at the node (`response_of`).
     pub fn of(design: &str, response: &UnbalanceResult) -> Baseline {
         let p = &response.probes[0];
         let (speed, amplitude, unbounded) = p.largest(&response.speeds);

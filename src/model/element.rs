@@ -90,7 +90,7 @@ pub fn ross_hutchinson_shear_coefficient(poisson: f64, ratio: f64) -> f64 {
     6.0 * r12 * (1.0 + nu) / (r12 * (7.0 + 12.0 * nu + 4.0 * nu * nu) + 4.0 * r2 * (5.0 + 6.0 * nu + 2.0 * nu * nu))
 }
 
-/// One beam element for [`beam`]: a circular tube whose outer and inner diameters vary
+/// One beam element for `beam`: a circular tube whose outer and inner diameters vary
 /// linearly from the left node to the right one (equal ends: a uniform element).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeamElement {

@@ -2,11 +2,12 @@
 //!
 //! All quantities are SI: m, kg, N, Pa, F, H, Ω, s, rad and rad/s.
 
-pub mod element;
+pub(crate) mod element;
 mod ring;
 mod shaft;
 mod support;
 
+pub use element::BeamElement;
 pub use ring::{Branch, BranchError, Circuit, CircuitState, Given, Parameter, Ring};
 use serde::Serialize;
 pub use shaft::{Beam, Section, Shaft};

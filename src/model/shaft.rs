@@ -18,7 +18,7 @@ pub enum Beam {
         /// Shear modulus G (Pa).
         shear_modulus: f64,
         /// Shear coefficient κ (−); `None`: Cowper's of each element
-        /// ([`cowper_shear_coefficient`] with Poisson's ratio E/(2G) − 1 and the ratio of
+        /// (`cowper_shear_coefficient` with Poisson's ratio E/(2G) − 1 and the ratio of
         /// the element's mean inner to mean outer diameter).
         shear_coefficient: Option<f64>,
     },
@@ -75,7 +75,7 @@ impl Section {
         self.outer_diameter == self.outer_diameter_right && self.inner_diameter == self.inner_diameter_right
     }
     /// Whether the section's elements are the closed-form uniform Rayleigh elements of
-    /// the paper ([`crate::model::element`]), assembled as before Timoshenko and tapered
+    /// the paper (`crate::model::element`), assembled as before Timoshenko and tapered
     /// sections existed, to the bit.
     pub fn is_uniform_rayleigh(&self) -> bool {
         self.is_uniform() && self.beam == Beam::Rayleigh
@@ -86,7 +86,7 @@ impl Section {
         let lerp = |a: f64, b: f64| if a == b { a } else { (1.0 - t) * a + t * b };
         (lerp(self.outer_diameter, self.outer_diameter_right), lerp(self.inner_diameter, self.inner_diameter_right))
     }
-    /// Element `k` (0-based within the section) as a [`BeamElement`]: its end diameters on
+    /// Element `k` (0-based within the section) as a `BeamElement`: its end diameters on
     /// the section's taper, its material and, for a Timoshenko section, κG with κ given or
     /// Cowper's at the element's mean diameters.
     pub fn element(&self, k: usize) -> BeamElement {

@@ -7,7 +7,7 @@ mod error;
 pub mod file;
 pub(crate) mod general;
 pub mod input;
-pub mod plausibility;
+pub(crate) mod plausibility;
 pub mod provenance;
 pub mod source;
 pub mod study;
@@ -48,7 +48,7 @@ pub struct Problem {
     /// SHA-256 (hex) of the problem text followed by the overrides, one per line: what
     /// every output records to identify its input.
     pub input_sha256: String,
-    /// Values that look like unit mistakes ([`plausibility`]); empty for a plausible file.
+    /// Values that look like unit mistakes (`plausibility`); empty for a plausible file.
     pub warnings: Vec<Warning>,
     /// The file's text as read (before the overrides), so that a later refusal can name
     /// a key's line ([`Problem::locate`]); empty for data built in code.

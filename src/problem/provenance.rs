@@ -21,7 +21,7 @@ pub struct Provenance {
     pub overrides: Vec<String>,
     /// Numerical settings in force.
     pub settings: crate::analysis::Settings,
-    /// Plausibility warnings on the input ([`crate::problem::plausibility`], and those a
+    /// Plausibility warnings on the input (`crate::problem::plausibility`, and those a
     /// command finds on its ranges); absent when there are none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<crate::problem::Warning>,

@@ -3,9 +3,9 @@
 
 pub mod campbell;
 pub mod chart;
-pub mod clip;
+pub(crate) mod clip;
 pub mod design;
-pub mod glossary;
+pub(crate) mod glossary;
 pub mod html;
 pub mod plot;
 pub mod study;

@@ -17,10 +17,10 @@
 pub mod dstm;
 pub mod fast;
 mod point;
-pub mod product;
+pub(crate) mod product;
 
 pub use point::{FloquetPoint, PointIssue, PointStatus, PointSummary};
-pub use product::ScaledProduct;
+pub use product::{ScaledProduct, ScaledSplit};
 
 use super::basis::BasisReport;
 use super::reduction::{ModeSet, PeriodicSystem, ReducedModel, ReductionInfo};

@@ -6,7 +6,7 @@
 //! and the seeds (of every order up to the criterion's) whose search window reaches the
 //! side are taken in order of the nearest φ they can report, until that φ lies beyond the
 //! nearest counted tongue found so far. The band's edge is that tongue's lattice-refined
-//! edge ([`super::level`]), the same number the catalogue of a range reports for it.
+//! edge (`super::level`), the same number the catalogue of a range reports for it.
 
 use super::seeds::Seed;
 use super::tongues::{Hit, Ignored, Tongue};
@@ -24,7 +24,7 @@ const BATCH: usize = 8;
 
 /// Two computations of the same tongue edge (rad/s) are the same edge when they differ by
 /// at most this: a band's edges and a catalogue's are the same lattice-refined numbers
-/// ([`super::level`]), so only round-off may separate them.
+/// (`super::level`), so only round-off may separate them.
 pub const SAME_EDGE: f64 = 1e-9;
 
 /// The name of a bound that no catalogued tongue has: no seed's pair was identified in

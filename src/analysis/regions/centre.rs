@@ -247,7 +247,7 @@ fn detuning(fs: &FloquetSystem, basis: &ModeBasis, group: &PairGroup, phi: f64, 
 /// What the centre search of one assignment found at the level.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct CentreOutcome {
-    /// A counted point where the assignment's pair has collided (|δ| below [`COLLIDED`]):
+    /// A counted point where the assignment's pair has collided (|δ| below `COLLIDED`):
     /// a point of its own tongue.
     pub own: Option<f64>,
     /// Counted points met on the way that belong to another tongue: φ (rad/s) and the

@@ -127,7 +127,7 @@ impl<'p> Level<'p> {
     }
 
     /// The edge of the tongue containing the counted point `inside`, on the side `dir`
-    /// (−1 left, +1 right): march outward ([`march`]) to a point that does not count, then
+    /// (−1 left, +1 right): march outward (`march`) to a point that does not count, then
     /// refine on the lattice (module docs). The window's end if the tongue reaches it.
     pub fn edge(&self, inside: f64, dir: f64) -> f64 {
         let limit = if dir < 0.0 { self.limits.lo } else { self.limits.hi };

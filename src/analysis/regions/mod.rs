@@ -4,34 +4,35 @@
 //! continuation.
 //!
 //! Every search asks its questions of one [`Probe`] of the Floquet system, which holds the
-//! settings and counts the monodromy evaluations ([`probe`]). One declared [`Criterion`]
+//! settings and counts the monodromy evaluations (`probe`). One declared [`Criterion`]
 //! decides what counts as unstable at β_op, everywhere: the catalogue's stable bands,
 //! [`band::band_around`], the design and the study all take the unstable set at β_op from
 //! a [`Level`] of that probe, which finds every tongue of order up to the criterion's from
-//! its seed and the rest on a fixed guard lattice ([`tongues`]), with edges that do not
-//! depend on where a search began. Onsets and starts (the β direction, [`critical`],
-//! [`start`]) and tracked boundaries ([`track`]) use the paper's tolerance on max|μ|.
-//! Every crossing is narrowed by the one bisection of [`bisect`].
+//! its seed and the rest on a fixed guard lattice (`tongues`), with edges that do not
+//! depend on where a search began. Onsets and starts (the β direction, `critical`,
+//! `start`) and tracked boundaries (`track`) use the paper's tolerance on max|μ|.
+//! Every crossing is narrowed by the one bisection of `bisect`.
 
 pub mod band;
-pub mod bisect;
-pub mod centre;
-pub mod critical;
-pub mod level;
+pub(crate) mod bisect;
+pub(crate) mod centre;
+pub(crate) mod critical;
+pub(crate) mod level;
 pub mod margins;
-pub mod maximise;
-pub mod probe;
-pub mod seeds;
+pub(crate) mod maximise;
+pub(crate) mod probe;
+pub(crate) mod seeds;
 pub mod sensitivity;
-pub mod settings;
-pub mod sized;
-pub mod start;
-pub mod tongues;
-pub mod track;
+pub(crate) mod settings;
+pub(crate) mod sized;
+pub(crate) mod start;
+pub(crate) mod tongues;
+pub(crate) mod track;
 
 pub use band::{
     band_around, bound_name, unexplained, Band, Bound, NamedTongue, Side, Unexplained, SAME_EDGE, UNLABELLED,
 };
+pub use centre::{CentreOutcome, Converged, Detuning, PairGroup};
 pub use centre::{ModeBasis, CENTRE_WINDOW};
 pub use critical::CriticalLoad;
 pub use level::Level;
@@ -41,6 +42,7 @@ pub use seeds::{seeds, RegionKind, Seed};
 pub use settings::{EdgeStep, RegionSettings, TipMargin};
 pub use sized::{band_sized, catalogue_sized};
 pub use start::{Start, Tip, START_WINDOW};
+pub use tongues::Hit;
 pub use tongues::{Ignored, Tongue};
 pub use track::Edges;
 
@@ -250,7 +252,7 @@ pub fn band(
     band_with(fs, full, s, range, phi_op, level, &Silent)
 }
 
-/// [`band()`], reporting its searches to `progress` ([`probe`]: a step is a seed's search
+/// [`band()`], reporting its searches to `progress` (`probe`: a step is a seed's search
 /// or a guard-lattice point; the steps are learned batch by batch as the sides widen).
 pub fn band_with(
     fs: &FloquetSystem,
@@ -317,7 +319,7 @@ pub fn catalogue(
 }
 
 /// [`catalogue`], reporting its searches to `progress` as steps of the caller's phase
-/// ([`probe`]): each seed's start, each seed's hits at the level, each tongue's extent,
+/// (`probe`): each seed's start, each seed's hits at the level, each tongue's extent,
 /// each guard-lattice point, each region's onset and each tracked boundary. The steps are
 /// announced ([`Progress::extend`]) as each stage learns of them, so the total grows
 /// while the search runs.

@@ -43,9 +43,9 @@ impl Probe<'_> {
     /// from the bracket [stable β₋, unstable β₀] of β_c(seed). At the load
     /// [`RegionSettings::tip_margin`](super::RegionSettings::tip_margin) above β₋ (at most
     /// `cap`) the region is a short interval around its tip that contains the seed, and
-    /// the tip φ_s is the maximum of ln max|μ| over φ there ([`climb`]); the onset is then
+    /// the tip φ_s is the maximum of ln max|μ| over φ there (`climb`); the onset is then
     /// β_c(φ_s) ≤ β₀ by [`Probe::critical_load_below`]. None if the climb leaves the
-    /// window, or ends within [`EDGE_FRACTION`] of its edge: the seed lies on the flank of
+    /// window, or ends within `EDGE_FRACTION` of its edge: the seed lies on the flank of
     /// a neighbouring region, whose tip it is climbing to.
     pub fn locate_tip(&self, seed_phi: f64, bracket: Interval, half_width: f64, cap: f64) -> Option<Tip> {
         let s = self.settings();
@@ -66,7 +66,7 @@ impl Probe<'_> {
     /// to β_max; the tip search of a region with β_c(seed) ≤ β_op stays at or below β_op.
     /// So a start and onset at or below β_op do not depend on β_max.
     ///
-    /// β_c(seed) is screened to [`SCREENING_TOLERANCE`] only: the tip search needs no more
+    /// β_c(seed) is screened to `SCREENING_TOLERANCE` only: the tip search needs no more
     /// (its level lies 5 % + 0.002 above), and the onset reported is then β_c at the tip,
     /// bisected to `beta_tolerance`. Where β_c(seed) itself is the onset it is bisected on,
     /// on the same table; where β_c at the tip lies inside the screening bracket, one

@@ -30,9 +30,6 @@ const SPLIT_TRIGGER: f64 = 1e-7;
 const LOCK_STEP: f64 = 0.05;
 /// The sides the lock test looks at, in [`LOCK_STEP`]s of `phi_tolerance`.
 const LOCK_SIDES: [f64; 2] = [-1.0, 1.0];
-/// Most evaluations of a collided pair's search besides its crest climb: the lock test's
-/// sides and the crest's own check.
-pub const LOCK_AND_CREST_CHECK: usize = LOCK_SIDES.len() + 1;
 /// |δ| (rad) below which a pair is phase-locked: round-off inside a collided interval.
 const LOCKED: f64 = 1e-7;
 /// Half-width of that crest search, relative to φ (9 rad/s at 1800 rad/s): the collided
@@ -103,7 +100,7 @@ pub(super) struct GroupHit {
 
 impl Level<'_> {
     /// Counted points of seed `index`'s tongue at β_op, and of its twins' (seeds of the
-    /// same order whose whirls are in the same twin groups, [`super::centre`]): the centre
+    /// same order whose whirls are in the same twin groups, `super::centre`): the centre
     /// search of every rank assignment of the group pair (a point where the pair has
     /// collided, and any counted point of another pair met on the way), and, where a
     /// search converged on a collided pair that does not count, the crest found by a short

@@ -38,7 +38,7 @@ const BESIDE: [f64; 4] = [0.25, 0.5, 1.0, 2.0];
 
 impl Probe<'_> {
     /// The edge of the unstable set at load β next to `inside` (unstable) on the side
-    /// `dir` (−1 left, +1 right): march outward ([`march`]) until stable, then bisect to
+    /// `dir` (−1 left, +1 right): march outward (`march`) until stable, then bisect to
     /// `phi_tolerance`; the final bracket's midpoint (rad/s). A march that would step to
     /// φ ≤ 0 ends at the smallest positive φ.
     pub fn edge(&self, inside: f64, beta: f64, dir: f64) -> f64 {

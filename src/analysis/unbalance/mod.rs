@@ -254,7 +254,7 @@ impl DynamicStiffness {
 
     /// The amplitude (m) of the response `u` at complex DOF `dof` and its phase (rad): |U|
     /// and arg U of the circular whirl in complex coordinates; in real ones the
-    /// semi-major axis of the ellipse ([`crate::analysis::orbit::Orbit`]) and the phase of
+    /// semi-major axis of the ellipse (`crate::analysis::orbit::Orbit`) and the phase of
     /// its x (v) motion.
     pub fn amplitude(&self, u: &[c64], dof: usize) -> (f64, f64) {
         match self.half {
@@ -431,7 +431,7 @@ pub struct ProbeResponse {
 }
 
 /// The synchronous orbit of a probe over the speeds, in real coordinates: x = v and y = w
-/// as x(t) = |X|·cos(Ωt + arg X), and the ellipse they trace ([`crate::analysis::orbit`]).
+/// as x(t) = |X|·cos(Ωt + arg X), and the ellipse they trace (`crate::analysis::orbit`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OrbitResponse {
     /// |X| (m).

@@ -91,7 +91,7 @@ pub struct PeakStep {
     pub accepted: bool,
     /// Trial values (SI units).
     pub values: Vec<f64>,
-    /// Clarabel's verdict on the step's QP ([`crate::design::qp::QpStatus`]).
+    /// Clarabel's verdict on the step's QP (`crate::design::qp::QpStatus`).
     pub qp_status: crate::design::qp::QpStatus,
 }
 
@@ -126,7 +126,7 @@ pub struct PeakFindings {
     /// The sequential convex steps after the penalised Nelder–Mead.
     pub convex_steps: Vec<PeakStep>,
     /// The tuned design beside the open circuit, the reference circuit and the classic
-    /// tuning, each by peak and amplification factor ([`crate::design::vibration::baselines`]).
+    /// tuning, each by peak and amplification factor (`crate::design::vibration::baselines`).
     pub baselines: Vec<Baseline>,
 }
 

@@ -320,7 +320,7 @@ fn run_steps(
 }
 
 /// Most times a design runs again on a larger basis when its tuned design needs one
-/// ([`super::sizing::recheck`]): each round is a whole optimisation, and a tuning that
+/// (`super::sizing::recheck`): each round is a whole optimisation, and a tuning that
 /// moves an electrical mode across the window can need one more size; beyond, the last
 /// round's design is verified as it is, its basis said not to hold.
 pub const BASIS_ROUNDS: usize = 2;

@@ -30,7 +30,7 @@ pub enum Status {
     /// ([`crate::design::verify`]): its band or clearances are not shown to hold.
     NotVerified,
     /// The design holds at its nominal component values but not at every build of its
-    /// tolerance box (`[design.tolerances]`, [`crate::design::robust`]): the failing build
+    /// tolerance box (`[design.tolerances]`, `crate::design::robust`): the failing build
     /// is named in the verification.
     NotRobust,
     /// The run was stopped before it ended (a time limit, an allowance of evaluations, or
@@ -100,7 +100,7 @@ pub struct ConvexStep {
     /// Trial values (SI units).
     pub values: Vec<f64>,
     /// Clarabel's verdict on the step's QP (the elastic one's when the plain step was
-    /// infeasible): [`crate::design::qp::QpStatus`].
+    /// infeasible): `crate::design::qp::QpStatus`.
     pub qp_status: crate::design::qp::QpStatus,
 }
 
@@ -225,15 +225,15 @@ pub struct DesignOutcome {
     /// The reference design on the same speed grid (with `design.speed_range`).
     pub speed_check_before: Option<crate::design::robust::SpeedCheck>,
     /// The reduced basis every candidate was judged on, and how its size was chosen
-    /// ([`crate::design::sizing`]); None only in a report read back from before it was
+    /// (`crate::design::sizing`); None only in a report read back from before it was
     /// recorded.
     pub basis: Option<BasisReport>,
     /// The rounds before the last, each on a basis its tuned design turned out to need
-    /// more modes than ([`crate::design::sizing::recheck`]): empty when the first basis
+    /// more modes than (`crate::design::sizing::recheck`): empty when the first basis
     /// held.
     pub basis_rounds: Vec<BasisRound>,
     /// The tuned design checked again on a basis twice as large, at each speed
-    /// ([`crate::design::sizing::refined_check`]).
+    /// (`crate::design::sizing::refined_check`).
     pub refined: Vec<RefinedCheck>,
     /// What stopped the run, for [`Status::Stopped`] (the library says only that it was
     /// asked to stop; a caller that set a limit names it); None for a run that ended.

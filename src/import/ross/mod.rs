@@ -1,18 +1,19 @@
 //! Import of rotors saved by ROSS (the Python rotordynamics package,
 //! `ross-rotordynamics`) with `Rotor.save`, as TOML or JSON.
 //!
-//! [`parse`] reads the file's element tables, [`map`] maps them to rotorshunt's general
+//! `parse` reads the file's element tables, `map` maps them to rotorshunt's general
 //! form (materials, sections, disks, bearings and seals with their coefficient tables) or
-//! refuses every element it cannot represent, and [`write`](mod@write) renders the
+//! refuses every element it cannot represent, and `write` renders the
 //! problem file. The format and the mapping are in
 //! `docs/ross-format.md`. SI units and rad/s throughout.
 
 mod error;
-pub mod map;
-pub mod parse;
-pub mod write;
+pub(crate) mod map;
+pub(crate) mod parse;
+pub(crate) mod write;
 
 pub use error::{ElementRef, Format, Refusal, Refused, RossError, RossErrorKind};
+pub use map::{BearingOut, DiskOut, LayerOut, MaterialOut, SectionOut};
 pub use map::{Imported, SAME_LENGTH_RTOL};
 pub use parse::SupportClass;
 
@@ -37,7 +38,7 @@ pub struct Import {
 }
 
 /// Import the text of a ROSS file; `name` is used in messages and in the output's
-/// comments, and decides the format by its extension ([`parse::format_of`]).
+/// comments, and decides the format by its extension (`parse::format_of`).
 pub fn import_text(text: &str, name: &str, options: Options) -> Result<Import, RossError> {
     let err = |kind| RossError { file: name.to_string(), kind };
     let format = parse::format_of(Path::new(name), text);
