@@ -36,16 +36,23 @@ const TOL_R: f64 = 0.2;
 const SAMPLES: usize = 200;
 /// Two routes to a lattice-refined edge give the same number up to round-off (rad/s).
 const SAME_EDGE: f64 = 1e-9;
+/// Monte Carlo builds of the tool's own check on the result: fewer than the file's 200,
+/// since the test checks its own [`SAMPLES`] builds independently (the file's count is
+/// what the full problem's figures in problems/README.md were made with).
+const TOOL_SAMPLES: u64 = 20;
 /// The shortened runs' settings (starts are given per design), on a fixed basis of 8
 /// modes without the refined check: the test checks the tolerance box, by band queries on
 /// the same basis (tuned.toml keeps the basis in its `[analysis]`).
 const SETS: [&str; 4] =
     ["design.max_iterations=10", "design.phi_range=[900.0, 1600.0]", common::QUICK_BASIS[0], common::QUICK_BASIS[1]];
 
-fn design(file: &str, name: &str, starts: usize) -> (std::path::PathBuf, Value) {
+fn design(file: &str, name: &str, starts: usize, extra: &[String]) -> (std::path::PathBuf, Value) {
     let dir = tmp(name);
     let mut cmd = bin();
     cmd.arg("design").arg(problem_path(file)).args(["--set", &format!("design.starts={starts}")]);
+    for s in extra {
+        cmd.args(["--set", s]);
+    }
     for s in SETS.iter().chain(&common::COARSE_CHARTS) {
         cmd.args(["--set", s]);
     }
@@ -96,13 +103,14 @@ const CORNERS: [(f64, f64); 4] =
 #[test]
 fn the_robust_design_holds_its_band_as_built_and_the_nominal_one_does_not() {
     // The robust design: verified, its guaranteed band holds at every corner and sample.
-    let (dir, report) = design("design-robust.toml", "robust-design", 2);
+    let (dir, report) =
+        design("design-robust.toml", "robust-design", 2, &[format!("design.tolerances.samples={TOOL_SAMPLES}")]);
     let outcome = &report["outcome"];
     assert!(["improved", "unchanged"].contains(&outcome["status"].as_str().unwrap()), "{}", outcome["status"]);
     let part = outcome["verification"]["parts"].as_array().unwrap().iter().find(|p| p["part"] == "tolerances").cloned();
     let part = part.expect("a tolerances part");
     assert_eq!(part["status"], "passed", "{part}");
-    assert_eq!(part["checked"].as_u64(), Some(5 + 200), "centre, 4 corners and 200 samples: {part}");
+    assert_eq!(part["checked"].as_u64(), Some(5 + TOOL_SAMPLES), "centre, 4 corners and the samples: {part}");
     let guaranteed = interval(&outcome["robustness"]["guaranteed"][0]);
     assert!(guaranteed.contains(PHI_OP), "{guaranteed:?}");
     let tuned = std::fs::read_to_string(dir.join("tuned.toml")).unwrap();
@@ -130,7 +138,7 @@ fn the_robust_design_holds_its_band_as_built_and_the_nominal_one_does_not() {
     assert!(failing.is_empty(), "{failing:#?}");
 
     // The nominal design of the same problem: its band does not hold at some corner.
-    let (dir, report) = design("design-widest-band.toml", "robust-design-nominal", 2);
+    let (dir, report) = design("design-widest-band.toml", "robust-design-nominal", 2, &[]);
     let claimed = interval(&report["outcome"]["after_bands"][0]["band"]["band"]);
     let tuned = std::fs::read_to_string(dir.join("tuned.toml")).unwrap();
     let at_corners: Vec<Option<Interval>> =
