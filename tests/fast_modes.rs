@@ -97,6 +97,7 @@ fn krylov_and_dense_whirls_agree_on_the_anisotropic_rotors() {
 }
 
 #[test]
+#[ignore = "a sweep over problems/ (every problem forced to the real path): the anisotropic rotors above keep the block solver's agreement in CI; run by hand with -- --ignored krylov_and_dense_whirls_agree_on_every_problem"]
 fn krylov_and_dense_whirls_agree_on_every_problem_forced_to_the_real_path() {
     let names = common::problem_names();
     assert!(names.len() >= 20, "{names:?}");

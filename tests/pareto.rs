@@ -31,7 +31,7 @@ const TEST_GRID_FACTOR: usize = 20;
 /// On a fixed basis of 8 modes without the refined check (the test checks the front; the
 /// band queries below run on the same basis, which each tuned-k.toml keeps).
 const OVERRIDES: [&str; 4] =
-    ["design.max_iterations=10", "design.phi_range=[200.0, 1000.0]", common::QUICK_BASIS[0], common::QUICK_BASIS[1]];
+    ["design.max_iterations=6", "design.phi_range=[200.0, 1000.0]", common::QUICK_BASIS[0], common::QUICK_BASIS[1]];
 /// The response range and grid of the problem file (node 16, 250–500 rad/s, 201 points).
 const NODE: usize = 16;
 const SPEEDS: (f64, f64) = (250.0, 500.0);
