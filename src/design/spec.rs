@@ -231,6 +231,11 @@ pub const DEFAULT_STARTS: usize = 4;
 /// Default iterations per start, or convex steps (`design.max_iterations`).
 pub const DEFAULT_ITERATIONS: usize = 40;
 
+/// Default β_max of a design's catalogues for β_op = `level` (−): 1, or β_op when above.
+pub fn default_beta_max(level: f64) -> f64 {
+    level.max(1.0)
+}
+
 /// A [`DesignSpec`] built in code, with the defaults a `[design]` table has for every key
 /// it does not give, checked when built ([`DesignSpecBuilder::build`]): no field is ever
 /// unset. Begin with [`DesignSpec::builder`].
@@ -257,7 +262,7 @@ impl DesignSpec {
                 objective: objective.into(),
                 level,
                 phi_range: (range.lo, range.hi),
-                beta_max: level.max(1.0),
+                beta_max: default_beta_max(level),
                 speeds,
                 variables,
                 starts: DEFAULT_STARTS,

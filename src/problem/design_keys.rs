@@ -148,7 +148,8 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
     let range = range_rule("design.phi_range", range[0], range[1])?;
     // The level is a load coefficient up to β_max, whose default follows it.
     let level = rule("design.level", limits::level(d.level, limits::MAX_BETA))?;
-    let beta_max = rule("design.beta_max", limits::beta_max(d.beta_max.unwrap_or(1.0_f64.max(level))))?;
+    let beta_max =
+        rule("design.beta_max", limits::beta_max(d.beta_max.unwrap_or(crate::design::spec::default_beta_max(level))))?;
     rule("design.level", limits::level(level, beta_max))?;
     let speeds = match &d.speeds {
         Some(v) if v.is_empty() => return Err(("design.speeds".into(), K::Schema("needs at least one speed".into()))),
