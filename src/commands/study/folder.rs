@@ -263,8 +263,15 @@ pub(crate) fn inspect_as(
     allow_non_empty: bool,
     same_plan: bool,
 ) -> Result<Option<Manifest>, Error> {
-    let entries = match std::fs::read_dir(out) {
-        Ok(entries) => entries,
+    // The entries are listed before the manifest is read: an entry is recorded before it
+    // is first written, so a manifest read after the listing records every entry a study
+    // created before it (read the other way round, a second task of the same study saw the
+    // first one's `cases` folder but not yet its manifest, and refused the folder).
+    let entries: Vec<String> = match std::fs::read_dir(out) {
+        Ok(entries) => entries
+            .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect::<Result<_, _>>()
+            .map_err(|e| output_error(out, e))?,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
         Err(e) => return Err(output_error(out, e)),
     };
@@ -291,8 +298,7 @@ pub(crate) fn inspect_as(
     };
     let recorded = manifest.as_ref().map(|m| m.created.clone()).unwrap_or_default();
     let mut foreign = Vec::new();
-    for e in entries {
-        let name = e.map_err(|e| output_error(out, e))?.file_name().to_string_lossy().into_owned();
+    for name in entries {
         let ours = name == MANIFEST
             || name == LOCK
             || recorded.contains(&name)
