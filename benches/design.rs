@@ -16,7 +16,12 @@
 //!    criterion, the refined check), alternating, three times each in the same run: wall
 //!    and CPU time and the ratio of the medians. (`scripts/speed-compare.sh` measures the
 //!    binary of before the issue against the working tree the same way.)
-//! 4. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
+//! 4. Issue 49: the paper's widest-band design with its starts from the map over the box
+//!    (the default) and from the first Halton points (`design.map = false`, as before the
+//!    map), side by side in the same run: the map's candidate evaluations against those of
+//!    the two Halton starts it replaces, the optimiser's candidates and Floquet
+//!    evaluations, and the bands. `ROTORSHUNT_BENCH_MAP=only` runs this section alone.
+//! 5. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
 //!    (`problems/design-robust-speed-range.toml`) and a 5-point Pareto front of
 //!    `problems/design-min-peak.toml`, once each.
 
@@ -91,12 +96,46 @@ fn phases(name: &str, wall: f64, r: &serde_json::Value) {
     );
 }
 
+/// Issue 49: the map's evaluations against the two Halton starts it replaces, on `paper`.
+fn map_against_halton(paper: &str, dir: &Path) {
+    let band = |r: &serde_json::Value| {
+        let b = &r["outcome"]["after_bands"][0]["band"]["band"];
+        b["hi"].as_f64().unwrap_or(f64::NAN) - b["lo"].as_f64().unwrap_or(f64::NAN)
+    };
+    let (wm, map) = design(&[paper], &dir.join("map"));
+    let (wh, halton) = design(&[paper, "--set", "design.map=false"], &dir.join("halton"));
+    let halton_evaluations: u64 = halton["outcome"]["starts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["origin"].as_str().is_some_and(|o| o.starts_with("halton")))
+        .map(|s| s["evaluations"].as_u64().unwrap())
+        .sum();
+    let map_points = map["outcome"]["map"]["points"].as_array().map_or(0, Vec::len);
+    for (name, w, r) in [("map", wm, &map), ("Halton starts", wh, &halton)] {
+        let o = &r["outcome"];
+        println!(
+            "paper widest band, starts from the {name}: {w:.2} s; {} candidates, {} Floquet evaluations optimising; band {:.2} rad/s; tuned {}",
+            o["candidates"], o["floquet_evaluations"], band(r), o["after"]
+        );
+    }
+    println!(
+        "the map: {map_points} candidate evaluations; the two Halton starts it replaces: {halton_evaluations}; map / Halton = {:.2}",
+        map_points as f64 / halton_evaluations.max(1) as f64
+    );
+}
+
 fn main() {
     // `cargo bench` passes --bench; nothing to parse.
-    cost_over_phi("design-widest-band.toml", 0.3, &[250.0, 500.0, 1000.0, 1230.0, 2000.0, 4000.0, 8000.0]);
-    cost_over_phi("design-compressor.toml", 0.1, &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 6000.0]);
     let dir: PathBuf = std::env::temp_dir().join(format!("rotorshunt-bench-design-{}", std::process::id()));
     let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    if std::env::var("ROTORSHUNT_BENCH_MAP").is_ok_and(|v| v == "only") {
+        map_against_halton(&files("design-widest-band.toml"), &dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
+    cost_over_phi("design-widest-band.toml", 0.3, &[250.0, 500.0, 1000.0, 1230.0, 2000.0, 4000.0, 8000.0]);
+    cost_over_phi("design-compressor.toml", 0.1, &[250.0, 500.0, 1000.0, 2000.0, 4000.0, 6000.0]);
     let (paper, compressor) = (files("design-widest-band.toml"), files("design-compressor.toml"));
     let mut walls = (Vec::new(), Vec::new());
     for round in 0..3 {
@@ -140,6 +179,7 @@ fn main() {
         "widest band, medians: the paper's settings {a:.2} s, the defaults {b:.2} s: defaults / paper's = {:.2}",
         b / a
     );
+    map_against_halton(&paper, &dir);
     if std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1") {
         let (w, r) = design(&[&files("design-robust-speed-range.toml")], &dir.join("robust"));
         phases("robust with a speed range", w, &r);

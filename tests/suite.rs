@@ -39,6 +39,7 @@ mod floquet_paths;
 mod fuzz;
 mod general_model;
 mod general_problems;
+mod global_map;
 mod held_out_band;
 mod hostile_folder;
 mod hostile_study;

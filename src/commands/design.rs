@@ -8,6 +8,7 @@ use crate::commands::Error;
 use rotorshunt::design::{DesignError, DesignOutcome, Status};
 use rotorshunt::problem::Problem;
 use rotorshunt::progress::Progress;
+use rotorshunt::report::design::map::{map_csv, map_file};
 use rotorshunt::report::design::pareto::FrontReport;
 use rotorshunt::report::design::{self as report_design, branch_rows, markdown, DesignReport};
 use rotorshunt::run::{Budget, DesignJob, DesignRun, FrontJob, Outcome, Run};
@@ -76,7 +77,7 @@ pub fn design_report(
     let Outcome { status, value, stop, evaluations } = job.run(true)?;
     let DesignRun { outcome, tuned, content } = value;
     let Some(mut content) = content else {
-        let files = text_files(outcome.status);
+        let files = text_files(&outcome);
         let report = report_of(problem, &tuned, outcome, Vec::new(), files);
         write_texts(problem, dir, &report)?;
         return Ok(Outcome { status, value: report.outcome, stop, evaluations });
@@ -84,7 +85,7 @@ pub fn design_report(
     let whirls = std::mem::take(&mut content.whirls);
     let figures = report_design::figures(&outcome, content, &title(problem));
     progress.extend(figures.len() as u64);
-    let mut files = text_files(outcome.status);
+    let mut files = text_files(&outcome);
     files.extend(figures.iter().flat_map(|(stem, _)| [format!("{stem}.svg"), format!("{stem}.png")]));
     let report = report_of(problem, &tuned, outcome.clone(), whirls, files);
     progress.advance(3);
@@ -117,8 +118,13 @@ fn report_of(
 }
 
 /// The text files a design writes ([`write_texts`]), the figures aside.
-fn text_files(status: Status) -> Vec<String> {
-    ["report.md", "report.html", "report.json", design_file_name(status)].map(str::to_string).to_vec()
+fn text_files(o: &DesignOutcome) -> Vec<String> {
+    let mut files: Vec<String> =
+        ["report.md", "report.html", "report.json", design_file_name(o.status)].map(str::to_string).to_vec();
+    if o.map.is_some() {
+        files.extend(["map.csv", "map.json"].map(str::to_string));
+    }
+    files
 }
 
 /// The design file (`tuned.toml` or `best-effort.toml`), report.json, report.md and
@@ -127,6 +133,10 @@ fn write_texts(problem: &Problem, dir: &OutDir, report: &DesignReport) -> Result
     let design_file = design_file_name(report.outcome.status);
     dir.write(design_file, super::tuned_toml(problem, &report.outcome)?.as_bytes())?;
     dir.write("report.json", (json_pretty(report, "the JSON output")? + "\n").as_bytes())?;
+    if let (Some(csv), Some(map)) = (map_csv(&report.outcome), map_file(&report.outcome)) {
+        dir.write("map.csv", csv.as_bytes())?;
+        dir.write("map.json", (json_pretty(&map, "the map")? + "\n").as_bytes())?;
+    }
     let text = markdown(report);
     dir.write("report.md", text.as_bytes())?;
     dir.write("report.html", rotorshunt::report::html::page(&report.title, &text, dir).as_bytes())?;

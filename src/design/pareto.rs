@@ -391,6 +391,7 @@ mod tests {
             speed_unit: Default::default(),
             chart_grid: crate::design::spec::CHART_GRID,
             refined_check: true,
+            map: true,
         }
     }
 

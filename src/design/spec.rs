@@ -224,6 +224,11 @@ pub struct DesignSpec {
     /// Off, that part is not applicable and says so: a quick look at a design, not one to
     /// hand on.
     pub refined_check: bool,
+    /// Whether the local searches start from the best distinct basins of a map of the
+    /// objective over the whole box (`design.map`, default true; the starts beyond the
+    /// reference and the physics seed), or, off, from the first points of the Halton set
+    /// as before the map: the reference path the `design` bench compares it with.
+    pub map: bool,
 }
 
 /// Default Nelder–Mead starts of a design (`design.starts`).
@@ -274,6 +279,7 @@ impl DesignSpec {
                 speed_unit: crate::numbers::SpeedUnit::RadPerS,
                 chart_grid: CHART_GRID,
                 refined_check: true,
+                map: true,
             },
         }
     }
@@ -334,6 +340,12 @@ impl DesignSpecBuilder {
         self.spec.refined_check = on;
         self
     }
+    /// Whether the starts come from a map of the objective over the box (on by default)
+    /// or from the first Halton points ([`DesignSpec::map`]).
+    pub fn map(mut self, on: bool) -> Self {
+        self.spec.map = on;
+        self
+    }
     /// The spec, checked by the rules of a `[design]` table ([`DesignSpec::check`]) for a
     /// problem whose rings have `branches[r]` branches each; else the first broken rule
     /// with the key it breaks.
@@ -384,6 +396,9 @@ struct SpecJson<'a> {
     /// Written only when off.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     refined_check: bool,
+    /// Written only when off.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    map: bool,
     /// The objective's own keys, when it has any ([`ObjectiveKeys::options`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     objective_options: Option<Cow<'a, serde_json::Value>>,
@@ -416,6 +431,7 @@ impl Serialize for DesignSpec {
             tolerances: self.tolerances.as_ref().map(Cow::Borrowed),
             chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
             refined_check: self.refined_check,
+            map: self.map,
             objective_options: self.objective.keys().options.map(Cow::Borrowed),
         }
         .serialize(serializer)
@@ -453,6 +469,7 @@ impl<'de> Deserialize<'de> for DesignSpec {
             speed_unit: crate::numbers::SpeedUnit::RadPerS,
             chart_grid: json.chart_grid.unwrap_or(CHART_GRID),
             refined_check: json.refined_check,
+            map: json.map,
         })
     }
 }

@@ -307,6 +307,7 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
             )?,
         ),
         refined_check: d.refined_check.unwrap_or(true),
+        map: d.map.unwrap_or(true),
     }))
 }
 

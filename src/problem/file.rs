@@ -113,6 +113,10 @@ pub struct DesignFile {
     /// (default true).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refined_check: Option<bool>,
+    /// Whether the local searches start from a map of the objective over the box
+    /// (default true; false: from the first Halton points).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<bool>,
     /// `[design.response]`: the unbalance response of the min-peak-response objective and
     /// the peak constraint.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -45,11 +45,15 @@ impl Objective for WidestStableBand {
         ObjectiveKeys { phi_op: Some(self.phi_op), ..Default::default() }
     }
 
-    /// The simplex and 2 per iteration, per start, then each start's final point and the
+    /// The map over the box (when the starts leave room for its basins, beyond the
+    /// reference and the physics seed), then the simplex and 2 per iteration, per start
+    /// (one more start per variable beyond three), then each start's final point and the
     /// reference.
     fn most_candidates(&self, spec: &DesignSpec) -> usize {
-        let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
-        starts * (2 * iterations + variables + 1) + starts + 1
+        let (iterations, variables) = (spec.max_iterations, spec.variables.len());
+        let map = if spec.starts > 1 && spec.map { crate::design::optimise::map_points(variables) } else { 0 };
+        let starts = spec.starts.max(1) + if spec.starts > 1 && spec.map { variables.saturating_sub(3) } else { 0 };
+        map + starts * (2 * iterations + variables + 1) + starts + 1
     }
 
     fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {

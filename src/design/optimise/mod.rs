@@ -19,6 +19,7 @@ use std::time::Instant;
 
 mod best;
 mod convex;
+mod map;
 mod min_peak;
 mod nelder_mead;
 mod observer;
@@ -27,6 +28,7 @@ mod verification;
 
 use best::{BestSoFar, Rank};
 pub(crate) use convex::clear_bands;
+pub use map::{map_points, MapPoint, ObjectiveMap, MAP_POINTS_PER_VARIABLE};
 pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 pub(crate) use nelder_mead::widest_band;

@@ -97,12 +97,35 @@ pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
     if let Some(seed) = physics_seed(ctx, &out.before, phi_op)? {
         starts.push(("physics seed".into(), seed));
     }
-    let mut k = 0;
-    while starts.len() < spec.starts.max(1) {
-        starts.push((format!("halton {}", k + 1), halton(k, n)));
-        k += 1;
+    // The map over the whole box, when the starts leave room for its basins: the starts
+    // not taken by the reference and the physics seed (with more than three variables,
+    // one more per variable beyond three) begin from its best distinct basins.
+    let fixed = starts.len();
+    let room = spec.starts.max(1).saturating_sub(fixed);
+    if room > 0 && !spec.map {
+        starts.extend((0..room).map(|k| (format!("halton {}", k + 1), halton(k, n))));
+    } else if room > 0 {
+        let want = room + n.saturating_sub(3);
+        let scaled = map::points(map::map_points(n), n);
+        let values: Vec<f64> = scaled.par_iter().map(|u| ctx.band_objective(u, phi_op)).collect();
+        stopped(ctx.progress)?;
+        let objective: Vec<Option<f64>> = values.iter().map(|&v| (v > -FAILED_COST).then_some(v)).collect();
+        let chosen = map::basins(&scaled, &objective, want);
+        for (r, &i) in chosen.iter().enumerate() {
+            starts.push((format!("map basin {}", r + 1), scaled[i].clone()));
+        }
+        out.map = Some(ObjectiveMap {
+            objective: "band width around φ_op as the widest-band objective judges it, rad/s".into(),
+            maximise: true,
+            points: scaled
+                .iter()
+                .zip(&objective)
+                .map(|(u, &v)| MapPoint { values: ctx.values(u), objective: v })
+                .collect(),
+            basins: chosen,
+        });
     }
-    starts.truncate(spec.starts.max(1));
+    starts.truncate(spec.starts.max(1) + n.saturating_sub(3));
     // The caller's starts, and the tuned design of a round on a smaller basis.
     starts.extend(ctx.extra_starts.iter().cloned());
     // Starts in parallel (the outermost loop); each Nelder–Mead run is sequential.

@@ -238,6 +238,9 @@ pub struct DesignOutcome {
     /// What stopped the run, for [`Status::Stopped`] (the library says only that it was
     /// asked to stop; a caller that set a limit names it); None for a run that ended.
     pub stop: Option<String>,
+    /// The objective over the whole box before the local searches, where the run made one
+    /// ([`super::ObjectiveMap`]).
+    pub map: Option<super::ObjectiveMap>,
 }
 
 impl DesignOutcome {
@@ -271,6 +274,7 @@ impl DesignOutcome {
             basis_rounds: Vec::new(),
             refined: Vec::new(),
             stop: None,
+            map: None,
         }
     }
 
@@ -369,6 +373,8 @@ struct OutcomeJson<'a> {
     refined: Cow<'a, [RefinedCheck]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     stop: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    map: Option<Cow<'a, super::ObjectiveMap>>,
 }
 
 impl Serialize for DesignOutcome {
@@ -406,6 +412,7 @@ impl Serialize for DesignOutcome {
             basis_rounds: Cow::Borrowed(&self.basis_rounds),
             refined: Cow::Borrowed(&self.refined),
             stop: self.stop.clone(),
+            map: self.map.as_ref().map(Cow::Borrowed),
         }
         .serialize(serializer)
     }
@@ -461,6 +468,7 @@ impl<'de> Deserialize<'de> for DesignOutcome {
             basis_rounds: json.basis_rounds.into_owned(),
             refined: json.refined.into_owned(),
             stop: json.stop,
+            map: json.map.map(Cow::into_owned),
         })
     }
 }

@@ -298,9 +298,10 @@ fn optimiser_section(s: &mut String, o: &DesignOutcome) {
             vals(&st.best),
             st.evaluations,
             st.iterations,
-            st.termination
+            super::map::ending(&o.spec, st)
         );
     }
+    super::map::map_section(s, o);
     if !o.convex_steps.is_empty() {
         let _ = writeln!(s, "\n| step | trust | constraints | intrusion before | intrusion after | accepted | values |\n|---|---|---|---|---|---|---|");
         for c in &o.convex_steps {

@@ -4,6 +4,7 @@
 
 mod details;
 mod figures;
+pub mod map;
 mod margins;
 mod page_one;
 pub mod pareto;

@@ -159,6 +159,7 @@ pub fn warnings(o: &DesignOutcome) -> Vec<String> {
             _ => {}
         }
     }
+    edge_warnings(&mut w, o);
     if let Some(b) = o.basis.as_ref().filter(|b| !b.converged()) {
         w.push(format!("The reduced basis did not converge: {}; the answers may move on a larger basis.", b.text()));
     }
@@ -171,6 +172,63 @@ pub fn warnings(o: &DesignOutcome) -> Vec<String> {
         ));
     }
     w
+}
+
+/// A load margin under this (−, onset/β_op − 1) is warned on page one: a load 10 % above
+/// β_op opens a tongue inside the band.
+pub const LOAD_MARGIN_WARNING: f64 = 0.10;
+/// A frequency margin min(φ_op − lo, hi − φ_op) under this share of φ_op (−) is warned on
+/// page one: a drift of the operating frequency by 5 % leaves the band.
+pub const FREQUENCY_MARGIN_WARNING: f64 = 0.05;
+
+/// The answers that sit on an edge: a tuned variable on a bound of its box, starts that
+/// stopped at their iteration limit, a load margin under [`LOAD_MARGIN_WARNING`] and a
+/// frequency margin under [`FREQUENCY_MARGIN_WARNING`] of φ_op.
+fn edge_warnings(w: &mut Vec<String>, o: &DesignOutcome) {
+    let spec = &o.spec;
+    if o.status != Status::Stopped {
+        for (i, upper) in super::map::at_bounds(spec, &o.after) {
+            let v = &spec.variables[i];
+            let (side, key, bound) = if upper { ("upper", "max", v.max) } else { ("lower", "min", v.min) };
+            w.push(format!(
+                "{} = {} {} sits on its {side} bound (`design.variables[{i}].{key}` = {bound}): the best design may lie beyond it; widen the bound to look.",
+                v.name(),
+                crate::numbers::sig(o.after[i], 5),
+                v.parameter.unit()
+            ));
+        }
+    }
+    let limited = o.starts.iter().filter(|s| super::map::hit_iteration_limit(s)).count();
+    if limited > 0 {
+        w.push(format!(
+            "{limited} of {} starts stopped at their iteration limit (`design.max_iterations` = {}) before converging: more iterations may find a better design.",
+            o.starts.len(),
+            spec.max_iterations
+        ));
+    }
+    let unit = spec.speed_unit;
+    for d in &o.after_speeds {
+        let Some(m) = &d.margins else { continue };
+        if m.load.is_some() && m.load_margin() < LOAD_MARGIN_WARNING {
+            w.push(format!(
+                "The load margin at {} is {}, under {:.0} %: a load that much above β_op opens a tongue inside the band.",
+                speed_text(unit, d.speed),
+                m.load_text(),
+                100.0 * LOAD_MARGIN_WARNING
+            ));
+        }
+        if let Some(phi_op) = spec.phi_op() {
+            let margin = m.phi_below.min(m.phi_above);
+            if margin < FREQUENCY_MARGIN_WARNING * phi_op {
+                w.push(format!(
+                    "The frequency margin at {} is {margin:.2} rad/s ({:.1} % of φ_op), under {:.0} %: φ_op lies near an edge of its band.",
+                    speed_text(unit, d.speed),
+                    100.0 * margin / phi_op,
+                    100.0 * FREQUENCY_MARGIN_WARNING
+                ));
+            }
+        }
+    }
 }
 
 /// The warnings block: one line each, at most [`WARNING_LINES`] with the count of the rest.
@@ -232,5 +290,61 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
         for f in &d.failures {
             let _ = writeln!(s, "- Failed at {}: {f}", speed_text(o.spec.speed_unit, d.speed));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::objective::widest_band::WidestStableBand;
+    use crate::design::optimise::StartReport;
+    use crate::design::spec::{DesignSpec, Parameter, Variable};
+
+    fn outcome(after: Vec<f64>, terminations: &[&str]) -> DesignOutcome {
+        let tuning = Variable {
+            ring: None,
+            ring_name: None,
+            branch: 0,
+            parameter: Parameter::TuningFrequency,
+            min: 600.0,
+            max: 1400.0,
+        };
+        let resistance = Variable { parameter: Parameter::Resistance, min: 0.0, max: 20.0, ..tuning.clone() };
+        let spec =
+            DesignSpec::builder(WidestStableBand { phi_op: 1230.0 }, 0.3, vec![2000.0], vec![tuning, resistance])
+                .build(&[2])
+                .unwrap();
+        let mut o = DesignOutcome::empty(&spec, vec![900.0, 5.0]);
+        o.status = Status::Improved;
+        o.after = after.clone();
+        o.starts = terminations
+            .iter()
+            .map(|t| StartReport {
+                origin: "reference".into(),
+                initial: vec![900.0, 5.0],
+                best: after.clone(),
+                objective: 300.0,
+                evaluations: 10,
+                iterations: 5,
+                termination: t.to_string(),
+            })
+            .collect();
+        o
+    }
+
+    #[test]
+    fn a_design_on_a_bound_is_warned_and_one_inside_is_not() {
+        let on = warnings(&outcome(vec![1400.0, 9.0], &["Solver converged"]));
+        assert_eq!(on.len(), 1, "{on:?}");
+        assert!(on[0].contains("sits on its upper bound (`design.variables[0].max` = 1400)"), "{on:?}");
+        assert!(warnings(&outcome(vec![1100.0, 9.0], &["Solver converged"])).is_empty());
+    }
+
+    #[test]
+    fn starts_at_their_iteration_limit_are_counted() {
+        let o = outcome(vec![1100.0, 9.0], &["Maximum number of iterations reached", "Solver converged"]);
+        let w = warnings(&o);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].starts_with("1 of 2 starts stopped at their iteration limit"), "{w:?}");
     }
 }
