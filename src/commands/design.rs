@@ -146,14 +146,7 @@ fn write_texts(problem: &Problem, dir: &OutDir, report: &DesignReport) -> Result
 /// The one-paragraph result on standard output.
 pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
     let spec = &o.spec;
-    let values = |v: &[f64]| {
-        spec.variables
-            .iter()
-            .zip(v)
-            .map(|(var, x)| format!("{} = {} {}", var.name(), rotorshunt::numbers::sig(*x, 5), var.parameter.unit()))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let values = |v: &[f64]| spec.values_text(v);
     let at = |w: f64| rotorshunt::report::design::speed_text(spec.speed_unit, w);
     if o.status == Status::Stopped {
         return format!(

@@ -231,6 +231,20 @@ pub struct DesignSpec {
     pub map: bool,
 }
 
+impl DesignSpec {
+    /// The design variables at `values` (SI units) in words, e.g. `branch 1
+    /// tuning_frequency = 1398.7 rad/s, branch 1 resistance = 19.408 Ω` (5 significant
+    /// digits).
+    pub fn values_text(&self, values: &[f64]) -> String {
+        self.variables
+            .iter()
+            .zip(values)
+            .map(|(var, x)| format!("{} = {} {}", var.name(), crate::numbers::sig(*x, 5), var.parameter.unit()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
 /// Default Nelder–Mead starts of a design (`design.starts`).
 pub const DEFAULT_STARTS: usize = 4;
 /// Default iterations per start, or convex steps (`design.max_iterations`).

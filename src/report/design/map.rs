@@ -106,15 +106,7 @@ pub fn map_csv(o: &DesignOutcome) -> Option<String> {
 /// began.
 pub(super) fn map_section(s: &mut String, o: &DesignOutcome) {
     let Some(m) = &o.map else { return };
-    let spec = &o.spec;
-    let values = |v: &[f64]| {
-        spec.variables
-            .iter()
-            .zip(v)
-            .map(|(var, x)| format!("{} = {} {}", var.name(), crate::numbers::sig(*x, 5), var.parameter.unit()))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let values = |v: &[f64]| o.spec.values_text(v);
     let failed = m.points.iter().filter(|p| p.objective.is_none()).count();
     let _ = write!(
         s,
@@ -138,12 +130,14 @@ pub(super) fn map_section(s: &mut String, o: &DesignOutcome) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::design::objective::widest_band::WidestStableBand;
     use crate::design::spec::{Parameter, Variable};
 
-    fn spec() -> DesignSpec {
+    /// The paper's design box: branch 1's tuning frequency (600–1400 rad/s) and resistance
+    /// (0–20 Ω), at φ_op = 1230 rad/s, β_op = 0.3, Ω = 2000 rad/s.
+    pub(crate) fn spec() -> DesignSpec {
         let tuning = Variable {
             ring: None,
             ring_name: None,

@@ -296,24 +296,10 @@ fn verification_sentences(s: &mut String, o: &DesignOutcome) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::objective::widest_band::WidestStableBand;
     use crate::design::optimise::StartReport;
-    use crate::design::spec::{DesignSpec, Parameter, Variable};
 
     fn outcome(after: Vec<f64>, terminations: &[&str]) -> DesignOutcome {
-        let tuning = Variable {
-            ring: None,
-            ring_name: None,
-            branch: 0,
-            parameter: Parameter::TuningFrequency,
-            min: 600.0,
-            max: 1400.0,
-        };
-        let resistance = Variable { parameter: Parameter::Resistance, min: 0.0, max: 20.0, ..tuning.clone() };
-        let spec =
-            DesignSpec::builder(WidestStableBand { phi_op: 1230.0 }, 0.3, vec![2000.0], vec![tuning, resistance])
-                .build(&[2])
-                .unwrap();
+        let spec = super::super::map::tests::spec();
         let mut o = DesignOutcome::empty(&spec, vec![900.0, 5.0]);
         o.status = Status::Improved;
         o.after = after.clone();
