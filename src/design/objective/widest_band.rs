@@ -51,8 +51,11 @@ impl Objective for WidestStableBand {
     /// reference.
     fn most_candidates(&self, spec: &DesignSpec) -> usize {
         let (iterations, variables) = (spec.max_iterations, spec.variables.len());
-        let map = if spec.starts > 1 && spec.map { crate::design::optimise::map_points(variables) } else { 0 };
-        let starts = spec.starts.max(1) + if spec.starts > 1 && spec.map { variables.saturating_sub(3) } else { 0 };
+        use crate::design::optimise::{extra_starts, map_points};
+        // At most: the map is made when the physics seed leaves room for a basin.
+        let mapped = spec.starts > 1 && spec.map;
+        let map = if mapped { map_points(variables) } else { 0 };
+        let starts = spec.starts.max(1) + if mapped { extra_starts(variables) } else { 0 };
         map + starts * (2 * iterations + variables + 1) + starts + 1
     }
 

@@ -11,6 +11,12 @@ use serde::{Deserialize, Serialize};
 /// `design` bench compares them side by side).
 pub const MAP_POINTS_PER_VARIABLE: usize = 12;
 
+/// The starts from the map's basins beyond those `design.starts` leaves room for, with
+/// `variables` variables: one per variable beyond three (a larger box has more basins).
+pub fn extra_starts(variables: usize) -> usize {
+    variables.saturating_sub(3)
+}
+
 /// The points of the map of a design of `variables` variables.
 pub fn map_points(variables: usize) -> usize {
     MAP_POINTS_PER_VARIABLE * variables.max(1)

@@ -28,7 +28,7 @@ mod verification;
 
 use best::{BestSoFar, Rank};
 pub(crate) use convex::clear_bands;
-pub use map::{map_points, MapPoint, ObjectiveMap, MAP_POINTS_PER_VARIABLE};
+pub use map::{extra_starts, map_points, MapPoint, ObjectiveMap, MAP_POINTS_PER_VARIABLE};
 pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 pub(crate) use nelder_mead::widest_band;

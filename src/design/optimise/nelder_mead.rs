@@ -100,12 +100,12 @@ pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
     // The map over the whole box, when the starts leave room for its basins: the starts
     // not taken by the reference and the physics seed (with more than three variables,
     // one more per variable beyond three) begin from its best distinct basins.
-    let fixed = starts.len();
-    let room = spec.starts.max(1).saturating_sub(fixed);
+    starts.truncate(spec.starts.max(1));
+    let room = spec.starts.max(1) - starts.len();
     if room > 0 && !spec.map {
         starts.extend((0..room).map(|k| (format!("halton {}", k + 1), halton(k, n))));
     } else if room > 0 {
-        let want = room + n.saturating_sub(3);
+        let want = room + map::extra_starts(n);
         let scaled = map::points(map::map_points(n), n);
         let values: Vec<f64> = scaled.par_iter().map(|u| ctx.band_objective(u, phi_op)).collect();
         stopped(ctx.progress)?;
@@ -125,7 +125,6 @@ pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
             basins: chosen,
         });
     }
-    starts.truncate(spec.starts.max(1) + n.saturating_sub(3));
     // The caller's starts, and the tuned design of a round on a smaller basis.
     starts.extend(ctx.extra_starts.iter().cloned());
     // Starts in parallel (the outermost loop); each Nelder–Mead run is sequential.
