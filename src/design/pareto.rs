@@ -392,6 +392,7 @@ mod tests {
             chart_grid: crate::design::spec::CHART_GRID,
             refined_check: true,
             map: true,
+            warnings: Default::default(),
         }
     }
 

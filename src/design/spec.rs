@@ -229,6 +229,39 @@ pub struct DesignSpec {
     /// reference and the physics seed), or, off, from the first points of the Halton set
     /// as before the map: the reference path the `design` bench compares it with.
     pub map: bool,
+    /// The page-one warning thresholds (`[design.warnings]`): what the report calls an
+    /// answer on an edge. Display only: the design does not read them.
+    pub warnings: WarningLevels,
+}
+
+/// A load margin under this (−, onset/β_op − 1) is warned on page one by default: a load
+/// 10 % above β_op opens a tongue inside the band.
+pub const LOAD_MARGIN_WARNING: f64 = 0.10;
+/// A frequency margin min(φ_op − lo, hi − φ_op) under this share of φ_op (−) is warned on
+/// page one by default: a drift of the operating frequency by 5 % leaves the band.
+pub const FREQUENCY_MARGIN_WARNING: f64 = 0.05;
+
+/// The thresholds under which page one warns of a margin (`[design.warnings]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WarningLevels {
+    /// A load margin (−, onset/β_op − 1) under this is warned
+    /// (`design.warnings.load_margin`, default [`LOAD_MARGIN_WARNING`]).
+    pub load_margin: f64,
+    /// A frequency margin under this share of φ_op (−) is warned
+    /// (`design.warnings.frequency_margin`, default [`FREQUENCY_MARGIN_WARNING`]).
+    pub frequency_margin: f64,
+}
+
+impl Default for WarningLevels {
+    fn default() -> Self {
+        WarningLevels { load_margin: LOAD_MARGIN_WARNING, frequency_margin: FREQUENCY_MARGIN_WARNING }
+    }
+}
+
+impl WarningLevels {
+    fn is_default(&self) -> bool {
+        *self == WarningLevels::default()
+    }
 }
 
 impl DesignSpec {
@@ -294,6 +327,7 @@ impl DesignSpec {
                 chart_grid: CHART_GRID,
                 refined_check: true,
                 map: true,
+                warnings: WarningLevels::default(),
             },
         }
     }
@@ -360,6 +394,11 @@ impl DesignSpecBuilder {
         self.spec.map = on;
         self
     }
+    /// The page-one warning thresholds ([`DesignSpec::warnings`]).
+    pub fn warnings(mut self, levels: WarningLevels) -> Self {
+        self.spec.warnings = levels;
+        self
+    }
     /// The spec, checked by the rules of a `[design]` table ([`DesignSpec::check`]) for a
     /// problem whose rings have `branches[r]` branches each; else the first broken rule
     /// with the key it breaks.
@@ -413,6 +452,9 @@ struct SpecJson<'a> {
     /// Written only when off.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     map: bool,
+    /// Written only when not the defaults.
+    #[serde(default, skip_serializing_if = "WarningLevels::is_default")]
+    warnings: WarningLevels,
     /// The objective's own keys, when it has any ([`ObjectiveKeys::options`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     objective_options: Option<Cow<'a, serde_json::Value>>,
@@ -446,6 +488,7 @@ impl Serialize for DesignSpec {
             chart_grid: (self.chart_grid != CHART_GRID).then_some(self.chart_grid),
             refined_check: self.refined_check,
             map: self.map,
+            warnings: self.warnings,
             objective_options: self.objective.keys().options.map(Cow::Borrowed),
         }
         .serialize(serializer)
@@ -484,6 +527,7 @@ impl<'de> Deserialize<'de> for DesignSpec {
             chart_grid: json.chart_grid.unwrap_or(CHART_GRID),
             refined_check: json.refined_check,
             map: json.map,
+            warnings: json.warnings,
         })
     }
 }
@@ -609,6 +653,9 @@ impl DesignSpec {
             .map_err(at("chart_phi_points"))?;
         limits::count(self.chart_grid.1 as u64, MIN_CHART_POINTS, MAX_CHART_BETA_POINTS)
             .map_err(at("chart_beta_points"))?;
+        limits::non_negative(Quantity::Limit, self.warnings.load_margin).map_err(at("warnings.load_margin"))?;
+        limits::non_negative(Quantity::Limit, self.warnings.frequency_margin)
+            .map_err(at("warnings.frequency_margin"))?;
         limits::count(self.variables.len() as u64, 1, u64::MAX).map_err(at("variables"))?;
         for (i, v) in self.variables.iter().enumerate() {
             let key = format!("variables[{i}]");

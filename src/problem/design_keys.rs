@@ -9,8 +9,8 @@ use crate::analysis::limits::{self, ParamError, Quantity};
 use crate::analysis::Interval;
 use crate::design::objective::{FileKeys, Objective, ObjectiveKind, OPTIONS_KEY};
 use crate::design::spec::{
-    Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Parameter, Response, Variable, CHART_GRID,
-    DEFAULT_ITERATIONS, DEFAULT_STARTS, MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS,
+    Band, BandWidth, Constraints, DampingFloor, DesignSpec, MarginSpec, Parameter, Response, Variable, WarningLevels,
+    CHART_GRID, DEFAULT_ITERATIONS, DEFAULT_STARTS, MAX_CHART_BETA_POINTS, MAX_CHART_PHI_POINTS, MAX_ITERATIONS,
     MAX_RESPONSE_POINTS, MAX_STARTS, MIN_CHART_POINTS, MIN_RESPONSE_POINTS,
 };
 use crate::design::tolerance::Tolerances;
@@ -308,7 +308,21 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
         ),
         refined_check: d.refined_check.unwrap_or(true),
         map: d.map.unwrap_or(true),
+        warnings: warning_levels(d.warnings.as_ref())?,
     }))
+}
+
+/// `[design.warnings]`, each ≥ 0; the defaults where absent.
+fn warning_levels(w: Option<&WarningsFile>) -> Result<WarningLevels, Failure> {
+    let d = WarningLevels::default();
+    let Some(w) = w else { return Ok(d) };
+    Ok(WarningLevels {
+        load_margin: non_negative("design.warnings.load_margin", w.load_margin.unwrap_or(d.load_margin))?,
+        frequency_margin: non_negative(
+            "design.warnings.frequency_margin",
+            w.frequency_margin.unwrap_or(d.frequency_margin),
+        )?,
+    })
 }
 
 /// Default Monte Carlo samples of the tolerance check (`design.tolerances.samples`).

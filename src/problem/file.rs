@@ -117,6 +117,9 @@ pub struct DesignFile {
     /// (default true; false: from the first Halton points).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub map: Option<bool>,
+    /// `[design.warnings]`: the margins under which page one warns.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warnings: Option<WarningsFile>,
     /// `[design.response]`: the unbalance response of the min-peak-response objective and
     /// the peak constraint.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -156,6 +159,18 @@ pub struct TolerancesFile {
     /// Monte Carlo samples of the check (1–10 000); default 200.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<i64>,
+}
+
+/// `[design.warnings]`: page one warns of a margin under these (each ≥ 0).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WarningsFile {
+    /// Load margin (−, onset/β_op − 1); default 0.10.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_margin: Option<f64>,
+    /// Frequency margin as a share of φ_op (−); default 0.05.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency_margin: Option<f64>,
 }
 
 /// `[design.margins]`.

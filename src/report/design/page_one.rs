@@ -2,7 +2,8 @@
 //! constraints, verification and the key figure.
 
 use super::*;
-use crate::analysis::regions::Bound;
+use crate::analysis::regions::{Bound, Margins};
+use crate::design::spec::WarningLevels;
 use crate::design::{DesignOutcome, Status};
 use crate::numbers::SpeedUnit;
 use std::fmt::Write;
@@ -174,16 +175,8 @@ pub fn warnings(o: &DesignOutcome) -> Vec<String> {
     w
 }
 
-/// A load margin under this (−, onset/β_op − 1) is warned on page one: a load 10 % above
-/// β_op opens a tongue inside the band.
-pub const LOAD_MARGIN_WARNING: f64 = 0.10;
-/// A frequency margin min(φ_op − lo, hi − φ_op) under this share of φ_op (−) is warned on
-/// page one: a drift of the operating frequency by 5 % leaves the band.
-pub const FREQUENCY_MARGIN_WARNING: f64 = 0.05;
-
 /// The answers that sit on an edge: a tuned variable on a bound of its box, starts that
-/// stopped at their iteration limit, a load margin under [`LOAD_MARGIN_WARNING`] and a
-/// frequency margin under [`FREQUENCY_MARGIN_WARNING`] of φ_op.
+/// stopped at their iteration limit, and margins under the spec's [`WarningLevels`].
 fn edge_warnings(w: &mut Vec<String>, o: &DesignOutcome) {
     let spec = &o.spec;
     if o.status != Status::Stopped {
@@ -206,27 +199,31 @@ fn edge_warnings(w: &mut Vec<String>, o: &DesignOutcome) {
             spec.max_iterations
         ));
     }
-    let unit = spec.speed_unit;
     for d in &o.after_speeds {
-        let Some(m) = &d.margins else { continue };
-        if m.load.is_some() && m.load_margin() < LOAD_MARGIN_WARNING {
-            w.push(format!(
-                "The load margin at {} is {}, under {:.0} %: a load that much above β_op opens a tongue inside the band.",
-                speed_text(unit, d.speed),
-                m.load_text(),
-                100.0 * LOAD_MARGIN_WARNING
-            ));
+        if let Some(m) = &d.margins {
+            margin_warnings(w, m, &speed_text(spec.speed_unit, d.speed), spec.phi_op(), &spec.warnings);
         }
-        if let Some(phi_op) = spec.phi_op() {
-            let margin = m.phi_below.min(m.phi_above);
-            if margin < FREQUENCY_MARGIN_WARNING * phi_op {
-                w.push(format!(
-                    "The frequency margin at {} is {margin:.2} rad/s ({:.1} % of φ_op), under {:.0} %: φ_op lies near an edge of its band.",
-                    speed_text(unit, d.speed),
-                    100.0 * margin / phi_op,
-                    100.0 * FREQUENCY_MARGIN_WARNING
-                ));
-            }
+    }
+}
+
+/// A load margin under `levels.load_margin` and a frequency margin under
+/// `levels.frequency_margin` of φ_op, at the speed `at` (in words).
+fn margin_warnings(w: &mut Vec<String>, m: &Margins, at: &str, phi_op: Option<f64>, levels: &WarningLevels) {
+    if m.load.is_some() && m.load_margin() < levels.load_margin {
+        w.push(format!(
+            "The load margin at {at} is {}, under {} % (`design.warnings.load_margin`): a load that much above β_op opens a tongue inside the band.",
+            m.load_text(),
+            crate::numbers::sig(100.0 * levels.load_margin, 3)
+        ));
+    }
+    if let Some(phi_op) = phi_op {
+        let margin = m.phi_below.min(m.phi_above);
+        if margin < levels.frequency_margin * phi_op {
+            w.push(format!(
+                "The frequency margin at {at} is {margin:.2} rad/s ({:.1} % of φ_op), under {} % (`design.warnings.frequency_margin`): φ_op lies near an edge of its band.",
+                100.0 * margin / phi_op,
+                crate::numbers::sig(100.0 * levels.frequency_margin, 3)
+            ));
         }
     }
 }
@@ -332,5 +329,63 @@ mod tests {
         let w = warnings(&o);
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].starts_with("1 of 2 starts stopped at their iteration limit"), "{w:?}");
+    }
+
+    /// Margins at β_op = 0.3 around φ_op = 1230 rad/s: a load margin `load` (−) from an
+    /// onset found, and `below`, `above` rad/s to the band's edges.
+    fn margins(load: f64, below: f64, above: f64) -> Margins {
+        let onset = 0.3 * (1.0 + load);
+        Margins {
+            level: 0.3,
+            load: Some(crate::analysis::regions::LoadMargin {
+                margin: load,
+                onset,
+                label: "f1+b1".into(),
+                order: 2,
+                start: 1240.0,
+                resolved: true,
+            }),
+            searched_to: 0.6,
+            phi_below: below,
+            phi_above: above,
+            max_multiplier: None,
+            sampled: 0,
+            strict: crate::analysis::criterion::Threshold::GROWTH,
+            strict_band: None,
+        }
+    }
+
+    fn margin_warned(m: &Margins, levels: &WarningLevels) -> Vec<String> {
+        let mut w = Vec::new();
+        margin_warnings(&mut w, m, "Ω = 2000 rad/s", Some(1230.0), levels);
+        w
+    }
+
+    #[test]
+    fn a_load_margin_under_the_threshold_is_warned_and_one_over_it_is_not() {
+        let defaults = WarningLevels::default();
+        // 100 rad/s from either edge: 8.1 % of φ_op, no frequency warning.
+        let under = margin_warned(&margins(0.0107, 100.0, 120.0), &defaults);
+        assert_eq!(under.len(), 1, "{under:?}");
+        assert!(under[0].starts_with("The load margin at Ω = 2000 rad/s is +1.07 % (f1+b1"), "{under:?}");
+        assert!(under[0].contains("under 10 % (`design.warnings.load_margin`)"), "{under:?}");
+        assert!(margin_warned(&margins(0.0537, 100.0, 120.0), &defaults).len() == 1);
+        assert!(margin_warned(&margins(0.12, 100.0, 120.0), &defaults).is_empty());
+        // The threshold is a setting: at 5 %, a margin of 5.37 % is not warned.
+        let five = WarningLevels { load_margin: 0.05, ..defaults };
+        assert!(margin_warned(&margins(0.0537, 100.0, 120.0), &five).is_empty());
+        assert_eq!(margin_warned(&margins(0.0107, 100.0, 120.0), &five).len(), 1);
+    }
+
+    #[test]
+    fn a_frequency_margin_under_the_threshold_is_warned_and_one_over_it_is_not() {
+        let defaults = WarningLevels::default();
+        // 5 % of 1230 rad/s is 61.5 rad/s.
+        let near = margin_warned(&margins(0.5, 200.0, 40.0), &defaults);
+        assert_eq!(near.len(), 1, "{near:?}");
+        assert!(near[0].starts_with("The frequency margin at Ω = 2000 rad/s is 40.00 rad/s (3.3 % of φ_op), under 5 %"));
+        assert!(margin_warned(&margins(0.5, 200.0, 62.0), &defaults).is_empty());
+        let two = WarningLevels { frequency_margin: 0.02, ..defaults };
+        assert!(margin_warned(&margins(0.5, 200.0, 40.0), &two).is_empty());
     }
 }
