@@ -58,6 +58,7 @@ mod overrides;
 mod paper_findings;
 mod paper_tables;
 mod pareto;
+mod peak_tolerances;
 mod plausibility;
 mod plots;
 mod progress;

@@ -332,7 +332,7 @@ const MAX_SAMPLES: u64 = 10_000;
 
 /// `[design.tolerances]`, validated: each tolerance in [0, 1) (a part at −100 % is no
 /// part), for an objective the optimiser judges at the tolerance box's corners
-/// ([`ObjectiveKind::judges_tolerances`]: widest-stable-band).
+/// ([`ObjectiveKind::judges_tolerances`]: widest-stable-band, min-peak-response).
 fn tolerances(t: &TolerancesFile, objective: &dyn Objective) -> Result<Tolerances, Failure> {
     let one = |name: &str, v: Option<f64>| -> Result<f64, Failure> {
         let key = format!("design.tolerances.{name}");
@@ -370,7 +370,7 @@ fn tolerances_refusal() -> String {
     let names = judging.join(" or ");
     let uses: Vec<String> = judging.iter().map(|k| format!("`objective = \"{k}\"`")).collect();
     format!(
-        "component tolerances are judged by the {names} objective only (its band at the tolerance box's corners); remove [design.tolerances] or use {}",
+        "component tolerances are judged by the {names} objectives only (at the tolerance box's corners); remove [design.tolerances] or use {}",
         uses.join(" or ")
     )
 }

@@ -11,7 +11,7 @@ use crate::design::{DesignError, DesignOutcome};
 use std::fmt::Write;
 
 /// The objective's kind: `design.objective = "min-peak-response"`.
-pub const KIND: ObjectiveKind = ObjectiveKind::new("min-peak-response", from_file, from_json);
+pub const KIND: ObjectiveKind = ObjectiveKind::new("min-peak-response", from_file, from_json).judging_tolerances();
 
 /// Minimise the largest unbalance amplitude (m) at a shaft node over a speed range (the
 /// steady-state response of [`crate::analysis::unbalance`], peaks refined).
@@ -145,6 +145,24 @@ impl Objective for MinPeakResponse {
         rows.push(("tuned", &f.after, af("tuned")));
         for (name, d, a) in rows {
             row(s, name, &d.peak, a, met(d));
+        }
+        if let Some(a) = &f.as_built {
+            let worst = |d: &JudgedDesign| {
+                d.worst_corner
+                    .as_ref()
+                    .map_or("–".to_string(), |w| format!("`{}` {:.4e} m", w.build, w.peak.amplitude))
+            };
+            let _ = writeln!(
+                s,
+                "\nAs built ({}): the worst corner of the tuned design {} (the optimiser minimised it), of the unconstrained optimum {}; the worst of the centre, {} corners and {} samples {:.4e} m (`{}`).",
+                a.tolerances.text(),
+                worst(&f.after),
+                worst(&f.unconstrained),
+                a.corners.len().saturating_sub(1),
+                a.samples,
+                a.worst.peak.amplitude,
+                a.worst.build
+            );
         }
         if let Some(price) = f.price {
             let _ = writeln!(

@@ -4,6 +4,7 @@
 //! constraints from the best feasible point (see [`crate::design`]).
 
 use super::convex::linearise;
+use super::peak_as_built::{corner_peaks, CornerPeak};
 use super::*;
 use crate::design::vibration::{
     check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck, PeakValue,
@@ -46,10 +47,17 @@ struct Judged {
     /// outside the bounds.
     values: Vec<f64>,
     peak: PeakValue,
+    /// With `[design.tolerances]`: the corner of the tolerance box with the largest peak.
+    worst: Option<CornerPeak>,
     checks: Vec<ConstraintCheck>,
 }
 
 impl Judged {
+    /// What the optimiser minimises (m): the peak, or with `[design.tolerances]` the
+    /// largest peak over the tolerance box's centre and corners.
+    fn value(&self) -> f64 {
+        self.worst.as_ref().map_or(self.peak.amplitude, |w| w.peak.amplitude.max(self.peak.amplitude))
+    }
     fn violation(&self) -> f64 {
         self.checks.iter().map(|c| c.violation).sum()
     }
@@ -63,8 +71,12 @@ impl Judged {
 pub struct JudgedDesign {
     /// Variable values (SI units).
     pub values: Vec<f64>,
-    /// Its largest amplitude at the response node.
+    /// Its largest amplitude at the response node (as designed).
     pub peak: PeakValue,
+    /// With `[design.tolerances]`: the corner of the tolerance box with the largest peak,
+    /// the value the optimiser minimised.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_corner: Option<CornerPeak>,
     /// The constraints on it (empty without constraints).
     pub constraints: Vec<ConstraintCheck>,
     /// Whether every constraint is met.
@@ -81,9 +93,9 @@ pub struct PeakStep {
     /// Number of linearised constraints (rows) of the step's QP: one per constraint other
     /// than the bands, plus the bands' intruders and neighbours.
     pub constraints: usize,
-    /// Peak before (m).
+    /// Peak before (m; with `[design.tolerances]`, the worst corner's).
     pub peak_before: f64,
-    /// Peak at the trial point (m).
+    /// Peak at the trial point (m; with `[design.tolerances]`, the worst corner's).
     pub peak_after: f64,
     /// Whether the trial point meets every constraint.
     pub feasible: bool,
@@ -98,7 +110,8 @@ pub struct PeakStep {
 /// What the price of the stability constraints is in response.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 pub struct Price {
-    /// Constrained peak − unconstrained peak (m).
+    /// Constrained peak − unconstrained peak (m; with `[design.tolerances]`, of their worst
+    /// corners).
     pub metres: f64,
     /// The same relative to the unconstrained peak (%).
     pub percent: f64,
@@ -125,6 +138,10 @@ pub struct PeakFindings {
     pub price: Option<Price>,
     /// The sequential convex steps after the penalised Nelder–Mead.
     pub convex_steps: Vec<PeakStep>,
+    /// With `[design.tolerances]`: the tuned design's peak at every corner of the tolerance
+    /// box and at its Monte Carlo samples (the verification's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub as_built: Option<super::peak_as_built::PeakAsBuilt>,
     /// The tuned design beside the open circuit, the reference circuit and the classic
     /// tuning, each by peak and amplification factor (`crate::design::vibration::baselines`).
     pub baselines: Vec<Baseline>,
@@ -147,11 +164,7 @@ impl Context<'_> {
             Err(e) => self.note_failure(e),
             // Unconstrained judgements rank only where there are no constraints to miss.
             Ok(j) if constrained || self.spec.constraints.is_empty() => {
-                let rank = if j.feasible() {
-                    Rank(0, j.peak.amplitude, 0.0)
-                } else {
-                    Rank(1, j.violation(), j.peak.amplitude)
-                };
+                let rank = if j.feasible() { Rank(0, j.value(), 0.0) } else { Rank(1, j.violation(), j.value()) };
                 self.best.offer(rank, values, self.progress);
             }
             Ok(_) => {}
@@ -164,18 +177,41 @@ impl Context<'_> {
         let response = spec.response().ok_or(DesignError::NoResponse)?;
         let (machine, rotor) = rotor_at(self.base, spec, values)?;
         let peak = peak_of(&rotor, response)?;
+        let worst = match &spec.tolerances {
+            Some(t) => worst_corner(&machine, &rotor, t, response)?,
+            None => None,
+        };
         let checks = if constrained && !spec.constraints.is_empty() {
             let c = Candidate::from_parts(machine, rotor, spec, spec.constraints.needs_stability())?;
             check_constraints(&c, &self.eval(), Some(peak))?
         } else {
             Vec::new()
         };
-        Ok(Judged { u: u.iter().map(|x| x.clamp(0.0, 1.0)).collect(), values: values.to_vec(), peak, checks })
+        Ok(Judged { u: u.iter().map(|x| x.clamp(0.0, 1.0)).collect(), values: values.to_vec(), peak, worst, checks })
     }
 
     fn report(&self, j: &Judged) -> JudgedDesign {
-        JudgedDesign { values: j.values.clone(), peak: j.peak, constraints: j.checks.clone(), feasible: j.feasible() }
+        JudgedDesign {
+            values: j.values.clone(),
+            peak: j.peak,
+            worst_corner: j.worst.clone(),
+            constraints: j.checks.clone(),
+            feasible: j.feasible(),
+        }
     }
+}
+
+/// The corner of the tolerance box with the largest peak ([`corner_peaks`]); None for a
+/// box without corners.
+fn worst_corner(
+    machine: &Machine,
+    rotor: &crate::Rotor,
+    t: &crate::design::tolerance::Tolerances,
+    response: &crate::design::spec::Response,
+) -> Result<Option<CornerPeak>, DesignError> {
+    Ok(corner_peaks(&machine.model, rotor.critical_load, &t.corners()[1..], response)?
+        .into_iter()
+        .max_by(|a, b| a.peak.amplitude.total_cmp(&b.peak.amplitude)))
 }
 
 /// The Nelder–Mead cost of one start: ln(peak) (+ the penalty); keeps the best point
@@ -194,8 +230,8 @@ fn better(a: &Judged, b: &Judged) -> bool {
     match (a.feasible(), b.feasible()) {
         (true, false) => true,
         (false, true) => false,
-        (true, true) => a.peak.amplitude < b.peak.amplitude,
-        (false, false) => (a.violation(), a.peak.amplitude) < (b.violation(), b.peak.amplitude),
+        (true, true) => a.value() < b.value(),
+        (false, false) => (a.violation(), a.value()) < (b.violation(), b.value()),
     }
 }
 
@@ -206,7 +242,7 @@ impl CostFunction for PeakCost<'_, '_> {
         let outside: f64 = u.iter().map(|&x| (x - x.clamp(0.0, 1.0)).abs()).sum();
         let judged = self.ctx.judge(u, self.constrained).ok();
         let cost = match &judged {
-            Some(j) => j.peak.amplitude.ln() + VIOLATION_PENALTY * j.violation(),
+            Some(j) => j.value().ln() + VIOLATION_PENALTY * j.violation(),
             None => FAILED_LN_COST,
         };
         if let Some(j) = judged {
@@ -263,7 +299,7 @@ fn nelder_mead(
                 origin: format!("{}{origin}", if constrained { "constrained, " } else { "" }),
                 initial: ctx.values(u0),
                 best: best.as_ref().map_or_else(|| ctx.values(u0), |b| b.values.clone()),
-                objective: best.as_ref().map_or(f64::NAN, |b| b.peak.amplitude),
+                objective: best.as_ref().map_or(f64::NAN, Judged::value),
                 evaluations: history.len(),
                 iterations: state.get_iter(),
                 termination: state.get_termination_reason().map_or("none".into(), |r| r.to_string()),
@@ -310,9 +346,8 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
             .collect();
         let probed = probed.into_iter().collect::<Result<Vec<_>, _>>()?;
         let span = |j: usize| (at.u[j] + GRADIENT_STEP).min(1.0) - (at.u[j] - GRADIENT_STEP).max(0.0);
-        let grad_ln: Vec<f64> = (0..n)
-            .map(|j| (probed[2 * j].peak.amplitude.ln() - probed[2 * j + 1].peak.amplitude.ln()) / span(j))
-            .collect();
+        let grad_ln: Vec<f64> =
+            (0..n).map(|j| (probed[2 * j].value().ln() - probed[2 * j + 1].value().ln()) / span(j)).collect();
         let mut rows: Vec<Linear> = Vec::new();
         for (i, c) in at.checks.iter().enumerate() {
             if c.kind == crate::design::vibration::ConstraintKind::BandsClear {
@@ -354,8 +389,8 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
             iteration,
             trust,
             constraints: rows.len(),
-            peak_before: at.peak.amplitude,
-            peak_after: judged.peak.amplitude,
+            peak_before: at.value(),
+            peak_after: judged.value(),
             feasible: judged.feasible(),
             accepted,
             values: ctx.values(&trial),
@@ -415,7 +450,7 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
                 out.starts.push(report);
                 out.history.extend(history);
                 if let Some(b) = best {
-                    if free.as_ref().is_none_or(|f| b.peak.amplitude < f.peak.amplitude) {
+                    if free.as_ref().is_none_or(|f| b.value() < f.value()) {
                         free = Some(b);
                     }
                 }
@@ -448,7 +483,7 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         best = polished;
         convex = steps;
     }
-    let improved = |b: &Judged| b.feasible() && (!before.feasible() || b.peak.amplitude < before.peak.amplitude);
+    let improved = |b: &Judged| b.feasible() && (!before.feasible() || b.value() < before.value());
     out.status = if constrained && !best.feasible() {
         Status::Infeasible
     } else if improved(&best) {
@@ -459,8 +494,8 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
     };
     out.after = best.values.clone();
     let price = constrained.then(|| {
-        let metres = best.peak.amplitude - free.peak.amplitude;
-        Price { metres, percent: 100.0 * metres / free.peak.amplitude }
+        let metres = best.value() - free.value();
+        Price { metres, percent: 100.0 * metres / free.value() }
     });
     out.findings = Findings::MinPeak(Box::new(PeakFindings {
         // Filled by the run with the responses of its report ([`crate::design::vibration::baselines`]).
@@ -472,6 +507,7 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         classic_design: classic_design.as_ref().map(|j| ctx.report(j)),
         price,
         convex_steps: convex,
+        as_built: None,
     }));
     Ok(())
 }

@@ -24,6 +24,7 @@ mod min_peak;
 mod nelder_mead;
 mod observer;
 mod outcome;
+mod peak_as_built;
 mod verification;
 
 use best::{BestSoFar, Rank};
@@ -37,6 +38,7 @@ pub use outcome::{
     BasisRound, ConvexStep, Cost, DesignOutcome, Findings, FindingsKind, HistoryPoint, StartReport, Status,
     VibrationReport, REPORT_DAMPING_WHIRLS,
 };
+pub use peak_as_built::{CornerPeak, PeakAsBuilt};
 
 /// Cost of a candidate whose analysis failed (rad/s, far worse than any band).
 const FAILED_COST: f64 = 1.0e9;
