@@ -183,7 +183,10 @@ pub fn summary_text(o: &DesignOutcome, out: &Path) -> String {
                     b.design,
                     b.peak.amplitude,
                     b.peak.speed,
-                    af.map_or("no half-power band in the range".to_string(), |a| format!("AF {a:.1}")),
+                    af.map_or("no half-power band in the range".to_string(), |a| format!(
+                        "AF {a:.1}{}",
+                        rotorshunt::analysis::unbalance::split_note(b.split_pair)
+                    )),
                     100.0 * (f.after.peak.amplitude / b.peak.amplitude - 1.0)
                 ),
             };

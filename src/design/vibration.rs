@@ -526,6 +526,11 @@ pub struct Baseline {
     /// API 684 amplification factor Ω_peak/(Ω₂ − Ω₁) of that peak (−); None when the
     /// largest amplitude is at an end of the range or a half-power speed lies beyond it.
     pub amplification_factor: Option<f64>,
+    /// The speed (rad/s) of the other peak of the split pair the largest peak belongs to
+    /// (`crate::analysis::unbalance::SPLIT_PAIR_SPACING`): its amplification factor
+    /// measures one peak of the two.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split_pair: Option<f64>,
 }
 
 impl Baseline {
@@ -534,9 +539,13 @@ impl Baseline {
         let p = &response.probes[0];
         let (speed, amplitude, unbounded) = p.largest(&response.speeds);
         // The amplification factor of the refined peak that is the largest amplitude.
-        let amplification_factor =
-            p.peaks.iter().find(|k| k.speed == speed && k.amplitude == amplitude).and_then(|k| k.amplification_factor);
-        Baseline { design: design.to_string(), peak: PeakValue { speed, amplitude, unbounded }, amplification_factor }
+        let peak = p.peaks.iter().find(|k| k.speed == speed && k.amplitude == amplitude);
+        Baseline {
+            design: design.to_string(),
+            peak: PeakValue { speed, amplitude, unbounded },
+            amplification_factor: peak.and_then(|k| k.amplification_factor),
+            split_pair: peak.and_then(|k| k.split_pair),
+        }
     }
 }
 

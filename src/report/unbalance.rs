@@ -354,7 +354,7 @@ pub fn peaks_text(r: &UnbalanceResult, heading: &str, unit: SpeedUnit) -> String
         for k in &p.peaks {
             let af = match (k.amplification_factor, k.unbounded) {
                 (_, true) => "unbounded (no damping acts on this mode)".to_string(),
-                (Some(af), false) => format!("AF = {af:.2}"),
+                (Some(af), false) => format!("AF = {af:.2}{}", k.split_note()),
                 (None, false) => "AF not defined (half-power point beyond the range)".to_string(),
             };
             s += &format!(

@@ -41,7 +41,7 @@ use serde::{Deserialize, Serialize};
 mod peaks;
 use peaks::refine_peaks;
 
-pub use peaks::{Peak, PEAK_SPEED_TOLERANCE, SOLVES_PER_PEAK, UNBOUNDED_BANDWIDTH};
+pub use peaks::{split_note, Peak, PEAK_SPEED_TOLERANCE, SOLVES_PER_PEAK, SPLIT_PAIR_SPACING, UNBOUNDED_BANDWIDTH};
 
 /// What a probe of the response is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -32,6 +32,14 @@ const GOLDEN_STEPS: usize = 120;
 /// half-power bisections): what the cost estimate counts per peak.
 pub const SOLVES_PER_PEAK: usize = GOLDEN_STEPS + 2 * HALF_POWER_STEPS;
 
+/// Two neighbouring peaks of one curve are a **split pair** when the lower reaches the
+/// higher's half-power level (at least 1/√2 of it) and their speeds lie within this share
+/// of the higher's speed (−): a resonance split in two by a tuned absorber (a shunt tuned
+/// to a whirl splits it by about the coupling √K², a few per cent), not two separate
+/// modes. API 684's amplification factor is defined for an isolated resonance: for a
+/// member of a split pair it measures one peak of the two, and is flagged as such.
+pub const SPLIT_PAIR_SPACING: f64 = 0.10;
+
 /// A peak of a probe's amplitude.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Peak {
@@ -52,6 +60,37 @@ pub struct Peak {
     /// [`UNBOUNDED_BANDWIDTH`]·Ω_peak): an undamped critical speed, whose amplitude is
     /// limited only by the refinement, not by the physics.
     pub unbounded: bool,
+    /// The speed (rad/s) of the other peak of a split pair this one belongs to
+    /// ([`SPLIT_PAIR_SPACING`]); None for an isolated peak.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split_pair: Option<f64>,
+}
+
+impl Peak {
+    /// What a reader must know of the amplification factor beside it: for a member of a
+    /// split pair, ` (one peak of a split pair with the peak at X rad/s)`; else nothing.
+    pub fn split_note(&self) -> String {
+        split_note(self.split_pair)
+    }
+}
+
+/// [`Peak::split_note`] of a peak whose pair partner is at `partner` (rad/s).
+pub fn split_note(partner: Option<f64>) -> String {
+    partner.map_or(String::new(), |w| format!(" (one peak of a split pair with the peak at {w:.2} rad/s)"))
+}
+
+/// Marks the split pairs of `peaks` (sorted by speed; [`SPLIT_PAIR_SPACING`]).
+fn mark_split_pairs(peaks: &mut [Peak]) {
+    for i in 1..peaks.len() {
+        let (a, b) = (&peaks[i - 1], &peaks[i]);
+        let (high, low) = if a.amplitude >= b.amplitude { (a, b) } else { (b, a) };
+        let close = (b.speed - a.speed).abs() <= SPLIT_PAIR_SPACING * high.speed;
+        if close && low.amplitude >= high.amplitude / std::f64::consts::SQRT_2 && !a.unbounded && !b.unbounded {
+            let (wa, wb) = (a.speed, b.speed);
+            peaks[i - 1].split_pair = Some(wb);
+            peaks[i].split_pair = Some(wa);
+        }
+    }
 }
 
 /// The response at one DOF and its samples on the speed grid: what the refinement of a
@@ -110,8 +149,10 @@ pub(super) fn refine_peaks(
             half_power,
             amplification_factor: width.filter(|w| *w > 0.0).map(|w| speed / w),
             unbounded,
+            split_pair: None,
         });
     }
+    mark_split_pairs(&mut peaks);
     let mut samples = curve.samples.into_inner();
     samples.sort_by(|x, y| x[0].total_cmp(&y[0]));
     samples.dedup_by(|x, y| x[0] == y[0]);
@@ -204,4 +245,40 @@ fn half_power(
         inside = speeds[i];
     }
     Ok(None)
+}
+
+#[cfg(test)]
+mod split_pair_tests {
+    use super::*;
+
+    fn peak(speed: f64, amplitude: f64) -> Peak {
+        Peak {
+            speed,
+            amplitude,
+            phase: 0.0,
+            half_power: None,
+            amplification_factor: None,
+            unbounded: false,
+            split_pair: None,
+        }
+    }
+
+    fn pairs(p: &[(f64, f64)]) -> Vec<Option<f64>> {
+        let mut peaks: Vec<Peak> = p.iter().map(|&(w, a)| peak(w, a)).collect();
+        mark_split_pairs(&mut peaks);
+        peaks.iter().map(|k| k.split_pair).collect()
+    }
+
+    #[test]
+    fn two_close_peaks_of_like_height_are_a_split_pair_and_others_are_not() {
+        // The tuned shunt's pair on the paper's rotor: 354.9 and 364.3 rad/s, 2.258e-2 and
+        // 2.260e-2 m.
+        assert_eq!(pairs(&[(354.9, 2.258e-2), (364.3, 2.260e-2)]), [Some(364.3), Some(354.9)]);
+        // The lower under the higher's half-power level (1/√2 = 0.7071): separate peaks.
+        assert_eq!(pairs(&[(354.9, 1.0), (364.3, 0.70)]), [None, None]);
+        assert_eq!(pairs(&[(354.9, 1.0), (364.3, 0.71)]), [Some(364.3), Some(354.9)]);
+        // Like heights far apart (more than 10 % of the higher's speed): two modes.
+        assert_eq!(pairs(&[(360.0, 1.0), (400.0, 1.0)]), [None, None]);
+        assert_eq!(pairs(&[(360.0, 1.0), (395.0, 1.0), (2000.0, 1.0)]), [Some(395.0), Some(360.0), None]);
+    }
 }

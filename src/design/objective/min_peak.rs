@@ -109,8 +109,10 @@ impl Objective for MinPeakResponse {
         let tuned = f.after.peak.amplitude;
         let af = |name: &str| {
             baseline(name).map_or("–".to_string(), |b| {
-                b.amplification_factor
-                    .map_or("– (no half-power band in the range)".to_string(), |a| format!("{a:.1}"))
+                b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| {
+                    let pair = b.split_pair.map_or(String::new(), |w| format!(", split pair with {w:.2} rad/s"));
+                    format!("{a:.1}{pair}")
+                })
             })
         };
         let row = |s: &mut String, name: &str, peak: &PeakValue, af: String, met: String| {

@@ -421,7 +421,7 @@ fn vibration_section(s: &mut String, o: &DesignOutcome, paired: &[crate::design:
             for k in &p.peaks {
                 let af = match (k.amplification_factor, k.unbounded) {
                     (_, true) => "unbounded".to_string(),
-                    (Some(af), false) => format!("{af:.2}"),
+                    (Some(af), false) => format!("{af:.2}{}", k.split_note()),
                     (None, false) => "– (half-power point beyond the range)".to_string(),
                 };
                 let _ = writeln!(s, "| {name} | {:.3} | {:.4e} | {af} |", k.speed, k.amplitude);
