@@ -580,7 +580,7 @@ pub(crate) fn vibration_report(
     spec: &DesignSpec,
     out: &mut crate::design::optimise::DesignOutcome,
 ) -> Result<(), DesignError> {
-    use crate::design::optimise::{Findings, VibrationReport, REPORT_DAMPING_WHIRLS};
+    use crate::design::optimise::{CrossingDamping, Findings, VibrationReport, REPORT_DAMPING_WHIRLS};
     if let Some(r) = spec.response() {
         let vibration = |values: &[f64]| -> Result<_, DesignError> {
             let (m, rotor) = rotor_at(base, spec, values)?;
@@ -589,10 +589,19 @@ pub(crate) fn vibration_report(
             let silent = crate::progress::Silent;
             let damping =
                 crate::analysis::damping::lowest_damping(&rotor, &m.settings, &speeds, REPORT_DAMPING_WHIRLS, &silent)?;
-            Ok((response, damping))
+            // At the critical speed the run-up crosses: where the response peaks.
+            let (speed, _, _) = response.probes[0].largest(&response.speeds);
+            let whirls = crate::analysis::damping::lowest_damping(
+                &rotor,
+                &m.settings,
+                &[speed],
+                REPORT_DAMPING_WHIRLS,
+                &silent,
+            )?;
+            Ok((response, damping, CrossingDamping { speed, whirls }))
         };
-        let (before, damping_before) = vibration(&out.before)?;
-        let (after, damping_after) = vibration(&out.after)?;
+        let (before, damping_before, crossing_before) = vibration(&out.before)?;
+        let (after, damping_after, crossing_after) = vibration(&out.after)?;
         if let Findings::MinPeak(f) = &mut out.findings {
             let classic = f.classic_design.as_ref().map(|j| j.values.clone());
             f.baselines = baselines(base, spec, r, classic.as_deref(), &before, &after)?;
@@ -601,8 +610,16 @@ pub(crate) fn vibration_report(
             Some(f) => Some(vibration(&f.unconstrained.values.clone())?.0),
             None => None,
         };
-        out.vibration =
-            Some(VibrationReport { response: r.clone(), before, after, unconstrained, damping_before, damping_after });
+        out.vibration = Some(VibrationReport {
+            response: r.clone(),
+            before,
+            after,
+            unconstrained,
+            damping_before,
+            damping_after,
+            crossing_before: Some(crossing_before),
+            crossing_after: Some(crossing_after),
+        });
     }
     Ok(())
 }

@@ -35,8 +35,8 @@ pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 pub(crate) use nelder_mead::widest_band;
 pub use observer::{Observation, Observer};
 pub use outcome::{
-    BasisRound, ConvexStep, Cost, DesignOutcome, Findings, FindingsKind, HistoryPoint, StartReport, Status,
-    VibrationReport, REPORT_DAMPING_WHIRLS,
+    BasisRound, ConvexStep, Cost, CrossingDamping, DesignOutcome, Findings, FindingsKind, HistoryPoint, StartReport,
+    Status, VibrationReport, REPORT_DAMPING_WHIRLS,
 };
 pub use peak_as_built::{CornerPeak, PeakAsBuilt};
 

@@ -170,6 +170,22 @@ pub struct VibrationReport {
     pub damping_before: Vec<crate::analysis::damping::ModeDamping>,
     /// The same, tuned design.
     pub damping_after: Vec<crate::analysis::damping::ModeDamping>,
+    /// The reference design's lowest whirls damped at the speed of its largest response
+    /// at the node: the critical speed a run-up crosses, where a damping shunt works.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crossing_before: Option<CrossingDamping>,
+    /// The same, tuned design, at its own largest response.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crossing_after: Option<CrossingDamping>,
+}
+
+/// Damping ratios of the lowest whirls at one speed: where a design's response peaks.
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
+pub struct CrossingDamping {
+    /// The speed of the largest response at the node (rad/s).
+    pub speed: f64,
+    /// The lowest whirls' damping ratios ζ there (−; one point per track).
+    pub whirls: Vec<crate::analysis::damping::ModeDamping>,
 }
 
 /// Whirls per direction whose damping ratios a report lists.

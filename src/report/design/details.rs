@@ -452,4 +452,21 @@ fn vibration_section(s: &mut String, o: &DesignOutcome, paired: &[crate::design:
             a.map_or("–".into(), |a| format!("{:.1}", a.min_speed))
         );
     }
+    if let (Some(b), Some(a)) = (&v.crossing_before, &v.crossing_after) {
+        let _ = writeln!(
+            s,
+            "\nAt the critical speed the run-up crosses, where the shunt works: ζ of the lowest whirls at the speed of each design's largest response at node {} (before {:.2} rad/s, after {:.2} rad/s).\n\n| mode | ζ before | ζ after |\n|---|---|---|",
+            v.response.node, b.speed, a.speed
+        );
+        for w in &b.whirls {
+            let after = a.whirls.iter().find(|x| x.tag == w.tag);
+            let _ = writeln!(
+                s,
+                "| {} | {:.6e} | {} |",
+                w.tag,
+                w.min_damping_ratio,
+                after.map_or("–".into(), |x| format!("{:.6e}", x.min_damping_ratio))
+            );
+        }
+    }
 }
