@@ -76,6 +76,7 @@ mod ross_import;
 mod ross_reference;
 mod round_trip;
 mod run_layer;
+mod run_up;
 mod sensitivity;
 mod singular_mass;
 mod slurm;

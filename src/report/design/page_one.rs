@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::analysis::regions::{Bound, Margins};
-use crate::design::spec::WarningLevels;
+use crate::design::spec::{DesignSpec, WarningLevels};
 use crate::design::{DesignOutcome, Status};
 use crate::numbers::SpeedUnit;
 use std::fmt::Write;
@@ -203,6 +203,24 @@ fn edge_warnings(w: &mut Vec<String>, o: &DesignOutcome) {
         if let Some(m) = &d.margins {
             margin_warnings(w, m, &speed_text(spec.speed_unit, d.speed), spec.phi_op(), &spec.warnings);
         }
+    }
+    run_up_warning(w, spec);
+}
+
+/// A damping design (`[design.response]`) whose stability is asked at operating speeds
+/// only, while its response range reaches below them: the machine runs up through those
+/// speeds (the critical speed the shunt damps among them), and nothing checked it there.
+fn run_up_warning(w: &mut Vec<String>, spec: &DesignSpec) {
+    let (Some(r), Some(_), None) = (spec.response(), spec.phi_op(), spec.speed_range) else { return };
+    let lowest = spec.speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    if r.speeds.lo < lowest {
+        w.push(format!(
+            "Stability is judged at {} only, while the response is minimised over {}: add `design.speed_range` over the run-up (e.g. [{}, {}]) to judge it at the speeds the machine runs through.",
+            speeds_text(spec.speed_unit, &spec.speeds),
+            spec.speed_unit.range(r.speeds.lo, r.speeds.hi),
+            crate::numbers::sig(r.speeds.lo, 4),
+            crate::numbers::sig(spec.speeds.iter().copied().fold(f64::NEG_INFINITY, f64::max), 4)
+        ));
     }
 }
 
