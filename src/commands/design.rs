@@ -288,11 +288,12 @@ pub fn pareto_into(
     dir.commit("design", progress)?;
     let f = &report.front;
     let mut s = format!(
-        "design --pareto {points}: {} points from the best damping to the widest band around phi_op = {} rad/s at beta = {}; front {}{}\n",
+        "design --pareto {points}: {} points from the best damping to the widest band around phi_op = {} rad/s at beta = {}; front {}{}{}\n",
         f.points.len(),
         f.phi_op,
         f.level,
         if f.monotone { "monotone" } else { "NOT monotone" },
+        if f.ends_consistent { "" } else { ", ends NOT consistent" },
         if f.collapsed { " (no trade-off: the best-damped design has the widest band)" } else { "" }
     );
     for p in &f.points {

@@ -64,13 +64,13 @@ pub struct NoTradeOff {
 /// The trade-off of `spec`: min-peak-response with a band-width constraint (its φ_op), or
 /// widest-stable-band with a `[design.response]`. Clear-bands, min-peak-response without a
 /// band, widest-stable-band without a response and a design with component tolerances
-/// (judged for widest-stable-band alone) have none.
+/// (the points are traced at nominal values) have none.
 pub fn trade_off(spec: &DesignSpec) -> Result<TradeOff, NoTradeOff> {
     let refuse = |key: &str, reason: &str| NoTradeOff { key: key.into(), reason: reason.into() };
     if spec.tolerances.is_some() {
         return Err(refuse(
             "design.tolerances",
-            "a front's points are min-peak-response designs, and component tolerances are judged for widest-stable-band alone: drop [design.tolerances] for the front",
+            "a front's points are traced at nominal values: drop [design.tolerances] for the front, and design the point you choose with them afterwards",
         ));
     }
     spec.objective.trade_off(spec)
@@ -168,6 +168,11 @@ pub struct Front {
     /// Whether the verified figures rise together: widths non-decreasing (within
     /// [`SAME_EDGE`]) and peaks non-decreasing (within [`PEAK_AGREEMENT`]) from point 1 to K.
     pub monotone: bool,
+    /// Whether the ends are ends: the widest-band end at least as wide as every point
+    /// (within [`SAME_EDGE`]) and the best-damping end at least as damped (a peak no
+    /// higher, within [`PEAK_AGREEMENT`]).
+    #[serde(default)]
+    pub ends_consistent: bool,
     /// The band width the file itself asks (`constraints.min_band_width`, rad/s), if any.
     pub file_min_width: Option<f64>,
     /// Design runs made (K, plus the reruns).
@@ -286,6 +291,14 @@ fn first_to_rerun(points: &[FrontPoint]) -> Option<(usize, usize)> {
         .find_map(|j| dominator(points, j).map(|i| (j, i)))
 }
 
+/// Whether the first point is the best damped and the last the widest ([`Front::ends_consistent`]).
+fn ends_consistent(points: &[FrontPoint]) -> bool {
+    let (Some(first), Some(last)) = (points.first(), points.last()) else { return false };
+    points
+        .iter()
+        .all(|p| p.width <= last.width + SAME_EDGE && p.peak.amplitude >= first.peak.amplitude * (1.0 - PEAK_AGREEMENT))
+}
+
 /// Trace the front of `base`'s design with `k` points ([`MIN_POINTS`]..=[`MAX_POINTS`]):
 /// see the module docs. `progress` sees one phase, `front`, whose steps are the runs'
 /// candidates and verification points, known as each run begins.
@@ -339,6 +352,23 @@ pub fn front(base: &Machine, spec: &DesignSpec, k: usize, progress: &dyn Progres
         again.reruns = points[j].reruns + 1;
         points[j] = again;
     }
+    // The widest-band end at least as wide as every other point: when a point between is
+    // wider, the widest-band design is run again with it as one more start (once), and
+    // kept when it is wider than before.
+    let last = points.len() - 1;
+    let wider = (0..last)
+        .filter(|&i| points[i].width > points[last].width + SAME_EDGE)
+        .max_by(|&a, &b| points[a].width.total_cmp(&points[b].width));
+    if let Some(i) = wider {
+        let start = options(format!("front point {}", i + 1), &points[i].values);
+        let mut again = point(base, spec, &t, None, start, &relay)?;
+        runs += 1;
+        again.reruns = points[last].reruns + 1;
+        if again.width > points[last].width {
+            points[last] = again;
+        }
+    }
+    let ends_consistent = ends_consistent(&points);
     for (n, p) in points.iter_mut().enumerate() {
         p.index = n + 1;
     }
@@ -359,6 +389,7 @@ pub fn front(base: &Machine, spec: &DesignSpec, k: usize, progress: &dyn Progres
         points,
         collapsed,
         monotone,
+        ends_consistent,
         file_min_width: spec.constraints.min_band_width.map(|b| b.width),
         runs,
         candidates,

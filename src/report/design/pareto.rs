@@ -101,9 +101,14 @@ pub fn markdown(r: &FrontReport) -> String {
     let verified = f.points.iter().filter(|p| p.verified && p.status.is_result()).count();
     let _ = writeln!(
         s,
-        "**Answer.** {} designs from the best damping to the widest band, {verified} of them verified; the front is {}.{}\n",
+        "**Answer.** {} designs from the best damping to the widest band, {verified} of them verified; the front is {}{}.{}\n",
         f.points.len(),
         if f.monotone { "monotone (a wider band always costs peak response)" } else { "NOT monotone (see the dominated points)" },
+        if f.ends_consistent {
+            ""
+        } else {
+            "; its ends are NOT ends: a point between is wider than the widest-band end or damped better than the best-damping end, after one run again from it"
+        },
         if f.collapsed {
             " The best-damped design already has the widest band found: there is no trade-off, and the front is its two ends."
         } else {
