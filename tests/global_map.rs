@@ -113,9 +113,13 @@ fn design(c: &Case, extra: &[&str], name: &str) -> (f64, Vec<f64>, serde_json::V
     let map = o["map"].clone();
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     let page_one = md.split("\n---\n").next().unwrap().to_string();
-    for f in ["map.csv", "map.json"] {
+    for f in ["map.csv", "map.json", "map.png", "map.svg"] {
         assert!(dir.join(f).is_file(), "{f} missing");
     }
+    // The map drawn over the two variables, each axis with its unit, and shown in the report.
+    let svg = std::fs::read_to_string(dir.join("map.svg")).unwrap();
+    assert!(svg.contains("tuning_frequency (rad/s)") && svg.contains("resistance (Ω)"), "map.svg axes");
+    assert!(md.contains("](map.png)"), "report.md does not show map.png");
     let _ = std::fs::remove_dir_all(&dir);
     (width, after, map, page_one)
 }

@@ -65,6 +65,8 @@ pub enum Marker {
     Cross,
     /// A filled triangle.
     Triangle,
+    /// A hollow circle, larger than a point (a ring around a point of a scatter).
+    Ring,
 }
 
 /// Marker of series `k`: none for the first round of colours, then circle, square, cross
@@ -225,6 +227,8 @@ pub enum Key {
     Outlined((u8, u8, u8), (u8, u8, u8)),
     /// A black cross (failed points).
     Cross,
+    /// A marker alone, of a colour (points of a scatter).
+    Point((u8, u8, u8), Marker),
 }
 
 /// One legend entry.
@@ -286,6 +290,7 @@ pub fn draw_key<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, key: &Key, x:
         Key::Cross => {
             area.draw(&Cross::new((x + KEY_WIDTH / 2, y), 4, BLACK.stroke_width(2))).map_err(err)?;
         }
+        Key::Point(c, m) => draw_marker(area, *m, *c, (x + KEY_WIDTH / 2, y))?,
     }
     Ok(())
 }
@@ -306,6 +311,7 @@ pub fn draw_marker<DB: DrawingBackend>(
             .map_err(err)?,
         Marker::Cross => area.draw(&Cross::new(at, 4, color.stroke_width(2))).map_err(err)?,
         Marker::Triangle => area.draw(&TriangleMarker::new(at, 5, color.filled())).map_err(err)?,
+        Marker::Ring => area.draw(&Circle::new(at, 6, color.stroke_width(2))).map_err(err)?,
     }
     Ok(())
 }

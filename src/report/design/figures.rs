@@ -99,6 +99,9 @@ pub fn figures<'a>(o: &'a DesignOutcome, content: DesignContent, title: &str) ->
     );
     out.push(("campbell".into(), Box::new(campbell)));
     out.push(("history".into(), Box::new(history_plot(o))));
+    for (name, plot) in super::map_plot::map_plots(o) {
+        out.push((name, Box::new(plot)));
+    }
     out
 }
 

@@ -5,6 +5,7 @@
 mod details;
 mod figures;
 pub mod map;
+mod map_plot;
 mod margins;
 mod page_one;
 pub mod pareto;
@@ -83,6 +84,13 @@ pub fn markdown(r: &DesignReport) -> String {
 /// The caption of a figure of the design folder, from its file name.
 pub(super) fn figure_caption(file: &str) -> String {
     let stem = file.trim_end_matches(".png");
+    let map = "Map of the objective over the box (colour: the objective; the reference, the starts and the tuned design marked)";
+    if stem == "map" {
+        return map.to_string();
+    }
+    if let Some(pair) = stem.strip_prefix("map-") {
+        return format!("{map}, variables {}", pair.replace('-', " and "));
+    }
     let (kind, speed) = match stem.split_once('-') {
         Some((k, n)) => (k, format!(" (design speed {n})")),
         None => (stem, String::new()),
