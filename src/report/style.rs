@@ -373,6 +373,41 @@ pub fn blend(top: (u8, u8, u8), bottom: (u8, u8, u8), alpha: f64) -> (u8, u8, u8
     (mix(top.0, bottom.0), mix(top.1, bottom.1), mix(top.2, bottom.2))
 }
 
+/// The axes of a colour bar on `area` for values `lo..hi`, beside a plotting area with the
+/// house margins (aligned with it): no x axis, the values labelled on the right and
+/// described by `label` at `label_size` (px). The caller fills it with its colours.
+pub fn colour_bar<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (lo, hi): (f64, f64),
+    label: &str,
+    label_size: u32,
+) -> Result<
+    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>,
+    PlotError,
+> {
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(MARGIN)
+        .margin_bottom(MARGIN)
+        .margin_left(15)
+        .margin_right(5)
+        .x_label_area_size(50)
+        .right_y_label_area_size(85)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(err)?;
+    bar.configure_mesh()
+        .disable_x_mesh()
+        .disable_y_mesh()
+        .disable_x_axis()
+        .x_labels(0)
+        .y_label_formatter(&tick)
+        .y_desc(label)
+        .label_style((FONT, TICK_SIZE - 1))
+        .axis_desc_style((FONT, label_size))
+        .draw()
+        .map_err(err)?;
+    Ok(bar)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

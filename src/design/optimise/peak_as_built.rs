@@ -72,30 +72,20 @@ pub(super) fn check(
     tick: &(dyn Fn() + Sync),
 ) -> Result<(PeakAsBuilt, VerificationPart), DesignError> {
     let (model, load) = (&tuned.machine.model, tuned.rotor.critical_load);
-    let corners: Vec<CornerPeak> = t
-        .corners()
-        .par_iter()
-        .map(|p| {
-            let c = corner_peaks(model, load, std::slice::from_ref(p), response);
-            tick();
-            c
-        })
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .flatten()
-        .collect();
-    let samples: Vec<CornerPeak> = t
-        .draw()
-        .par_iter()
-        .map(|p| {
-            let c = corner_peaks(model, load, std::slice::from_ref(p), response);
-            tick();
-            c
-        })
-        .collect::<Result<Vec<_>, _>>()?
-        .into_iter()
-        .flatten()
-        .collect();
+    // Each build's peak, the builds in parallel (the outermost loop).
+    let peaks = |builds: Vec<Perturbation>| -> Result<Vec<CornerPeak>, DesignError> {
+        let judged: Vec<Vec<CornerPeak>> = builds
+            .par_iter()
+            .map(|p| {
+                let c = corner_peaks(model, load, std::slice::from_ref(p), response);
+                tick();
+                c
+            })
+            .collect::<Result<_, _>>()?;
+        Ok(judged.into_iter().flatten().collect())
+    };
+    let corners = peaks(t.corners())?;
+    let samples = peaks(t.draw())?;
     let worst_corner = largest(&corners[1..]).or(corners.first()).cloned();
     let worst_sample = largest(&samples).cloned();
     let all: Vec<CornerPeak> = corners.iter().chain(&samples).cloned().collect();

@@ -72,26 +72,7 @@ impl Drawing for GrowthMap {
         layout.set(Layout { plot: area_box(plot.plotting_area()), legend: None });
 
         // Colour bar, aligned with the main plotting area (same margins and x-label area).
-        let mut cbar = ChartBuilder::on(&bar)
-            .margin_top(15)
-            .margin_bottom(15)
-            .margin_left(15)
-            .margin_right(5)
-            .x_label_area_size(50)
-            .right_y_label_area_size(85)
-            .build_cartesian_2d(0.0..1.0, lo..hi)
-            .map_err(err)?;
-        cbar.configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .x_labels(0)
-            .y_label_formatter(&tick)
-            .y_desc(GROWTH_LABEL)
-            .label_style((style::FONT, style::TICK_SIZE - 1))
-            .axis_desc_style((style::FONT, style::AXIS_LABEL_SIZE - 2))
-            .draw()
-            .map_err(err)?;
+        let mut cbar = style::colour_bar(&bar, (lo, hi), GROWTH_LABEL, style::AXIS_LABEL_SIZE - 2)?;
         if range.is_some() {
             cbar.draw_series((0..GROWTH_LEVELS).map(|k| {
                 let t0 = ((k as f64 - 0.5) / top).max(0.0);

@@ -190,30 +190,12 @@ impl Drawing for MapPlot {
         let mut chart = builder.build_cartesian_2d(range(&self.x), range(&self.y)).map_err(err)?;
         let plot_box = self.body(&mut chart, &color)?;
         // The colour scale, aligned with the plotting area.
-        let mut cbar = ChartBuilder::on(&bar)
-            .margin_top(style::MARGIN)
-            .margin_bottom(style::MARGIN)
-            .margin_left(15)
-            .margin_right(5)
-            .x_label_area_size(50)
-            .right_y_label_area_size(85)
-            .build_cartesian_2d(0.0..1.0, lo..hi)
-            .map_err(err)?;
-        cbar.configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .x_labels(0)
-            .y_label_formatter(&style::tick)
-            .y_desc(format!(
-                "objective ({}){}",
-                split_unit(&self.objective).1,
-                if self.maximise { ", larger is better" } else { ", smaller is better" }
-            ))
-            .label_style((style::FONT, style::TICK_SIZE - 1))
-            .axis_desc_style((style::FONT, style::ANNOTATION_SIZE))
-            .draw()
-            .map_err(err)?;
+        let label = format!(
+            "objective ({}){}",
+            split_unit(&self.objective).1,
+            if self.maximise { ", larger is better" } else { ", smaller is better" }
+        );
+        let mut cbar = style::colour_bar(&bar, (lo, hi), &label, style::ANNOTATION_SIZE)?;
         cbar.draw_series((0..LEVELS).map(|k| {
             let (t0, t1) = (k as f64 / LEVELS as f64, (k + 1) as f64 / LEVELS as f64);
             let v = lo + (t0 + t1) / 2.0 * (hi - lo);
