@@ -104,4 +104,10 @@ fn the_robust_min_peak_design_has_a_lower_worst_corner_than_the_nominal_optimum(
     let part = parts.iter().find(|p| p["part"] == "tolerance-peaks").expect("a tolerance-peaks part");
     assert_eq!(part["status"], "passed", "{part}");
     assert_eq!(part["checked"], 11, "centre, 2 corners and 8 samples");
+    // Page one says it in one line and stays within its 60 lines.
+    let md = std::fs::read_to_string(runs[1].0.with_file_name("report.md")).unwrap();
+    let end = md.lines().position(|l| l == "---").expect("the end of page one");
+    assert!(end <= 60, "page one is {end} lines long");
+    let page_one: Vec<&str> = md.lines().take(end).collect();
+    assert_eq!(page_one.iter().filter(|l| l.starts_with("As built (L ±2 %)")).count(), 1, "{md}");
 }

@@ -53,14 +53,15 @@ impl Objective for MinPeakResponse {
         ObjectiveKeys { response: Some(&self.response), ..Default::default() }
     }
 
-    /// The reference and classic designs; each start's simplex and 2 per iteration, twice
-    /// (without and with constraints); the convex steps' differences and trials
-    /// (clear-bands' linearisation of the bands included).
+    /// The reference and classic designs; the map's points (`design.map`); each start's
+    /// simplex and 2 per iteration, twice (without and with constraints); the convex
+    /// steps' differences and trials (clear-bands' linearisation of the bands included).
     fn most_candidates(&self, spec: &DesignSpec) -> usize {
         let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
         let runs = if spec.constraints.is_empty() { 1 } else { 2 };
         let starts = starts.max(3);
-        2 + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
+        let map = if spec.map { crate::design::optimise::map_points(variables) } else { 0 };
+        2 + map + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
     }
 
     fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {

@@ -309,18 +309,51 @@ fn nelder_mead(
         .collect()
 }
 
-/// The starts of a run: `first` points, then the reference and Halton points, to
-/// `spec.starts` (at least the given ones).
-fn starts_of(ctx: &Context<'_>, first: Vec<(String, Vec<f64>)>, reference: &[f64]) -> Vec<(String, Vec<f64>)> {
+/// The starts of a run: `first` points, then the reference, then the map's basins
+/// (`basins`, scaled, best first), then Halton points, to `spec.starts` (at least the
+/// given ones).
+fn starts_of(
+    ctx: &Context<'_>,
+    first: Vec<(String, Vec<f64>)>,
+    reference: &[f64],
+    basins: &[Vec<f64>],
+) -> Vec<(String, Vec<f64>)> {
     let n = ctx.spec.variables.len();
     let mut starts = first;
     starts.push(("reference".into(), reference.to_vec()));
+    for (r, u) in basins.iter().enumerate() {
+        if starts.len() >= ctx.spec.starts {
+            break;
+        }
+        starts.push((format!("map basin {}", r + 1), u.clone()));
+    }
     let mut k = 0;
     while starts.len() < ctx.spec.starts {
         starts.push((format!("halton {}", k + 1), halton(k, n)));
         k += 1;
     }
     starts
+}
+
+/// The map of the peak over the box (`design.map`, as the widest-band objective's): the
+/// Halton set's points judged without constraints (with `[design.tolerances]`, at the
+/// worst corner), in parallel; the best distinct basins (lowest peaks) as scaled points,
+/// best first. The map goes to `out.map`.
+fn peak_map(ctx: &Context<'_>, out: &mut DesignOutcome, node: usize) -> Result<Vec<Vec<f64>>, DesignError> {
+    let n = ctx.spec.variables.len();
+    let scaled = map::points(map::map_points(n), n);
+    let peaks: Vec<Option<f64>> = scaled.par_iter().map(|u| ctx.judge(u, false).ok().map(|j| j.value())).collect();
+    stopped(ctx.progress)?;
+    // Basins of the lowest peaks: ln(peak) negated, to be maximised.
+    let score: Vec<Option<f64>> = peaks.iter().map(|p| p.filter(|p| *p > 0.0).map(|p| -p.ln())).collect();
+    let chosen = map::basins(&scaled, &score, ctx.spec.starts.max(1) + map::extra_starts(n));
+    out.map = Some(ObjectiveMap {
+        objective: format!("largest unbalance amplitude at node {node} (without the constraints), m"),
+        maximise: false,
+        points: scaled.iter().zip(&peaks).map(|(u, &v)| MapPoint { values: ctx.values(u), objective: v }).collect(),
+        basins: chosen.clone(),
+    });
+    Ok(chosen.into_iter().map(|i| scaled[i].clone()).collect())
 }
 
 /// Sequential convex steps from `start`, each accepted when it gives a better design
@@ -433,6 +466,11 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
     }
     first.extend(ctx.extra_starts.iter().cloned());
     let constrained = !spec.constraints.is_empty();
+    // The map over the box, whose basins take the starts the first ones leave.
+    let basins = match spec.response() {
+        Some(r) if spec.map => peak_map(ctx, out, r.node)?,
+        _ => Vec::new(),
+    };
     // The reference at its own values (they may lie outside the bounds).
     let before = ctx.judge_values(&reference, &out.before, true)?;
     let classic_design = match &classic {
@@ -443,7 +481,7 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
     let free = match &ctx.unconstrained {
         Some(u) => ctx.judge(u, false)?,
         None => {
-            let free_starts = starts_of(ctx, first.clone(), &reference);
+            let free_starts = starts_of(ctx, first.clone(), &reference, &basins);
             let runs = nelder_mead(ctx, &free_starts, false, 0)?;
             let mut free: Option<Judged> = None;
             for (report, history, best) in runs {
@@ -465,7 +503,7 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
     if constrained {
         let mut seeds = vec![("unconstrained optimum".to_string(), free.u.clone())];
         seeds.extend(first);
-        let starts = starts_of(ctx, seeds, &reference);
+        let starts = starts_of(ctx, seeds, &reference, &basins);
         let offset = out.starts.len();
         let runs = nelder_mead(ctx, &starts, true, offset)?;
         let mut found: Option<Judged> = None;

@@ -80,7 +80,11 @@ fn panel(o: &DesignOutcome, m: &ObjectiveMap, spec: &DesignSpec, i: usize, j: us
         )
     };
     let mut marks = Vec::new();
-    marks.push(("reference".to_string(), REFERENCE_COLOR, Marker::Square, (o.before[i], o.before[j])));
+    // The reference where it lies inside the box (a file's circuit may lie outside it).
+    let inside = |k: usize| (spec.variables[k].min..=spec.variables[k].max).contains(&o.before[k]);
+    if inside(i) && inside(j) {
+        marks.push(("reference".to_string(), REFERENCE_COLOR, Marker::Square, (o.before[i], o.before[j])));
+    }
     for (k, s) in o.starts.iter().enumerate() {
         let text = if k == 0 { "start of a local search".to_string() } else { String::new() };
         marks.push((text, START_COLOR, Marker::Ring, (s.initial[i], s.initial[j])));
