@@ -111,8 +111,7 @@ impl Objective for MinPeakResponse {
         let af = |name: &str| {
             baseline(name).map_or("–".to_string(), |b| {
                 b.amplification_factor.map_or("– (no half-power band in the range)".to_string(), |a| {
-                    let pair = b.split_pair.map_or(String::new(), |w| format!(", split pair with {w:.2} rad/s"));
-                    format!("{a:.1}{pair}")
+                    format!("{a:.1}{}", crate::analysis::unbalance::split_note(b.split_pair))
                 })
             })
         };

@@ -4,7 +4,7 @@
 //! constraints from the best feasible point (see [`crate::design`]).
 
 use super::convex::linearise;
-use super::peak_as_built::{corner_peaks, CornerPeak};
+use super::peak_as_built::{build_peak, largest, CornerPeak};
 use super::*;
 use crate::design::vibration::{
     check_constraints, classic_tuning, peak_of, rotor_at, Baseline, ClassicTuning, ConstraintCheck, PeakValue,
@@ -201,7 +201,7 @@ impl Context<'_> {
     }
 }
 
-/// The corner of the tolerance box with the largest peak ([`corner_peaks`]); None for a
+/// The corner of the tolerance box with the largest peak ([`build_peak`] at each corner); None for a
 /// box without corners.
 fn worst_corner(
     machine: &Machine,
@@ -209,9 +209,11 @@ fn worst_corner(
     t: &crate::design::tolerance::Tolerances,
     response: &crate::design::spec::Response,
 ) -> Result<Option<CornerPeak>, DesignError> {
-    Ok(corner_peaks(&machine.model, rotor.critical_load, &t.corners()[1..], response)?
-        .into_iter()
-        .max_by(|a, b| a.peak.amplitude.total_cmp(&b.peak.amplitude)))
+    let corners = t.corners()[1..]
+        .iter()
+        .map(|p| build_peak(&machine.model, rotor.critical_load, p, response))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(largest(&corners).cloned())
 }
 
 /// The Nelder–Mead cost of one start: ln(peak) (+ the penalty); keeps the best point

@@ -37,25 +37,20 @@ pub struct PeakAsBuilt {
     pub over_limit: usize,
 }
 
-/// The peaks of the design `model` (under P_cr = `critical_load`, N) built as `builds`
-/// ([`Perturbation::apply`]), in their order.
-pub(crate) fn corner_peaks(
+/// The peak of the design `model` (under P_cr = `critical_load`, N) built as `p`
+/// ([`Perturbation::apply`]).
+pub(crate) fn build_peak(
     model: &Model,
     critical_load: f64,
-    builds: &[Perturbation],
+    p: &Perturbation,
     response: &Response,
-) -> Result<Vec<CornerPeak>, DesignError> {
-    builds
-        .iter()
-        .map(|p| {
-            let rotor = crate::Rotor::new(&p.apply(model, critical_load))?;
-            Ok(CornerPeak { build: p.name.clone(), peak: peak_of(&rotor, response)? })
-        })
-        .collect()
+) -> Result<CornerPeak, DesignError> {
+    let rotor = crate::Rotor::new(&p.apply(model, critical_load))?;
+    Ok(CornerPeak { build: p.name.clone(), peak: peak_of(&rotor, response)? })
 }
 
 /// The largest peak of `peaks`.
-fn largest(peaks: &[CornerPeak]) -> Option<&CornerPeak> {
+pub(crate) fn largest(peaks: &[CornerPeak]) -> Option<&CornerPeak> {
     peaks.iter().max_by(|a, b| a.peak.amplitude.total_cmp(&b.peak.amplitude))
 }
 
@@ -74,15 +69,14 @@ pub(super) fn check(
     let (model, load) = (&tuned.machine.model, tuned.rotor.critical_load);
     // Each build's peak, the builds in parallel (the outermost loop).
     let peaks = |builds: Vec<Perturbation>| -> Result<Vec<CornerPeak>, DesignError> {
-        let judged: Vec<Vec<CornerPeak>> = builds
+        builds
             .par_iter()
             .map(|p| {
-                let c = corner_peaks(model, load, std::slice::from_ref(p), response);
+                let c = build_peak(model, load, p, response);
                 tick();
                 c
             })
-            .collect::<Result<_, _>>()?;
-        Ok(judged.into_iter().flatten().collect())
+            .collect()
     };
     let corners = peaks(t.corners())?;
     let samples = peaks(t.draw())?;

@@ -126,7 +126,6 @@ impl MapPlot {
         chart: &mut ChartContext<'_, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
         color: &dyn Fn(f64) -> RGBColor,
     ) -> Result<[(i32, i32); 2], PlotError> {
-        let at = |x: f64, y: f64| (x, y);
         chart
             .configure_mesh()
             .x_desc(label(&self.x))
@@ -140,14 +139,14 @@ impl MapPlot {
             .map_err(err)?;
         for &(x, y, v) in &self.points {
             match v {
-                Some(v) => chart.draw_series(std::iter::once(Circle::new(at(x, y), POINT_RADIUS, color(v).filled()))),
-                None => chart.draw_series(std::iter::once(Cross::new(at(x, y), 4, BLACK.stroke_width(2)))),
+                Some(v) => chart.draw_series(std::iter::once(Circle::new((x, y), POINT_RADIUS, color(v).filled()))),
+                None => chart.draw_series(std::iter::once(Cross::new((x, y), 4, BLACK.stroke_width(2)))),
             }
             .map_err(err)?;
         }
         for (_, c, marker, (x, y)) in &self.marks {
             let c = style::rgb(*c);
-            let at = at(*x, *y);
+            let at = (*x, *y);
             let ring = EmptyElement::at(at) + Circle::new((0, 0), 10, c.stroke_width(2));
             let square = EmptyElement::at(at) + Rectangle::new([(-8, -8), (8, 8)], c.stroke_width(3));
             match marker {
