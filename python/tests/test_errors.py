@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import rotorshunt as rs
-from conftest import cli_message
+from conftest import ROOT, cli_message
 
 
 def test_the_hierarchy():
@@ -135,3 +135,46 @@ def test_wrong_types_raise_the_package_error(call):
     with pytest.raises(rs.Error) as e:
         call(p)
     assert str(e.value).startswith("argument `")
+
+
+
+FIG11 = "problems/fig11-closed-2000.toml"
+STUDY = "problems/studies/resistance-speed.toml"
+
+
+@pytest.mark.parametrize(
+    "call, argument, shown",
+    [
+        # Issue 50, item 9: paths, switches, names, callbacks and objects of the wrong type.
+        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(out=123), "--out", "123 (int)"),
+        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(pareto=2, out=5), "--out", "5 (int)"),
+        (lambda: rs.run_study(123, "out/never"), "FILE", "123 (int)"),
+        (lambda: rs.run_study(STUDY, 4.5), "--out", "4.5 (float)"),
+        (lambda: rs.run_study(STUDY, "out/never", force="yes"), "--force", "'yes' (str)"),
+        (lambda: rs.run_study(STUDY, "out/never", dry_run=1), "--dry-run", "1 (int)"),
+        (lambda: rs.from_ross_file(123), "FILE", "123 (int)"),
+        (lambda: rs.from_ross_file(b"rotor.toml"), "FILE", "b'rotor.toml' (bytes)"),
+        (lambda: rs.from_ross(123), "rotor", "123 (int)"),
+        (lambda: rs.Problem.from_file(123), "FILE", "123 (int)"),
+        (lambda: rs.Problem.from_toml(["version = 1"]), "text", "['version = 1'] (list)"),
+        (lambda: rs.Problem.from_toml((ROOT / FIG11).read_text(), name=5), "name", "5 (int)"),
+        (lambda: rs.Problem(FIG11), "native", "(str)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1], progress=5), "progress", "5 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0], progress="yes"), "progress", "'yes' (str)"),
+        (lambda: rs.Problem.from_file(FIG11)._native.band(1230, 0.3, None, 7), "progress", "7 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1]).plot_growth(backend="plotlyy"), "backend",
+         "'plotlyy' (str)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1]).plot(regions=[1]), "regions", "[1] (list)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(backend=3), "backend", "3 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(ax="left"), "ax", "'left' (str)"),
+    ],
+)
+def test_a_wrong_type_is_an_argument_error_naming_the_argument_and_value(call, argument, shown):
+    """Issue 50, item 9: never a TypeError."""
+    with pytest.raises(rs.ArgumentError) as e:
+        call()
+    message = str(e.value)
+    assert message.startswith(f"argument `{argument}`: expected "), message
+    assert shown in message, message
+    assert e.value.kind == "Argument"
+

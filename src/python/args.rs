@@ -1,17 +1,50 @@
 //! Python arguments to Rust values. A value of the wrong type is refused as the command
 //! line refuses an argument it cannot parse ([`crate::commands::Error::Argument`], named by the
-//! command line's flag); a value of the right type then meets the same rule, with the
-//! same message, as that flag's value.
+//! command line's flag, with the value and its type); a value of the right type then meets
+//! the same rule, with the same message, as that flag's value.
 
 use crate::analysis::limits::{ParamError, Quantity, Rule};
 use crate::commands::Error;
+use numpy::{PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyString};
+use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyFloat, PyMemoryView, PyString};
+use std::path::PathBuf;
 
-fn wrong(argument: &str, what: &str, value: &Bound<'_, PyAny>) -> Error {
-    let shown = value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-    let ty = value.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
-    Error::Argument { argument: argument.into(), message: format!("expected {what}, got {shown} ({ty})") }
+/// The longest value shown in a message (its repr, cut with `…`).
+const SHOWN: usize = 80;
+
+/// A refusal of `value` for `argument`, which expected `what`: the value as Python shows
+/// it (on one line, cut to [`SHOWN`] characters) and its type (an array's with its
+/// dimensions and dtype).
+pub(crate) fn wrong(argument: &str, what: &str, value: &Bound<'_, PyAny>) -> Error {
+    let repr = value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+    let mut shown = repr.lines().map(str::trim_start).collect::<Vec<_>>().join(" ");
+    if shown.chars().count() > SHOWN {
+        shown = shown.chars().take(SHOWN - 1).collect::<String>() + "…";
+    }
+    Error::Argument {
+        argument: argument.into(),
+        message: format!("expected {what}, got {shown} ({})", type_name(value)),
+    }
+}
+
+/// The type's name; for a numpy array also its dimensions and dtype (`1-D ndarray of
+/// complex128`, `1-D MaskedArray of float64`).
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    let name = value.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+    match value.cast::<PyUntypedArray>() {
+        Ok(a) => {
+            let dtype = a.dtype().str().map(|s| s.to_string()).unwrap_or_else(|_| "?".into());
+            format!("{}-D {name} of {dtype}", a.ndim())
+        }
+        Err(_) => name,
+    }
+}
+
+/// Bytes-like values (bytes, bytearray, memoryview): never numbers, though they iterate as
+/// small whole numbers.
+fn is_bytes(value: &Bound<'_, PyAny>) -> bool {
+    value.is_instance_of::<PyBytes>() || value.is_instance_of::<PyByteArray>() || value.is_instance_of::<PyMemoryView>()
 }
 
 /// A real number (int or float, numpy scalars included; not a bool or a string).
@@ -84,6 +117,30 @@ pub(crate) fn nodes(value: &Bound<'_, PyAny>, argument: &str) -> Result<Vec<usiz
         out.push(n);
     }
     Ok(out)
+}
+
+/// A path: a str or an `os.PathLike` giving one (not bytes, not a number).
+pub(crate) fn path(value: &Bound<'_, PyAny>, argument: &str) -> Result<PathBuf, Error> {
+    let what = "a path (str or os.PathLike)";
+    if is_bytes(value) {
+        return Err(wrong(argument, what, value));
+    }
+    value.extract::<PathBuf>().map_err(|_| wrong(argument, what, value))
+}
+
+/// An optional path: `None` is absent.
+pub(crate) fn optional_path(value: Option<&Bound<'_, PyAny>>, argument: &str) -> Result<Option<PathBuf>, Error> {
+    value.filter(|v| !v.is_none()).map(|v| path(v, argument)).transpose()
+}
+
+/// A switch: `True` or `False` (numpy's bools too), not a number or a string.
+pub(crate) fn switch(value: &Bound<'_, PyAny>, argument: &str) -> Result<bool, Error> {
+    value.extract::<bool>().map_err(|_| wrong(argument, "True or False", value))
+}
+
+/// A string.
+pub(crate) fn text(value: &Bound<'_, PyAny>, argument: &str, what: &str) -> Result<String, Error> {
+    value.extract::<String>().map_err(|_| wrong(argument, what, value))
 }
 
 /// `--set` overrides from a dict `{"key.path": value}` (values written as TOML: numbers,

@@ -97,6 +97,14 @@ fn load_numpy_api(py: Python<'_>) -> PyResult<()> {
     }
 }
 
+/// For the pure-Python part's own checks (python/rotorshunt): the `ArgumentError` of
+/// `argument`, which expected `expected` and was given `value`, worded as the native
+/// calls word theirs (not raised: returned, for Python to raise).
+#[pyfunction]
+fn _argument_error(argument: &str, expected: &str, value: &Bound<'_, PyAny>) -> Py<PyAny> {
+    to_py(args::wrong(argument, expected, value)).into_value(value.py()).into_any()
+}
+
 /// The native module `rotorshunt._rotorshunt`.
 #[pymodule]
 fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -117,5 +125,6 @@ fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(problem::run_study, m)?)?;
     m.add_function(wrap_pyfunction!(problem::rayon_threads, m)?)?;
     m.add_function(wrap_pyfunction!(problem::_rust_floquet_seconds, m)?)?;
+    m.add_function(wrap_pyfunction!(_argument_error, m)?)?;
     Ok(())
 }
