@@ -137,6 +137,12 @@ def test_wrong_types_raise_the_package_error(call):
     assert str(e.value).startswith("argument `")
 
 
+class _FakeRotor:
+    """A stand-in for a ross.Rotor: `save` writes a saved ROSS file (no ROSS needed)."""
+
+    def save(self, path):
+        path.write_text((ROOT / "tests/fixtures/ross/rotor_example.toml").read_text())
+
 
 FIG11 = "problems/fig11-closed-2000.toml"
 STUDY = "problems/studies/resistance-speed.toml"
@@ -167,10 +173,28 @@ STUDY = "problems/studies/resistance-speed.toml"
         (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1]).plot(regions=[1]), "regions", "[1] (list)"),
         (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(backend=3), "backend", "3 (int)"),
         (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(ax="left"), "ax", "'left' (str)"),
+        # Item 10: no complex numbers, bytes or masked arrays read as real numbers.
+        (lambda: rs.Problem.from_file(FIG11).chart(np.array([1000 + 1j, 1010]), [0.1]), "--phi",
+         "(1-D ndarray of complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).chart(b"\x01\x02", [0.1]), "--phi", "b'\\x01\\x02' (bytes)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], np.ma.masked_array([0.1, 0.2], mask=[False, True])),
+         "--beta", "not a masked array (give `a.compressed()` or `a.filled(value)`), got masked_array(data=[0.1, --], mask="),
+        (lambda: rs.Problem.from_file(FIG11).floquet(np.complex128(1000), 0.1), "--phi", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).floquet(1000, np.complex64(0.1)), "--beta", "(complex64)"),
+        (lambda: rs.Problem.from_file(FIG11).floquet(1000, np.ma.masked), "--beta", "MaskedConstant"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0, np.complex128(100)]), "--speeds", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).unbalance([100.0, 200.0], b"\x10"), "--nodes", "(bytes)"),
+        (lambda: rs.Problem.from_file(FIG11).regions(bytearray(b"\x01\x02"), 1), "--phi", "(bytearray)"),
+        (lambda: rs.Problem.from_file(FIG11).with_set({"speed": np.complex128(100)}), "--set", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).with_set(b"speed=1"), "--set", "(bytes)"),
+        (lambda: rs.from_ross_file("tests/fixtures/ross/rotor_example.toml", rings="notalist"), "rings",
+         "'notalist' (str)"),
+        (lambda: rs.from_ross(_FakeRotor(), rings="notalist"), "rings", "'notalist' (str)"),
+        (lambda: rs.from_ross(_FakeRotor(), rings=[{"node": 3}, 4]), "rings", "as entry 2, got 4 (int)"),
     ],
 )
 def test_a_wrong_type_is_an_argument_error_naming_the_argument_and_value(call, argument, shown):
-    """Issue 50, item 9: never a TypeError."""
+    """Issue 50, items 9 and 10: never a TypeError, and never a value read as another."""
     with pytest.raises(rs.ArgumentError) as e:
         call()
     message = str(e.value)
@@ -178,3 +202,18 @@ def test_a_wrong_type_is_an_argument_error_naming_the_argument_and_value(call, a
     assert shown in message, message
     assert e.value.kind == "Argument"
 
+
+def test_the_pareto_count_is_checked_against_the_documented_range():
+    """Issue 50, item 10: 2 to 50 points, as `design --pareto` and the docs have it."""
+    p = rs.Problem.from_file("problems/design-min-peak.toml")
+    for k in (1, 51):
+        with pytest.raises(rs.ArgumentError) as e:
+            p.design(pareto=k)
+        assert str(e.value) == f"argument `--pareto`: must be a whole number from 2 to 50, found {k}"
+
+
+def test_rings_given_as_an_empty_list_add_no_rings():
+    """Issue 50, item 10: `rings=[]` is no rings (it was a `rings = []` key in the file's
+    last table, blamed on `load.rings`)."""
+    fixture = "tests/fixtures/ross/rotor_example.toml"
+    assert rs.from_ross_file(fixture, rings=[]).to_toml() == rs.from_ross_file(fixture).to_toml()

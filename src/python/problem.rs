@@ -367,7 +367,8 @@ impl NativeProblem {
         out: &Bound<'py, PyAny>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let k = args::count(points, "--pareto", 2, u32::MAX as u64).map_err(super::to_py)?;
+        use crate::design::pareto::{MAX_POINTS, MIN_POINTS};
+        let k = args::count(points, "--pareto", MIN_POINTS as u64, MAX_POINTS as u64).map_err(super::to_py)?;
         let out = args::path(out, "--out").map_err(super::to_py)?;
         let p = &self.problem;
         let (summary, report) = watched(py, callback(progress)?, |pr| {
@@ -420,22 +421,15 @@ pub(crate) fn import_ross(
 ) -> PyResult<String> {
     let path = args::path(path, "FILE").map_err(super::to_py)?;
     let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
-    let rings = match rings.filter(|r| !r.is_none()) {
-        Some(r) => Some(args::python_to_toml(r).ok_or_else(|| {
-            super::to_py(Error::Argument {
-                argument: "rings".into(),
-                message: "expected a list of dicts (the [[rings]] tables)".into(),
-            })
-        })?),
-        None => None,
-    };
+    let rings = rings.filter(|r| !r.is_none()).map(args::rings).transpose().map_err(super::to_py)?.unwrap_or_default();
     released(py, || {
         let speed = speed.map(|w| commands::bounds::flag("--speed", crate::analysis::limits::speed(w))).transpose()?;
         let import = crate::import::ross::import_path(&path, crate::import::ross::Options { speed })?;
         let mut text = import.text;
-        if let Some(rings) = rings {
+        // No rings, no table: an empty `rings = []` would land in the file's last table.
+        if !rings.is_empty() {
             let mut t = toml::Table::new();
-            t.insert("rings".into(), rings);
+            t.insert("rings".into(), toml::Value::Array(rings));
             let extra = toml::to_string(&t).map_err(|e| Error::Argument {
                 argument: "rings".into(),
                 message: format!("cannot be written as [[rings]] tables: {e}"),
