@@ -21,6 +21,7 @@ mod band_truth;
 mod campbell;
 mod cancel;
 mod candidates;
+mod clear_bands_tolerances;
 mod cli_floquet;
 mod closed_form_onsets;
 mod consistency;

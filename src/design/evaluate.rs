@@ -12,6 +12,7 @@ use crate::analysis::regions::{band_around, seeds_for, Band, Counter, Level, Pro
 use crate::analysis::{Criterion, Interval, Rotor};
 use crate::model::BranchError;
 use crate::progress::AskOnly;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// The machine with the design variables set to `values` (SI units) on its model
@@ -275,6 +276,11 @@ pub struct Intrusion {
     pub push_down: f64,
     /// How far it must move up (left edge to band.hi + clearance) (rad/s).
     pub push_up: f64,
+    /// The build it was found on, with `[design.tolerances]`: a corner of the tolerance
+    /// box (`L+ R-`, [`crate::design::tolerance::Perturbation::name`]); None for the design
+    /// as designed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub build: Option<String>,
 }
 
 impl Intrusion {
@@ -327,6 +333,7 @@ fn intrusion_of(
         right: t.extent.hi,
         push_down: t.extent.hi - g.lo,
         push_up: g.hi - t.extent.lo,
+        build: None,
     })
 }
 
@@ -353,6 +360,38 @@ pub fn intrusions(c: &Candidate, ev: &EvalContext<'_>) -> Result<Vec<Intrusion>,
         ev.count.add(probe.evaluations());
     }
     Ok(out)
+}
+
+/// [`intrusions`] of the design as designed and, with `[design.tolerances]`, of every
+/// corner of the tolerance box ([`crate::design::tolerance::Tolerances::corners`]), each
+/// corner's marked with its [`Intrusion::build`]: what the clear-bands objective keeps out
+/// of the bands when the parts may be off by their tolerances. The corners in parallel.
+pub fn intrusions_as_built(c: &Candidate, ev: &EvalContext<'_>) -> Result<Vec<Intrusion>, DesignError> {
+    let Some(t) = &ev.spec.tolerances else { return intrusions(c, ev) };
+    let corners = t.corners();
+    let mut out = intrusions(c, ev)?;
+    let built: Vec<Vec<Intrusion>> = corners[1..]
+        .par_iter()
+        .map(|p| {
+            let mut ints = intrusions(&c.perturbed(ev.spec, p)?, ev)?;
+            for it in &mut ints {
+                it.build = Some(p.name.clone());
+            }
+            Ok(ints)
+        })
+        .collect::<Result<_, DesignError>>()?;
+    out.extend(built.into_iter().flatten());
+    Ok(out)
+}
+
+/// The candidate `c` as the build an intrusion was found on ([`Intrusion::build`]): `c`
+/// itself for the design as designed, else `c` with that corner's factors.
+pub fn as_build(c: &Candidate, spec: &DesignSpec, build: Option<&str>) -> Result<Option<Candidate>, DesignError> {
+    let (Some(name), Some(t)) = (build, &spec.tolerances) else { return Ok(None) };
+    match t.corners().into_iter().find(|p| p.name == name) {
+        Some(p) => Ok(Some(c.perturbed(spec, &p)?)),
+        None => Ok(None),
+    }
 }
 
 /// The tongue of an intrusion found again in a nearby candidate: by its seed's pair and

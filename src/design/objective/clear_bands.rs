@@ -15,7 +15,7 @@ use crate::design::{DesignError, DesignOutcome, Status};
 use std::fmt::Write;
 
 /// The objective's kind: `design.objective = "clear-bands"`.
-pub const KIND: ObjectiveKind = ObjectiveKind::new("clear-bands", from_file, from_json);
+pub const KIND: ObjectiveKind = ObjectiveKind::new("clear-bands", from_file, from_json).judging_tolerances();
 
 /// Keep every operating band clear of instability at β_op by its clearance, with the
 /// least weighted change to the reference design.
@@ -111,7 +111,10 @@ impl Objective for ClearBands {
                 let l: Vec<String> = v
                     .iter()
                     .filter(|x| x.band == i)
-                    .map(|x| format!("{} [{:.1}, {:.1}]", x.label, x.left, x.right))
+                    .map(|x| match &x.build {
+                        Some(b) => format!("{} [{:.1}, {:.1}] (built `{b}`)", x.label, x.left, x.right),
+                        None => format!("{} [{:.1}, {:.1}]", x.label, x.left, x.right),
+                    })
                     .collect();
                 if l.is_empty() {
                     "none".to_string()
@@ -139,6 +142,25 @@ impl Objective for ClearBands {
         if o.linear_infeasible() {
             let _ = writeln!(s, "\nThe linearised constraints at the final point have no solution inside the bounds.");
         }
+        if let (Some(t), Some(p)) =
+            (&o.spec.tolerances, o.verification.parts.iter().find(|p| p.part == "tolerance-bands"))
+        {
+            let verdict = if p.failed == 0 {
+                format!("every band clear in all {} builds", p.checked)
+            } else {
+                format!(
+                    "a tongue reaches into a band in {} of {} builds (verification, `tolerance-bands`)",
+                    p.failed, p.checked
+                )
+            };
+            let _ = writeln!(
+                s,
+                "\nAs built ({}): {verdict}: the centre and {} corners of the tolerance box, which the optimiser kept clear, and {} Monte Carlo samples.",
+                t.text(),
+                t.corners().len() - 1,
+                t.samples
+            );
+        }
     }
 
     /// The tongues inside the bands before and after, and each violation of an infeasible
@@ -162,6 +184,9 @@ impl Objective for ClearBands {
                     it.left,
                     it.right
                 );
+                if let Some(build) = &it.build {
+                    s += &format!(" (built `{build}`)");
+                }
             }
         }
         s

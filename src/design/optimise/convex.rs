@@ -21,6 +21,9 @@ const UNLABELLED_SEARCH: f64 = 10.0;
 const ELASTIC_WEIGHT: f64 = 1.0e3;
 /// A convex step smaller than this (scaled units) ends the run.
 const STEP_MIN: f64 = 1e-4;
+/// The termination of a clear-bands global pass point in the starts' table: a point of
+/// the map, judged once, not the start of a local search.
+pub const GLOBAL_PASS: &str = "global pass";
 /// Points of the clear-bands global pass per configured start.
 const GLOBAL_POINTS_PER_START: usize = 4;
 
@@ -35,7 +38,7 @@ fn total(ints: &[Intrusion]) -> f64 {
 
 fn evaluate_bands(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
     let c = ctx.candidate(u)?;
-    let ints = intrusions(&c, &ctx.eval())?;
+    let ints = intrusions_as_built(&c, &ctx.eval())?;
     ctx.best.offer(Rank(0, total(&ints), 0.0), &ctx.values(u), ctx.progress);
     Ok(ints)
 }
@@ -66,7 +69,21 @@ pub(super) fn linearise(ctx: &Context<'_>, u: &[f64], ints: &[Intrusion]) -> Res
             let mut p = u.to_vec();
             p[j] = (p[j] + h).clamp(0.0, 1.0);
             let c = ctx.candidate(&p)?;
-            ints.iter().map(|it| intrusion_quantities(ctx, &c, it)).collect()
+            // Each build the intrusions were found on (`[design.tolerances]`), built once.
+            let mut builds: Vec<(Option<&str>, Candidate)> = Vec::new();
+            for name in ints.iter().map(|it| it.build.as_deref()) {
+                if name.is_some() && !builds.iter().any(|(n, _)| *n == name) {
+                    if let Some(b) = as_build(&c, spec, name)? {
+                        builds.push((name, b));
+                    }
+                }
+            }
+            ints.iter()
+                .map(|it| {
+                    let on = builds.iter().find(|(n, _)| *n == it.build.as_deref()).map_or(&c, |(_, b)| b);
+                    intrusion_quantities(ctx, on, it)
+                })
+                .collect()
         })
         .collect();
     let probed = probed.into_iter().collect::<Result<Vec<_>, _>>()?;
@@ -179,8 +196,10 @@ pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
     // A coarse global pass: the landscape is disjunctive (a region can leave a band on
     // either side, or pass through a neighbouring band), so the local convex steps from
     // the reference alone can stall. Halton points, in parallel.
+    // Its points are the map of the box (`map::points`, the Halton set), drawn in the report.
     let mut points: Vec<(String, Vec<f64>)> = vec![("reference".into(), reference.clone())];
-    points.extend((0..GLOBAL_POINTS_PER_START * spec.starts).map(|k| (format!("halton {}", k + 1), halton(k, n))));
+    let scaled = map::points(GLOBAL_POINTS_PER_START * spec.starts, n);
+    points.extend(scaled.iter().enumerate().map(|(k, u)| (format!("halton {}", k + 1), u.clone())));
     let merits: Vec<Result<(f64, Vec<Intrusion>), DesignError>> = points
         .par_iter()
         .map(|(_, u)| {
@@ -202,16 +221,27 @@ pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
             objective: -merit,
             evaluations: 1,
             iterations: 0,
-            termination: "global pass".into(),
+            termination: GLOBAL_PASS.into(),
         });
         scored.push((merit, change(u, &reference), u.clone()));
     }
     // Convex runs from the reference and from the best global point (least intrusion,
     // then least change).
     let mut seeds = vec![reference.clone()];
-    if let Some(best) = scored[1..].iter().min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))) {
-        seeds.push(best.2.clone());
+    let best = (1..scored.len())
+        .min_by(|&a, &b| scored[a].0.total_cmp(&scored[b].0).then(scored[a].1.total_cmp(&scored[b].1)));
+    if let Some(i) = best {
+        seeds.push(scored[i].2.clone());
     }
+    out.map = Some(ObjectiveMap {
+        objective: match &spec.tolerances {
+            Some(t) => format!("total intrusion into the widened bands at β_op, over the design and the corners of its tolerance box ({}), rad/s", t.text()),
+            None => "total intrusion into the widened bands at β_op, rad/s".into(),
+        },
+        maximise: false,
+        points: scored[1..].iter().map(|(merit, _, u)| MapPoint { values: ctx.values(u), objective: Some(*merit) }).collect(),
+        basins: best.map(|i| vec![i - 1]).unwrap_or_default(),
+    });
     // The run from the reference always exists; a later run replaces it when better.
     let (first, rest) = seeds.split_first().ok_or(DesignError::Qp("no convex start".into()))?;
     let mut best_run = convex_run(ctx, first, &reference)?;

@@ -1,7 +1,9 @@
 //! The design runs: multi-start Nelder–Mead for the widest stable band, sequential convex
 //! programming for clear bands (see the module docs of [`crate::design`]).
 
-use super::evaluate::{follow, intrusions, values_of, Candidate, EvalContext, Intrusion, OperatingBand};
+use super::evaluate::{
+    as_build, follow, intrusions, intrusions_as_built, values_of, Candidate, EvalContext, Intrusion, OperatingBand,
+};
 use super::machine::Machine;
 use super::qp::{self, Linear, Step, StepProblem};
 use super::spec::{DesignSpec, Parameter, Variable};
@@ -17,6 +19,7 @@ use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+mod bands_as_built;
 mod best;
 mod convex;
 mod map;
@@ -29,6 +32,7 @@ mod verification;
 
 use best::{BestSoFar, Rank};
 pub(crate) use convex::clear_bands;
+pub use convex::GLOBAL_PASS;
 pub use map::{extra_starts, map_points, MapPoint, ObjectiveMap, MAP_POINTS_PER_VARIABLE};
 pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};

@@ -42,7 +42,9 @@ pub(super) fn verify_outcome(
         // same edges (the lattice-refined edges are the same numbers).
         Findings::ClearBands { before, after, .. } => {
             for (ints, speeds) in [(before, &out.before_speeds), (after, &out.after_speeds)] {
-                for it in ints.iter_mut() {
+                // A corner's tongues (`[design.tolerances]`) keep their own labels: the
+                // catalogue is the design's as designed.
+                for it in ints.iter_mut().filter(|it| it.build.is_none()) {
                     let Some(d) = speeds.iter().find(|d| d.speed == it.speed) else { continue };
                     let same =
                         |r: &&crate::analysis::regions::Region| r.left == Some(it.left) && r.right == Some(it.right);
@@ -152,6 +154,13 @@ pub(super) fn verify_outcome(
             f.as_built = Some(as_built);
         }
     }
+    // The clear-bands design as built: the tongues of every corner and sample of the box.
+    if let (Some(t), Findings::ClearBands { .. }) = (&spec.tolerances, &out.findings) {
+        progress.extend((t.corners().len() + t.samples) as u64);
+        let (part, evaluations) = bands_as_built::check(&tuned, spec, t, &regions, &|| progress.advance(1))?;
+        count.add(evaluations);
+        parts.push(part);
+    }
     // The tuned design over its speed range, on a grid finer than the optimiser's.
     if let Some(range) = spec.speed_range {
         match spec.phi_op() {
@@ -187,7 +196,7 @@ pub(super) fn verify_outcome(
             .filter(|p| p.status == crate::design::verify::PartStatus::Failed)
             .map(|p| p.part.as_str())
             .collect();
-        let as_built = |p: &&str| matches!(*p, "tolerances" | "tolerance-peaks");
+        let as_built = |p: &&str| matches!(*p, "tolerances" | "tolerance-peaks" | "tolerance-bands");
         out.status = if failed.iter().all(as_built) { Status::NotRobust } else { Status::NotVerified };
     }
     out.verification_cost = Cost { evaluations: count.get(), seconds: checked.elapsed().as_secs_f64() };

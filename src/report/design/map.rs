@@ -115,12 +115,18 @@ pub(super) fn map_section(s: &mut String, o: &DesignOutcome) {
         m.points.len(),
         if failed > 0 { format!(", {failed} of them not analysable") } else { String::new() }
     );
+    // A clear-bands run's map is its global pass, whose best point starts a convex run.
+    let global_pass = o.starts.iter().any(|x| x.termination == crate::design::optimise::GLOBAL_PASS);
     for (r, &i) in m.basins.iter().enumerate() {
         let p = &m.points[i];
+        let start = if global_pass {
+            "the convex run from the best global point".to_string()
+        } else {
+            format!("start `map basin {}`", r + 1)
+        };
         let _ = write!(
             s,
-            " Basin {} (start `map basin {}`): {} at {}.",
-            r + 1,
+            " Basin {} ({start}): {} at {}.",
             r + 1,
             p.objective.map_or("–".into(), |x| format!("{x:.2}")),
             values(&p.values)

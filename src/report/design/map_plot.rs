@@ -85,9 +85,20 @@ fn panel(o: &DesignOutcome, m: &ObjectiveMap, spec: &DesignSpec, i: usize, j: us
     if inside(i) && inside(j) {
         marks.push(("reference".to_string(), REFERENCE_COLOR, Marker::Square, (o.before[i], o.before[j])));
     }
-    for (k, s) in o.starts.iter().enumerate() {
+    // The local searches' starts; a clear-bands run's starts table holds its global pass
+    // (the map's points), whose convex runs start from the reference and the map's basin.
+    let mut starts: Vec<&[f64]> = o
+        .starts
+        .iter()
+        .filter(|s| s.termination != crate::design::optimise::GLOBAL_PASS)
+        .map(|s| s.initial.as_slice())
+        .collect();
+    if starts.is_empty() {
+        starts = m.basins.iter().filter_map(|&b| m.points.get(b)).map(|p| p.values.as_slice()).collect();
+    }
+    for (k, s) in starts.iter().enumerate() {
         let text = if k == 0 { "start of a local search".to_string() } else { String::new() };
-        marks.push((text, START_COLOR, Marker::Ring, (s.initial[i], s.initial[j])));
+        marks.push((text, START_COLOR, Marker::Ring, (s[i], s[j])));
     }
     marks.push(("tuned design".to_string(), TUNED_COLOR, Marker::Cross, (o.after[i], o.after[j])));
     MapPlot {
