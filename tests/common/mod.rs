@@ -516,6 +516,37 @@ alpha = 0.0
     )
 }
 
+/// [`jeffcott_damped`] (kxx = 1e7, kyy = 8e6 N/m, cxx = 100 N·s/m, a 10 kg disk at
+/// 500 rad/s) whose first bearing tabulates kxx, kyy and cxx over `points` speeds, 0 to
+/// 10·(points − 1) rad/s, each within 10 % of its constant.
+pub fn tabulated_jeffcott(points: usize) -> String {
+    let table = |base: f64| -> String {
+        let v: Vec<String> =
+            (0..points).map(|i| format!("{:?}", base * (1.0 + 0.1 * (i as f64 * 0.37).sin()))).collect();
+        format!("[{}]", v.join(", "))
+    };
+    let speeds: Vec<String> = (0..points).map(|i| format!("{:?}", 10.0 * i as f64)).collect();
+    let text = jeffcott_damped(1e7, 8e6, 0.5, 0.3, 100.0, 500.0);
+    let constant = "[[bearings]]\nnode = 0\nkxx = 10000000.0\nkyy = 8000000.0\ncxx = 100.0\n";
+    assert!(text.contains(constant), "jeffcott's first bearing");
+    let tabulated = format!(
+        "[[bearings]]\nnode = 0\nspeeds = [{}]\nkxx = {}\nkyy = {}\ncxx = {}\n",
+        speeds.join(", "),
+        table(1e7),
+        table(8e6),
+        table(100.0)
+    );
+    text.replacen(constant, &tabulated, 1)
+}
+
+/// `long_table.toml` in [`generated_dir`]: [`tabulated_jeffcott`] one speed over
+/// [`rotorshunt::problem::MAX_TABLE_POINTS`].
+pub fn long_table_file() -> std::path::PathBuf {
+    generated("long_table.toml", |p| {
+        std::fs::write(p, tabulated_jeffcott(rotorshunt::problem::MAX_TABLE_POINTS + 1)).expect("write long_table.toml")
+    })
+}
+
 /// The Jeffcott rotor's shaft: E·I of its 0.05 m section (N·m²) and its length (m).
 pub const JEFFCOTT_EI: f64 = 2.0e11 * std::f64::consts::PI * 0.05 * 0.05 * 0.05 * 0.05 / 64.0;
 /// The Jeffcott rotor's span (m).

@@ -544,6 +544,14 @@ fn bearing(b: &Bearing, last_node: i64) -> Result<BearingOut, Refusal> {
     }
     let freq: &[f64] = b.frequency.as_ref().map_or(&[], Coefficient::values);
     let points = freq.len().max(1);
+    let limit = crate::problem::MAX_TABLE_POINTS;
+    if freq.len() > limit {
+        let rule = format!(
+            "the table has {} frequencies, more than the {limit} a problem's coefficient table may have (docs/errors.md, TableTooLong)",
+            freq.len()
+        );
+        return Err(Refusal::Value { key: "frequency".into(), value: freq.len() as f64, rule });
+    }
     // In rotorshunt's order (COEFFICIENT_NAMES), then the masses.
     let lateral: [(&'static str, &Coefficient); 12] = [
         ("kxx", &b.kxx),
