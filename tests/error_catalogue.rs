@@ -289,6 +289,9 @@ fn documented_messages_are_what_the_binary_prints() {
     common::too_large_file();
     common::too_complex_file();
     common::long_table_file();
+    common::generated("ross_2001_elements.json", |p| {
+        std::fs::write(p, common::ross_rotor(2001, "json")).expect("write ross_2001_elements.json")
+    });
     std::fs::create_dir_all(work.join("out")).expect("create out/");
     for (link, target) in [
         ("problems", root().join("problems")),
