@@ -142,6 +142,8 @@ impl Bearing {
 /// is a constant. Outside [speeds₀, speeds_last] the value at the nearest end is held:
 /// ROSS extrapolates the end polynomial, which for fluid-film coefficients soon turns
 /// unphysical; rotorshunt warns instead ([`Bearing::outside_table`], docs/model.md).
+/// Time and memory are linear in the table's length (the spline is solved anew at each
+/// call); a problem file's tables have at most [`crate::problem::MAX_TABLE_POINTS`] speeds.
 pub fn interpolate(speeds: &[f64], values: &[f64], speed: f64) -> f64 {
     let n = values.len().min(speeds.len());
     if n == 0 {
@@ -281,12 +283,14 @@ mod tests {
             let p = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs())).unwrap();
             a.swap(col, p);
             r.swap(col, p);
-            for row in col + 1..n {
-                let f = a[row][col] / a[col][col];
-                for k in col..n {
-                    a[row][k] -= f * a[col][k];
+            let (top, rest) = a.split_at_mut(col + 1);
+            let pivot_row = &top[col];
+            for (offset, row) in rest.iter_mut().enumerate() {
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x -= f * p;
                 }
-                r[row] -= f * r[col];
+                r[col + 1 + offset] -= f * r[col];
             }
         }
         let mut out = vec![0.0; n];
