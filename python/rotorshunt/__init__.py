@@ -28,6 +28,7 @@ from ._results import (
     Region,
     RegionsResult,
     UnbalanceResult,
+    _refuse,
 )
 from ._rotorshunt import (
     AnalysisError,
@@ -74,11 +75,14 @@ Progress = Union[None, bool, Callable[[str, int, int], Any]]
 
 def _progress(progress: Progress):
     """A callback for the native call: a callable as given; ``True`` a tqdm bar per phase
-    when tqdm is installed (else nothing); ``None``/``False`` nothing."""
+    when tqdm is installed (else nothing); ``None``/``False`` nothing; anything else an
+    ArgumentError."""
     if progress is None or progress is False:
         return None
     if callable(progress):
         return progress
+    if progress is not True:
+        _refuse("progress", "None, a bool or a callable (phase, done, total)", progress)
     try:
         from tqdm.auto import tqdm
     except ImportError:
@@ -109,6 +113,8 @@ class Problem:
     __slots__ = ("_native",)
 
     def __init__(self, native: "_native.NativeProblem"):
+        if not isinstance(native, _native.NativeProblem):
+            _refuse("native", "a NativeProblem (load a problem with Problem.from_file or Problem.from_toml)", native)
         self._native = native
 
     # -- loading -------------------------------------------------------------------
@@ -248,14 +254,14 @@ class Problem:
                 return problem._native.pareto(pareto, out, cb)
             with tempfile.TemporaryDirectory() as tmp:
                 return problem._native.pareto(pareto, Path(tmp) / "pareto", cb)
-        return DesignResult(**problem._native.design(None if out is None else os.fspath(out), cb))
+        return DesignResult(**problem._native.design(out, cb))
 
 
 def from_ross_file(path: Union[str, os.PathLike], rings: Optional[Sequence[Mapping[str, Any]]] = None, speed: Optional[float] = None, set=None) -> Problem:
     """A problem from a ROSS ``Rotor.save`` file (TOML or JSON), mapped as
     ``rotorshunt import-ross`` maps it; ``rings`` (dicts, the ``[[rings]]`` tables of the
     problem format) are added, ``speed`` (rad/s) becomes the problem's speed."""
-    text = _native.import_ross(os.fspath(path), speed, rings)
+    text = _native.import_ross(path, speed, rings)  # checks the path's type
     return Problem.from_toml(text, name=f"{os.fspath(path)} (imported)", set=set)
 
 
@@ -263,6 +269,8 @@ def from_ross(rotor: Any, rings: Optional[Sequence[Mapping[str, Any]]] = None, s
     """A problem from a live ``ross.Rotor`` (Timoshenko shafts, anisotropic bearings and
     seals included): the rotor is saved by its own ``save`` and imported as
     :func:`from_ross_file` imports a file."""
+    if not callable(getattr(rotor, "save", None)):
+        _refuse("rotor", "a ross.Rotor (an object with a save(path) method)", rotor)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "rotor.toml"
         rotor.save(path)
@@ -272,5 +280,5 @@ def from_ross(rotor: Any, rings: Optional[Sequence[Mapping[str, Any]]] = None, s
 def run_study(file: Union[str, os.PathLike], out: Union[str, os.PathLike], force: bool = False, allow_non_empty: bool = False, dry_run: bool = False, progress: Progress = None) -> dict:
     """Run a study file into folder ``out`` (`rotorshunt study FILE --out DIR`): a dict
     with the summary ``text`` and the number of ``failed`` cases."""
-    text, failed = _native.run_study(os.fspath(file), os.fspath(out), force, allow_non_empty, dry_run, _progress(progress))
+    text, failed = _native.run_study(file, out, force, allow_non_empty, dry_run, _progress(progress))
     return {"text": text, "failed": failed}

@@ -10,6 +10,8 @@ from typing import Any, List, Optional
 
 import numpy as np
 
+from . import _rotorshunt as _native
+
 # Fields left out of a result's repr: the JSON document and other bulky ones.
 _BULKY = {"json", "outcome", "reduction", "scaled_multipliers", "boundary"}
 
@@ -26,6 +28,19 @@ def _result(names: str):
     return make
 
 
+def _refuse(argument: str, expected: str, value: Any):
+    """Raise the ArgumentError of ``argument``, which expected ``expected`` and was given
+    ``value`` (worded as the native calls word theirs: the value and its type)."""
+    raise _native._argument_error(argument, expected, value)
+
+
+def _backend(backend: Any) -> str:
+    """A plot's ``backend``: "matplotlib" or "plotly"."""
+    if not (isinstance(backend, str) and backend in ("matplotlib", "plotly")):
+        _refuse("backend", '"matplotlib" or "plotly"', backend)
+    return backend
+
+
 def _need(module: str, what: str):
     """An optional module (matplotlib, plotly, pandas), or an ImportError saying what needs it."""
     try:
@@ -37,6 +52,8 @@ def _need(module: str, what: str):
 
 def _new_axes(ax=None):
     """``ax``'s figure and ``ax``, or a new figure and its axes."""
+    if ax is not None and not hasattr(ax, "figure"):
+        _refuse("ax", "None or matplotlib Axes", ax)
     return (ax.figure, ax) if ax is not None else _need("matplotlib.pyplot", "plotting").subplots(figsize=(8, 5))
 
 
@@ -68,7 +85,7 @@ class CampbellResult:
         """The Campbell diagram: tracks (forward solid, backward dashed), the 1x line and the
         operating speeds. Returns the matplotlib Figure (``backend="plotly"``: plotly's)."""
         title = title or "Campbell diagram"
-        if backend == "plotly":
+        if _backend(backend) == "plotly":
             fig = _need("plotly.graph_objects", "backend='plotly'").Figure()
             for tag, whirl, f in zip(self.tags, self.whirl, self.frequency):
                 fig.add_scatter(x=self.speeds, y=f, name=tag, line_dash="dash" if whirl == "backward" else "solid")
@@ -112,6 +129,8 @@ class ChartResult:
     def plot(self, ax=None, regions: Optional["RegionsResult"] = None, title: Optional[str] = None):
         """The stability chart: unstable points in the (φ, β) plane and, given a catalogue,
         its regions' onsets and edges. Returns the matplotlib Figure."""
+        if regions is not None and not isinstance(regions, RegionsResult):
+            _refuse("regions", "None or a RegionsResult (Problem.regions)", regions)
         fig, ax = _new_axes(ax)
         P, B = np.meshgrid(self.phis, self.betas, indexing="ij")
         bad = ~self.stable & (self.status != 2)
@@ -126,7 +145,7 @@ class ChartResult:
         """The growth-rate map ln(max|μ|)/T (1/s) over the grid. Returns the matplotlib
         Figure (``backend="plotly"``: a plotly heat map)."""
         title = title or f"Growth rate at Ω = {self.speed:g} rad/s"
-        if backend == "plotly":
+        if _backend(backend) == "plotly":
             go = _need("plotly.graph_objects", "backend='plotly'")
             fig = go.Figure(go.Heatmap(x=self.phis, y=self.betas, z=self.growth_rate.T, colorbar_title="1/s"))
             fig.update_layout(title=title, xaxis_title="φ (rad/s)", yaxis_title="β")
@@ -161,6 +180,8 @@ class RegionsResult(list):
         """The regions' onsets and edges at the level over the stable bands, on a chart if
         given. Returns the matplotlib Figure."""
         if chart is not None:
+            if not isinstance(chart, ChartResult):
+                _refuse("chart", "None or a ChartResult (Problem.chart)", chart)
             return chart.plot(ax=ax, regions=self, title=title)
         fig, ax = _new_axes(ax)
         for lo, hi in self.stable_bands:
@@ -191,7 +212,7 @@ class UnbalanceResult:
         """Bode plot: amplitude (log) and phase over speed, a line per probe (and x/y in real
         coordinates). Returns the matplotlib Figure (``backend="plotly"``: the amplitudes')."""
         title = title or "Unbalance response"
-        if backend == "plotly":
+        if _backend(backend) == "plotly":
             fig = _need("plotly.graph_objects", "backend='plotly'").Figure()
             for pr in self.probes:
                 fig.add_scatter(x=self.speeds, y=pr.amplitude, name=pr.name)
@@ -219,6 +240,8 @@ class DesignResult:
 
     def bands(self, which: str = "after") -> List[Optional[tuple]]:
         """The stable bands (lo, hi) at each design speed, before or after (rad/s)."""
+        if not (isinstance(which, str) and which in ("before", "after")):
+            _refuse("which", '"before" or "after"', which)
         found = [(s.get("band") or {}).get("band") for s in self.outcome[f"{which}_speeds"]]
         return [(b["lo"], b["hi"]) if b else None for b in found]
 

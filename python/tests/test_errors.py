@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import rotorshunt as rs
-from conftest import cli_message
+from conftest import ROOT, cli_message
 
 
 def test_the_hierarchy():
@@ -135,3 +135,85 @@ def test_wrong_types_raise_the_package_error(call):
     with pytest.raises(rs.Error) as e:
         call(p)
     assert str(e.value).startswith("argument `")
+
+
+class _FakeRotor:
+    """A stand-in for a ross.Rotor: `save` writes a saved ROSS file (no ROSS needed)."""
+
+    def save(self, path):
+        path.write_text((ROOT / "tests/fixtures/ross/rotor_example.toml").read_text())
+
+
+FIG11 = "problems/fig11-closed-2000.toml"
+STUDY = "problems/studies/resistance-speed.toml"
+
+
+@pytest.mark.parametrize(
+    "call, argument, shown",
+    [
+        # Issue 50, item 9: paths, switches, names, callbacks and objects of the wrong type.
+        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(out=123), "--out", "123 (int)"),
+        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(pareto=2, out=5), "--out", "5 (int)"),
+        (lambda: rs.run_study(123, "out/never"), "FILE", "123 (int)"),
+        (lambda: rs.run_study(STUDY, 4.5), "--out", "4.5 (float)"),
+        (lambda: rs.run_study(STUDY, "out/never", force="yes"), "--force", "'yes' (str)"),
+        (lambda: rs.run_study(STUDY, "out/never", dry_run=1), "--dry-run", "1 (int)"),
+        (lambda: rs.from_ross_file(123), "FILE", "123 (int)"),
+        (lambda: rs.from_ross_file(b"rotor.toml"), "FILE", "b'rotor.toml' (bytes)"),
+        (lambda: rs.from_ross(123), "rotor", "123 (int)"),
+        (lambda: rs.Problem.from_file(123), "FILE", "123 (int)"),
+        (lambda: rs.Problem.from_toml(["version = 1"]), "text", "['version = 1'] (list)"),
+        (lambda: rs.Problem.from_toml((ROOT / FIG11).read_text(), name=5), "name", "5 (int)"),
+        (lambda: rs.Problem(FIG11), "native", "(str)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1], progress=5), "progress", "5 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0], progress="yes"), "progress", "'yes' (str)"),
+        (lambda: rs.Problem.from_file(FIG11)._native.band(1230, 0.3, None, 7), "progress", "7 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1]).plot_growth(backend="plotlyy"), "backend",
+         "'plotlyy' (str)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], [0.1]).plot(regions=[1]), "regions", "[1] (list)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(backend=3), "backend", "3 (int)"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0]).plot(ax="left"), "ax", "'left' (str)"),
+        # Item 10: no complex numbers, bytes or masked arrays read as real numbers.
+        (lambda: rs.Problem.from_file(FIG11).chart(np.array([1000 + 1j, 1010]), [0.1]), "--phi",
+         "(1-D ndarray of complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).chart(b"\x01\x02", [0.1]), "--phi", "b'\\x01\\x02' (bytes)"),
+        (lambda: rs.Problem.from_file(FIG11).chart([1000.0], np.ma.masked_array([0.1, 0.2], mask=[False, True])),
+         "--beta", "not a masked array (give `a.compressed()` or `a.filled(value)`), got masked_array(data=[0.1, --], mask="),
+        (lambda: rs.Problem.from_file(FIG11).floquet(np.complex128(1000), 0.1), "--phi", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).floquet(1000, np.complex64(0.1)), "--beta", "(complex64)"),
+        (lambda: rs.Problem.from_file(FIG11).floquet(1000, np.ma.masked), "--beta", "MaskedConstant"),
+        (lambda: rs.Problem.from_file(FIG11).campbell([0.0, np.complex128(100)]), "--speeds", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).unbalance([100.0, 200.0], b"\x10"), "--nodes", "(bytes)"),
+        (lambda: rs.Problem.from_file(FIG11).regions(bytearray(b"\x01\x02"), 1), "--phi", "(bytearray)"),
+        (lambda: rs.Problem.from_file(FIG11).with_set({"speed": np.complex128(100)}), "--set", "(complex128)"),
+        (lambda: rs.Problem.from_file(FIG11).with_set(b"speed=1"), "--set", "(bytes)"),
+        (lambda: rs.from_ross_file("tests/fixtures/ross/rotor_example.toml", rings="notalist"), "rings",
+         "'notalist' (str)"),
+        (lambda: rs.from_ross(_FakeRotor(), rings="notalist"), "rings", "'notalist' (str)"),
+        (lambda: rs.from_ross(_FakeRotor(), rings=[{"node": 3}, 4]), "rings", "as entry 2, got 4 (int)"),
+    ],
+)
+def test_a_wrong_type_is_an_argument_error_naming_the_argument_and_value(call, argument, shown):
+    """Issue 50, items 9 and 10: never a TypeError, and never a value read as another."""
+    with pytest.raises(rs.ArgumentError) as e:
+        call()
+    message = str(e.value)
+    assert message.startswith(f"argument `{argument}`: expected "), message
+    assert shown in message, message
+    assert e.value.kind == "Argument"
+
+
+def test_the_pareto_count_is_checked_against_the_documented_range():
+    """Issue 50, item 10: 2 to 50 points, as `design --pareto` and the docs have it."""
+    p = rs.Problem.from_file("problems/design-min-peak.toml")
+    for k in (1, 51):
+        with pytest.raises(rs.ArgumentError) as e:
+            p.design(pareto=k)
+        assert str(e.value) == f"argument `--pareto`: must be a whole number from 2 to 50, found {k}"
+
+
+def test_rings_given_as_an_empty_list_add_no_rings():
+    """Issue 50, item 10: `rings=[]` is no rings (it was a `rings = []` key in the file's
+    last table, blamed on `load.rings`)."""
+    fixture = "tests/fixtures/ross/rotor_example.toml"
+    assert rs.from_ross_file(fixture, rings=[]).to_toml() == rs.from_ross_file(fixture).to_toml()

@@ -207,3 +207,35 @@ def test_an_alarm_during_a_robust_design_writes_its_best_design_so_far(tmp_path)
     report = json.loads((out / "report.json").read_text())
     assert report["outcome"]["status"] == "stopped"
     assert "**Stopped, NOT A RESULT**" in (out / "report.md").read_text()
+
+
+FIRST_FLOQUET_SCRIPT = r"""
+import os, signal, sys, threading, time
+signal.signal(signal.SIGINT, signal.default_int_handler)  # as at a terminal (see interrupted_after)
+import rotorshunt as rs
+p = rs.Problem.from_file("problems/fig11-closed-2000.toml")
+threading.Timer(0.05, os.kill, (os.getpid(), signal.SIGINT)).start()
+start = time.monotonic()
+try:
+    p.floquet(0.1, 0.3)  # the process's first array; about 0.5 s here, at phi = 0.1 rad/s
+except KeyboardInterrupt:
+    print("KeyboardInterrupt", f"{time.monotonic() - start:.2f}")
+else:
+    print("finished", f"{time.monotonic() - start:.2f}")
+print(p.floquet(1000, 0.1).stable)
+"""
+
+
+def test_ctrl_c_during_the_first_floquet_call_raises_keyboard_interrupt(root):
+    """Issue 50, item 4: a SIGINT while the first `floquet` of a fresh process computes
+    raised a PanicException (numpy's C API was loaded at the first array, its loading
+    running Python code while the signal was pending). Now: KeyboardInterrupt, when the
+    point's computation ends (a Floquet point does not stop midway), and the problem
+    still usable."""
+    out = subprocess.run([sys.executable, "-c", FIRST_FLOQUET_SCRIPT], cwd=root, capture_output=True, text=True,
+                         timeout=60)
+    assert "PanicException" not in out.stderr, out.stderr
+    assert out.returncode == 0, out.stderr
+    outcome, seconds, stable = out.stdout.split()
+    print(f"\n{outcome} {seconds} s into the first floquet call (SIGINT at 0.05 s)")
+    assert (outcome, stable) == ("KeyboardInterrupt", "True")

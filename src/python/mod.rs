@@ -77,10 +77,39 @@ fn class_of(e: crate::commands::Error) -> PyErr {
     }
 }
 
+/// numpy's array API, loaded at import. rust-numpy loads it at the first array made, and
+/// that loading runs Python code (numpy's version check), where a pending Ctrl-C raises:
+/// rust-numpy then panics (issue 50: a SIGINT during the first `floquet` call gave a
+/// `PanicException`). Here a signal already pending raises from the import; one arriving
+/// during the loading itself (a window of microseconds) fails the import with an
+/// `ImportError` instead of a panic.
+fn load_numpy_api(py: Python<'_>) -> PyResult<()> {
+    py.check_signals()?;
+    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        numpy::PyUntypedArrayMethods::len(&numpy::PyArray1::<f64>::zeros(py, 0, false))
+    }));
+    match loaded {
+        Ok(_) => Ok(()),
+        Err(payload) => {
+            let text = watch::panic_text(payload.as_ref());
+            Err(pyo3::exceptions::PyImportError::new_err(format!("numpy's array API could not be loaded: {text}")))
+        }
+    }
+}
+
+/// For the pure-Python part's own checks (python/rotorshunt): the `ArgumentError` of
+/// `argument`, which expected `expected` and was given `value`, worded as the native
+/// calls word theirs (not raised: returned, for Python to raise).
+#[pyfunction]
+fn _argument_error(argument: &str, expected: &str, value: &Bound<'_, PyAny>) -> Py<PyAny> {
+    to_py(args::wrong(argument, expected, value)).into_value(value.py()).into_any()
+}
+
 /// The native module `rotorshunt._rotorshunt`.
 #[pymodule]
 fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    load_numpy_api(py)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("Error", py.get_type::<Error>())?;
     m.add("ProblemError", py.get_type::<ProblemError>())?;
@@ -96,5 +125,6 @@ fn _rotorshunt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(problem::run_study, m)?)?;
     m.add_function(wrap_pyfunction!(problem::rayon_threads, m)?)?;
     m.add_function(wrap_pyfunction!(problem::_rust_floquet_seconds, m)?)?;
+    m.add_function(wrap_pyfunction!(_argument_error, m)?)?;
     Ok(())
 }

@@ -16,7 +16,6 @@ use crate::run::{Budget, PointRun, Run};
 use numpy::{Complex64, IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::path::PathBuf;
 use std::sync::OnceLock;
 
 /// A loaded, validated problem (`rotorshunt.Problem` wraps it). Immutable: overrides
@@ -43,9 +42,15 @@ impl NativeProblem {
     }
 }
 
-/// An optional progress callback: `None` or Python's `None` is none.
-fn callback<'a, 'py>(progress: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
-    progress.filter(|p| !p.is_none())
+/// An optional progress callback: `None` or Python's `None` is none; anything else must be
+/// callable.
+fn callback<'a, 'py>(progress: Option<&'a Bound<'py, PyAny>>) -> PyResult<Option<&'a Bound<'py, PyAny>>> {
+    match progress.filter(|p| !p.is_none()) {
+        Some(p) if !p.is_callable() => {
+            Err(super::to_py(args::wrong("progress", "None or a callable (phase, done, total)", p)))
+        }
+        p => Ok(p),
+    }
 }
 
 #[pymethods]
@@ -54,33 +59,27 @@ impl NativeProblem {
     #[staticmethod]
     #[pyo3(signature = (path, set = None))]
     fn from_file(py: Python<'_>, path: &Bound<'_, PyAny>, set: Option<&Bound<'_, PyAny>>) -> PyResult<NativeProblem> {
+        let path = args::path(path, "FILE").map_err(super::to_py)?;
         let overrides = args::overrides(set).map_err(super::to_py)?;
-        let path: PathBuf = path.extract().map_err(|_| {
-            super::to_py(Error::Argument {
-                argument: "FILE".into(),
-                message: "expected a path (str or os.PathLike)".into(),
-            })
-        })?;
         released(py, || Ok(Problem::from_path(&path, &overrides)?)).map(NativeProblem::new)
     }
 
     /// Parse a problem text; `name` names it in messages.
     #[staticmethod]
-    #[pyo3(signature = (text, name = "<string>", set = None))]
+    #[pyo3(signature = (text, name = None, set = None))]
     fn from_toml(
         py: Python<'_>,
         text: &Bound<'_, PyAny>,
-        name: &str,
+        name: Option<&Bound<'_, PyAny>>,
         set: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<NativeProblem> {
+        let text = args::text(text, "text", "the problem's TOML text (str)").map_err(super::to_py)?;
+        let name = match name.filter(|n| !n.is_none()) {
+            Some(n) => args::text(n, "name", "a name for messages (str)").map_err(super::to_py)?,
+            None => "<string>".into(),
+        };
         let overrides = args::overrides(set).map_err(super::to_py)?;
-        let text: String = text.extract().map_err(|_| {
-            super::to_py(Error::Argument {
-                argument: "text".into(),
-                message: "expected the problem's TOML text (str)".into(),
-            })
-        })?;
-        released(py, || Ok(Problem::from_text(&text, name, &overrides)?)).map(NativeProblem::new)
+        released(py, || Ok(Problem::from_text(&text, &name, &overrides)?)).map(NativeProblem::new)
     }
 
     /// A copy with more overrides, applied after this problem's own.
@@ -177,7 +176,7 @@ impl NativeProblem {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
         let count = whirl_count(count)?;
         let p = &self.problem;
-        let doc = watched(py, callback(progress), |pr| {
+        let doc = watched(py, callback(progress)?, |pr| {
             commands::campbell_speeds(&speeds)?;
             let r = Run::new(pr).campbell(p, &speeds, count)?.run()?;
             Ok(commands::campbell_output(p, r))
@@ -235,7 +234,7 @@ impl NativeProblem {
         }
         commands::check_grid(&phis, &betas).map_err(super::to_py)?;
         let fs = released(py, || self.system())?;
-        let c = watched(py, callback(progress), |pr| Ok(Run::new(pr).chart_of(fs, &phis, &betas)?))?;
+        let c = watched(py, callback(progress)?, |pr| Ok(Run::new(pr).chart_of(fs, &phis, &betas)?))?;
         let shape = (phis.len(), betas.len());
         let field =
             |f: &dyn Fn(&crate::analysis::chart::ChartPoint) -> f64| -> Vec<f64> { c.points.iter().map(f).collect() };
@@ -274,7 +273,7 @@ impl NativeProblem {
         let beta_max = args::number(beta_max, "--beta-max").map_err(super::to_py)?;
         let level = args::optional_number(level, "--level").map_err(super::to_py)?;
         let p = &self.problem;
-        let doc = watched(py, callback(progress), |pr| {
+        let doc = watched(py, callback(progress)?, |pr| {
             let request = commands::regions_request(&phi, beta_max, level, false)?;
             let run = Run::new(pr);
             let job = run.catalogue(p, &request)?;
@@ -298,7 +297,7 @@ impl NativeProblem {
         let level = args::number(level, "--level").map_err(super::to_py)?;
         let window = phi_range.filter(|r| !r.is_none()).map(range_text).transpose().map_err(super::to_py)?;
         let p = &self.problem;
-        let out = watched(py, callback(progress), |pr| {
+        let out = watched(py, callback(progress)?, |pr| {
             let commands::BandRequest { phi_op, level, window, key } =
                 commands::band_request(phi_op, level, window.as_deref())?;
             let run = Run::new(pr);
@@ -321,7 +320,7 @@ impl NativeProblem {
         let speeds = args::numbers(speeds, "--speeds").map_err(super::to_py)?;
         let nodes = args::nodes(nodes, "--nodes").map_err(super::to_py)?;
         let p = &self.problem;
-        let doc = watched(py, callback(progress), |pr| {
+        let doc = watched(py, callback(progress)?, |pr| {
             commands::unbalance_speeds(&speeds)?;
             let run = Run::new(pr);
             let r = run.unbalance(p, None, &speeds, &nodes).and_then(|job| job.run()).map_err(commands::on_nodes)?;
@@ -337,11 +336,12 @@ impl NativeProblem {
     fn design<'py>(
         &self,
         py: Python<'py>,
-        out: Option<PathBuf>,
+        out: Option<&Bound<'py, PyAny>>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let out = args::optional_path(out, "--out").map_err(super::to_py)?;
         let p = &self.problem;
-        let (summary, outcome, tuned) = watched(py, callback(progress), |pr| {
+        let (summary, outcome, tuned) = watched(py, callback(progress)?, |pr| {
             let run = Run::new(pr);
             let job = run.design(p, "the design")?;
             let (summary, outcome) = match &out {
@@ -364,12 +364,14 @@ impl NativeProblem {
         &self,
         py: Python<'py>,
         points: &Bound<'py, PyAny>,
-        out: PathBuf,
+        out: &Bound<'py, PyAny>,
         progress: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let k = args::count(points, "--pareto", 2, u32::MAX as u64).map_err(super::to_py)?;
+        use crate::design::pareto::{MAX_POINTS, MIN_POINTS};
+        let k = args::count(points, "--pareto", MIN_POINTS as u64, MAX_POINTS as u64).map_err(super::to_py)?;
+        let out = args::path(out, "--out").map_err(super::to_py)?;
         let p = &self.problem;
-        let (summary, report) = watched(py, callback(progress), |pr| {
+        let (summary, report) = watched(py, callback(progress)?, |pr| {
             let run = Run::new(pr);
             let job = run.pareto(p, k)?;
             commands::pareto_into(p, k, &out, job, pr)
@@ -413,27 +415,21 @@ fn range_text(range: &Bound<'_, PyAny>) -> Result<String, Error> {
 #[pyo3(signature = (path, speed = None, rings = None))]
 pub(crate) fn import_ross(
     py: Python<'_>,
-    path: PathBuf,
+    path: &Bound<'_, PyAny>,
     speed: Option<&Bound<'_, PyAny>>,
     rings: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
+    let path = args::path(path, "FILE").map_err(super::to_py)?;
     let speed = args::optional_number(speed, "--speed").map_err(super::to_py)?;
-    let rings = match rings.filter(|r| !r.is_none()) {
-        Some(r) => Some(args::python_to_toml(r).ok_or_else(|| {
-            super::to_py(Error::Argument {
-                argument: "rings".into(),
-                message: "expected a list of dicts (the [[rings]] tables)".into(),
-            })
-        })?),
-        None => None,
-    };
+    let rings = rings.filter(|r| !r.is_none()).map(args::rings).transpose().map_err(super::to_py)?.unwrap_or_default();
     released(py, || {
         let speed = speed.map(|w| commands::bounds::flag("--speed", crate::analysis::limits::speed(w))).transpose()?;
         let import = crate::import::ross::import_path(&path, crate::import::ross::Options { speed })?;
         let mut text = import.text;
-        if let Some(rings) = rings {
+        // No rings, no table: an empty `rings = []` would land in the file's last table.
+        if !rings.is_empty() {
             let mut t = toml::Table::new();
-            t.insert("rings".into(), rings);
+            t.insert("rings".into(), toml::Value::Array(rings));
             let extra = toml::to_string(&t).map_err(|e| Error::Argument {
                 argument: "rings".into(),
                 message: format!("cannot be written as [[rings]] tables: {e}"),
@@ -449,17 +445,23 @@ pub(crate) fn import_ross(
 
 /// `study FILE --out DIR`: the summary text and the number of failed cases.
 #[pyfunction]
-#[pyo3(signature = (file, out, force = false, allow_non_empty = false, dry_run = false, progress = None))]
+#[pyo3(signature = (file, out, force = None, allow_non_empty = None, dry_run = None, progress = None))]
 pub(crate) fn run_study(
     py: Python<'_>,
-    file: PathBuf,
-    out: PathBuf,
-    force: bool,
-    allow_non_empty: bool,
-    dry_run: bool,
+    file: &Bound<'_, PyAny>,
+    out: &Bound<'_, PyAny>,
+    force: Option<&Bound<'_, PyAny>>,
+    allow_non_empty: Option<&Bound<'_, PyAny>>,
+    dry_run: Option<&Bound<'_, PyAny>>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(String, usize)> {
-    watched(py, callback(progress), |pr| {
+    let file = args::path(file, "FILE").map_err(super::to_py)?;
+    let out = args::path(out, "--out").map_err(super::to_py)?;
+    let switch =
+        |v: Option<&Bound<'_, PyAny>>, flag| v.map_or(Ok(false), |v| args::switch(v, flag)).map_err(super::to_py);
+    let (force, allow_non_empty, dry_run) =
+        (switch(force, "--force")?, switch(allow_non_empty, "--allow-non-empty")?, switch(dry_run, "--dry-run")?);
+    watched(py, callback(progress)?, |pr| {
         let options = commands::StudyOptions {
             force,
             allow_non_empty,

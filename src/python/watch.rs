@@ -45,12 +45,16 @@ impl Progress for Watch {
 
 /// A Rust panic caught at the boundary: an error of the package, never a crash.
 pub(crate) fn panicked(payload: &(dyn std::any::Any + Send)) -> PyErr {
-    let text = payload
+    super::Error::new_err(format!("internal error (please report it): {}", panic_text(payload)))
+}
+
+/// A panic's message.
+pub(crate) fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
         .downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown".into());
-    super::Error::new_err(format!("internal error (please report it): {text}"))
+        .unwrap_or_else(|| "unknown".into())
 }
 
 /// Run `work` with the GIL released, honouring Ctrl-C between its steps and calling
@@ -110,11 +114,15 @@ pub(crate) fn watched<T: Send>(
 }
 
 /// Run a short `work` with the GIL released (no progress, no cancelling), a panic caught.
+/// A signal that came while it ran (Ctrl-C) raises when it ends (`KeyboardInterrupt`), its
+/// result dropped, before any of it is converted.
 pub(crate) fn released<T: Send>(
     py: Python<'_>,
     work: impl FnOnce() -> Result<T, crate::commands::Error> + Send,
 ) -> PyResult<T> {
-    match py.detach(|| catch_unwind(AssertUnwindSafe(work))) {
+    let outcome = py.detach(|| catch_unwind(AssertUnwindSafe(work)));
+    py.check_signals()?;
+    match outcome {
         Ok(r) => r.map_err(super::to_py),
         Err(payload) => Err(panicked(payload.as_ref())),
     }
