@@ -74,6 +74,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::DampingNotSemiDefinite { c: [[0.0; 2]; 2], eigenvalue: -1.0, speed: None },
         ProblemErrorKind::TableSpeedsNotIncreasing { index: 1, speed: 0.0, previous: 0.0 },
         ProblemErrorKind::TableLength { values: 1, speeds: 2 },
+        ProblemErrorKind::TableTooLong { points: 2, limit: 1 },
         ProblemErrorKind::Several { first: Box::new(ProblemErrorKind::NoBranches), more: Box::new([]) },
         ProblemErrorKind::InnerNotBelowOuter { inner: 0.0, outer: 0.0 },
         ProblemErrorKind::ShaftLength { total: 0.0 },
@@ -287,6 +288,10 @@ fn documented_messages_are_what_the_binary_prints() {
     let work = common::scratch("error-catalogue");
     common::too_large_file();
     common::too_complex_file();
+    common::long_table_file();
+    common::generated("ross_2001_elements.json", |p| {
+        std::fs::write(p, common::ross_rotor(2001, "json")).expect("write ross_2001_elements.json")
+    });
     std::fs::create_dir_all(work.join("out")).expect("create out/");
     for (link, target) in [
         ("problems", root().join("problems")),

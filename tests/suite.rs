@@ -18,6 +18,7 @@ mod anisotropic_design;
 mod bad_input;
 mod band_names;
 mod band_truth;
+mod bounded_inputs;
 mod campbell;
 mod cancel;
 mod candidates;

@@ -142,6 +142,8 @@ impl Bearing {
 /// is a constant. Outside [speeds₀, speeds_last] the value at the nearest end is held:
 /// ROSS extrapolates the end polynomial, which for fluid-film coefficients soon turns
 /// unphysical; rotorshunt warns instead ([`Bearing::outside_table`], docs/model.md).
+/// Time and memory are linear in the table's length (the spline is solved anew at each
+/// call); a problem file's tables have at most [`crate::problem::MAX_TABLE_POINTS`] speeds.
 pub fn interpolate(speeds: &[f64], values: &[f64], speed: f64) -> f64 {
     let n = values.len().min(speeds.len());
     if n == 0 {
@@ -174,56 +176,55 @@ pub fn interpolate(speeds: &[f64], values: &[f64], speed: f64) -> f64 {
 /// Second derivatives M_i of the not-a-knot cubic spline through (x_i, y_i), n ≥ 4: the
 /// continuity equations h_{i−1}M_{i−1} + 2(h_{i−1} + h_i)M_i + h_iM_{i+1} = 6(d_i − d_{i−1})
 /// at the interior points, and a continuous third derivative at x_1 and x_{n−2}:
-/// (M_1 − M_0)/h_0 = (M_2 − M_1)/h_1 and likewise at the other end. A dense solve of the
-/// n × n system (n is a table's length, a few dozen at most).
+/// (M_1 − M_0)/h_0 = (M_2 − M_1)/h_1 and likewise at the other end.
+///
+/// Solved in O(n) time and memory: the two end conditions give M_0 and M_{n−1} from their
+/// neighbours, M_0 = ((h_0 + h_1)M_1 − h_0M_2)/h_1 (and its mirror), and put into the
+/// first and last continuity equations they leave a tridiagonal system in M_1 … M_{n−2}
+/// whose every row is strictly diagonally dominant (row 1: (h_0 + h_1)(h_0 + 2h_1)/h_1
+/// on the diagonal against |h_1² − h_0²|/h_1 beside it; an interior row 2(h_{i−1} + h_i)
+/// against h_{i−1} + h_i), which the Thomas algorithm solves stably without pivoting.
 fn spline_moments(x: &[f64], y: &[f64]) -> Vec<f64> {
     let n = x.len();
-    let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-    let d: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
-    let mut a = vec![vec![0.0; n]; n];
-    let mut r = vec![0.0; n];
-    // Not-a-knot at the left: h_1·M_0 − (h_0 + h_1)·M_1 + h_0·M_2 = 0.
-    a[0][0] = h[1];
-    a[0][1] = -(h[0] + h[1]);
-    a[0][2] = h[0];
+    let h = |i: usize| x[i + 1] - x[i];
+    let d = |i: usize| (y[i + 1] - y[i]) / h(i);
+    // Row i (1 ≤ i ≤ n − 2) of the reduced system: sub[i]·M_{i−1} + diag[i]·M_i +
+    // sup[i]·M_{i+1} = rhs[i], forward-eliminated in place: after the sweep, row i reads
+    // M_i + sup[i]·M_{i+1} = rhs[i].
+    let mut sup = vec![0.0; n];
+    let mut rhs = vec![0.0; n];
+    let (h0, h1) = (h(0), h(1));
+    let (ha, hb) = (h(n - 3), h(n - 2));
+    let mut below = 0.0;
     for i in 1..n - 1 {
-        a[i][i - 1] = h[i - 1];
-        a[i][i] = 2.0 * (h[i - 1] + h[i]);
-        a[i][i + 1] = h[i];
-        r[i] = 6.0 * (d[i] - d[i - 1]);
-    }
-    a[n - 1][n - 3] = h[n - 2];
-    a[n - 1][n - 2] = -(h[n - 3] + h[n - 2]);
-    a[n - 1][n - 1] = h[n - 3];
-    solve_dense(a, r)
-}
-
-/// Gaussian elimination with partial pivoting of a small dense system.
-fn solve_dense(mut a: Vec<Vec<f64>>, mut r: Vec<f64>) -> Vec<f64> {
-    let n = r.len();
-    for col in 0..n {
-        let p = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs())).unwrap_or(col);
-        a.swap(col, p);
-        r.swap(col, p);
-        let pivot = a[col][col];
-        let (top, rest) = a.split_at_mut(col + 1);
-        let pivot_row = &top[col];
-        for (offset, row) in rest.iter_mut().enumerate() {
-            let f = row[col] / pivot;
-            if f != 0.0 {
-                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
-                    *x -= f * p;
-                }
-                r[col + 1 + offset] -= f * r[col];
-            }
+        let (hl, hr) = (h(i - 1), h(i));
+        let (mut sub, mut diag, mut up) = (hl, 2.0 * (hl + hr), hr);
+        if i == 1 {
+            // h_0·M_0 with M_0 = ((h_0 + h_1)M_1 − h_0M_2)/h_1.
+            diag += h0 * (h0 + h1) / h1;
+            up -= h0 * h0 / h1;
+            sub = 0.0;
         }
+        if i == n - 2 {
+            // h_{n−2}·M_{n−1} with M_{n−1} = ((h_{n−3} + h_{n−2})M_{n−2} − h_{n−2}M_{n−3})/h_{n−3}.
+            diag += hb * (ha + hb) / ha;
+            sub -= hb * hb / ha;
+            up = 0.0;
+        }
+        let r = 6.0 * (d(i) - d(i - 1));
+        // Eliminate M_{i−1} with the row above (already normalised).
+        let pivot = diag - sub * below;
+        sup[i] = up / pivot;
+        rhs[i] = (r - sub * rhs[i - 1]) / pivot;
+        below = sup[i];
     }
-    let mut out = vec![0.0; n];
-    for i in (0..n).rev() {
-        let s: f64 = (i + 1..n).map(|k| a[i][k] * out[k]).sum();
-        out[i] = (r[i] - s) / a[i][i];
+    let mut m = rhs;
+    for i in (1..n - 2).rev() {
+        m[i] -= sup[i] * m[i + 1];
     }
-    out
+    m[0] = ((h0 + h1) * m[1] - h0 * m[2]) / h1;
+    m[n - 1] = ((ha + hb) * m[n - 2] - hb * m[n - 3]) / ha;
+    m
 }
 
 /// A vibration ring with its bearing (Eq. 1, 7–10) and its own shunt circuit (Eq. A8),
@@ -256,6 +257,72 @@ mod tests {
         // Held outside the table.
         assert_eq!(interpolate(&xs, &ys, -3.0), interpolate(&xs, &ys, 0.0));
         assert_eq!(interpolate(&xs, &ys, 9.0), interpolate(&xs, &ys, 7.0));
+    }
+
+    /// The not-a-knot system as a dense n × n matrix, solved by Gaussian elimination with
+    /// partial pivoting: the route the O(n) solve replaced, kept as its reference.
+    fn dense_moments(x: &[f64], y: &[f64]) -> Vec<f64> {
+        let n = x.len();
+        let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+        let d: Vec<f64> = (0..n - 1).map(|i| (y[i + 1] - y[i]) / h[i]).collect();
+        let mut a = vec![vec![0.0; n]; n];
+        let mut r = vec![0.0; n];
+        a[0][0] = h[1];
+        a[0][1] = -(h[0] + h[1]);
+        a[0][2] = h[0];
+        for i in 1..n - 1 {
+            a[i][i - 1] = h[i - 1];
+            a[i][i] = 2.0 * (h[i - 1] + h[i]);
+            a[i][i + 1] = h[i];
+            r[i] = 6.0 * (d[i] - d[i - 1]);
+        }
+        a[n - 1][n - 3] = h[n - 2];
+        a[n - 1][n - 2] = -(h[n - 3] + h[n - 2]);
+        a[n - 1][n - 1] = h[n - 3];
+        for col in 0..n {
+            let p = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs())).unwrap();
+            a.swap(col, p);
+            r.swap(col, p);
+            let (top, rest) = a.split_at_mut(col + 1);
+            let pivot_row = &top[col];
+            for (offset, row) in rest.iter_mut().enumerate() {
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                    *x -= f * p;
+                }
+                r[col + 1 + offset] -= f * r[col];
+            }
+        }
+        let mut out = vec![0.0; n];
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|k| a[i][k] * out[k]).sum();
+            out[i] = (r[i] - s) / a[i][i];
+        }
+        out
+    }
+
+    #[test]
+    fn the_linear_solve_agrees_with_the_dense_one_on_random_tables() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(50);
+        let mut worst: f64 = 0.0;
+        for trial in 0..400 {
+            let n = 4 + trial % 37;
+            // Steps from 1e-3 to 1e3 (rad/s) side by side, and values of any sign.
+            let mut xs = vec![rng.random_range(-100.0..100.0)];
+            for _ in 1..n {
+                let step = 10f64.powf(rng.random_range(-3.0..3.0));
+                xs.push(xs[xs.len() - 1] + step);
+            }
+            let ys: Vec<f64> = (0..n).map(|_| rng.random_range(-1e7..1e7)).collect();
+            let (fast, dense) = (spline_moments(&xs, &ys), dense_moments(&xs, &ys));
+            let scale = dense.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in fast.iter().zip(&dense) {
+                worst = worst.max((a - b).abs() / scale);
+            }
+        }
+        println!("largest difference of the moments, relative to the largest: {worst:.1e}");
+        assert!(worst < 1e-9, "{worst:e}");
     }
 
     #[test]

@@ -204,6 +204,16 @@ pub enum ProblemErrorKind {
         /// Speeds of the support's table (0: no `speeds` given).
         speeds: usize,
     },
+    /// A coefficient table with more speeds than [`super::MAX_TABLE_POINTS`]: each
+    /// evaluation of a tabulated coefficient costs time in proportion to its table's
+    /// length.
+    #[error("the table has {points} speeds, more than the {limit} a coefficient table may have (each evaluation at a speed costs time in proportion to the table's length)")]
+    TableTooLong {
+        /// Speeds of the table.
+        points: usize,
+        /// The limit, [`super::MAX_TABLE_POINTS`].
+        limit: usize,
+    },
     /// Several errors found at once (a bearing's and seal's coefficient checks report
     /// every one in the file): the first's text, then each of the others on a line of its
     /// own, as the command line prints errors.
@@ -382,6 +392,7 @@ impl ProblemErrorKind {
             K::DampingNotSemiDefinite { .. } => "DampingNotSemiDefinite",
             K::TableSpeedsNotIncreasing { .. } => "TableSpeedsNotIncreasing",
             K::TableLength { .. } => "TableLength",
+            K::TableTooLong { .. } => "TableTooLong",
             K::Several { .. } => "Several",
             K::InnerNotBelowOuter { .. } => "InnerNotBelowOuter",
             K::ShaftLength { .. } => "ShaftLength",

@@ -6,7 +6,7 @@
 use super::file::*;
 use super::validate::{
     circuit, derived, non_negative, place, positive, ring, section_quantities, within, Failure, Placed, SectionKeys,
-    MAX_ELEMENTS,
+    MAX_ELEMENTS, MAX_TABLE_POINTS,
 };
 use super::{Location, ProblemError};
 use super::{NameOf, ProblemErrorKind as K};
@@ -519,6 +519,10 @@ fn coefficients(key: &str, b: &BearingFile) -> Result<Coefficients, Vec<Failure>
         }
     };
     let speeds = b.speeds.clone().unwrap_or_default();
+    // Before any entry is checked: a table's length bounds what it costs.
+    if speeds.len() > MAX_TABLE_POINTS {
+        return Err(vec![(k("speeds"), K::TableTooLong { points: speeds.len(), limit: MAX_TABLE_POINTS })]);
+    }
     for (j, &w) in speeds.iter().enumerate() {
         if let Err(e) = crate::analysis::limits::speed(w) {
             failures.push((k("speeds"), K::from(&e)));

@@ -20,7 +20,7 @@ pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
 pub use plausibility::{Warning, WarningKind};
 pub use source::Location;
-pub use validate::{DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS};
+pub use validate::{DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS, MAX_TABLE_POINTS};
 
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;

@@ -33,6 +33,16 @@ pub const MAX_BRANCHES: usize = 100;
 /// `check` summary (10⁵ disks load in 0.3 s and 240 MB).
 pub const MAX_DISKS: usize = 100_000;
 
+/// Upper bound on the speeds of a bearing's or seal's coefficient table (`speeds`, and
+/// each tabulated coefficient with it). Every evaluation of a tabulated coefficient at a
+/// speed solves the table's not-a-knot spline anew, in time and memory linear in its
+/// length (12 ns per point: 12 µs per coefficient at 1 000 points, about 0.1 ms per support
+/// and speed for its eight), and an unbalance sweep or a design's response evaluates them
+/// at thousands of speeds. Tables of fluid-film bearings and seals (ROSS's examples, a
+/// bearing code's output) have tens of points; a finer table adds nothing a spline
+/// through it can use, while one of 10⁵ points would cost 1.4 ms per coefficient.
+pub const MAX_TABLE_POINTS: usize = 1000;
+
 pub(super) fn finite(key: &str, v: f64) -> Result<f64, Failure> {
     if v.is_finite() {
         Ok(v)

@@ -516,6 +516,110 @@ alpha = 0.0
     )
 }
 
+/// [`jeffcott_damped`] (kxx = 1e7, kyy = 8e6 N/m, cxx = 100 N·s/m, a 10 kg disk at
+/// 500 rad/s) whose first bearing tabulates kxx, kyy and cxx over `points` speeds, 0 to
+/// 10·(points − 1) rad/s, each within 10 % of its constant.
+pub fn tabulated_jeffcott(points: usize) -> String {
+    let table = |base: f64| -> String {
+        let v: Vec<String> =
+            (0..points).map(|i| format!("{:?}", base * (1.0 + 0.1 * (i as f64 * 0.37).sin()))).collect();
+        format!("[{}]", v.join(", "))
+    };
+    let speeds: Vec<String> = (0..points).map(|i| format!("{:?}", 10.0 * i as f64)).collect();
+    let text = jeffcott_damped(1e7, 8e6, 0.5, 0.3, 100.0, 500.0);
+    let constant = "[[bearings]]\nnode = 0\nkxx = 10000000.0\nkyy = 8000000.0\ncxx = 100.0\n";
+    assert!(text.contains(constant), "jeffcott's first bearing");
+    let tabulated = format!(
+        "[[bearings]]\nnode = 0\nspeeds = [{}]\nkxx = {}\nkyy = {}\ncxx = {}\n",
+        speeds.join(", "),
+        table(1e7),
+        table(8e6),
+        table(100.0)
+    );
+    text.replacen(constant, &tabulated, 1)
+}
+
+/// `long_table.toml` in [`generated_dir`]: [`tabulated_jeffcott`] one speed over
+/// [`rotorshunt::problem::MAX_TABLE_POINTS`].
+pub fn long_table_file() -> std::path::PathBuf {
+    generated("long_table.toml", |p| {
+        std::fs::write(p, tabulated_jeffcott(rotorshunt::problem::MAX_TABLE_POINTS + 1)).expect("write long_table.toml")
+    })
+}
+
+/// A ROSS rotor as `Rotor.save` writes it (`format`: "toml" or "json") with `elements`
+/// shaft elements of 0.01 m, each of its own material (ROSS's "Steel" with a density
+/// 1e-3 kg/m³ above the element before: the importer names them Steel, Steel-2, …, and
+/// every element is a section of its own), on two bearings of 1e6 N/m at nodes 0 and
+/// `elements`: the importer's most work per element.
+pub fn ross_rotor(elements: usize, format: &str) -> String {
+    // Each table's keys and values as JSON text, which TOML reads too for these values.
+    let element = |i: usize| -> Vec<(&str, String)> {
+        let tag = format!("\"Shaft Element {i}\"");
+        [("L", "0.01"), ("idl", "0.0"), ("odl", "0.05"), ("idr", "0.0"), ("odr", "0.05")]
+            .map(|(k, v)| (k, v.to_string()))
+            .into_iter()
+            .chain([("n", i.to_string())])
+            .chain([("axial_force", "0"), ("torque", "0"), ("shear_effects", "false")].map(|(k, v)| (k, v.to_string())))
+            .chain([("rotary_inertia", "true"), ("gyroscopic", "true")].map(|(k, v)| (k, v.to_string())))
+            .chain([("shear_method_calc", "\"cowper\"".to_string()), ("tag", tag)])
+            .chain([("alpha", "0.0"), ("beta", "0.0")].map(|(k, v)| (k, v.to_string())))
+            .collect()
+    };
+    let material = |i: usize| -> Vec<(&str, String)> {
+        vec![
+            ("name", "\"Steel\"".into()),
+            ("rho", format!("{:?}", 7810.0 + 1e-3 * i as f64)),
+            ("E", "211000000000.0".into()),
+            ("G_s", "81200000000.0".into()),
+            ("color", "\"#525252\"".into()),
+        ]
+    };
+    let bearing = |tag: &str, n: usize| -> Vec<(&'static str, String)> {
+        let mut b: Vec<(&str, String)> = ["cxx", "cxy", "cyx", "cyy", "czz", "kxy", "kyx", "kzz", "mxx", "mxy", "myx"]
+            .into_iter()
+            .chain(["myy", "mzz"])
+            .map(|k| (k, "[0.0]".to_string()))
+            .collect();
+        b.extend([("kxx", "[1000000.0]".to_string()), ("kyy", "[1000000.0]".to_string())]);
+        b.extend([("n", n.to_string()), ("tag", format!("\"{tag}\""))]);
+        b
+    };
+    let bearings = [("Bearing 0", 0), ("Bearing 1", elements)];
+    if format == "json" {
+        let object = |pairs: Vec<(&str, String)>| -> String {
+            let body: Vec<String> = pairs.iter().map(|(k, v)| format!("    \"{k}\": {v}")).collect();
+            format!("{{\n{}\n  }}", body.join(",\n"))
+        };
+        let mut tables = vec!["  \"ross_version\": \"2.3.0\"".to_string()];
+        for i in 0..elements {
+            let mut e = element(i);
+            e.push(("material", object(material(i))));
+            tables.push(format!("  \"ShaftElement_Shaft Element {i}\": {}", object(e)));
+        }
+        for (tag, n) in bearings {
+            tables.push(format!("  \"BearingElement_{tag}\": {}", object(bearing(tag, n))));
+        }
+        return format!("{{\n{}\n}}\n", tables.join(",\n"));
+    }
+    // TOML as ROSS writes it: a table per element, the materials' tables after them.
+    let table = |header: String, pairs: Vec<(&str, String)>| -> String {
+        let body: String = pairs.iter().map(|(k, v)| format!("{k} = {v}\n")).collect();
+        format!("{header}\n{body}\n")
+    };
+    let mut text = String::from("ross_version = \"2.3.0\"\n\n");
+    for i in 0..elements {
+        text.push_str(&table(format!("[\"ShaftElement_Shaft Element {i}\"]"), element(i)));
+    }
+    for (tag, n) in bearings {
+        text.push_str(&table(format!("[\"BearingElement_{tag}\"]"), bearing(tag, n)));
+    }
+    for i in 0..elements {
+        text.push_str(&table(format!("[\"ShaftElement_Shaft Element {i}\".material]"), material(i)));
+    }
+    text
+}
+
 /// The Jeffcott rotor's shaft: E·I of its 0.05 m section (N·m²) and its length (m).
 pub const JEFFCOTT_EI: f64 = 2.0e11 * std::f64::consts::PI * 0.05 * 0.05 * 0.05 * 0.05 / 64.0;
 /// The Jeffcott rotor's span (m).

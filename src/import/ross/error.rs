@@ -238,6 +238,15 @@ pub enum Refusal {
         /// The last shaft node.
         last: i64,
     },
+    /// More shaft elements than a problem may have ([`crate::problem::MAX_ELEMENTS`]),
+    /// counted as the file is read, before any element is converted.
+    #[error("{count} shaft elements (the distinct n of its ShaftElement tables), more than the {limit} a problem's shaft may have (MAX_ELEMENTS: the dense eigensolvers' cost grows as the cube of the model's size); refused before any element was converted")]
+    TooManyElements {
+        /// Shaft elements in the file.
+        count: usize,
+        /// The limit, [`crate::problem::MAX_ELEMENTS`].
+        limit: usize,
+    },
     /// A rotor without bearings.
     #[error("the rotor has no BearingElement or SealElement: a free-free rotor has rigid-body modes (ROSS drops them silently), and rotorshunt refuses an unsupported rotor")]
     NoBearing,

@@ -385,27 +385,44 @@ fn shear_method(s: &Shaft) -> Result<Option<f64>, Refusal> {
 /// keeps a material per element; one name with different values becomes `name-2`, …:
 /// the first free suffix, skipping every name the file uses itself (a real `Steel-2`)
 /// and every name already given, so the problem's material names are all distinct.
+/// Linear in the elements: materials are found by hashing, and each name's suffixes are
+/// tried from where its last search stopped (a name once taken stays taken, so no
+/// smaller suffix becomes free).
 fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
-    let ross_names: std::collections::HashSet<&str> = shafts.iter().map(|s| s.material.name.as_str()).collect();
+    use std::collections::{HashMap, HashSet};
+    let ross_names: HashSet<&str> = shafts.iter().map(|s| s.material.name.as_str()).collect();
     let mut out: Vec<MaterialOut> = Vec::new();
     let mut index = Vec::with_capacity(shafts.len());
+    // A material by its ROSS name and values, compared as `==` compares them: −0 as +0,
+    // and a NaN (which equals nothing) never found.
+    let mut known: HashMap<(&str, [u64; 3]), usize> = HashMap::new();
+    let mut given: HashSet<String> = HashSet::new();
+    let mut next_suffix: HashMap<&str, u64> = HashMap::new();
+    let mut tried = 0;
     for s in shafts {
         let m = &s.material;
-        let found = out.iter().position(|o| {
-            o.ross_name == m.name && o.youngs_modulus == m.E && o.density == m.rho && o.shear_modulus == m.G_s
-        });
+        let values = [m.E, m.rho, m.G_s];
+        let key = (!values.iter().any(|v| v.is_nan()))
+            .then(|| (m.name.as_str(), values.map(|v| if v == 0.0 { 0 } else { v.to_bits() })));
+        let found = key.and_then(|k| known.get(&k).copied());
         let i = found.unwrap_or_else(|| {
-            let taken = |name: &str| out.iter().any(|o| o.name == name);
-            let name = if taken(&m.name) {
+            tried += 1;
+            let name = if given.contains(&m.name) {
                 // The first variant of a name keeps it; a later variant takes a suffix
                 // that neither the file nor an earlier variant uses.
-                (2u64..)
-                    .map(|k| format!("{}-{k}", m.name))
-                    .find(|n| !ross_names.contains(n.as_str()) && !taken(n))
-                    .unwrap_or_default()
+                let k = next_suffix.entry(m.name.as_str()).or_insert(2);
+                loop {
+                    let candidate = format!("{}-{k}", m.name);
+                    *k += 1;
+                    tried += 1;
+                    if !ross_names.contains(candidate.as_str()) && !given.contains(&candidate) {
+                        break candidate;
+                    }
+                }
             } else {
                 m.name.clone()
             };
+            given.insert(name.clone());
             out.push(MaterialOut {
                 name,
                 ross_name: m.name.clone(),
@@ -414,11 +431,15 @@ fn materials(shafts: &[&Shaft]) -> (Vec<MaterialOut>, Vec<usize>) {
                 shear_modulus: m.G_s,
                 timoshenko: false,
             });
+            if let Some(k) = key {
+                known.insert(k, out.len() - 1);
+            }
             out.len() - 1
         });
         out[i].timoshenko |= s.shear_effects;
         index.push(i);
     }
+    super::work::add(|w| w.material_names_tried += tried);
     (out, index)
 }
 
@@ -544,6 +565,14 @@ fn bearing(b: &Bearing, last_node: i64) -> Result<BearingOut, Refusal> {
     }
     let freq: &[f64] = b.frequency.as_ref().map_or(&[], Coefficient::values);
     let points = freq.len().max(1);
+    let limit = crate::problem::MAX_TABLE_POINTS;
+    if freq.len() > limit {
+        let rule = format!(
+            "the table has {} frequencies, more than the {limit} a problem's coefficient table may have (docs/errors.md, TableTooLong)",
+            freq.len()
+        );
+        return Err(Refusal::Value { key: "frequency".into(), value: freq.len() as f64, rule });
+    }
     // In rotorshunt's order (COEFFICIENT_NAMES), then the masses.
     let lateral: [(&'static str, &Coefficient); 12] = [
         ("kxx", &b.kxx),

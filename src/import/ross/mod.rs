@@ -10,12 +10,14 @@
 mod error;
 pub(crate) mod map;
 pub(crate) mod parse;
+mod work;
 pub(crate) mod write;
 
 pub use error::{ElementRef, Format, Refusal, Refused, RossError, RossErrorKind};
 pub use map::{BearingOut, DiskOut, LayerOut, MaterialOut, SectionOut};
 pub use map::{Imported, SAME_LENGTH_RTOL};
 pub use parse::SupportClass;
+pub use work::Work;
 
 use std::path::Path;
 

@@ -2,8 +2,9 @@
 //! elements. Only the form is checked here; what rotorshunt can represent is decided in
 //! [`super::map`]. The format is described in `docs/ross-format.md`.
 
-use super::error::{Format, RossErrorKind};
+use super::error::{Format, Refusal, RossErrorKind};
 use serde::Deserialize;
+use std::collections::{HashMap, HashSet};
 
 /// A saved rotor: its elements by class, each with its table name.
 #[derive(Debug, Clone, Default)]
@@ -331,22 +332,84 @@ pub fn format_of(path: &std::path::Path, text: &str) -> Format {
     }
 }
 
-/// The 1-based line of the table `name` (`["<Class>_<tag>"]` in TOML, the top-level key
-/// `"<Class>_<tag>"` in JSON), for messages; `None` when it is not found as ROSS writes it.
-pub fn table_line(text: &str, name: &str, format: Format) -> Option<usize> {
-    let quoted = serde_json::Value::String(name.to_string()).to_string();
-    text.lines()
-        .position(|l| {
+/// The 1-based lines of a text's table headers (`["<Class>_<tag>"]` in TOML, a key
+/// `"<Class>_<tag>":` at the start of a line in JSON), found in one pass over the text so
+/// that naming each element's line costs a look-up, not a scan.
+pub struct TableLines {
+    format: Format,
+    /// Each header as written (TOML: between the brackets, trimmed; JSON: the quoted
+    /// key) → its first line.
+    lines: HashMap<String, usize>,
+}
+
+impl TableLines {
+    /// The headers of `text`, read as `format`.
+    pub fn of(text: &str, format: Format) -> TableLines {
+        let mut lines = HashMap::new();
+        let mut scanned = 0;
+        for (i, l) in text.lines().enumerate() {
+            scanned += 1;
             let l = l.trim();
-            match format {
-                Format::Toml => {
-                    let inner = l.strip_prefix('[').and_then(|l| l.strip_suffix(']')).map(str::trim);
-                    inner.is_some_and(|i| i == name || i == quoted)
-                }
-                Format::Json => l.strip_prefix(&quoted).is_some_and(|rest| rest.trim_start().starts_with(':')),
+            let header = match format {
+                Format::Toml => l.strip_prefix('[').and_then(|l| l.strip_suffix(']')).map(str::trim),
+                Format::Json => json_key(l),
+            };
+            if let Some(h) = header {
+                lines.entry(h.to_string()).or_insert(i + 1);
             }
-        })
-        .map(|i| i + 1)
+        }
+        super::work::add(|w| w.lines_scanned += scanned);
+        TableLines { format, lines }
+    }
+
+    /// The line of the table `name` (`["<Class>_<tag>"]` in TOML, the top-level key
+    /// `"<Class>_<tag>"` in JSON), for messages; `None` when it is not found as ROSS
+    /// writes it.
+    pub fn line(&self, name: &str) -> Option<usize> {
+        let quoted = serde_json::Value::String(name.to_string()).to_string();
+        let quoted = self.lines.get(&quoted).copied();
+        match self.format {
+            Format::Toml => [self.lines.get(name).copied(), quoted].into_iter().flatten().min(),
+            Format::Json => quoted,
+        }
+    }
+}
+
+/// The JSON string that opens `line`, with its quotes, when a `:` follows it (a key).
+fn json_key(line: &str) -> Option<&str> {
+    let rest = line.strip_prefix('"')?;
+    let mut escaped = false;
+    for (i, c) in rest.char_indices() {
+        match c {
+            _ if escaped => escaped = false,
+            '\\' => escaped = true,
+            '"' => {
+                let end = i + 2;
+                return line[end..].trim_start().starts_with(':').then(|| &line[..end]);
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The shaft elements of a parsed document, counted before any is converted: the
+/// distinct `n` of its `ShaftElement` tables (concentric layers share their element's
+/// `n`), a table without an integer `n` counted as an element of its own.
+fn shaft_elements(map: &serde_json::Map<String, serde_json::Value>) -> usize {
+    let mut numbers = HashSet::new();
+    let mut unnumbered = 0;
+    for (name, value) in map {
+        if name.split_once('_').is_some_and(|(class, _)| class == "ShaftElement") {
+            match value.get("n").and_then(serde_json::Value::as_i64) {
+                Some(n) => {
+                    numbers.insert(n);
+                }
+                None => unnumbered += 1,
+            }
+        }
+    }
+    numbers.len() + unnumbered
 }
 
 /// Parse a saved rotor's text.
@@ -372,6 +435,18 @@ pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
             message: "the file is not a table of elements".into(),
         });
     };
+    // The size limit before any element is converted: rotorshunt's shaft holds at most
+    // MAX_ELEMENTS elements, and a larger rotor is refused as a whole.
+    let count = shaft_elements(&map);
+    let limit = usize::try_from(crate::problem::MAX_ELEMENTS).unwrap_or(usize::MAX);
+    if count > limit {
+        return Err(RossErrorKind::Refused {
+            element: None,
+            reason: Box::new(Refusal::TooManyElements { count, limit }),
+            more: Box::new([]),
+        });
+    }
+    let lines = TableLines::of(text, format);
     let mut file = RossFile::default();
     for (name, value) in map {
         if NOT_ELEMENTS.contains(&name.as_str()) {
@@ -383,19 +458,22 @@ pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
         let key = format!("[\"{name}\"]");
         let Some((class, tag)) = name.split_once('_') else {
             return Err(RossErrorKind::Schema {
-                line: table_line(text, &name, format),
+                line: lines.line(&name),
                 key,
                 message: "not an element table: ROSS names each element's table `<Class>_<tag>`".into(),
             });
         };
         if !value.is_object() {
-            let line = table_line(text, &name, format);
+            let line = lines.line(&name);
             return Err(RossErrorKind::Schema { key, line, message: "an element must be a table".into() });
         }
-        let line = table_line(text, &name, format);
+        let line = lines.line(&name);
         let mut value = value;
         match class {
-            "ShaftElement" => file.shafts.push(Shaft { line, ..element(&key, line, value)? }),
+            "ShaftElement" => {
+                file.shafts.push(Shaft { line, ..element(&key, line, value)? });
+                super::work::add(|w| w.shaft_elements_converted += 1);
+            }
             "DiskElement" => file.disks.push(Disk { line, ..element(&key, line, value)? }),
             "PointMass" => file.point_masses.push(PointMass { line, ..element(&key, line, value)? }),
             _ => {
