@@ -56,7 +56,7 @@ impl Objective for ClearBands {
     /// step, and the result.
     fn most_candidates(&self, spec: &DesignSpec) -> usize {
         let (starts, iterations, variables) = (spec.starts, spec.max_iterations, spec.variables.len());
-        4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1
+        4 * starts + 1 + 2 * iterations * (2 * variables + 1) + 1 + crate::design::optimise::slice_points(variables)
     }
 
     fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {

@@ -61,7 +61,8 @@ impl Objective for MinPeakResponse {
         let runs = if spec.constraints.is_empty() { 1 } else { 2 };
         let starts = starts.max(3);
         let map = if spec.map { crate::design::optimise::map_points(variables) } else { 0 };
-        2 + map + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1)
+        let slices = if spec.map { crate::design::optimise::slice_points(variables) } else { 0 };
+        2 + map + runs * starts * (2 * iterations + variables + 1) + 8 * (4 * variables + 1) + slices
     }
 
     fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {

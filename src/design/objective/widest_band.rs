@@ -56,7 +56,7 @@ impl Objective for WidestStableBand {
         let mapped = spec.starts > 1 && spec.map;
         let map = if mapped { map_points(variables) } else { 0 };
         let starts = spec.starts.max(1) + if mapped { extra_starts(variables) } else { 0 };
-        map + starts * (2 * iterations + variables + 1) + starts + 1
+        map + starts * (2 * iterations + variables + 1) + starts + 1 + crate::design::optimise::slice_points(variables)
     }
 
     fn optimise(&self, ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(), DesignError> {

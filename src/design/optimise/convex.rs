@@ -241,6 +241,7 @@ pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
         maximise: false,
         points: scored[1..].iter().map(|(merit, _, u)| MapPoint { values: ctx.values(u), objective: Some(*merit) }).collect(),
         basins: best.map(|i| vec![i - 1]).unwrap_or_default(),
+        slices: Vec::new(),
     });
     // The run from the reference always exists; a later run replaces it when better.
     let (first, rest) = seeds.split_first().ok_or(DesignError::Qp("no convex start".into()))?;
@@ -258,7 +259,8 @@ pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
     let after: Vec<Intrusion> = best_run.intrusions.into_iter().filter(|i| i.inside).collect();
     out.status = if after.is_empty() { Status::Feasible } else { Status::Infeasible };
     out.findings = Findings::ClearBands { before, after, linear_infeasible: best_run.linear_infeasible };
-    Ok(())
+    let merit = |u: &[f64]| ctx.candidate(u).and_then(|c| intrusions_as_built(&c, &ctx.eval())).ok().map(|i| total(&i));
+    fill_slices(ctx, out, &merit)
 }
 
 /// A convex run's history and steps, as start `k`.

@@ -46,6 +46,60 @@ pub struct ObjectiveMap {
     /// The indices of the points the local searches started from (the best distinct
     /// basins, best first).
     pub basins: Vec<usize>,
+    /// With more than two variables, one slice per pair of variables through the tuned
+    /// design ([`MapSlice`]); empty with two or fewer.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub slices: Vec<MapSlice>,
+}
+
+/// Points per side of a slice of the map: a 5 × 5 grid over the pair's box, the corners
+/// and the centre included, 25 candidates a pair.
+pub const SLICE_POINTS: usize = 5;
+
+/// The objective over one pair of variables through the tuned design: a grid of
+/// [`SLICE_POINTS`] × [`SLICE_POINTS`] points over the pair's box (on the scale the design
+/// searches each variable on), every other variable at its tuned value.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapSlice {
+    /// The two variables (indices into `[[design.variables]]`, the first on x).
+    pub pair: (usize, usize),
+    /// The grid's points, x fastest.
+    pub points: Vec<MapPoint>,
+}
+
+/// The candidates of the slices of a design of `variables` variables: none for two or
+/// fewer, [`SLICE_POINTS`]² per pair of variables for more.
+pub fn slice_points(variables: usize) -> usize {
+    if variables > 2 {
+        variables * (variables - 1) / 2 * SLICE_POINTS * SLICE_POINTS
+    } else {
+        0
+    }
+}
+
+/// A pair of variables and the scaled points of its slice.
+pub(super) type SliceGrid = ((usize, usize), Vec<Vec<f64>>);
+
+/// The scaled points of each slice through `optimum` (scaled), pair by pair (x fastest).
+pub(super) fn slice_grids(optimum: &[f64]) -> Vec<SliceGrid> {
+    let n = optimum.len();
+    let step = |k: usize| k as f64 / (SLICE_POINTS - 1) as f64;
+    let mut out = Vec::new();
+    for i in 0..n {
+        for j in i + 1..n {
+            let grid = (0..SLICE_POINTS)
+                .flat_map(|b| (0..SLICE_POINTS).map(move |a| (a, b)))
+                .map(|(a, b)| {
+                    let mut u = optimum.to_vec();
+                    u[i] = step(a);
+                    u[j] = step(b);
+                    u
+                })
+                .collect();
+            out.push(((i, j), grid));
+        }
+    }
+    out
 }
 
 /// The scaled points of a map of `count` points in `dims` dimensions: the Halton set, whose
@@ -94,6 +148,24 @@ pub(super) fn basins(scaled: &[Vec<f64>], values: &[Option<f64>], want: usize) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slices_span_each_pair_through_the_optimum() {
+        let optimum = [0.3, 0.6, 0.9];
+        let grids = slice_grids(&optimum);
+        assert_eq!(grids.iter().map(|g| g.0).collect::<Vec<_>>(), [(0, 1), (0, 2), (1, 2)]);
+        assert_eq!(grids.iter().map(|g| g.1.len()).sum::<usize>(), slice_points(3));
+        for ((i, j), grid) in &grids {
+            let k = 3 - i - j;
+            // The third variable stays at the optimum; the pair spans its box, ends included.
+            assert!(grid.iter().all(|u| u[k] == optimum[k]));
+            let corners = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+            assert!(corners.iter().all(|c| grid.iter().any(|u| u[*i] == c[0] && u[*j] == c[1])));
+            assert!(grid.iter().any(|u| u[*i] == 0.5 && u[*j] == 0.5));
+        }
+        assert_eq!(slice_points(2), 0, "two variables: the map itself is the slice");
+        assert!(slice_grids(&[0.5, 0.5]).len() == 1, "one pair of two variables");
+    }
 
     #[test]
     fn two_hills_give_two_basins_best_first() {

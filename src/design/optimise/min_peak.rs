@@ -354,6 +354,7 @@ fn peak_map(ctx: &Context<'_>, out: &mut DesignOutcome, node: usize) -> Result<V
         maximise: false,
         points: scaled.iter().zip(&peaks).map(|(u, &v)| MapPoint { values: ctx.values(u), objective: v }).collect(),
         basins: chosen.clone(),
+        slices: Vec::new(),
     });
     Ok(chosen.into_iter().map(|i| scaled[i].clone()).collect())
 }
@@ -549,5 +550,5 @@ pub(crate) fn min_peak(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<(),
         convex_steps: convex,
         as_built: None,
     }));
-    Ok(())
+    fill_slices(ctx, out, &|u| ctx.judge(u, false).ok().map(|j| j.value()))
 }

@@ -33,7 +33,9 @@ mod verification;
 use best::{BestSoFar, Rank};
 pub(crate) use convex::clear_bands;
 pub use convex::GLOBAL_PASS;
-pub use map::{extra_starts, map_points, MapPoint, ObjectiveMap, MAP_POINTS_PER_VARIABLE};
+pub use map::{
+    extra_starts, map_points, slice_points, MapPoint, MapSlice, ObjectiveMap, MAP_POINTS_PER_VARIABLE, SLICE_POINTS,
+};
 pub(crate) use min_peak::min_peak;
 pub use min_peak::{JudgedDesign, PeakFindings, PeakStep, Price};
 pub(crate) use nelder_mead::widest_band;
@@ -185,6 +187,32 @@ impl Context<'_> {
         }
         Ok((value, nominal.bands))
     }
+}
+
+/// The map's slices through the tuned design `out.after` (more than two variables and a
+/// map: [`map::slice_grids`]), `f` the map's objective at a scaled point (None where the
+/// candidate fails); each slice's points in parallel.
+fn fill_slices(
+    ctx: &Context<'_>,
+    out: &mut DesignOutcome,
+    f: &(dyn Fn(&[f64]) -> Option<f64> + Sync),
+) -> Result<(), DesignError> {
+    if ctx.spec.variables.len() <= 2 || out.map.is_none() {
+        return Ok(());
+    }
+    let optimum = to_unit(ctx.spec, &out.after);
+    let mut slices = Vec::new();
+    for (pair, grid) in map::slice_grids(&optimum) {
+        let values: Vec<Option<f64>> = grid.par_iter().map(|u| f(u)).collect();
+        stopped(ctx.progress)?;
+        let points =
+            grid.iter().zip(values).map(|(u, objective)| MapPoint { values: ctx.values(u), objective }).collect();
+        slices.push(MapSlice { pair, points });
+    }
+    if let Some(m) = out.map.as_mut() {
+        m.slices = slices;
+    }
+    Ok(())
 }
 
 /// Penalty per rad/s of frequency-margin shortfall at the margin level, in rad/s of band

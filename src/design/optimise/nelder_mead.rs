@@ -123,6 +123,7 @@ pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
                 .map(|(u, &v)| MapPoint { values: ctx.values(u), objective: v })
                 .collect(),
             basins: chosen,
+            slices: Vec::new(),
         });
     }
     // The caller's starts, and the tuned design of a round on a smaller basis.
@@ -200,5 +201,6 @@ pub(crate) fn widest_band(ctx: &Context<'_>, out: &mut DesignOutcome, phi_op: f6
         out.status = Status::Infeasible;
     }
     out.findings = Findings::WidestBand { before, after };
-    Ok(())
+    let objective = |u: &[f64]| ctx.candidate(u).and_then(|c| Ok(ctx.judged(&c, phi_op)?.0)).ok();
+    fill_slices(ctx, out, &|u| objective(u).filter(|v| *v > -FAILED_COST))
 }

@@ -73,6 +73,9 @@ pub struct MapFile<'a> {
     pub points: &'a [MapPoint],
     /// The points the local searches started from (indices into `points`), best first.
     pub basins: &'a [usize],
+    /// With more than two variables, the slices through the tuned design, one per pair.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub slices: &'a [crate::design::optimise::MapSlice],
 }
 
 /// map.json's content, where the run made a map.
@@ -84,6 +87,7 @@ pub fn map_file(o: &DesignOutcome) -> Option<MapFile<'_>> {
         maximise: m.maximise,
         points: &m.points,
         basins: &m.basins,
+        slices: &m.slices,
     })
 }
 
@@ -132,7 +136,17 @@ pub(super) fn map_section(s: &mut String, o: &DesignOutcome) {
             values(&p.values)
         );
     }
-    let _ = writeln!(s, " Every point is in map.csv and map.json.");
+    if let Some(first) = m.slices.first() {
+        let _ = write!(
+            s,
+            " With {} variables, the map is drawn as one slice per pair through the tuned design ({} pairs, {} points each on a {k} × {k} grid over the pair's box, the other variables at their tuned values; map-i-j.png).",
+            o.spec.variables.len(),
+            m.slices.len(),
+            first.points.len(),
+            k = crate::design::optimise::SLICE_POINTS
+        );
+    }
+    let _ = writeln!(s, " Every point is in map.csv and map.json (the slices in map.json).");
 }
 
 #[cfg(test)]

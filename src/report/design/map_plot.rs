@@ -3,8 +3,9 @@
 //! units; the map's points are spread evenly on the scale the design searches each
 //! variable on, logarithmic for frequencies and inductances), with the reference, the
 //! starts of the local searches and the tuned design marked; with more variables, one
-//! such panel per pair of variables, the map's points projected onto it (the other
-//! variables free, as the caption says).
+//! panel per pair of variables: the map's slice through the tuned design over the pair
+//! ([`crate::design::optimise::MapSlice`], the other variables at their tuned values),
+//! with the tuned design marked.
 
 use crate::design::optimise::ObjectiveMap;
 use crate::design::spec::{DesignSpec, Variable};
@@ -65,10 +66,27 @@ pub fn map_plots(o: &DesignOutcome) -> Vec<(String, MapPlot)> {
     out
 }
 
-/// The panel of variables `i` (x) and `j` (y).
+/// The panel of variables `i` (x) and `j` (y): the map's slice over the pair when it has
+/// one, else the map itself.
 fn panel(o: &DesignOutcome, m: &ObjectiveMap, spec: &DesignSpec, i: usize, j: usize) -> MapPlot {
     let n = spec.variables.len();
     let (what, _) = split_unit(&m.objective);
+    if let Some(slice) = m.slices.iter().find(|s| s.pair == (i, j)) {
+        return MapPlot {
+            title: format!(
+                "Slice of {what} through the tuned design over {} and {} (the other variables at their tuned values): {} points",
+                spec.variables[i].name(),
+                spec.variables[j].name(),
+                slice.points.len()
+            ),
+            x: spec.variables[i].clone(),
+            y: spec.variables[j].clone(),
+            points: slice.points.iter().map(|p| (p.values[i], p.values[j], p.objective)).collect(),
+            objective: m.objective.clone(),
+            maximise: m.maximise,
+            marks: vec![("tuned design".to_string(), TUNED_COLOR, Marker::Cross, (o.after[i], o.after[j]))],
+        };
+    }
     let title = if n == 2 {
         format!("Map of the objective over the box ({what}): {} points", m.points.len())
     } else {

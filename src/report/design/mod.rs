@@ -89,7 +89,10 @@ pub(super) fn figure_caption(file: &str) -> String {
         return map.to_string();
     }
     if let Some(pair) = stem.strip_prefix("map-") {
-        return format!("{map}, variables {}", pair.replace('-', " and "));
+        return format!(
+            "Slice of the map through the tuned design over variables {} (colour: the objective; the other variables at their tuned values; the tuned design marked)",
+            pair.replace('-', " and ")
+        );
     }
     let (kind, speed) = match stem.split_once('-') {
         Some((k, n)) => (k, format!(" (design speed {n})")),
