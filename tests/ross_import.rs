@@ -464,3 +464,30 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     assert!(stderr.contains("rigid-body mode(s)"), "{stderr}");
     assert!(!out.exists());
 }
+
+#[test]
+fn a_ross_coefficient_far_beyond_the_shafts_scale_is_not_written() {
+    // Issue 50, item 6: `kxx = 1e308` was imported, and the rotor's whirls came out
+    // wrong with tiny residuals. The general form refuses it at its key (OutOfScale).
+    let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
+    let start = text.find("[\"BearingElement_Bearing 0\"]").unwrap();
+    let at = start + text[start..].find("kxx = [ 1000000.0,]").unwrap();
+    let dir = crate::common::tmp("ross-import-scale");
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = dir.join("stiff.toml");
+    std::fs::write(&source, format!("{}kxx = [ 1e308,]{}", &text[..at], &text[at + "kxx = [ 1000000.0,]".len()..]))
+        .unwrap();
+    let out = dir.join("stiff.problem.toml");
+    let run = crate::common::bin()
+        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("key `bearings[0].kxx`: kxx = 1e308 N/m is 1.0057e300 times the shaft's own stiffness scale"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
