@@ -191,16 +191,17 @@ pub enum ProblemErrorKind {
     /// [`super::MAX_SUPPORT_STIFFNESS_RATIO`] times the shaft's stiffness scale
     /// ([`crate::model::Shaft::stiffness_scale`]), or a damping |c| above
     /// [`super::MAX_SUPPORT_DAMPING_RATIO`] times its damping scale √(K_s·M_s).
-    #[error("{}", out_of_scale(coefficient, *value, *scale, *limit, *speed))]
+    #[error("{}", out_of_scale(coefficient, *value, *scale, *speed))]
     OutOfScale {
-        /// The coefficient: a stiffness (`kxx`, `kxy`, `kyx`, `kyy`) or a damping (`cxx`, …).
-        coefficient: String,
+        /// The coefficient's key: a stiffness (`stiffness`, `kxx`, `kxy`, `kyx`, `kyy`) or
+        /// a damping (`damping`, `cxx`, …).
+        coefficient: &'static str,
         /// The value (N/m, or N·s/m).
         value: f64,
-        /// The shaft's scale in the same unit (N/m, or N·s/m).
+        /// The shaft's scale in the same unit (N/m, or N·s/m); the ratio admitted is
+        /// [`super::MAX_SUPPORT_STIFFNESS_RATIO`] for a stiffness,
+        /// [`super::MAX_SUPPORT_DAMPING_RATIO`] for a damping.
         scale: f64,
-        /// The largest ratio |value|/scale admitted.
-        limit: f64,
         /// The table speed of the value (rad/s); `None` for a constant.
         speed: Option<f64>,
     },
@@ -358,9 +359,10 @@ fn at_speed(speed: Option<f64>) -> String {
 
 /// The text of [`ProblemErrorKind::OutOfScale`]: the ratio, the scale and what it is,
 /// and how a rigid support is modelled.
-fn out_of_scale(coefficient: &str, value: f64, scale: f64, limit: f64, speed: Option<f64>) -> String {
+fn out_of_scale(coefficient: &str, value: f64, scale: f64, speed: Option<f64>) -> String {
     let sig = |x: f64| format!("{x:.4e}");
     let stiffness = coefficient == "stiffness" || coefficient.starts_with('k');
+    let limit = if stiffness { super::MAX_SUPPORT_STIFFNESS_RATIO } else { super::MAX_SUPPORT_DAMPING_RATIO };
     let (unit, what, rigid) = if stiffness {
         (
             "N/m",

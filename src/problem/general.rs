@@ -592,9 +592,14 @@ fn coefficients(key: &str, b: &BearingFile, scales: Scales) -> Result<Coefficien
         };
         if let Some((j, &value)) = v.iter().enumerate().find(|(_, x)| x.abs() > limit * scale) {
             let key = source(i);
-            let coefficient = key.rsplit('.').next().unwrap_or(COEFFICIENT_NAMES[i]).to_string();
+            let named = key.rsplit('.').next().unwrap_or_default();
+            let coefficient = ["stiffness", "damping"]
+                .into_iter()
+                .chain(COEFFICIENT_NAMES)
+                .find(|n| *n == named)
+                .unwrap_or(COEFFICIENT_NAMES[i]);
             let speed = (v.len() > 1).then(|| speeds[j]);
-            let entry = (key, K::OutOfScale { coefficient, value, scale, limit, speed });
+            let entry = (key, K::OutOfScale { coefficient, value, scale, speed });
             if !failures.contains(&entry) {
                 failures.push(entry);
             }
