@@ -228,6 +228,35 @@ fn impossible_bounds_are_reported_infeasible_with_exit_3_and_no_tuned_toml() {
 }
 
 #[test]
+fn an_impossible_peak_limit_ends_infeasible_with_exit_3_whatever_the_solvers_status() {
+    // Issue 50, item 5: a peak limit of 1e-30 m puts the convex step's constraint 25
+    // decades out of scale, and clarabel stops with InsufficientProgress; that was exit 1
+    // with nothing written. The steps end there and the design is judged as it stands.
+    let dir = tmp("design-impossible-peak");
+    let out = bin()
+        .arg("design")
+        .arg(problem_path("design-min-peak.toml"))
+        .args(["--set", "design.constraints.max_peak=1e-30"])
+        .args(common::COARSE_MODEL_ARGS)
+        .args(["--set", "design.starts=1", "--set", "design.max_iterations=1", "--set", "design.response.node=2"])
+        .args(["--set", "design.response.points=5", "--set", "design.phi_range=[300.0, 450.0]"])
+        .args(["--set", "design.constraints.min_band_width=20"])
+        .args(common::COARSE_CHART_ARGS)
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let (text, err) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(3), "{text}{err}");
+    assert!(text.contains("design: infeasible"), "{text}");
+    assert!(text.contains("constraint peak response <= 1e-30 m:") && text.contains("(NOT met)"), "{text}");
+    assert!(!err.contains("clarabel"), "{err}");
+    assert!(!dir.join("tuned.toml").exists());
+    assert!(dir.join("best-effort.toml").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn a_band_that_fails_verification_is_reported_with_exit_4() {
     // A criterion that claims completeness up to order 1 only: the band ignores the
     // higher-order tongues, and the verification grid (which counts every unstable point)

@@ -72,6 +72,7 @@ fn every_kind() -> Vec<&'static str> {
         ProblemErrorKind::RigidBody { supports: 0 },
         ProblemErrorKind::NegativeStiffness { value: -1.0, speed: None },
         ProblemErrorKind::DampingNotSemiDefinite { c: [[0.0; 2]; 2], eigenvalue: -1.0, speed: None },
+        ProblemErrorKind::OutOfScale { coefficient: "kxx", value: 1.0, scale: 1.0, speed: None },
         ProblemErrorKind::TableSpeedsNotIncreasing { index: 1, speed: 0.0, previous: 0.0 },
         ProblemErrorKind::TableLength { values: 1, speeds: 2 },
         ProblemErrorKind::TableTooLong { points: 2, limit: 1 },

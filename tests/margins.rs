@@ -206,3 +206,46 @@ fn the_strict_band_of_band_is_the_catalogue_band_at_the_strict_tolerance() {
     assert!((m["phi_below"].as_f64().unwrap() - (1230.0 - b["lo"].as_f64().unwrap())).abs() < 1e-9);
     assert!((m["phi_above"].as_f64().unwrap() - (b["hi"].as_f64().unwrap() - 1230.0)).abs() < 1e-9);
 }
+
+#[test]
+fn a_margin_no_band_in_the_window_can_give_is_refused_at_its_key_before_any_solve() {
+    // Issue 50, item 7. problems/design-margins.toml: β_op = 0.3, φ_op = 1330 rad/s in
+    // [100, 8000] rad/s. A band found in the window ends inside it, so φ_op's room is
+    // min(1330 − 100, 8000 − 1330) = 1230 rad/s; the margin level (1 + m)·0.3 stays at most
+    // MAX_BETA = 100 for m ≤ 100/0.3 − 1 = 332.33. Both messages quote the value typed.
+    let file = problem_path("design-margins.toml");
+    for (set, expected) in [
+        (
+            "design.margins.phi=1e300",
+            "error: problems/design-margins.toml, --set: key `design.margins.phi`: must be at most 1230 rad/s, the room phi_op = 1330 rad/s has inside the design's phi range [100, 8000] rad/s (no stable band found there reaches farther), found 1e300",
+        ),
+        (
+            "design.margins.beta=1000",
+            "error: problems/design-margins.toml, --set: key `design.margins.beta`: must be at most 332.333 (with beta_op = 0.3 a larger margin puts the margin level (1 + beta) beta_op above 100, the largest beta a search covers), found 1000",
+        ),
+    ] {
+        // `design` itself refuses it before it makes its folder.
+        let dir = tmp("margins-refused");
+        let out = bin()
+            .current_dir(common::root())
+            .args(["design", "problems/design-margins.toml", "--set", set, "--out"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        assert_eq!(String::from_utf8_lossy(&out.stderr).lines().next(), Some(expected), "{set}");
+        assert!(!dir.exists(), "{set}: refused before the folder is made");
+    }
+    // 1230 rad/s itself and m = 332 are admitted.
+    let p = rotorshunt::problem::Problem::from_path(
+        &file,
+        &["design.margins.phi=1230".into(), "design.margins.beta=332".into()],
+    )
+    .unwrap();
+    // The library's route, DesignSpec::check, by the same rule and value.
+    let mut spec = p.design.unwrap();
+    let margins = spec.constraints.margins.as_mut().unwrap();
+    margins.phi = 1e300;
+    let (key, e) = spec.check(&[2, 2]).unwrap_err();
+    assert_eq!((key.as_str(), e.value), ("margins.phi", 1e300));
+}

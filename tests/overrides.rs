@@ -124,3 +124,34 @@ fn a_study_sweeps_the_inductance_over_a_base_tuned_by_frequency() {
     assert!((lo - own.lo).abs() < 0.2 && (hi - own.hi).abs() < 0.2, "case [{lo}, {hi}], base {own:?}");
     assert_ne!(band_of(&cases[1]), band_of(&cases[0]));
 }
+
+#[test]
+fn an_array_override_is_blamed_on_set_with_its_key() {
+    // Issue 50, item 8: an array set by --set was blamed on a line of the file (the key's
+    // own line, or its table's header when the file has no such key); scalars already
+    // said --set. The key is the element that breaks the rule.
+    for (given, key) in [
+        ("design.phi_range=[8000.0, 100.0]", "design.phi_range[1]"),
+        ("design.speeds=[-1.0]", "design.speeds[0]"),
+        ("design.response.speeds=[-1.0, 5.0]", "design.response.speeds[0]"),
+        ("design.speed_range=[-1.0, 5.0]", "design.speed_range[0]"),
+    ] {
+        let e = set("design-min-peak.toml", &[given]).unwrap_err();
+        assert_eq!((e.key.as_str(), e.location), (key, Location::Override), "{given}: {e}");
+    }
+    // The file's own array is still blamed at its line (design-min-peak.toml, line 67).
+    let text = std::fs::read_to_string(problem_path("design-min-peak.toml")).unwrap();
+    let text = text.replace("speeds = [250.0, 500.0]", "speeds = [-250.0, 500.0]");
+    let e = Problem::from_text(&text, "f.toml", &[]).unwrap_err();
+    assert_eq!((e.key.as_str(), e.location), ("design.response.speeds[0]", Location::Line(67)), "{e}");
+    let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
+        .args(["check", "problems/design-min-peak.toml", "--set", "design.phi_range=[8000.0,100.0]"])
+        .current_dir(root())
+        .output()
+        .expect("run");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr).lines().next(),
+        Some("error: problems/design-min-peak.toml, --set: key `design.phi_range[1]`: must be above the range's low end, 8000 rad/s, found 100")
+    );
+}

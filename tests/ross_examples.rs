@@ -245,3 +245,30 @@ fn the_compressor_with_a_ring_ends_its_design_verified() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn an_overdamped_root_is_not_listed_as_a_whirl() {
+    // Issue 50, item 10: ROSS's compressor at rest has a root λ = −859.97 ± 2.48j (ζ =
+    // 0.999996), which `modes` listed as the forward whirl f1 at 2.48 rad/s. Its motion
+    // decays by e^−2180 per period of its frequency: overdamped. No whirl listed may
+    // decay by more than 2⁻⁵² per period (log decrement 2πζ/√(1 − ζ²) ≤ 52 ln 2).
+    let o = common::bin()
+        .args(["modes", "problems/ross/compressor_example.toml", "--set", "speed=0", "--count", "3", "--json"])
+        .current_dir(common::root())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let modes = v["modes"].as_array().unwrap();
+    for m in modes {
+        let z = m["damping_ratio"].as_f64().unwrap();
+        let log_dec = 2.0 * std::f64::consts::PI * z / (1.0 - z * z).sqrt();
+        assert!(log_dec <= 52.0 * 2f64.ln(), "{m}");
+    }
+    // The first forward whirl is the first oscillating one, above 1000 rad/s.
+    let f1 = modes.iter().find(|m| m["whirl"] == "forward" && m["label"] == "1").unwrap();
+    assert!(f1["frequency"].as_f64().unwrap() > 1000.0, "{f1}");
+    // The default tolerance is that decrement's √(1 − ζ²): 1/√(1 + (52 ln 2/(2π))²).
+    let t = 52.0 * 2f64.ln() / (2.0 * std::f64::consts::PI);
+    assert!((rotorshunt::analysis::OVERDAMPED_RATIO - 1.0 / (1.0 + t * t).sqrt()).abs() < 1e-6);
+}

@@ -464,3 +464,74 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     assert!(stderr.contains("rigid-body mode(s)"), "{stderr}");
     assert!(!out.exists());
 }
+
+#[test]
+fn a_ross_coefficient_far_beyond_the_shafts_scale_is_not_written() {
+    // Issue 50, item 6: `kxx = 1e308` was imported, and the rotor's whirls came out
+    // wrong with tiny residuals. The general form refuses it at its key (OutOfScale).
+    let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
+    let start = text.find("[\"BearingElement_Bearing 0\"]").unwrap();
+    let at = start + text[start..].find("kxx = [ 1000000.0,]").unwrap();
+    let dir = crate::common::tmp("ross-import-scale");
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = dir.join("stiff.toml");
+    std::fs::write(&source, format!("{}kxx = [ 1e308,]{}", &text[..at], &text[at + "kxx = [ 1000000.0,]".len()..]))
+        .unwrap();
+    let out = dir.join("stiff.problem.toml");
+    let run = crate::common::bin()
+        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("key `bearings[0].kxx`: kxx = 1e308 N/m is 1.0057e300 times the shaft's own stiffness scale"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_number_that_is_not_finite_is_named_by_its_key() {
+    // Issue 50, item 10: `L = nan` read as "invalid type: null", a huge integer as "JSON
+    // number out of range"; each is now named by its key and line.
+    let text = std::fs::read_to_string(fixture("rotor_example_rayleigh.toml")).unwrap();
+    let first_l = text.find("\nL = 0.25").unwrap() + 1;
+    let line = text[..first_l].lines().count() + 1;
+    let key = "[\"ShaftElement_Shaft Element 0\"].L";
+    for value in ["nan", "inf", "-inf", "1e400", "99999999999999999999999"] {
+        let edited = format!("{}L = {value}{}", &text[..first_l], &text[first_l + "L = 0.25".len()..]);
+        match rotorshunt::import::ross::import_text(&edited, "r.toml", Options::default()).unwrap_err().kind {
+            RossErrorKind::Schema { key: k, line: l, message } => {
+                assert_eq!((k.as_str(), l), (key, Some(line)), "{value}");
+                assert!(message.starts_with(&format!("`{value}` is not a finite number")), "{value}: {message}");
+            }
+            other => panic!("{value}: {other}"),
+        }
+    }
+    // In a table of a bearing, and in JSON (where serde_json stops on 1e400 itself).
+    let at = text.find("kxx = [ 1000000.0,]").unwrap();
+    let edited = format!("{}kxx = [ nan,]{}", &text[..at], &text[at + "kxx = [ 1000000.0,]".len()..]);
+    let e = rotorshunt::import::ross::import_text(&edited, "r.toml", Options::default()).unwrap_err();
+    assert!(e.to_string().contains("`[\"BearingElement_Bearing 0\"].kxx[0]`: `nan` is not a finite number"), "{e}");
+    let json = std::fs::read_to_string(fixture("rotor_example_rayleigh.json")).unwrap();
+    let edited = json.replacen("\"L\": 0.25", "\"L\": 1e400", 1);
+    let e = rotorshunt::import::ross::import_text(&edited, "r.json", Options::default()).unwrap_err();
+    assert!(e.to_string().contains("`[\"ShaftElement_Shaft Element 0\"].L`: `1e400` is not a finite number"), "{e}");
+}
+
+#[test]
+fn an_out_folder_is_bad_input() {
+    // Issue 50, item 10: `--out EXISTING_DIR` was exit 1 ("cannot write"); a folder
+    // given where the one problem file goes is bad input (exit 2), refused before work.
+    let dir = crate::common::tmp("ross-import-out-folder");
+    std::fs::create_dir_all(&dir).unwrap();
+    let o =
+        bin().arg("import-ross").arg(fixture("rotor_example_rayleigh.toml")).arg("--out").arg(&dir).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(stderr.starts_with("error: argument `--out`: ") && stderr.contains("is a folder"), "{stderr}");
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -75,7 +75,7 @@ fn every_long_command_stops_at_its_limit_and_writes_nothing() {
         ("the band search", vec!["band", &fig11, "--phi-op", "1230", "--level", "0.3"], false),
         ("the Campbell diagram", vec!["campbell", &fig11, "--speeds", "0:2000:100"], true),
         ("the unbalance response", vec!["unbalance", &fig11, "--speeds", "100:3000:10"], true),
-        ("the damping ratios", vec!["damping", &fig11, "--speeds", "0:2000:100"], false),
+        ("the damping-ratio tracking", vec!["damping", &fig11, "--speeds", "0:2000:100"], false),
     ];
     for (what, args, with_out) in cases {
         let dir = scratch(&format!("time-limit-{}", what.replace(' ', "-")));

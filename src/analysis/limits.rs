@@ -123,6 +123,22 @@ pub enum Rule {
         /// Largest.
         max: u64,
     },
+    /// A load margin m whose margin level (1 + m)·β_op lies above the largest β a search
+    /// covers ([`MAX_BETA`]).
+    MarginLevel {
+        /// β_op (−).
+        level: f64,
+        /// The largest β a search covers (−).
+        max_beta: f64,
+    },
+    /// A frequency margin wider than the room φ_op has inside the φ range: a stable band
+    /// is found inside the range, so none reaches farther from φ_op.
+    MarginBeyondRange {
+        /// φ_op (rad/s).
+        phi_op: f64,
+        /// The φ range (rad/s).
+        range: Interval,
+    },
     /// A required value a builder was not given (the value reads NaN).
     NotSet,
 }
@@ -140,7 +156,9 @@ impl Rule {
             | Rule::RatioTooLarge { .. }
             | Rule::AboveBetaMax { .. }
             | Rule::Outside { .. }
-            | Rule::Count { .. } => "OutOfRange",
+            | Rule::Count { .. }
+            | Rule::MarginLevel { .. }
+            | Rule::MarginBeyondRange { .. } => "OutOfRange",
             // A required value missing, as a required key missing from a file.
             Rule::NotSet => "Schema",
         }
@@ -193,6 +211,19 @@ impl Rule {
                 format!("inside the range [{}, {}] rad/s", compact(range.lo), compact(range.hi))
             }
             Rule::Count { min, max } => format!("a whole number from {min} to {max}"),
+            Rule::MarginLevel { level, max_beta } => format!(
+                "at most {} (with beta_op = {} a larger margin puts the margin level (1 + beta) beta_op above {}, the largest beta a search covers)",
+                crate::numbers::sig(max_beta / level - 1.0, 6),
+                compact(*level),
+                compact(*max_beta)
+            ),
+            Rule::MarginBeyondRange { phi_op, range } => format!(
+                "at most {} rad/s, the room phi_op = {} rad/s has inside the design's phi range [{}, {}] rad/s (no stable band found there reaches farther)",
+                crate::numbers::sig((phi_op - range.lo).min(range.hi - phi_op), 6),
+                compact(*phi_op),
+                compact(range.lo),
+                compact(range.hi)
+            ),
             Rule::NotSet => "given".into(),
         }
     }
@@ -317,6 +348,28 @@ pub fn phi_op(phi_op: f64, range: Interval) -> Result<f64, ParamError> {
     Ok(p)
 }
 
+/// A load margin m of `[design.margins]` (−, relative to β_op = `level`): finite, ≥ 0,
+/// and small enough that the margin level (1 + m)·β_op, where the margins are judged,
+/// stays at most [`MAX_BETA`], the largest β a search covers.
+pub fn load_margin(m: f64, level: f64) -> Result<f64, ParamError> {
+    let m = non_negative(Quantity::Limit, m)?;
+    if (1.0 + m) * level > MAX_BETA {
+        return Err(fail(Quantity::Limit, m, Rule::MarginLevel { level, max_beta: MAX_BETA }));
+    }
+    Ok(m)
+}
+
+/// A frequency margin of `[design.margins]` (rad/s): finite, ≥ 0, and at most the room
+/// φ_op has inside the φ range searched, min(φ_op − lo, hi − φ_op): the band around φ_op
+/// is found inside the range, so no band can give a wider margin.
+pub fn frequency_margin(phi: f64, phi_op: f64, range: Interval) -> Result<f64, ParamError> {
+    let phi = non_negative(Quantity::Limit, phi)?;
+    if phi > (phi_op - range.lo).min(range.hi - phi_op) {
+        return Err(fail(Quantity::Limit, phi, Rule::MarginBeyondRange { phi_op, range }));
+    }
+    Ok(phi)
+}
+
 /// A rotating speed Ω (rad/s): finite, ≥ 0. No maximum: the whirl solvers' cost does not
 /// grow with Ω (at Ω = 1e300 rad/s their modes are flagged by their residuals), and the
 /// time response, whose step resolves Ω, is refused by its cost estimate
@@ -408,5 +461,25 @@ mod tests {
         assert_eq!(load(1e300), Ok(1e300));
         assert_eq!(load(f64::NAN).unwrap_err().to_string(), "must be a finite number, found NaN");
         assert_eq!(count(0, 1, 10).unwrap_err().to_string(), "must be a whole number from 1 to 10, found 0");
+    }
+
+    #[test]
+    fn margins_no_band_can_give_are_refused_quoting_the_value_given() {
+        // Issue 50, item 7. β_op = 0.3: the margin level (1 + m)·0.3 reaches MAX_BETA = 100
+        // at m = 100/0.3 − 1 = 332.33…; the message quotes the 1000 typed, not 300.3.
+        assert_eq!(load_margin(332.0, 0.3), Ok(332.0));
+        let e = load_margin(1000.0, 0.3).unwrap_err();
+        assert_eq!((e.value, e.rule.kind()), (1000.0, "OutOfRange"));
+        assert!(e.to_string().starts_with("must be at most 332.333 (with beta_op = 0.3"), "{e}");
+        assert!(e.to_string().ends_with("found 1000"), "{e}");
+        // φ_op = 370 in [100, 8000] rad/s: 270 rad/s of room below it.
+        let range = Interval::new(100.0, 8000.0);
+        assert_eq!(frequency_margin(270.0, 370.0, range), Ok(270.0));
+        let e = frequency_margin(1e300, 370.0, range).unwrap_err();
+        assert_eq!(e.value, 1e300);
+        assert!(e.to_string().starts_with("must be at most 270 rad/s, the room phi_op = 370 rad/s has"), "{e}");
+        assert!(e.to_string().ends_with("found 1e300"), "{e}");
+        assert!(frequency_margin(270.001, 370.0, range).is_err());
+        assert!(frequency_margin(-1.0, 370.0, range).is_err());
     }
 }

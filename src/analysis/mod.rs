@@ -28,7 +28,7 @@ pub use operating::{
     BandRequest, BandRequestBuilder, ChartGrid, ChartRequest, OperatingPoint, DEFAULT_BAND_RANGE, MAX_CHART_AXIS,
 };
 pub use rotor::Rotor;
-pub use settings::{Basis, ModeCount, MonodromyMethod, Settings, SettingsError, SettingsRule};
+pub use settings::{Basis, ModeCount, MonodromyMethod, Settings, SettingsError, SettingsRule, OVERDAMPED_RATIO};
 
 use crate::linalg::LinalgError;
 use thiserror::Error;

@@ -3,6 +3,17 @@
 
 use serde::{Deserialize, Serialize};
 
+/// Default `oscillation_tolerance`: the |Im λ|/|λ| = √(1 − ζ²) at or below which a root
+/// is overdamped, not a whirl. At this ratio ζ = 0.98514 and the logarithmic decrement
+/// 2πζ/√(1 − ζ²) is 52·ln 2 ≈ 36.04: the root's motion falls below f64's resolution,
+/// 2⁻⁵² of its start, within one period of its frequency, so it never completes a whirl
+/// anyone could observe (1/√(1 + (52 ln 2/2π)²) = 0.171732). Such roots were listed as
+/// whirls, and numbered first (issue 50): ROSS's compressor at rest had one of ζ =
+/// 0.999996 as a forward whirl at 2.48 rad/s, `fig8-eta4000.toml` at 2000 rad/s four as
+/// f1, f2, b1, b2. No root of a bundled problem at its speeds, nor of ROSS's reference
+/// lists, comes near it (the most damped, 0.966, is a whirl of ROSS's compressor).
+pub const OVERDAMPED_RATIO: f64 = 0.171732;
+
 /// Numerical policies of the analyses, recorded in every output.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -13,8 +24,8 @@ pub struct Settings {
     /// Share of a mode's kinetic energy in the shunt charge DOFs above which it is
     /// labelled electrical (−).
     pub electrical_fraction: f64,
-    /// |Im λ|/|λ| below which an eigenvalue is non-oscillatory (overdamped) and is not a
-    /// whirl (−).
+    /// |Im λ|/|λ| = √(1 − ζ²) at or below which an eigenvalue is non-oscillatory
+    /// (overdamped) and is not a whirl (−); default [`OVERDAMPED_RATIO`].
     pub oscillation_tolerance: f64,
     /// Number of modes M of the reduced model used by the Floquet analysis (Eq. 22):
     /// `auto` (the default) sizes it by convergence ([`crate::analysis::basis`]): the
@@ -288,8 +299,9 @@ impl Default for Settings {
             // distinct modes of the same whirl direction have MAC ≪ 0.9.
             mac_threshold: 0.9,
             electrical_fraction: 0.5,
-            // Damping ratios up to 1 − 1e-12 still count as whirls.
-            oscillation_tolerance: 1e-9,
+            // Damping ratios up to 0.98514 count as whirls; beyond, a root decays below
+            // f64's resolution within one period.
+            oscillation_tolerance: OVERDAMPED_RATIO,
             // Sized by convergence; the paper's files fix M = 4 (open, Ω = 0) and M = 8
             // (closed) with the unloaded basis.
             reduced_modes: ModeCount::Auto,

@@ -15,6 +15,10 @@ use std::path::Path;
 /// naming `out` "as imported"). `speed` (rad/s) becomes the problem's speed.
 pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool) -> Result<String, Error> {
     let speed = speed.map(|w| bounds::flag("--speed", limits::speed(w))).transpose()?;
+    // A folder where the one problem file goes is bad input, refused before any work.
+    if std::fs::symlink_metadata(out).is_ok_and(|m| m.is_dir()) {
+        return Err(folder_given(out));
+    }
     if let (Ok(a), Ok(b)) = (std::fs::canonicalize(file), std::fs::canonicalize(out)) {
         if a == b {
             return Err(Error::OutputIsInput { path: out.display().to_string(), input: "the ROSS file".into() });
@@ -31,7 +35,7 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
     let exists = match files::standing(out).map_err(output)? {
         files::Standing::Missing => false,
         files::Standing::File(_) => true,
-        files::Standing::Dir => return Err(output(std::io::Error::other("it is a folder; give the path of a file"))),
+        files::Standing::Dir => return Err(folder_given(out)),
         _ => return Err(output(files::replaceable(out).err().unwrap_or_else(|| std::io::Error::other("not a file")))),
     };
     if exists && !force {
@@ -56,6 +60,18 @@ pub fn import_ross_cmd(file: &Path, out: &Path, speed: Option<f64>, force: bool)
         r.bearings.iter().filter(|b| b.kind == rotorshunt::model::SupportKind::Seal).count(),
         out.display()
     ))
+}
+
+/// `--out` names a folder: `import-ross` writes one problem file (exit 2, bad input).
+fn folder_given(out: &Path) -> Error {
+    Error::Argument {
+        argument: "--out".into(),
+        message: format!(
+            "{} is a folder, and import-ross writes one problem file: give the path of a file, e.g. {}",
+            out.display(),
+            out.join("rotor.toml").display()
+        ),
+    }
 }
 
 /// Write a file that must not exist yet: created exclusively (an existing file, or one

@@ -642,7 +642,10 @@ impl DesignSpec {
             limits::non_negative(Quantity::Limit, m.phi).map_err(at("margins.phi"))?;
             // The margins judge the band around φ_op: a φ_op is needed.
             limits::count(self.phi_op().is_some() as u64, 1, 1).map_err(at("phi_op"))?;
-            limits::level(m.level(self.level), limits::MAX_BETA).map_err(at("margins.beta"))?;
+            limits::load_margin(m.beta, self.level).map_err(at("margins.beta"))?;
+            if let Some(phi_op) = self.phi_op() {
+                limits::frequency_margin(m.phi, phi_op, self.range()).map_err(at("margins.phi"))?;
+            }
         }
         for (i, d) in self.constraints.damping.iter().enumerate() {
             limits::non_negative(Quantity::Limit, d.min).map_err(at(&format!("constraints.damping[{i}].min")))?;

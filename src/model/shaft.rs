@@ -210,6 +210,39 @@ impl Shaft {
             (start..start + s.elements).map(move |e| (e, s))
         })
     }
+    /// The shaft's own stiffness scale (N/m): the largest translational entry on the
+    /// diagonal of its stiffness matrix, at each node the sum of k_uu over the elements
+    /// (and concentric layers) that meet there: 12EI/l³ for a uniform Rayleigh element,
+    /// 12EI/(l³(1 + Φ)) with shear. The supports' coefficients are judged against it
+    /// (`crate::problem`'s `MAX_SUPPORT_STIFFNESS_RATIO`).
+    pub fn stiffness_scale(&self) -> f64 {
+        self.largest_translational(|m| m.stiffness)
+    }
+    /// The shaft's own mass scale (kg): the largest translational entry on the diagonal of
+    /// its mass matrix (156ρAl/420 + 36ρI/(30l) per element end for a uniform Rayleigh
+    /// element, summed at each node). With [`Shaft::stiffness_scale`] K_s it gives the
+    /// damping scale √(K_s·M_s), the critical damping of the stiffest node.
+    pub fn mass_scale(&self) -> f64 {
+        self.largest_translational(|m| m.mass)
+    }
+    /// The largest translational diagonal entry of one of the shaft's element matrices
+    /// (`pick` chooses it), summed at each node over the elements and layers there.
+    fn largest_translational(&self, pick: impl Fn(super::element::BeamMatrices) -> [[f64; 4]; 4]) -> f64 {
+        let mut diagonal = vec![0.0f64; self.nodes()];
+        let mut first = 0;
+        for s in &self.sections {
+            for part in std::iter::once(s).chain(&s.layers) {
+                let uniform = part.is_uniform().then(|| pick(super::element::beam(&part.element(0))));
+                for k in 0..s.elements {
+                    let e = uniform.unwrap_or_else(|| pick(super::element::beam(&part.element(k))));
+                    diagonal[first + k] += e[0][0];
+                    diagonal[first + k + 1] += e[2][2];
+                }
+            }
+            first += s.elements;
+        }
+        diagonal.into_iter().fold(0.0, f64::max)
+    }
     /// Position of node `node` from the left end (m): the section's start plus whole
     /// element lengths, so a single section gives exactly `node · l`.
     pub fn node_position(&self, node: usize) -> f64 {

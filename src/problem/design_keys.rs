@@ -202,15 +202,16 @@ pub fn design(f: &ProblemFile, model: &Model) -> Result<Option<DesignSpec>, Fail
     let judged = objective.response().or(response.as_ref());
     let mut constraints = constraints(d, bands, phi_op, judged)?;
     if let Some(m) = &d.margins {
-        let beta = non_negative("design.margins.beta", m.beta.unwrap_or(0.0))?;
-        let phi = non_negative("design.margins.phi", m.phi.unwrap_or(0.0))?;
-        if phi_op.is_none() {
+        non_negative("design.margins.beta", m.beta.unwrap_or(0.0))?;
+        non_negative("design.margins.phi", m.phi.unwrap_or(0.0))?;
+        let Some(phi_op) = phi_op else {
             let message = "margins judge the stable band around `design.phi_op` (rad/s): add `phi_op` (widest-stable-band, or with `constraints.min_band_width`)";
             return Err(("design.margins".into(), K::Schema(message.into())));
-        }
-        let margin = MarginSpec { beta, phi };
-        rule("design.margins.beta", limits::level(margin.level(level), limits::MAX_BETA))?;
-        constraints.margins = Some(margin);
+        };
+        // A margin no band in the window can give is refused here, before any solve.
+        let beta = rule("design.margins.beta", limits::load_margin(m.beta.unwrap_or(0.0), level))?;
+        let phi = rule("design.margins.phi", limits::frequency_margin(m.phi.unwrap_or(0.0), phi_op, range))?;
+        constraints.margins = Some(MarginSpec { beta, phi });
     }
     if d.variables.is_empty() {
         return Err(("design.variables".into(), K::Schema("a design needs at least one [[design.variables]]".into())));

@@ -186,6 +186,25 @@ pub enum ProblemErrorKind {
         /// The table speed (rad/s); `None` for constants.
         speed: Option<f64>,
     },
+    /// A bearing's or seal's coefficient far beyond the shaft's own scale, where the
+    /// eigen-solution is no longer trustworthy (issue 50): a stiffness |k| above
+    /// [`super::MAX_SUPPORT_STIFFNESS_RATIO`] times the shaft's stiffness scale
+    /// ([`crate::model::Shaft::stiffness_scale`]), or a damping |c| above
+    /// [`super::MAX_SUPPORT_DAMPING_RATIO`] times its damping scale √(K_s·M_s).
+    #[error("{}", out_of_scale(coefficient, *value, *scale, *speed))]
+    OutOfScale {
+        /// The coefficient's key: a stiffness (`stiffness`, `kxx`, `kxy`, `kyx`, `kyy`) or
+        /// a damping (`damping`, `cxx`, …).
+        coefficient: &'static str,
+        /// The value (N/m, or N·s/m).
+        value: f64,
+        /// The shaft's scale in the same unit (N/m, or N·s/m); the ratio admitted is
+        /// [`super::MAX_SUPPORT_STIFFNESS_RATIO`] for a stiffness,
+        /// [`super::MAX_SUPPORT_DAMPING_RATIO`] for a damping.
+        scale: f64,
+        /// The table speed of the value (rad/s); `None` for a constant.
+        speed: Option<f64>,
+    },
     /// The speeds of a coefficient table that do not increase strictly.
     #[error("the table speeds must increase strictly: speeds[{index}] = {} rad/s is not above speeds[{}] = {} rad/s", number(*speed), index - 1, number(*previous))]
     TableSpeedsNotIncreasing {
@@ -348,6 +367,39 @@ fn at_speed(speed: Option<f64>) -> String {
     speed.map_or(String::new(), |w| format!(" at speed {} rad/s", number(w)))
 }
 
+/// The text of [`ProblemErrorKind::OutOfScale`]: the ratio, the scale and what it is,
+/// and how a rigid support is modelled.
+fn out_of_scale(coefficient: &str, value: f64, scale: f64, speed: Option<f64>) -> String {
+    let sig = |x: f64| format!("{x:.4e}");
+    let stiffness = coefficient == "stiffness" || coefficient.starts_with('k');
+    let limit = if stiffness { super::MAX_SUPPORT_STIFFNESS_RATIO } else { super::MAX_SUPPORT_DAMPING_RATIO };
+    let (unit, what, rigid) = if stiffness {
+        (
+            "N/m",
+            "stiffness scale (the largest translational entry on the diagonal of its stiffness matrix)",
+            format!(
+                "a rigid support is modelled by a stiffness far above the shaft's within that ratio, not by {} N/m ({} N/m, 1e6 times the scale, already holds the node to about 1e-6 of a mode)",
+                number(value),
+                sig(1e6 * scale)
+            ),
+        )
+    } else {
+        (
+            "N s/m",
+            "damping scale sqrt(K_s M_s) (critical damping of its stiffest node)",
+            "check the value and its unit (N s/m)".to_string(),
+        )
+    };
+    format!(
+        "{coefficient} = {} {unit}{} is {} times the shaft's own {what}, {} {unit}: beyond {} times it the eigen-solution is no longer trustworthy; {rigid}",
+        number(value),
+        at_speed(speed),
+        sig(value.abs() / scale),
+        sig(scale),
+        crate::analysis::limits::compact(limit),
+    )
+}
+
 /// The message of [`ProblemErrorKind::TableLength`].
 fn table_length(values: usize, speeds: usize) -> String {
     if speeds == 0 {
@@ -390,6 +442,7 @@ impl ProblemErrorKind {
             K::RigidBody { .. } => "RigidBody",
             K::NegativeStiffness { .. } => "NegativeStiffness",
             K::DampingNotSemiDefinite { .. } => "DampingNotSemiDefinite",
+            K::OutOfScale { .. } => "OutOfScale",
             K::TableSpeedsNotIncreasing { .. } => "TableSpeedsNotIncreasing",
             K::TableLength { .. } => "TableLength",
             K::TableTooLong { .. } => "TableTooLong",

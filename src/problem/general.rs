@@ -6,7 +6,7 @@
 use super::file::*;
 use super::validate::{
     circuit, derived, non_negative, place, positive, ring, section_quantities, within, Failure, Placed, SectionKeys,
-    MAX_ELEMENTS, MAX_TABLE_POINTS,
+    MAX_ELEMENTS, MAX_SUPPORT_DAMPING_RATIO, MAX_SUPPORT_STIFFNESS_RATIO, MAX_TABLE_POINTS,
 };
 use super::{Location, ProblemError};
 use super::{NameOf, ProblemErrorKind as K};
@@ -403,12 +403,14 @@ pub(super) fn supports(f: &ProblemFile, shaft: &Shaft) -> Result<(Vec<Bearing>, 
     let mut bearings = Vec::with_capacity(f.bearings.len() + f.seals.len());
     let mut failures: Vec<Failure> = Vec::new();
     let tables = [("bearings", &f.bearings, SupportKind::Bearing), ("seals", &f.seals, SupportKind::Seal)];
+    let stiffness_scale = shaft.stiffness_scale();
+    let scales = Scales { stiffness: stiffness_scale, damping: (stiffness_scale * shaft.mass_scale()).sqrt() };
     for (table, list, kind) in tables {
         for (i, b) in list.iter().enumerate() {
             let key = format!("{table}[{i}]");
             let node = place(&key, b.node, b.position, shaft, Placed::Support)?;
             let mass = non_negative(&format!("{key}.mass"), b.mass)?;
-            match coefficients(&key, b) {
+            match coefficients(&key, b, scales) {
                 Ok((speeds, coefficients)) => bearings.push(Bearing { kind, node, speeds, coefficients, mass }),
                 Err(mut found) => failures.append(&mut found),
             }
@@ -474,9 +476,18 @@ pub(crate) const DAMPING_ROUND_OFF: f64 = 1e-12;
 /// A support's table speeds (rad/s) and its eight coefficients ([`COEFFICIENT_NAMES`]).
 type Coefficients = (Vec<f64>, [Vec<f64>; 8]);
 
+/// The shaft's own scales the supports' coefficients are judged against: its stiffness
+/// scale K_s (N/m) and damping scale √(K_s·M_s) (N·s/m).
+#[derive(Clone, Copy)]
+struct Scales {
+    stiffness: f64,
+    damping: f64,
+}
+
 /// The speeds and the eight coefficients of a bearing or seal at `key`, or every failure
-/// of its coefficient checks.
-fn coefficients(key: &str, b: &BearingFile) -> Result<Coefficients, Vec<Failure>> {
+/// of its coefficient checks (each coefficient within [`MAX_SUPPORT_STIFFNESS_RATIO`] or
+/// [`MAX_SUPPORT_DAMPING_RATIO`] of the shaft's `scales` among them).
+fn coefficients(key: &str, b: &BearingFile, scales: Scales) -> Result<Coefficients, Vec<Failure>> {
     let k = |name: &str| format!("{key}.{name}");
     let one = |x: f64| CoefficientFile::Constant(x);
     let mut failures = Vec::new();
@@ -573,6 +584,29 @@ fn coefficients(key: &str, b: &BearingFile) -> Result<Coefficients, Vec<Failure>
                 if b.damping.is_some() || (b.cxy.is_none() && b.cyx.is_none()) { source(4) } else { k("cxy") };
             failures.push((culprit, K::DampingNotSemiDefinite { c, eigenvalue, speed: speed_of(j) }));
             break;
+        }
+    }
+    // Each coefficient within its ratio of the shaft's own scale (the first table point
+    // beyond it), named as the key it came from.
+    for (i, v) in values.iter().enumerate() {
+        let (scale, limit) = if i < 4 {
+            (scales.stiffness, MAX_SUPPORT_STIFFNESS_RATIO)
+        } else {
+            (scales.damping, MAX_SUPPORT_DAMPING_RATIO)
+        };
+        if let Some((j, &value)) = v.iter().enumerate().find(|(_, x)| x.abs() > limit * scale) {
+            let key = source(i);
+            let named = key.rsplit('.').next().unwrap_or_default();
+            let coefficient = ["stiffness", "damping"]
+                .into_iter()
+                .chain(COEFFICIENT_NAMES)
+                .find(|n| *n == named)
+                .unwrap_or(COEFFICIENT_NAMES[i]);
+            let speed = (v.len() > 1).then(|| speeds[j]);
+            let entry = (key, K::OutOfScale { coefficient, value, scale, speed });
+            if !failures.contains(&entry) {
+                failures.push(entry);
+            }
         }
     }
     if !failures.is_empty() {

@@ -20,7 +20,10 @@ pub use file::ProblemFile;
 pub use input::{read_input, read_toml, MAX_FILE_BYTES, MAX_PARSE_BYTES};
 pub use plausibility::{Warning, WarningKind};
 pub use source::Location;
-pub use validate::{DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS, MAX_TABLE_POINTS};
+pub use validate::{
+    DERIVED_RANGE, MAX_BRANCHES, MAX_DISKS, MAX_DOFS, MAX_ELEMENTS, MAX_SUPPORT_DAMPING_RATIO,
+    MAX_SUPPORT_STIFFNESS_RATIO, MAX_TABLE_POINTS,
+};
 
 use crate::analysis::Settings;
 use crate::design::spec::DesignSpec;

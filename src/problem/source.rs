@@ -74,13 +74,13 @@ impl<'a> LineIndex<'a> {
 
     /// Where a key path comes from: `Some(line)` in the file, or `None` when it (or a
     /// parent) was set on the command line or is absent (then the nearest present parent's
-    /// line is used if there is one).
+    /// line is used if there is one). A path below an override is the override's, by a
+    /// key (`design.response` set, `design.response.node` blamed) or by an array index
+    /// (`design.speeds` set, `design.speeds[0]` blamed); so is the table above a key set
+    /// (`bearings[0]` when `bearings[0].stiffness` is set).
     pub fn locate(&self, path: &str) -> Location {
-        if self
-            .overridden
-            .iter()
-            .any(|o| path == o || path.starts_with(&format!("{o}.")) || o.starts_with(&format!("{path}.")))
-        {
+        let below = |o: &str| path.strip_prefix(o).is_some_and(|rest| rest.starts_with(['.', '[']));
+        if self.overridden.iter().any(|o| path == o || below(o) || o.starts_with(&format!("{path}."))) {
             return Location::Override;
         }
         let Ok(doc) = DeTable::parse(self.text) else { return Location::Unknown };

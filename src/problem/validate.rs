@@ -43,6 +43,27 @@ pub const MAX_DISKS: usize = 100_000;
 /// through it can use, while one of 10⁵ points would cost 1.4 ms per coefficient.
 pub const MAX_TABLE_POINTS: usize = 1000;
 
+/// Largest ratio of a bearing's or seal's stiffness coefficient |k| (kxx, kxy, kyx, kyy)
+/// to the shaft's own stiffness scale K_s ([`crate::model::Shaft::stiffness_scale`], the
+/// largest translational diagonal entry of its stiffness matrix). Beyond some ratio the
+/// dense eigensolvers no longer resolve the modes the supports pin: measured on
+/// `problems/ross-rotor-example.toml` with both bearings at K (docs/decisions.md, issue
+/// 50), the lowest four forward whirls leave the pinned limit by more than 1e-6 from
+/// K/K_s ≈ 1e13–1e14 on 2 and 3 shaft elements, 1e18–1e20 on 6 (where f1 alone holds to
+/// 1e50: the issue's 1e65 N/m is 1e57), 1e43 on 12, and not up to 1e80 on 24 or more.
+/// 1e10 keeps a factor of 1e3 below the worst of them, and is 1e4 above the "rigid"
+/// supports the tests use (1e15 N/m on a tube with K_s ≈ 4e10 N/m).
+pub const MAX_SUPPORT_STIFFNESS_RATIO: f64 = 1e10;
+
+/// Largest ratio of a bearing's or seal's damping coefficient |c| to the shaft's damping
+/// scale √(K_s·M_s) (the critical damping of its stiffest node; M_s
+/// [`crate::model::Shaft::mass_scale`]). Measured as above (docs/decisions.md): the
+/// whirls' QEP residuals pass 1e-6 (where `modes` flags them) from c ≈ 1e17 N·s/m on the
+/// 2- and 6-element rotors, 6e12 and 2e13 times their damping scales 1.7e4 and 5.6e3
+/// N·s/m; 1e9 keeps a factor of 1e3 below. Real bearings and squeeze-film dampers stay
+/// far inside (damping ratios of order 1 on the stiffest node at most).
+pub const MAX_SUPPORT_DAMPING_RATIO: f64 = 1e9;
+
 pub(super) fn finite(key: &str, v: f64) -> Result<f64, Failure> {
     if v.is_finite() {
         Ok(v)

@@ -262,7 +262,7 @@ impl BandJob<'_, '_> {
         let criterion = Criterion::of(settings);
         let labelled = seeds_for(&sized.system, Some(&full), window, criterion.max_order)?;
         let margins = band_margins(&sized.system, &full, s, &labelled, &sized.answer, window, &deadline);
-        run.stopped(&deadline, "the band's margins")?;
+        run.stopped(&deadline, "the band's margin check")?;
         Ok(BandRun { margins: margins?, sized, seconds: start.elapsed().as_secs_f64() })
     }
 }

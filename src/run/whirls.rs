@@ -101,7 +101,7 @@ impl<'a> Run<'a> {
     ) -> Result<DampingRun, RunError> {
         let threads = rayon::current_num_threads();
         let estimate = cost::dense(&problem.model, Dense::Whirls(speeds.len() + 1), threads);
-        self.admit("the damping ratios", &estimate, &MODEL_ONLY)?;
+        self.admit("the damping-ratio tracking", &estimate, &MODEL_ONLY)?;
         let rotor = Rotor::new(&problem.model)?;
         self.observer().phase("damping", speeds.len() as u64);
         let deadline = self.limits(None);
@@ -110,7 +110,7 @@ impl<'a> Run<'a> {
         } else {
             mode_damping(&rotor, &problem.settings, speeds, tags, &deadline)
         };
-        self.stopped(&deadline, "the damping ratios")?;
+        self.stopped(&deadline, "the damping-ratio tracking")?;
         Ok(result?)
     }
 

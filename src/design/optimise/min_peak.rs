@@ -406,7 +406,11 @@ fn convex_steps(ctx: &Context<'_>, start: Judged) -> Result<(Judged, Vec<PeakSte
         }
         let target: Vec<f64> = at.u.iter().zip(&grad_ln).map(|(u, g)| u - trust * g / norm).collect();
         let problem = StepProblem { current: &at.u, reference: &target, weights: &weights, constraints: &rows, trust };
-        let solved = qp::solve(&problem, None).map_err(DesignError::Qp)?;
+        // A step problem clarabel neither solves nor proves infeasible (a constraint far
+        // out of scale: a peak limit of 1e-30 m stalls it with InsufficientProgress) gives
+        // no step to trust: the steps from this start end, and the design is judged as it
+        // stands, infeasible if it is (issue 50, item 5).
+        let Ok(solved) = qp::solve(&problem, None) else { break };
         let qp_status = solved.status;
         let d = match solved.step {
             Step::Solved(d) => d,

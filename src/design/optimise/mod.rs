@@ -5,7 +5,7 @@ use super::evaluate::{
     as_build, follow, intrusions, intrusions_as_built, values_of, Candidate, EvalContext, Intrusion, OperatingBand,
 };
 use super::machine::Machine;
-use super::qp::{self, Linear, Step, StepProblem};
+use super::qp::{self, Linear, Solved, Step, StepProblem};
 use super::spec::{DesignSpec, Parameter, Variable};
 use super::verify::{describe, verify, PeakRecheck, Verification, VerificationPart, PEAK_AGREEMENT, PEAK_GRID_FACTOR};
 use super::DesignError;

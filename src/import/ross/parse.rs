@@ -412,22 +412,140 @@ fn shaft_elements(map: &serde_json::Map<String, serde_json::Value>) -> usize {
     numbers.len() + unnumbered
 }
 
+/// A number the importer cannot read as a finite f64, at a key: `nan`, `inf`, a float
+/// beyond f64's range (`1e400`) or an integer beyond 64 bits. Named by its key and line
+/// rather than by what the conversion to JSON values makes of it (a NaN became `null`,
+/// "invalid type: null"; a huge integer "JSON number out of range").
+fn not_finite(key: String, line: Option<usize>, literal: &str, integer: bool) -> RossErrorKind {
+    let why = if integer { " (an integer beyond the 64 bits a number is read with)" } else { "" };
+    RossErrorKind::Schema { key, line, message: format!("`{literal}` is not a finite number{why}") }
+}
+
+/// The first number of a TOML text that is not a finite f64 ([`not_finite`]), by key path
+/// (`["<Class>_<tag>"].key`, `[i]` in arrays) and line; `None` when every number is one,
+/// or when the text does not parse (its syntax error is reported as before).
+fn toml_not_finite(text: &str) -> Option<RossErrorKind> {
+    use toml::de::{DeTable, DeValue};
+    fn scan(value: &toml::Spanned<DeValue<'_>>, path: &str) -> Option<(String, usize, String, bool)> {
+        match value.get_ref() {
+            DeValue::Float(f) => {
+                let finite = f.as_str().parse::<f64>().is_ok_and(f64::is_finite);
+                (!finite).then(|| (path.to_string(), value.span().start, f.as_str().to_string(), false))
+            }
+            DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
+                .is_err()
+                .then(|| (path.to_string(), value.span().start, i.to_string(), true)),
+            DeValue::Array(a) => a.iter().enumerate().find_map(|(j, v)| scan(v, &format!("{path}[{j}]"))),
+            DeValue::Table(t) => t.iter().find_map(|(k, v)| scan(v, &format!("{path}.{}", k.get_ref()))),
+            _ => None,
+        }
+    }
+    let doc = DeTable::parse(text).ok()?;
+    let (key, offset, literal, integer) = doc.get_ref().iter().find_map(|(k, v)| {
+        let top = format!("[\"{}\"]", k.get_ref());
+        match v.get_ref() {
+            DeValue::Table(t) => t.iter().find_map(|(k, v)| scan(v, &format!("{top}.{}", k.get_ref()))),
+            _ => scan(v, &top),
+        }
+    })?;
+    Some(not_finite(key, Some(crate::problem::source::line_of(text, offset)), &literal, integer))
+}
+
+/// The key path (`["<Class>_<tag>"].key`, `[i]` in arrays) of the JSON value at byte
+/// `offset`, from the objects and arrays opened before it: where serde_json stopped on a
+/// number out of range, which its error does not name.
+fn json_key_at(text: &str, offset: usize) -> String {
+    enum Open {
+        Object(Option<String>),
+        Array(usize),
+    }
+    let mut stack: Vec<Open> = Vec::new();
+    let mut last = None;
+    let mut chars = text[..offset.min(text.len())].chars();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' => {
+                let mut s = String::new();
+                while let Some(d) = chars.next() {
+                    match d {
+                        '\\' => s.extend(chars.next()),
+                        '"' => break,
+                        _ => s.push(d),
+                    }
+                }
+                last = Some(s);
+            }
+            ':' => {
+                if let Some(Open::Object(key)) = stack.last_mut() {
+                    *key = last.take();
+                }
+            }
+            ',' => {
+                if let Some(Open::Array(i)) = stack.last_mut() {
+                    *i += 1;
+                }
+            }
+            '{' => stack.push(Open::Object(None)),
+            '[' => stack.push(Open::Array(0)),
+            '}' | ']' => {
+                stack.pop();
+            }
+            _ => {}
+        }
+    }
+    let mut path = String::new();
+    for (depth, open) in stack.iter().enumerate() {
+        match open {
+            Open::Object(Some(k)) if depth == 0 => path.push_str(&format!("[\"{k}\"]")),
+            Open::Object(Some(k)) => path.push_str(&format!(".{k}")),
+            Open::Object(None) => {}
+            Open::Array(i) => path.push_str(&format!("[{i}]")),
+        }
+    }
+    path
+}
+
 /// Parse a saved rotor's text.
 pub fn parse(text: &str, format: Format) -> Result<RossFile, RossErrorKind> {
     let doc: serde_json::Value = match format {
-        Format::Toml => toml::from_str(text).map_err(|e| RossErrorKind::Syntax {
-            format,
-            line: e.span().map(|s| crate::problem::source::line_of(text, s.start)),
-            message: e.message().trim().to_string(),
+        Format::Toml => toml::from_str(text).map_err(|e| {
+            toml_not_finite(text).unwrap_or_else(|| RossErrorKind::Syntax {
+                format,
+                line: e.span().map(|s| crate::problem::source::line_of(text, s.start)),
+                message: e.message().trim().to_string(),
+            })
         })?,
         Format::Json => serde_json::from_str(text).map_err(|e| {
             // serde_json ends its message with the position, which the error carries.
             let full = e.to_string();
             let position = format!(" at line {} column {}", e.line(), e.column());
             let message = full.strip_suffix(&position).unwrap_or(&full).to_string();
+            if message == "number out of range" {
+                // The number ends at the column; its text starts after the key's `:`.
+                let start: usize = text.split_inclusive('\n').take(e.line() - 1).map(str::len).sum();
+                let offset = start + e.column();
+                let line = &text[start..offset.min(text.len())];
+                let literal = line.rsplit(':').next().unwrap_or(line).trim().trim_end_matches(',');
+                return not_finite(json_key_at(text, offset), Some(e.line()), literal, false);
+            }
             RossErrorKind::Syntax { format, line: Some(e.line()), message }
         })?,
     };
+    // A NaN or infinity that TOML reads becomes `null` among JSON values: name it first
+    // (ROSS writes `null` itself for some keys, so only a text that gave one is scanned).
+    fn has_null(v: &serde_json::Value) -> bool {
+        match v {
+            serde_json::Value::Null => true,
+            serde_json::Value::Array(a) => a.iter().any(has_null),
+            serde_json::Value::Object(m) => m.values().any(has_null),
+            _ => false,
+        }
+    }
+    if format == Format::Toml && has_null(&doc) {
+        if let Some(e) = toml_not_finite(text) {
+            return Err(e);
+        }
+    }
     let serde_json::Value::Object(map) = doc else {
         return Err(RossErrorKind::Schema {
             key: String::new(),
