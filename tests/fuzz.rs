@@ -467,7 +467,8 @@ fn dependent(changed: &str, blamed: &str) -> bool {
     // left with rigid-body modes is blamed at a bearing without stiffness, else at its
     // first support); a geometry disk's mass on its width and material (its overflow is
     // blamed at its outer diameter); the ring a design variable names on the rings'
-    // names; a section's material on the materials.
+    // names; a section's material on the materials; a support's coefficients on the
+    // shaft's stiffness scale.
     let node_key = |k: &str| k.ends_with(".node") || k.ends_with(".position");
     let is_support = |k: &str| ["bearings", "seals", "rings"].iter().any(|t| k.starts_with(t));
     dep("shaft.elements", ".node")
@@ -496,6 +497,11 @@ fn dependent(changed: &str, blamed: &str) -> bool {
         || (changed.starts_with("design.phi_range") && blamed.ends_with("design.phi_op"))
         || dep("design.level", "design.beta_max")
         || (changed.starts_with("ring") && blamed.starts_with("ring") && blamed.ends_with("k_eq2"))
+        // A support's coefficients are judged against the shaft's own stiffness scale
+        // (OutOfScale, whose message quotes the scale): a shaft made far softer (its
+        // material, sections or elements) is blamed at the support now too stiff for it.
+        || (["materials", "sections", "shaft"].iter().any(|t| changed.starts_with(t))
+            && (blamed.starts_with("bearings") || blamed.starts_with("seals")))
 }
 
 /// Checks of a mutant made by one targeted mutation.
