@@ -454,11 +454,7 @@ fn a_rotor_the_general_form_refuses_is_not_written() {
     std::fs::write(&source, format!("{}{}", &text[..start], &text[end..])).unwrap();
     let out = dir.join("one_bearing.problem.toml");
     let _ = std::fs::remove_file(&out);
-    let run = crate::common::bin()
-        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
+    let (run, stderr) = import_ross(&source, &out);
     // Exit code 2: bad input (docs/errors.md); the file layer's rigid-body refusal.
     assert_eq!(run.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("rigid-body mode(s)"), "{stderr}");
@@ -478,11 +474,7 @@ fn a_ross_coefficient_far_beyond_the_shafts_scale_is_not_written() {
     std::fs::write(&source, format!("{}kxx = [ 1e308,]{}", &text[..at], &text[at + "kxx = [ 1000000.0,]".len()..]))
         .unwrap();
     let out = dir.join("stiff.problem.toml");
-    let run = crate::common::bin()
-        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
+    let (run, stderr) = import_ross(&source, &out);
     assert_eq!(run.status.code(), Some(2), "{stderr}");
     assert!(
         stderr.contains("key `bearings[0].kxx`: kxx = 1e308 N/m is 1.0057e300 times the shaft's own stiffness scale"),
@@ -534,4 +526,14 @@ fn an_out_folder_is_bad_input() {
     assert!(stderr.starts_with("error: argument `--out`: ") && stderr.contains("is a folder"), "{stderr}");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `rotorshunt import-ross SOURCE --out OUT`: its output and standard error.
+fn import_ross(source: &std::path::Path, out: &std::path::Path) -> (std::process::Output, String) {
+    let run = crate::common::bin()
+        .args(["import-ross", source.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+    (run, stderr)
 }
