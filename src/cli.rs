@@ -14,7 +14,7 @@ use std::path::PathBuf;
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub(crate) command: Command,
-    /// Allow FACTOR times the documented limits of work (3e13 floating-point operations)
+    /// Allow FACTOR times the documented limits of work (5e13 floating-point operations)
     /// and memory (400 MiB of dense matrices) that every command checks its counted cost
     /// against before it starts (docs/errors.md, `Cost`), FACTOR times the default time
     /// limit, and the Floquet evaluations the region searches may make while they run

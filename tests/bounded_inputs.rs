@@ -90,3 +90,50 @@ fn a_ross_table_one_frequency_over_the_cap_is_refused() {
     // What it writes loads.
     Problem::from_text(&import.text, "imported.toml", &[]).expect("the imported table loads");
 }
+
+/// Issue 50, point 1: a robust design is counted by its plan, every build at every speed
+/// it is judged at, and one plainly beyond the limit is refused before it starts (exit 2,
+/// no folder) with the count of its builds; the bundled robust files, inside it, are
+/// admitted (a limit of 1e-9 s then stops them at their first step, exit 7).
+#[test]
+fn a_robust_design_plainly_beyond_the_limit_is_refused_before_it_starts() {
+    // The issue's case: every part of the circuit toleranced (L, R, C_f, C_p^T: 2^4
+    // corners and the nominal), tongues up to order 32 and φ_op = 150 rad/s.
+    let heavy = [
+        "design.tolerances.c_f=0.1",
+        "design.tolerances.cp_t=0.1",
+        "design.phi_op=150",
+        "analysis.max_tongue_order=32",
+    ];
+    let dir = common::tmp("robust-refused");
+    for (file, searches) in [("design-robust.toml", 17), ("design-robust-speed-range.toml", 5)] {
+        let out_dir = dir.join(file);
+        // A limit of time too, so that a design admitted by mistake fails the test (exit 7)
+        // rather than running for long.
+        let mut cmd = common::bin();
+        cmd.args(["--time-limit", "60", "design", &common::problem_path(file)]);
+        for s in heavy {
+            cmd.args(["--set", s]);
+        }
+        let out = cmd.arg("--out").arg(&out_dir).output().expect("run rotorshunt");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{file}: {stderr}");
+        assert!(stderr.starts_with("error: the design would need about "), "{file}: {stderr}");
+        // The nominal build at the 5 speeds with 4 refinements and 16 corners at the worst
+        // speed is 25 searches over 5 speeds; at one speed, 17 builds.
+        assert!(
+            stderr.contains(&format!("each: {searches} searches per speed (builds, refinements)")),
+            "{file}: {stderr}"
+        );
+        assert!(stderr.contains("`[design.tolerances]`"), "{file}: {stderr}");
+        assert!(!out_dir.exists(), "{file}: a refused design made its folder");
+        // As bundled, admitted: stopped at its first step, not refused.
+        let out = common::bin()
+            .args(["--time-limit", "1e-9", "--quiet", "design", &common::problem_path(file), "--out"])
+            .arg(&out_dir)
+            .output()
+            .expect("run rotorshunt");
+        assert_eq!(out.status.code(), Some(7), "{file}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

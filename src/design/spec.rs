@@ -532,6 +532,15 @@ impl<'de> Deserialize<'de> for DesignSpec {
     }
 }
 
+impl DesignSpec {
+    /// The builds a robust candidate is judged as: the nominal and each corner of
+    /// `[design.tolerances]` ([`crate::design::tolerance::Tolerances::corners`]); 1
+    /// without tolerances.
+    pub fn builds(&self) -> usize {
+        self.tolerances.map_or(1, |t| t.corners().len())
+    }
+}
+
 /// Speeds of the optimiser's grid over a `design.speed_range`, ends included: the ends
 /// and three interior speeds, so a worst case inside the range is bracketed before the
 /// refinement near it (`crate::design::robust::SPEED_REFINEMENTS`).

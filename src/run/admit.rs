@@ -31,6 +31,9 @@ impl Names<'_> {
             Driver::Speed => "`speed`".into(),
             Driver::Periods => self.periods.into(),
             Driver::Candidates => "`design.starts` or `design.max_iterations`".into(),
+            Driver::Builds => {
+                "`[design.tolerances]` (2^parts + 1 corners, and `samples`), `design.speed_range`, `design.starts` or `design.max_iterations`".into()
+            }
             Driver::Settings => "`analysis.steps_per_period`, `analysis.method` or `analysis.reference_steps`".into(),
         }
     }

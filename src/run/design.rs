@@ -9,7 +9,7 @@ use crate::design::content::{self, content, content_steps, DesignContent, CAMPBE
 use crate::design::evaluate::{values_of, Candidate};
 use crate::design::objective::CostAt;
 use crate::design::pareto::Front;
-use crate::design::spec::DesignSpec;
+use crate::design::spec::{DesignSpec, VERIFY_SPEEDS};
 use crate::design::verify;
 use crate::design::{self, DesignError, DesignOutcome, Status};
 use crate::model::Model;
@@ -157,16 +157,19 @@ impl<'a> Run<'a> {
         let reference = Candidate::new(&machine, spec, &values_of(&machine, spec))?;
         let s = problem.regions.clone();
         let criterion = reference.criterion();
-        let mut per_candidate = Estimate::work(dense.work.amount * speeds, Driver::Dofs, dense.work.detail.clone());
+        let dense_stages = Estimate::work(dense.work.amount * speeds, Driver::Dofs, dense.work.detail.clone());
+        let mut searches = Estimate::zero();
         let mut verification = Estimate::zero();
         for (k, (_, fs)) in reference.systems.iter().enumerate() {
             let pc = PointCost::of(fs);
             let seeds = reference.seeds(k, spec)?;
             let at = CostAt { point: &pc, regions: &s, criterion: &criterion, seeds: &seeds };
-            per_candidate = per_candidate.then(spec.objective.candidate_cost(spec, &at));
+            searches = searches.then(spec.objective.candidate_cost(spec, &at));
             verification =
                 verification.then(verify::cost(&pc, &s, &criterion, &seeds, spec)).then(content::cost(&pc, spec));
         }
+        let (per_candidate, checks) = robust_plan(spec, dense_stages, &searches);
+        verification = verification.then(checks);
         // The whirls: the physics seed's and the catalogues' at each speed, and the
         // Campbell diagram's speeds.
         let whirls = cost::dense(model, Dense::Whirls(CAMPBELL_SPEEDS + 3 * spec.speeds.len()), threads);
@@ -177,6 +180,39 @@ impl<'a> Run<'a> {
         let memory = if memory.amount > total.memory.amount { memory } else { total.memory.clone() };
         Ok(Estimate { memory, ..total })
     }
+}
+
+/// A candidate's cost by the design's plan, from its dense stages at the optimiser's
+/// speeds (`dense`) and its searches there (`searches`, every speed once): the searches
+/// as many times per speed as its objective judges builds and speeds
+/// ([`design::objective::Objective::searches_per_candidate`]: the corners of a tolerance
+/// box, a speed range's refinements), the dense stages once per build. Then the
+/// verification's own checks: the tolerance check's builds (the corners at every speed,
+/// the samples at one speed of a range or at every speed) and the speed check's
+/// [`VERIFY_SPEEDS`] (twice with margins). The candidate's, and the checks'.
+fn robust_plan(spec: &DesignSpec, dense: Estimate, searches: &Estimate) -> (Estimate, Estimate) {
+    let speeds = spec.speeds.len().max(1) as f64;
+    let builds = spec.builds() as f64;
+    let one_speed = searches.clone().times(1.0 / speeds, Driver::Builds, "");
+    let per_speed = spec.objective.searches_per_candidate(spec) / speeds;
+    let candidate = if builds > 1.0 || per_speed > 1.0 {
+        let each = dense.times(builds, Driver::Builds, "builds");
+        let searched = searches.clone().times(per_speed, Driver::Builds, "searches per speed (builds, refinements)");
+        each.then(searched)
+    } else {
+        dense.then(searches.clone())
+    };
+    let mut checks = Estimate::zero();
+    if let Some(t) = spec.tolerances {
+        let sample_speeds = if spec.speed_range.is_some() { 1.0 } else { speeds };
+        let count = builds * speeds + t.samples as f64 * sample_speeds;
+        checks = checks.then(one_speed.clone().times(count, Driver::Builds, "searches of the tolerance check"));
+    }
+    if spec.speed_range.is_some() {
+        let each = if spec.constraints.margins.is_some() { 2.0 } else { 1.0 };
+        checks = checks.then(one_speed.times(VERIFY_SPEEDS as f64 * each, Driver::Builds, "speeds of the speed check"));
+    }
+    (candidate, checks)
 }
 
 /// The damping constraints' whirl tags against the model ([`design::checks::modes_exist`]),

@@ -114,6 +114,9 @@ pub enum Driver {
     Periods,
     /// The candidates of a design (starts × iterations).
     Candidates,
+    /// The builds a robust design judges (the corners of its tolerance box, its Monte
+    /// Carlo samples) and the speeds of its speed range.
+    Builds,
     /// The numerical settings (steps per period, DSTM steps).
     Settings,
 }
@@ -168,7 +171,8 @@ impl Estimate {
     }
 
     /// `count` runs of this one in sequence (`what` names them). The count becomes the
-    /// driver unless one run's own driver is an extreme input (a low frequency, a load).
+    /// driver unless one run's own driver is an extreme input (a low frequency, a load) or
+    /// a robust design's builds.
     pub fn times(mut self, count: f64, driver: Driver, what: &str) -> Estimate {
         self.work.amount *= count;
         self.evaluations *= count;
@@ -176,7 +180,7 @@ impl Estimate {
             let each =
                 if self.work.detail.is_empty() { String::new() } else { format!(", each: {}", self.work.detail) };
             self.work.detail = format!("{} {what}{each}", compact_count(count));
-            if !matches!(self.work.driver, Driver::LowFrequency | Driver::Load | Driver::Speed) {
+            if !matches!(self.work.driver, Driver::LowFrequency | Driver::Load | Driver::Speed | Driver::Builds) {
                 self.work.driver = driver;
             }
         }

@@ -90,6 +90,12 @@ pub trait Objective: std::fmt::Debug + Send + Sync {
     fn candidate_cost(&self, spec: &DesignSpec, at: &CostAt<'_>) -> Estimate {
         constraints::candidate_cost(spec, at)
     }
+    /// How many times one candidate's [`Objective::candidate_cost`] at one speed is spent
+    /// per candidate, over its builds and speeds: by default every build (the nominal
+    /// and each corner of `[design.tolerances]`) at every operating speed.
+    fn searches_per_candidate(&self, spec: &DesignSpec) -> f64 {
+        (spec.builds() * spec.speeds.len().max(1)) as f64
+    }
     /// The windows the verification checks on grids, as the cost estimate counts them
     /// (the band taken as the charts' window). By default the constraints'
     /// ([`constraints::checked_windows`]).

@@ -118,6 +118,20 @@ impl Objective for WidestStableBand {
         cost::points(at.point, DESIGN_BAND_EVALUATIONS, (0.5 * self.phi_op).max(spec.range().lo), spec.level)
     }
 
+    /// The nominal build at every speed, over a speed range with the worst speed's
+    /// refinements (4 golden-section steps); each corner of
+    /// `[design.tolerances]` at every speed, or over a range at the refined worst speed
+    /// alone (`optimise::Context::judged`).
+    fn searches_per_candidate(&self, spec: &DesignSpec) -> f64 {
+        let speeds = spec.speeds.len().max(1);
+        let corners = spec.builds() - 1;
+        let (nominal, each_corner) = match spec.speed_range {
+            Some(_) => (speeds + crate::design::robust::SPEED_REFINEMENTS, 1),
+            None => (speeds, speeds),
+        };
+        (nominal + corners * each_corner) as f64
+    }
+
     /// The band, taken as the charts' window around φ_op.
     fn checked_windows(&self, spec: &DesignSpec) -> Vec<Interval> {
         vec![chart_window(spec)]
