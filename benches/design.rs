@@ -23,7 +23,7 @@
 //!    evaluations, and the bands. `ROTORSHUNT_BENCH_MAP=only` runs this section alone.
 //! 5. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
 //!    (`problems/design-robust-speed-range.toml`) and a 5-point Pareto front of
-//!    `problems/design-min-peak.toml`, once each.
+//!    `problems/design-min-peak-at-speed.toml`, once each.
 
 use rotorshunt::design::evaluate::{values_of, Candidate};
 use rotorshunt::problem::Problem;
@@ -183,10 +183,10 @@ fn main() {
     if std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1") {
         let (w, r) = design(&[&files("design-robust-speed-range.toml")], &dir.join("robust"));
         phases("robust with a speed range", w, &r);
-        let (w, r) = design(&[&files("design-min-peak.toml"), "--pareto", "5"], &dir.join("pareto"));
+        let (w, r) = design(&[&files("design-min-peak-at-speed.toml"), "--pareto", "5"], &dir.join("pareto"));
         let f = &r["front"];
         println!(
-            "Pareto front of design-min-peak.toml, 5 points: {w:.2} s end to end; {} runs, {} candidates, {} evaluations; monotone {}",
+            "Pareto front of design-min-peak-at-speed.toml, 5 points: {w:.2} s end to end; {} runs, {} candidates, {} evaluations; monotone {}",
             f["runs"], f["candidates"], f["evaluations"], f["monotone"]
         );
     }

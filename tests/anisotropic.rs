@@ -185,9 +185,12 @@ const RESPONSE_CONTINUITY: f64 = 1e-7;
 fn real_coordinates_reproduce_the_complex_unbalance_response() {
     use rotorshunt::analysis::unbalance::{probes, unbalance_response};
     use rotorshunt::analysis::Rotor;
-    for name in
-        ["design-min-peak.toml", "design-min-peak-stepped.toml", "stepped-bearing-ring.toml", "fig8-eta200.toml"]
-    {
+    for name in [
+        "design-min-peak-at-speed.toml",
+        "design-min-peak-stepped.toml",
+        "stepped-bearing-ring.toml",
+        "fig8-eta200.toml",
+    ] {
         let complex = common::load(name, &[]);
         let real = common::load(name, &["analysis.coordinates=\"real\""]);
         let (a, b) = (Rotor::new(&complex.model).unwrap(), Rotor::new(&real.model).unwrap());

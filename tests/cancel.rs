@@ -256,7 +256,7 @@ fn a_time_response_asked_to_stop_ends_its_integration_early() {
 #[test]
 fn a_min_peak_design_asked_to_stop_judges_no_candidate() {
     use rotorshunt::design;
-    let problem = Problem::from_path("problems/design-min-peak.toml", &[]).unwrap();
+    let problem = Problem::from_path("problems/design-min-peak-at-speed.toml", &[]).unwrap();
     let spec = problem.design.as_ref().unwrap();
     // Asked from the start: not even the reference design is judged (a step of the
     // optimise phase is a candidate judged), and the reference is what it keeps.

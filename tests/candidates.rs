@@ -47,9 +47,12 @@ fn assert_agree(name: &str, overrides: &[&str]) {
 
 #[test]
 fn every_bundled_design_candidate_is_its_tuned_file() {
-    for name in
-        ["design-widest-band.toml", "design-clear-bands.toml", "design-min-peak.toml", "design-min-peak-stepped.toml"]
-    {
+    for name in [
+        "design-widest-band.toml",
+        "design-clear-bands.toml",
+        "design-min-peak-at-speed.toml",
+        "design-min-peak-stepped.toml",
+    ] {
         assert_agree(name, &[]);
     }
 }

@@ -235,7 +235,7 @@ fn an_impossible_peak_limit_ends_infeasible_with_exit_3_whatever_the_solvers_sta
     let dir = tmp("design-impossible-peak");
     let out = bin()
         .arg("design")
-        .arg(problem_path("design-min-peak.toml"))
+        .arg(problem_path("design-min-peak-at-speed.toml"))
         .args(["--set", "design.constraints.max_peak=1e-30"])
         .args(common::COARSE_MODEL_ARGS)
         .args(["--set", "design.starts=1", "--set", "design.max_iterations=1", "--set", "design.response.node=2"])

@@ -103,13 +103,14 @@ fn check_refuses_a_response_speed_range_design_cannot_run() {
         ("resp-rpm-1e308.toml", "speeds_rpm = [0, 1e308]", "design.response.speeds_rpm[1]"),
         ("resp-rpm-1e12.toml", "speeds_rpm = [0, 1e12]", "design.response.speeds_rpm[1]"),
     ] {
-        let (file, line) = edited("design-min-peak.toml", name, "speeds = [250.0, 500.0]", to);
+        let (file, line) = edited("design-min-peak-at-speed.toml", name, "speeds = [250.0, 500.0]", to);
         let e = same_as_check(&file, &["design", "--out", out]);
         at_key(&e, &file, line, key);
         assert!(e.contains("must be at most"), "{e}");
     }
     // The bound admits every real rotor: 1e6 rad/s (9.5 million rpm) is checked valid.
-    let (file, _) = edited("design-min-peak.toml", "resp-1e6.toml", "speeds = [250.0, 500.0]", "speeds = [0, 1e6]");
+    let (file, _) =
+        edited("design-min-peak-at-speed.toml", "resp-1e6.toml", "speeds = [250.0, 500.0]", "speeds = [0, 1e6]");
     let ok = run(&["check", &file]);
     assert_eq!(ok.status.code(), Some(0), "{}", String::from_utf8_lossy(&ok.stderr));
     // The unbalance command's speeds follow the same rule, named by the flag.
@@ -187,7 +188,7 @@ fn huge_values_print_short() {
             "sections[1].inner_diameter",
         ),
         (
-            "design-min-peak.toml",
+            "design-min-peak-at-speed.toml",
             "resp-empty-1e300.toml",
             "speeds = [250.0, 500.0]",
             "speeds = [1e300, 5]",
@@ -203,8 +204,12 @@ fn huge_values_print_short() {
         assert!(e.len() < file.len() + key.len() + 250, "{} chars: {e}", e.len());
     }
     // An empty range whose low end is huge, within the bound: the low end prints short.
-    let (file, line) =
-        edited("design-min-peak.toml", "resp-empty-big.toml", "speeds = [250.0, 500.0]", "speeds = [9.5e6, 5]");
+    let (file, line) = edited(
+        "design-min-peak-at-speed.toml",
+        "resp-empty-big.toml",
+        "speeds = [250.0, 500.0]",
+        "speeds = [9.5e6, 5]",
+    );
     let e = refused(&["check", &file]);
     at_key(&e, &file, line, "design.response.speeds[1]");
     assert!(e.contains("9.5e6 rad/s") || e.contains("9500000 rad/s"), "{e}");

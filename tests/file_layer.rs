@@ -19,9 +19,9 @@ use std::time::Duration;
 /// run takes hours.
 const HANG_TIMEOUT: Duration = Duration::from_secs(120);
 
-/// design-min-peak.toml with a damping constraint on `f1` and 2 000 shaft elements.
+/// design-min-peak-at-speed.toml with a damping constraint on `f1` and 2 000 shaft elements.
 fn too_large_with_damping_constraint() -> String {
-    let text = std::fs::read_to_string(problem_path("design-min-peak.toml")).unwrap();
+    let text = std::fs::read_to_string(problem_path("design-min-peak-at-speed.toml")).unwrap();
     let text = text.replacen("elements = 64 ", "elements = 2000 ", 1);
     assert!(text.contains("elements = 2000 "));
     assert!(text.contains("[[design.variables]]"));
@@ -79,7 +79,7 @@ fn the_cost_guard_refuses_the_model_before_any_solve() {
 fn an_objective_without_options_refuses_the_table() {
     use rotorshunt::design::objective::{ObjectiveKind, OPTIONS_KEY};
     let mut seen = Vec::new();
-    for file in ["design-widest-band.toml", "design-clear-bands.toml", "design-min-peak.toml"] {
+    for file in ["design-widest-band.toml", "design-clear-bands.toml", "design-min-peak-at-speed.toml"] {
         let set = vec!["design.objective_options.min_width=150".to_string()];
         let e = Problem::from_path(problem_path(file), &set).unwrap_err().to_string();
         assert!(e.contains(OPTIONS_KEY) && e.contains("takes no options"), "{file}: {e}");

@@ -136,22 +136,22 @@ fn an_array_override_is_blamed_on_set_with_its_key() {
         ("design.response.speeds=[-1.0, 5.0]", "design.response.speeds[0]"),
         ("design.speed_range=[-1.0, 5.0]", "design.speed_range[0]"),
     ] {
-        let e = set("design-min-peak.toml", &[given]).unwrap_err();
+        let e = set("design-min-peak-at-speed.toml", &[given]).unwrap_err();
         assert_eq!((e.key.as_str(), e.location), (key, Location::Override), "{given}: {e}");
     }
-    // The file's own array is still blamed at its line (design-min-peak.toml, line 67).
-    let text = std::fs::read_to_string(problem_path("design-min-peak.toml")).unwrap();
+    // The file's own array is still blamed at its line (design-min-peak-at-speed.toml, line 67).
+    let text = std::fs::read_to_string(problem_path("design-min-peak-at-speed.toml")).unwrap();
     let text = text.replace("speeds = [250.0, 500.0]", "speeds = [-250.0, 500.0]");
     let e = Problem::from_text(&text, "f.toml", &[]).unwrap_err();
     assert_eq!((e.key.as_str(), e.location), ("design.response.speeds[0]", Location::Line(67)), "{e}");
     let out = Command::new(env!("CARGO_BIN_EXE_rotorshunt"))
-        .args(["check", "problems/design-min-peak.toml", "--set", "design.phi_range=[8000.0,100.0]"])
+        .args(["check", "problems/design-min-peak-at-speed.toml", "--set", "design.phi_range=[8000.0,100.0]"])
         .current_dir(root())
         .output()
         .expect("run");
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr).lines().next(),
-        Some("error: problems/design-min-peak.toml, --set: key `design.phi_range[1]`: must be above the range's low end, 8000 rad/s, found 100")
+        Some("error: problems/design-min-peak-at-speed.toml, --set: key `design.phi_range[1]`: must be above the range's low end, 8000 rad/s, found 100")
     );
 }

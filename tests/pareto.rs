@@ -9,7 +9,7 @@
 //! the library's golden section. The front is judged monotone, and its ends ends (issue 49,
 //! point 4), on those numbers.
 //!
-//! The problems are `problems/design-min-peak.toml` (the paper's rotor, the first forward
+//! The problems are `problems/design-min-peak-at-speed.toml` (the paper's rotor, the first forward
 //! whirl damped at the disk, the band around 370 rad/s), with the design's catalogues
 //! over 200–1000 rad/s around the band (the band's edges are lattice-refined numbers that
 //! do not depend on the window searched: `rotorshunt band` over 100–8000 rad/s gives
@@ -51,7 +51,7 @@ struct Case {
 /// The paper's min-peak file (node 16, 250–500 rad/s, 201 points), the design's
 /// catalogues over 200–1000 rad/s around the band.
 const PAPER: Case = Case {
-    file: "design-min-peak.toml",
+    file: "design-min-peak-at-speed.toml",
     sets: &["design.phi_range=[200.0, 1000.0]"],
     phi_op: 370.0,
     level: 0.3,
@@ -199,7 +199,7 @@ fn refused(file: &str, args: &[&str]) -> (Option<i32>, String) {
 #[test]
 fn a_front_without_a_trade_off_or_points_is_refused_at_the_key_or_flag() {
     for k in ["0", "1", "51"] {
-        let (code, e) = refused("design-min-peak.toml", &["--pareto", k]);
+        let (code, e) = refused("design-min-peak-at-speed.toml", &["--pareto", k]);
         eprintln!("--pareto {k}: {e}");
         assert_eq!(code, Some(2));
         assert!(e.contains("--pareto <K>") && e.contains("2..=50"), "{e}");

@@ -33,7 +33,7 @@ fn peak(file: &std::path::Path, inductance: f64, name: &str) -> f64 {
 /// The paper's min-peak file without its band constraint (and the constraint's φ_op): the
 /// peak alone is what this test judges, and it needs no Floquet analysis.
 fn unconstrained_file(dir: &std::path::Path) -> std::path::PathBuf {
-    let text = std::fs::read_to_string(problem_path("design-min-peak.toml")).unwrap();
+    let text = std::fs::read_to_string(problem_path("design-min-peak-at-speed.toml")).unwrap();
     let mut kept = Vec::new();
     let mut skipping = false;
     for line in text.lines() {

@@ -53,7 +53,7 @@ fn a_speed_in_rpm_gives_the_results_of_the_same_speed_in_rad_per_s() {
     // And the response's speed range of a design.
     let rpm_range =
         format!("design.response.speeds_rpm=[{:?}, {:?}]", 250.0 / RAD_PER_S_PER_RPM, 500.0 / RAD_PER_S_PER_RPM);
-    let r = load("design-min-peak.toml", &[&rpm_range]);
+    let r = load("design-min-peak-at-speed.toml", &[&rpm_range]);
     let r = r.design.as_ref().unwrap().response().unwrap().speeds;
     assert!(rel(r.lo, 250.0) < 1e-15 && rel(r.hi, 500.0) < 1e-15, "{r:?}");
 }

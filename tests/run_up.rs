@@ -1,5 +1,5 @@
 //! Issue 49, point 2: a damping design holds through its run-up. The shunt of
-//! `problems/design-min-peak-run-up.toml` is tuned to the first critical speed (~360
+//! `problems/design-min-peak.toml` is tuned to the first critical speed (~360
 //! rad/s), which the machine crosses on its way to 2000 rad/s; the band constraint around
 //! φ_op is asked over that whole range (`design.speed_range = [300, 2000]`). The design's
 //! own check (part `speeds`, 33 speeds) is judged again by `rotorshunt band` on the
@@ -26,8 +26,7 @@ const CHECK_SPEEDS: usize = 12;
 #[ignore = "the full model over the run-up (several minutes on 2 cores); run with `cargo test --release --test suite run_up:: -- --ignored`"]
 fn the_min_peak_design_holds_at_every_speed_of_its_run_up() {
     let dir = tmp("run-up");
-    let text =
-        run_ok(bin().args(["design", &problem_path("design-min-peak-run-up.toml"), "--quiet", "--out"]).arg(&dir));
+    let text = run_ok(bin().args(["design", &problem_path("design-min-peak.toml"), "--quiet", "--out"]).arg(&dir));
     println!("{text}");
     assert!(text.starts_with("design: improved"), "{text}");
     let report = json(&dir.join("report.json"));

@@ -47,7 +47,7 @@ fn stopped(o: &Output, what: &str, dir: &Path) {
 #[test]
 fn every_long_command_stops_at_its_limit_and_writes_nothing() {
     let fig11 = problem_path("fig11-closed-2000.toml");
-    let min_peak = problem_path("design-min-peak.toml");
+    let min_peak = problem_path("design-min-peak-at-speed.toml");
     let cases: [(&str, Vec<&str>, bool); 10] = [
         (
             "the chart",

@@ -160,7 +160,7 @@ fn the_min_peak_design_is_never_verified_on_a_band_a_refined_basis_refutes() {
     // returns.
     let dir = tmp("true-bands-min-peak");
     let mut cmd = bin();
-    cmd.arg("design").arg(problem_path("design-min-peak.toml"));
+    cmd.arg("design").arg(problem_path("design-min-peak-at-speed.toml"));
     let sets = [
         "design.constraints.min_band_width=225",
         "design.starts=1",
@@ -210,7 +210,7 @@ const DESIGNS: [(&str, &[f64], f64, &str); 9] = [
     ("design-robust.toml", &[1230.0], 0.3, "100:8000"),
     ("design-speed-range.toml", &[1230.0], 0.3, "100:8000"),
     ("design-robust-speed-range.toml", &[1230.0], 0.3, "100:8000"),
-    ("design-min-peak.toml", &[370.0], 0.3, "100:8000"),
+    ("design-min-peak-at-speed.toml", &[370.0], 0.3, "100:8000"),
     ("design-min-peak-stepped.toml", &[], 0.3, "1000:4000"),
     ("design-clear-bands.toml", &[1180.0, 1850.0], 0.3, "1000:2100"),
     ("design-compressor.toml", &[2000.0], 0.1, "500:6000"),

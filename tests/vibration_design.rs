@@ -106,7 +106,7 @@ fn band_constraint_is_true_and_its_price_is_reported() {
     let short = ["--set", "design.max_iterations=10", "--set", "design.phi_range=[200.0, 1000.0]"];
     let text = run_ok(
         bin()
-            .args(["design", &problem_path("design-min-peak.toml")])
+            .args(["design", &problem_path("design-min-peak-at-speed.toml")])
             .args(short)
             .args(common::COARSE_CHART_ARGS)
             .args(common::QUICK_BASIS_ARGS)

@@ -152,8 +152,8 @@ STUDY = "problems/studies/resistance-speed.toml"
     "call, argument, shown",
     [
         # Issue 50, item 9: paths, switches, names, callbacks and objects of the wrong type.
-        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(out=123), "--out", "123 (int)"),
-        (lambda: rs.Problem.from_file("problems/design-min-peak.toml").design(pareto=2, out=5), "--out", "5 (int)"),
+        (lambda: rs.Problem.from_file("problems/design-min-peak-at-speed.toml").design(out=123), "--out", "123 (int)"),
+        (lambda: rs.Problem.from_file("problems/design-min-peak-at-speed.toml").design(pareto=2, out=5), "--out", "5 (int)"),
         (lambda: rs.run_study(123, "out/never"), "FILE", "123 (int)"),
         (lambda: rs.run_study(STUDY, 4.5), "--out", "4.5 (float)"),
         (lambda: rs.run_study(STUDY, "out/never", force="yes"), "--force", "'yes' (str)"),
@@ -205,7 +205,7 @@ def test_a_wrong_type_is_an_argument_error_naming_the_argument_and_value(call, a
 
 def test_the_pareto_count_is_checked_against_the_documented_range():
     """Issue 50, item 10: 2 to 50 points, as `design --pareto` and the docs have it."""
-    p = rs.Problem.from_file("problems/design-min-peak.toml")
+    p = rs.Problem.from_file("problems/design-min-peak-at-speed.toml")
     for k in (1, 51):
         with pytest.raises(rs.ArgumentError) as e:
             p.design(pareto=k)
