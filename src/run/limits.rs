@@ -368,15 +368,15 @@ mod tests {
         let dear = Estimate::work(1e300, Driver::LowFrequency, "91 points".into());
         let e = b.admit("the chart", &dear, &|d| format!("{d:?}")).unwrap_err();
         assert_eq!((e.resource, e.parameter.as_str()), (Resource::Work, "LowFrequency"));
-        assert!(e.to_string().starts_with("the chart would need about 1.0e300 floating-point operations, more than the 3.0e13 allowed: 91 points; change LowFrequency"), "{e}");
+        assert!(e.to_string().starts_with("the chart would need about 1.0e300 floating-point operations, more than the 5.0e13 allowed: 91 points; change LowFrequency"), "{e}");
         let nan = Estimate::work(f64::NAN, Driver::Grid, String::new());
         assert!(b.admit("x", &nan, &|_| String::new()).is_err(), "a NaN estimate is refused");
         assert!(Budget::new(2.0)
             .unwrap()
-            .admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new())
+            .admit("the chart", &Estimate::work(7.5e13, Driver::Grid, String::new()), &|_| String::new())
             .is_ok());
         assert!(b
-            .admit("the chart", &Estimate::work(4.5e13, Driver::Grid, String::new()), &|_| String::new())
+            .admit("the chart", &Estimate::work(7.5e13, Driver::Grid, String::new()), &|_| String::new())
             .is_err());
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert!(Budget::new(bad).is_err(), "{bad}");
@@ -443,18 +443,18 @@ mod tests {
             ..Estimate::work(operations, Driver::Grid, String::new())
         };
         let b = Budget::default();
-        // 1000 evaluations counted at 3e12 operations: ten times the count fits the limit.
-        assert_eq!(b.allowance(&of(1000.0, 3.0e12)), Some(10_000));
-        assert_eq!(Budget::new(2.0).unwrap().allowance(&of(1000.0, 3.0e12)), Some(20_000));
+        // 1000 evaluations counted at 5e12 operations: ten times the count fits the limit.
+        assert_eq!(b.allowance(&of(1000.0, 5.0e12)), Some(10_000));
+        assert_eq!(Budget::new(2.0).unwrap().allowance(&of(1000.0, 5.0e12)), Some(20_000));
         // A count at or beyond the limit is allowed no less than itself.
-        assert_eq!(b.allowance(&of(1000.0, 6.0e13)), Some(1000));
+        assert_eq!(b.allowance(&of(1000.0, 1.0e14)), Some(1000));
         // No region search, or no work: no allowance.
         assert_eq!(b.allowance(&of(0.0, 1.0e12)), None);
         assert_eq!(b.allowance(&of(10.0, 0.0)), None);
         // A huge allowance saturates.
         assert_eq!(Budget::new(1e300).unwrap().allowance(&of(1e10, 1.0)), Some(u64::MAX));
         // The running bound carries it; a stop at it is a count stop naming both numbers.
-        let d = b.running(&crate::progress::Silent, &of(3.0, 3.0e13));
+        let d = b.running(&crate::progress::Silent, &of(3.0, 5.0e13));
         assert_eq!(d.allowance(), Some(3));
         crate::progress::Progress::evaluated(&d, 4);
         assert!(crate::progress::Progress::cancelled(&d));
