@@ -38,13 +38,13 @@ fn total(ints: &[Intrusion]) -> f64 {
 
 /// The intrusions of the candidate at `u` (scaled) as built: the nominal and, with
 /// `[design.tolerances]`, every corner.
-fn bands_as_built(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
+fn as_built_intrusions(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
     intrusions_as_built(&ctx.candidate(u)?, &ctx.eval())
 }
 
-/// [`bands_as_built`], offered to the best design so far.
+/// [`as_built_intrusions`], offered to the best design so far.
 fn evaluate_bands(ctx: &Context<'_>, u: &[f64]) -> Result<Vec<Intrusion>, DesignError> {
-    let ints = bands_as_built(ctx, u)?;
+    let ints = as_built_intrusions(ctx, u)?;
     ctx.best.offer(Rank(0, total(&ints), 0.0), &ctx.values(u), ctx.progress);
     Ok(ints)
 }
@@ -268,7 +268,7 @@ pub(crate) fn clear_bands(ctx: &Context<'_>, out: &mut DesignOutcome) -> Result<
     let after: Vec<Intrusion> = best_run.intrusions.into_iter().filter(|i| i.inside).collect();
     out.status = if after.is_empty() { Status::Feasible } else { Status::Infeasible };
     out.findings = Findings::ClearBands { before, after, linear_infeasible: best_run.linear_infeasible };
-    fill_slices(ctx, out, &|u| bands_as_built(ctx, u).ok().map(|i| total(&i)))
+    fill_slices(ctx, out, &|u| as_built_intrusions(ctx, u).ok().map(|i| total(&i)))
 }
 
 /// A convex run's history and steps, as start `k`.
