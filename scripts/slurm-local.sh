@@ -7,6 +7,8 @@
 #                                          `export SLURM_CONF=DIR/slurm.conf` line on stdout
 #   scripts/slurm-local.sh down   [DIR]   cancel this cluster's jobs, stop its daemons
 #   scripts/slurm-local.sh status [DIR]   daemons, sinfo and squeue
+#   scripts/slurm-local.sh install [DIR]  install the packages only (if missing); `up`
+#                                          then starts at once (.ci/run does this early)
 #   scripts/slurm-local.sh help
 #
 #   DIR defaults to /tmp/rotorshunt-slurm. Everything the cluster writes lives there:
@@ -461,6 +463,13 @@ cmd_up() {
     echo "export SLURM_CONF=$CONF"
 }
 
+cmd_install() {
+    need_root install
+    trap '[[ $MADE_POLICY -eq 1 ]] && rm -f /usr/sbin/policy-rc.d' EXIT
+    claim_dir
+    install_packages
+}
+
 cmd_down() {
     local pids i=0 left
     need_root down
@@ -533,15 +542,15 @@ cmd_status() {
 main() {
     local cmd=${1:-help}
     [[ $# -gt 0 ]] && shift
-    [[ $# -le 1 ]] || die 2 "too many arguments; usage: $0 up|down|status [DIR]"
+    [[ $# -le 1 ]] || die 2 "too many arguments; usage: $0 up|down|status|install [DIR]"
     case $cmd in
-    up | down | status)
+    up | down | status | install)
         set_paths "${1:-}"
         "cmd_$cmd"
         ;;
     help | -h | --help) usage ;;
     *)
-        die 2 "unknown command '$cmd'; usage: $0 up|down|status [DIR] (or: $0 help)"
+        die 2 "unknown command '$cmd'; usage: $0 up|down|status|install [DIR] (or: $0 help)"
         ;;
     esac
 }
