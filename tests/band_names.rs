@@ -63,8 +63,8 @@ fn design_report_names_the_bounds_as_band_does() {
             .arg(&input)
             .args(["--set", "design.starts=1", "--set", "design.max_iterations=3"])
             // What is compared is the names on the design's own basis: its refined check
-            // (tests/design.rs) is not needed here.
-            .args(["--set", "design.refined_check=false"])
+            // and its sizing by convergence (tests/design.rs) are not needed here.
+            .args(common::QUICK_BASIS_ARGS)
             .args(common::COARSE_CHART_ARGS)
             .arg("--out")
             .arg(&dir)

@@ -12,8 +12,10 @@ type Seen = (usize, usize, f64, f64, Vec<f64>);
 
 #[test]
 fn the_observer_sees_the_history_and_changes_nothing() {
-    // A fixed basis and no refined check: what is checked is the bookkeeping.
-    let quick: Vec<String> = ["analysis.reduced_modes=8", "design.refined_check=false"].map(String::from).to_vec();
+    // The coarse model (8 shaft elements, 4 modes, no refined check): what is checked is
+    // the bookkeeping.
+    let quick: Vec<String> =
+        crate::common::COARSE_MODEL_ARGS.iter().skip(1).step_by(2).map(|s| s.to_string()).collect();
     let problem = Problem::from_path("problems/design-widest-band.toml", &quick).unwrap();
     let mut spec = problem.design.clone().unwrap();
     // A short run, its catalogues over 900–1600 rad/s around φ_op: what is checked is the
