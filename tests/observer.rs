@@ -14,8 +14,7 @@ type Seen = (usize, usize, f64, f64, Vec<f64>);
 fn the_observer_sees_the_history_and_changes_nothing() {
     // The coarse model (8 shaft elements, 4 modes, no refined check): what is checked is
     // the bookkeeping.
-    let quick: Vec<String> =
-        crate::common::COARSE_MODEL_ARGS.iter().skip(1).step_by(2).map(|s| s.to_string()).collect();
+    let quick: Vec<String> = crate::common::coarse_model().map(String::from).collect();
     let problem = Problem::from_path("problems/design-widest-band.toml", &quick).unwrap();
     let mut spec = problem.design.clone().unwrap();
     // A short run, its catalogues over 900–1600 rad/s around φ_op: what is checked is the

@@ -14,22 +14,13 @@ use crate::common;
 use std::process::Output;
 
 /// A line each time a phase's done count passes a multiple of this (the optimise phase of
-/// the design below has a few tens of steps, the verification thousands).
+/// the design below has some ten steps, the verification and report hundreds to thousands).
 const EVERY: &str = "10";
 /// A short design: one start of a few iterations and a narrow report range (as in
-/// tests/reproducibility.rs) on a fixed basis, with every phase of a full one.
-const SETS: [&str; 10] = [
-    "--set",
-    "design.starts=1",
-    "--set",
-    "design.max_iterations=3",
-    "--set",
-    "design.phi_range=[900.0, 1600.0]",
-    "--set",
-    common::QUICK_BASIS[0],
-    "--set",
-    common::QUICK_BASIS[1],
-];
+/// tests/reproducibility.rs) on the coarse model ([`common::COARSE_MODEL_ARGS`]), with
+/// every phase of a full one.
+const SETS: [&str; 6] =
+    ["--set", "design.starts=1", "--set", "design.max_iterations=3", "--set", "design.phi_range=[900.0, 1600.0]"];
 
 fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
     let out = common::bin()
@@ -37,6 +28,7 @@ fn design(dir: &std::path::Path, extra: &[&str]) -> Output {
         .args(["design", &common::problem_path("design-widest-band.toml"), "--out"])
         .arg(dir)
         .args(SETS)
+        .args(common::COARSE_MODEL_ARGS)
         .args(extra)
         .output()
         .expect("run rotorshunt");

@@ -35,6 +35,11 @@ pub const COARSE_MODEL_ARGS: [&str; 8] = [
     "--set",
     "design.refined_check=false",
 ];
+/// The values of [`COARSE_MODEL_ARGS`] (each `key=value`), for `--set` lists and
+/// `Problem::from_path`.
+pub fn coarse_model() -> impl Iterator<Item = &'static str> {
+    COARSE_MODEL_ARGS.into_iter().skip(1).step_by(2)
+}
 /// A fixed basis of 8 modes for `band`, `regions` and studies (`analysis.reduced_modes`):
 /// for the tests that compare what two commands or two runs give on the same model.
 pub const FIXED_BASIS_ARGS: [&str; 2] = ["--set", "analysis.reduced_modes=8"];
