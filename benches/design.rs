@@ -21,7 +21,16 @@
 //!    map), side by side in the same run: the map's candidate evaluations against those of
 //!    the two Halton starts it replaces, the optimiser's candidates and Floquet
 //!    evaluations, and the bands. `ROTORSHUNT_BENCH_MAP=only` runs this section alone.
-//! 5. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
+//! 5. Issue 51, point 4: design runs on rotor families no design was tuned on, each
+//!    beside a run of the paper's widest-band design in the same run (alternating): wall
+//!    times and their ratio, the status, candidates and evaluations per candidate. The
+//!    families: Friswell's two-disk rotor (Example 5.9.1, `design-friswell-widest-band.toml`),
+//!    his overhung rotor (Example 5.9.9, `families/friswell-overhung.toml`), both widest
+//!    band, and ROSS's compressor with a ring (`ross/design-compressor-example.toml`, least
+//!    peak response). With `ROTORSHUNT_BENCH_LONG=1` also the widest-band families' robust
+//!    variants (`[design.margins] beta = 0.2`, L ±5 %, R ±10 %).
+//!    `ROTORSHUNT_BENCH_FAMILIES=only` runs this section alone.
+//! 6. With `ROTORSHUNT_BENCH_LONG=1`, also the robust variant with a speed range
 //!    (`problems/design-robust-speed-range.toml`) and a 5-point Pareto front of
 //!    `problems/design-min-peak-at-speed.toml`, once each.
 
@@ -125,10 +134,64 @@ fn map_against_halton(paper: &str, dir: &Path) {
     );
 }
 
+/// The robust variant of a widest-band design (issue 51's acceptance): margins at
+/// 1.2 β_op and the shunt's L within ±5 %, R within ±10 %.
+const ROBUST: [&str; 6] = [
+    "--set",
+    "design.margins.beta=0.2",
+    "--set",
+    "design.tolerances.inductance=0.05",
+    "--set",
+    "design.tolerances.resistance=0.1",
+];
+
+/// Issue 51, point 4: each family's design beside a run of the paper's widest-band design
+/// (`paper`), alternating in the same run; the robust variants with `robust`.
+fn families(paper: &str, dir: &Path, robust: bool) {
+    let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    let cases = [
+        ("Friswell two-disk (5.9.1), widest band", files("design-friswell-widest-band.toml"), true),
+        ("Friswell overhung (5.9.9), widest band", files("families/friswell-overhung.toml"), true),
+        ("ROSS compressor with a ring, least peak", files("ross/design-compressor-example.toml"), false),
+    ];
+    let per_candidate = |r: &serde_json::Value| {
+        let o = &r["outcome"];
+        o["floquet_evaluations"].as_f64().unwrap_or(0.0) / o["candidates"].as_f64().unwrap_or(1.0).max(1.0)
+    };
+    let mut rows = Vec::new();
+    for (name, file, band) in &cases {
+        let variants: &[(&str, &[&str])] =
+            if robust && *band { &[("", &[]), (", robust", &ROBUST)] } else { &[("", &[])] };
+        for (suffix, extra) in variants {
+            let (wp, rp) = design(&[paper], &dir.join("family-paper"));
+            phases("paper widest band (beside the family below)", wp, &rp);
+            let mut args = vec![file.as_str()];
+            args.extend_from_slice(extra);
+            let (wf, rf) = design(&args, &dir.join("family"));
+            let label = format!("{name}{suffix}");
+            phases(&label, wf, &rf);
+            rows.push((label, wf, wp, per_candidate(&rf), per_candidate(&rp), rf["outcome"]["status"].clone()));
+        }
+    }
+    println!(
+        "| family | status | wall (s) | the paper's beside it (s) | ratio | evaluations per candidate | the paper's |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (label, wf, wp, ef, ep, status) in rows {
+        println!("| {label} | {status} | {wf:.2} | {wp:.2} | {:.2} | {ef:.0} | {ep:.0} |", wf / wp);
+    }
+}
+
 fn main() {
     // `cargo bench` passes --bench; nothing to parse.
     let dir: PathBuf = std::env::temp_dir().join(format!("rotorshunt-bench-design-{}", std::process::id()));
     let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    let long = std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1");
+    if std::env::var("ROTORSHUNT_BENCH_FAMILIES").is_ok_and(|v| v == "only") {
+        families(&files("design-widest-band.toml"), &dir, long);
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
     if std::env::var("ROTORSHUNT_BENCH_MAP").is_ok_and(|v| v == "only") {
         map_against_halton(&files("design-widest-band.toml"), &dir);
         let _ = std::fs::remove_dir_all(&dir);
@@ -180,7 +243,8 @@ fn main() {
         b / a
     );
     map_against_halton(&paper, &dir);
-    if std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1") {
+    families(&paper, &dir, long);
+    if long {
         let (w, r) = design(&[&files("design-robust-speed-range.toml")], &dir.join("robust"));
         phases("robust with a speed range", w, &r);
         let (w, r) = design(&[&files("design-min-peak-at-speed.toml"), "--pareto", "5"], &dir.join("pareto"));

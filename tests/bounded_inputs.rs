@@ -137,3 +137,36 @@ fn a_robust_design_plainly_beyond_the_limit_is_refused_before_it_starts() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Every bundled design problem (the top level of problems/ and its rotor folders
+/// `ross/` and `families/`) is admitted by its estimate as shipped: a user who runs
+/// `rotorshunt design FILE` on it starts the design (stopped here by a limit of 1e-9 s at
+/// its first step, exit 7), never meets a refusal (exit 2).
+#[test]
+fn every_bundled_design_problem_is_admitted_as_shipped() {
+    let root = common::root().join("problems");
+    let mut files = Vec::new();
+    for dir in [root.clone(), root.join("ross"), root.join("families")] {
+        for name in common::toml_names(&dir) {
+            let path = dir.join(&name);
+            if Problem::from_path(&path, &[]).is_ok_and(|p| p.design.is_some()) {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() >= 12, "the bundled design problems: {files:?}");
+    let dir = common::tmp("bundled-admitted");
+    for (k, file) in files.iter().enumerate() {
+        let out_dir = dir.join(k.to_string());
+        let out = common::bin()
+            .args(["--time-limit", "1e-9", "--quiet", "design"])
+            .arg(file)
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .expect("run rotorshunt");
+        assert_eq!(out.status.code(), Some(7), "{}: {}", file.display(), String::from_utf8_lossy(&out.stderr));
+    }
+    eprintln!("{} bundled design problems admitted as shipped", files.len());
+    std::fs::remove_dir_all(&dir).ok();
+}
