@@ -40,8 +40,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
+/// The path of `problems/NAME`.
+fn problem_file(name: &str) -> String {
+    format!("{}/problems/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
 fn problem(name: &str) -> Problem {
-    Problem::from_path(format!("{}/problems/{name}", env!("CARGO_MANIFEST_DIR")), &[]).unwrap()
+    Problem::from_path(problem_file(name), &[]).unwrap()
 }
 
 /// Repetitions of one point when timing it: enough for a stable median.
@@ -148,7 +153,7 @@ const ROBUST: [&str; 6] = [
 /// Issue 51, point 4: each family's design beside a run of the paper's widest-band design
 /// (`paper`), alternating in the same run; the robust variants with `robust`.
 fn families(paper: &str, dir: &Path, robust: bool) {
-    let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    let files = problem_file;
     let cases = [
         ("Friswell two-disk (5.9.1), widest band", files("design-friswell-widest-band.toml"), true),
         ("Friswell overhung (5.9.9), widest band", files("families/friswell-overhung.toml"), true),
@@ -185,7 +190,7 @@ fn families(paper: &str, dir: &Path, robust: bool) {
 fn main() {
     // `cargo bench` passes --bench; nothing to parse.
     let dir: PathBuf = std::env::temp_dir().join(format!("rotorshunt-bench-design-{}", std::process::id()));
-    let files = |f: &str| format!("{}/problems/{f}", env!("CARGO_MANIFEST_DIR"));
+    let files = problem_file;
     let long = std::env::var("ROTORSHUNT_BENCH_LONG").is_ok_and(|v| v == "1");
     if std::env::var("ROTORSHUNT_BENCH_FAMILIES").is_ok_and(|v| v == "only") {
         families(&files("design-widest-band.toml"), &dir, long);

@@ -168,7 +168,7 @@ impl<'a> Run<'a> {
             verification =
                 verification.then(verify::cost(&pc, &s, &criterion, &seeds, spec)).then(content::cost(&pc, spec));
         }
-        let (per_candidate, checks) = robust_plan(spec, dense_stages, &searches);
+        let (per_candidate, checks) = robust_plan(spec, dense_stages, searches);
         verification = verification.then(checks);
         // The whirls: the physics seed's and the catalogues' at each speed, and the
         // Campbell diagram's speeds.
@@ -190,18 +190,17 @@ impl<'a> Run<'a> {
 /// verification's own checks: the tolerance check's builds (the corners at every speed,
 /// the samples at one speed of a range or at every speed) and the speed check's
 /// [`VERIFY_SPEEDS`] (twice with margins). The candidate's, and the checks'.
-fn robust_plan(spec: &DesignSpec, dense: Estimate, searches: &Estimate) -> (Estimate, Estimate) {
+fn robust_plan(spec: &DesignSpec, dense: Estimate, searches: Estimate) -> (Estimate, Estimate) {
     let speeds = spec.speeds.len().max(1) as f64;
     let builds = spec.builds() as f64;
     let one_speed = searches.clone().times(1.0 / speeds, Driver::Builds, "");
     let per_speed = spec.objective.searches_per_candidate(spec) / speeds;
-    let candidate = if builds > 1.0 || per_speed > 1.0 {
-        let each = dense.times(builds, Driver::Builds, "builds");
-        let searched = searches.clone().times(per_speed, Driver::Builds, "searches per speed (builds, refinements)");
-        each.then(searched)
-    } else {
-        dense.then(searches.clone())
-    };
+    // `times` by 1 leaves an estimate as it is: one build at its speeds is the plain sum.
+    let candidate = dense.times(builds, Driver::Builds, "builds").then(searches.times(
+        per_speed,
+        Driver::Builds,
+        "searches per speed (builds, refinements)",
+    ));
     let mut checks = Estimate::zero();
     if let Some(t) = spec.tolerances {
         let sample_speeds = if spec.speed_range.is_some() { 1.0 } else { speeds };
